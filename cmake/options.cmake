@@ -1,0 +1,13 @@
+# All tlvlink build options, declared once. A board preset (boards/*.cmake, CMakePresets.json)
+# sets these; the minimal runtime needs only XNNPACK, pthreadpool, cpuinfo and flatbuffers.
+option(TLVLINK_WITH_XNNPACK   "Build the XNNPACK executor (otherwise only the portable reference executor)" ON)
+option(TLVLINK_WITH_LIBCAMERA "Build the libcamera capture backend (needs libcamera-dev)" OFF)
+option(TLVLINK_WITH_USB       "Build the USB bulk transport (needs libusb-1.0)" OFF)
+option(TLVLINK_BUILD_TRAINER  "Build the libtorch trainer (needs libtorch-dev)" OFF)
+option(TLVLINK_BUILD_HOST_TOOLS "Build the host CLI, model writer and quantizer" ON)
+option(TLVLINK_BUILD_BENCHMARKS "Build Google Benchmark micro-benchmarks" OFF)
+option(TLVLINK_BUILD_TESTS    "Build the GoogleTest suites" ON)
+option(TLVLINK_BUILD_FUZZERS  "Build libFuzzer targets (needs clang)" OFF)
+option(TLVLINK_WERROR         "Treat compiler warnings as errors (CI sets this)" OFF)
+set(TLVLINK_SANITIZE "" CACHE STRING "Sanitizers to build with, e.g. address,undefined (empty = none)")
+set(TLVLINK_BOARD "host" CACHE STRING "Board definition this build targets (see boards/)")

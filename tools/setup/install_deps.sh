@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Installs everything tlvlink needs from Debian's packages. Idempotent; safe to rerun.
+#   install_deps.sh [core|test|cross|all]   (default: all)
+# core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries
+# test  : core + GoogleTest/Benchmark, clang (libFuzzer, sanitizers)
+# cross : aarch64 cross compiler + qemu-user + an arm64 sysroot (tools/setup/make_sysroot.sh)
+set -euo pipefail
+what=${1:-all}
+export DEBIAN_FRONTEND=noninteractive
+SUDO=""; [ "$(id -u)" = 0 ] || SUDO=sudo
+
+core_pkgs=(build-essential cmake ninja-build pkg-config
+  libxnnpack-dev libpthreadpool-dev libcpuinfo-dev
+  libflatbuffers-dev flatbuffers-compiler
+  libcli11-dev nlohmann-json3-dev)
+test_pkgs=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev llvm)
+cross_pkgs=(g++-aarch64-linux-gnu qemu-user)
+
+pkgs=("${core_pkgs[@]}")
+case "$what" in
+  core) ;;
+  test) pkgs+=("${test_pkgs[@]}") ;;
+  cross) pkgs+=("${cross_pkgs[@]}") ;;
+  all) pkgs+=("${test_pkgs[@]}" "${cross_pkgs[@]}") ;;
+  *) echo "install_deps.sh: unknown set '$what' (core|test|cross|all)" >&2; exit 2 ;;
+esac
+
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install_deps: installing ${missing[*]}"
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+else
+  echo "install_deps: all packages for '$what' present"
+fi
