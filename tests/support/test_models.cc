@@ -51,8 +51,9 @@ std::vector<int32_t> quantize_bias(std::span<const float> bias, float input_scal
                                    std::span<const float> weight_scales) {
   std::vector<int32_t> q(bias.size());
   for (size_t c = 0; c < bias.size(); ++c) {
-    const double s = static_cast<double>(input_scale) * weight_scales[weight_scales.size() == 1 ? 0 : c];
-    q[c] = static_cast<int32_t>(std::llround(bias[c] / s));
+    const double s = static_cast<double>(input_scale) *
+                     static_cast<double>(weight_scales[weight_scales.size() == 1 ? 0 : c]);
+    q[c] = static_cast<int32_t>(std::llround(static_cast<double>(bias[c]) / s));
   }
   return q;
 }

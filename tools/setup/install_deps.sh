@@ -3,7 +3,7 @@
 #   install_deps.sh [core|test|cross|all]   (default: all)
 # core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries
 # test  : core + GoogleTest/Benchmark, clang (libFuzzer, sanitizers)
-# cross : aarch64 cross compiler + qemu-user + an arm64 sysroot (tools/setup/make_sysroot.sh)
+# cross : aarch64 cross compiler + qemu-user (the arm64 sysroot is tools/setup/make_sysroot.sh)
 set -euo pipefail
 what=${1:-all}
 export DEBIAN_FRONTEND=noninteractive

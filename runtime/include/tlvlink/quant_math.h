@@ -24,9 +24,11 @@ inline int8_t saturate_int8(int32_t q, int32_t lo = kInt8Min, int32_t hi = kInt8
   return static_cast<int8_t>(std::clamp(q, lo, hi));
 }
 
-// real -> int8. Non-finite inputs must be rejected before this is called.
+// real -> int8. Non-finite inputs are rejected before this is called; NaN still maps to the
+// zero point here so that a missed check cannot become undefined float->int behaviour.
 inline int8_t quantize_value(float real, float scale, int32_t zero_point) {
   const float scaled = real / scale;
+  if (std::isnan(scaled)) return saturate_int8(zero_point);
   // Clamp in float first so huge values do not overflow the int conversion.
   const float bounded = std::clamp(scaled, -1.0e6f, 1.0e6f);
   return saturate_int8(round_half_even(bounded) + zero_point);

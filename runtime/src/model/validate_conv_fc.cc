@@ -32,6 +32,12 @@ Status check_quantized(const Graph& graph, size_t op_index, const Operator& op, 
              w.quant.axis);
   TLV_ENSURE(!out.quant.per_channel(), ErrorCode::kModelInvalidOperator,
              "%s output must be quantized per-tensor", who.text);
+  // XNNPACK's qc8 and qs8 weights are symmetric; a non-zero weight zero point would be ignored.
+  for (size_t i = 0; i < w.quant.zero_point.size(); ++i) {
+    TLV_ENSURE(w.quant.zero_point[i] == 0, ErrorCode::kModelInvalidOperator,
+               "%s weights %s have zero_point[%zu] = %d; int8 weights must be symmetric (0)",
+               who.text, tensor_label(graph, op.inputs[1]).text, i, w.quant.zero_point[i]);
+  }
   const auto* wq = reinterpret_cast<const int8_t*>(w.data.data());
   const size_t per_channel = w.shape.elements() / static_cast<size_t>(cout);
   const float s_in = in.quant.scale[0];
@@ -48,8 +54,8 @@ Status check_quantized(const Graph& graph, size_t op_index, const Operator& op, 
   }
   const auto* bq = bias ? reinterpret_cast<const int32_t*>(bias->data.data()) : nullptr;
   for (int32_t c = 0; c < cout; ++c) {
-    const float s_w = w.quant.scale[w.quant.per_channel() ? static_cast<size_t>(c) : 0];
-    const double multiplier = static_cast<double>(s_in) * s_w / s_out;
+    const double s_w = w.quant.scale[w.quant.per_channel() ? static_cast<size_t>(c) : 0];
+    const double multiplier = static_cast<double>(s_in) * s_w / static_cast<double>(s_out);
     TLV_ENSURE(multiplier >= kMinRequantMultiplier && multiplier < kMaxRequantMultiplier,
                ErrorCode::kModelInvalidOperator,
                "%s channel %d requantization multiplier s_in*s_w/s_out = %g is outside "

@@ -49,9 +49,10 @@ Status validate_binary(const Graph& graph, size_t op_index, const Operator& op) 
   TLV_TRY(check_per_tensor_int8(graph, op_index, op.output));
   const double s_out = out.quant.scale[0];
   const double ratios[2] = {
-      op.type == OpType::kAdd ? a.quant.scale[0] / s_out
-                              : static_cast<double>(a.quant.scale[0]) * b.quant.scale[0] / s_out,
-      op.type == OpType::kAdd ? b.quant.scale[0] / s_out : 1.0};
+      op.type == OpType::kAdd
+          ? static_cast<double>(a.quant.scale[0]) / s_out
+          : static_cast<double>(a.quant.scale[0]) * static_cast<double>(b.quant.scale[0]) / s_out,
+      op.type == OpType::kAdd ? static_cast<double>(b.quant.scale[0]) / s_out : 1.0};
   for (double r : ratios) {
     TLV_ENSURE(r >= kMinRequantMultiplier && r < kMaxRequantMultiplier,
                ErrorCode::kModelInvalidOperator,
