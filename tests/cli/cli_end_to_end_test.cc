@@ -1,0 +1,207 @@
+// `tlvlink` end to end, through the real binary: gen-reference -> inspect -> infer (both
+// executors) -> verify -> bench, plus bad model files (exit 1) and bad arguments (exit 2).
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "io/npy.h"
+#include "io/pnm.h"
+
+namespace tlvlink {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out;  // stdout and stderr together
+};
+
+CliRun tlvlink(const std::string& args) {
+  const std::string emulator = TLVLINK_CLI_EMULATOR;
+  const std::string cmd =
+      (emulator.empty() ? "" : emulator + " ") + TLVLINK_CLI_BINARY + " " + args + " 2>&1";
+  CliRun r;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (p == nullptr) return r;
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0) r.out.append(buf, n);
+  const int status = ::pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+#define EXPECT_RUN(run, code) EXPECT_EQ((run).exit_code, code) << (run).out
+
+// Models come from the CTest fixtures cli.gen_reference_{fp32,int8} (96 px, seed 3, run once
+// per ctest invocation); every test writes its own files into a private directory.
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("tlvlink_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+    for (const char* m : {"fp32.tlvm", "int8.tlvm"}) {
+      const fs::path src = fs::path(TLVLINK_CLI_MODELS) / m;
+      if (!fs::exists(src))
+        FAIL() << src << " missing: run through ctest (fixtures cli.gen_reference_*)";
+      fs::copy_file(src, dir_ / m, fs::copy_options::overwrite_existing);
+    }
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& leaf) const { return (dir_ / leaf).string(); }
+
+  fs::path dir_;
+};
+
+TEST_F(Cli, GenReferenceWritesAModelThatLoads) {
+  CliRun gen =
+      tlvlink("gen-reference -o " + path("g.tlvm") + " --dtype fp32 -r 96 --golden 1 --seed 9");
+  EXPECT_RUN(gen, 0);
+  EXPECT_NE(gen.out.find("MMAC"), std::string::npos) << gen.out;
+  EXPECT_RUN(tlvlink("inspect " + path("g.tlvm")), 0);
+}
+
+TEST_F(Cli, InspectPrintsTablesAndJson) {
+  CliRun text = tlvlink("inspect " + path("int8.tlvm"));
+  EXPECT_RUN(text, 0);
+  for (const char* s : {"random-reference", "per-channel axis 0", "Quantize", "Dequantize",
+                        "totals:", "MMAC", "material (20)"}) {
+    EXPECT_NE(text.out.find(s), std::string::npos) << "missing '" << s << "' in\n" << text.out;
+  }
+  CliRun json = tlvlink("inspect --json " + path("fp32.tlvm"));
+  EXPECT_RUN(json, 0);
+  const auto j = nlohmann::json::parse(json.out, nullptr, /*allow_exceptions=*/false);
+  ASSERT_FALSE(j.is_discarded()) << json.out.substr(0, 500);
+  const double mmac = j["totals"]["mmac"].get<double>();
+  EXPECT_GT(mmac, 10.0);  // 96 px: ~21 MMAC
+  EXPECT_LT(mmac, 30.0);
+  EXPECT_EQ(j["metadata"]["input"]["height"].get<int>(), 96);
+  EXPECT_GT(j["operators"].size(), 20u);
+}
+
+TEST_F(Cli, InferOnImagesAndTensorsWithBothExecutors) {
+  tools::Image img{120, 100, 3, {}};
+  for (int i = 0; i < 120 * 100 * 3; ++i) img.pixels.push_back(static_cast<uint8_t>((i * 7) % 251));
+  ASSERT_TRUE(tools::write_pnm(path("frame.ppm"), img).ok());
+  std::vector<float> x(96 * 96 * 3, 0.25f);
+  ASSERT_TRUE(
+      tools::write_npy(path("x.npy"), tools::NpyArray::from<float>({1, 96, 96, 3}, x)).ok());
+  for (const char* model : {"fp32.tlvm", "int8.tlvm"}) {
+    for (const char* exec : {"xnnpack", "reference"}) {
+      SCOPED_TRACE(std::string(model) + " " + exec);
+      CliRun summary =
+          tlvlink("infer " + path(model) + " --input " + path("frame.ppm") + " --executor " + exec);
+      EXPECT_RUN(summary, 0);
+      EXPECT_NE(summary.out.find("head material"), std::string::npos) << summary.out;
+      const std::string out = path(std::string(exec) + "_" + model + ".npy");
+      CliRun written = tlvlink("infer " + path(model) + " -i " + path("x.npy") + " -o " + out +
+                               " -e " + exec + " -t 2");
+      EXPECT_RUN(written, 0);
+      auto y = tools::read_npy(out);
+      ASSERT_TRUE(y.ok()) << y.error().message();
+      EXPECT_EQ(y->dtype, DType::kFloat32);
+      EXPECT_EQ(y->shape, (std::vector<int64_t>{1, 128}));
+    }
+  }
+}
+
+TEST_F(Cli, InferRejectsMismatchedInputsNamingBothShapes) {
+  std::vector<float> x(64 * 64 * 3, 0.0f);
+  ASSERT_TRUE(
+      tools::write_npy(path("small.npy"), tools::NpyArray::from<float>({1, 64, 64, 3}, x)).ok());
+  CliRun r = tlvlink("infer " + path("fp32.tlvm") + " --input " + path("small.npy"));
+  EXPECT_RUN(r, 1);
+  EXPECT_NE(r.out.find("(1, 64, 64, 3)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("[1, 96, 96, 3]"), std::string::npos) << r.out;
+  std::ofstream(path("junk.npy")) << "\x93NUMPY\x01\x00\xff\xff{";
+  CliRun junk = tlvlink("infer " + path("fp32.tlvm") + " --input " + path("junk.npy"));
+  EXPECT_RUN(junk, 1);
+  EXPECT_NE(junk.out.find(path("junk.npy")), std::string::npos) << junk.out;
+}
+
+TEST_F(Cli, VerifyPassesOnBothExecutors) {
+  for (const char* model : {"fp32.tlvm", "int8.tlvm"}) {
+    for (const char* exec : {"xnnpack", "reference"}) {
+      CliRun r = tlvlink("verify " + path(model) + " --executor " + exec);
+      EXPECT_RUN(r, 0);
+      EXPECT_NE(r.out.find("PASS"), std::string::npos) << r.out;
+    }
+  }
+  CliRun none =
+      tlvlink("gen-reference -o " + path("nogold.tlvm") + " --dtype fp32 -r 96 --golden 0");
+  EXPECT_RUN(none, 0);
+  CliRun r = tlvlink("verify " + path("nogold.tlvm"));
+  EXPECT_RUN(r, 1);
+  EXPECT_NE(r.out.find("no golden pairs"), std::string::npos) << r.out;
+}
+
+TEST_F(Cli, BenchReportsTimingsAsTextAndJson) {
+  CliRun text = tlvlink("bench " + path("int8.tlvm") + " --runs 5 --warmup 1");
+  EXPECT_RUN(text, 0);
+  for (const char* s : {"median", "p90", "p99", "GMAC/s", "peak RSS", "init"}) {
+    EXPECT_NE(text.out.find(s), std::string::npos) << s << "\n" << text.out;
+  }
+  CliRun json = tlvlink("bench " + path("fp32.tlvm") + " --runs 5 --json -e reference");
+  EXPECT_RUN(json, 0);
+  const auto j = nlohmann::json::parse(json.out, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << json.out;
+  EXPECT_GT(j["median_ms"].get<double>(), 0.0);
+  EXPECT_GE(j["p99_ms"].get<double>(), j["median_ms"].get<double>());
+  EXPECT_EQ(j["executor"], "reference");
+  EXPECT_GT(j["peak_rss_mib"].get<double>(), 0.0);
+}
+
+TEST_F(Cli, BadModelFilesExitOneNamingTheProblem) {
+  std::ofstream(path("garbage.tlvm")) << "this is not a model";
+  CliRun r = tlvlink("inspect " + path("garbage.tlvm"));
+  EXPECT_RUN(r, 1);
+  EXPECT_NE(r.out.find(path("garbage.tlvm")), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("model."), std::string::npos)
+      << r.out;  // error code name, e.g. model.malformed
+  // A truncated real model.
+  const auto size = fs::file_size(path("int8.tlvm"));
+  fs::copy_file(path("int8.tlvm"), path("cut.tlvm"), fs::copy_options::overwrite_existing);
+  fs::resize_file(path("cut.tlvm"), size / 2);
+  const std::string cut = path("cut.tlvm");
+  for (const std::string& cmd : {"inspect " + cut, "verify " + cut, "bench " + cut,
+                                 "infer " + cut + " --input " + path("x.npy")}) {
+    CliRun c = tlvlink(cmd);
+    EXPECT_RUN(c, 1);
+    EXPECT_NE(c.out.find("cut.tlvm"), std::string::npos) << c.out;
+  }
+  CliRun missing = tlvlink("inspect " + path("missing.tlvm"));
+  EXPECT_RUN(missing, 1);
+}
+
+TEST_F(Cli, BadArgumentsExitTwo) {
+  EXPECT_RUN(tlvlink(""), 2);
+  EXPECT_RUN(tlvlink("frobnicate"), 2);
+  EXPECT_RUN(tlvlink("inspect"), 2);
+  EXPECT_RUN(tlvlink("inspect a b c"), 2);
+  EXPECT_RUN(tlvlink("infer " + path("fp32.tlvm")), 2);  // --input is required
+  EXPECT_RUN(tlvlink("bench " + path("fp32.tlvm") + " --threads 0"), 2);
+  EXPECT_RUN(tlvlink("bench " + path("fp32.tlvm") + " --runs abc"), 2);
+  EXPECT_RUN(tlvlink("bench " + path("fp32.tlvm") + " --executor gpu"), 2);
+  EXPECT_RUN(tlvlink("gen-reference -o x.tlvm --resolution 50"), 2);
+  EXPECT_RUN(tlvlink("gen-reference -o x.tlvm --dtype fp16"), 2);
+  // --help works everywhere and exits 0 with the exit-code footer.
+  for (const char* cmd : {"", "inspect ", "infer ", "verify ", "bench ", "gen-reference "}) {
+    CliRun h = tlvlink(std::string(cmd) + "--help");
+    EXPECT_RUN(h, 0);
+    EXPECT_NE(h.out.find("Exit codes"), std::string::npos) << h.out;
+  }
+}
+
+}  // namespace
+}  // namespace tlvlink

@@ -1,0 +1,29 @@
+// `tlvlink`: inspect, run, verify and benchmark .tlvm models; generate the reference encoder.
+
+#include <CLI/CLI.hpp>
+
+#include "cli/common.h"
+
+int main(int argc, char** argv) {
+  using namespace tlvlink::cli;
+  CLI::App app{"tlvlink: inspect, run, verify and benchmark tlvlink (.tlvm) models"};
+  app.footer(kExitCodeFooter);
+  app.require_subcommand(1);
+  int exit_code = kExitOk;
+  add_inspect_command(app, exit_code);
+  add_infer_command(app, exit_code);
+  add_verify_command(app, exit_code);
+  add_bench_command(app, exit_code);
+  add_gen_reference_command(app, exit_code);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e) == 0 ? kExitOk : kExitUsage;
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e) == 0 ? kExitOk : kExitUsage;
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);  // prints the message and usage hint
+    return kExitUsage;
+  }
+  return exit_code;
+}
