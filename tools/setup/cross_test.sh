@@ -1,0 +1,122 @@
+#!/usr/bin/env bash
+# Cross-builds the aarch64 board presets and runs their tests under qemu-aarch64 (user mode).
+#   cross_test.sh [a76|a72|all]        (default: all)
+#     a76 -> preset generic-a76 (-mcpu/-cpu cortex-a76), a72 -> preset rpi4-a72 (cortex-a72)
+# Environment:
+#   TLVLINK_JOBS              parallel build/test jobs (default 2: the machine is shared)
+#   TLVLINK_CROSS_CMAKE_ARGS  extra configure arguments, e.g. -DTLVLINK_BUILD_HOST_TOOLS=ON
+# Prints per-step timings, a size line per board (STYLE practice 14) and a summary; exits non-zero
+# if anything failed. Logs: build/logs/cross-<preset>-{configure,build,test}.log
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+
+which=${1:-all}
+jobs=${TLVLINK_JOBS:-2}
+case "$which" in
+  a76) presets=(generic-a76) ;;
+  a72) presets=(rpi4-a72) ;;
+  all) presets=(generic-a76 rpi4-a72) ;;
+  *) echo "cross_test.sh: unknown target '$which' (a76|a72|all)" >&2; exit 2 ;;
+esac
+
+now() { date +%s.%N; }
+secs() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.1f", b - a}'; }
+mkdir -p build/logs
+
+# 1. Packages (cross compiler, qemu-user) and 2. the arm64 sysroot.
+t0=$(now)
+bash tools/setup/install_deps.sh cross || { echo "cross_test: install_deps.sh cross failed" >&2; exit 1; }
+t_install=$(secs "$t0" "$(now)")
+t0=$(now)
+bash tools/setup/make_sysroot.sh || { echo "cross_test: make_sysroot.sh failed" >&2; exit 1; }
+t_sysroot=$(secs "$t0" "$(now)")
+echo "cross_test: install_deps ${t_install}s, sysroot ${t_sysroot}s"
+
+# Text+data bytes of an ELF file or archive (what ends up in flash/RAM; debug info excluded).
+elf_bytes() {
+  aarch64-linux-gnu-size -t "$1" 2>/dev/null | awk 'END {print $1 + $2}'
+}
+human() { awk -v b="$1" 'BEGIN {if (b >= 1048576) printf "%.2f MB", b / 1048576; else printf "%.1f KB", b / 1024}'; }
+
+# The test executables of the current configuration (ctest knows them; a stale binary left
+# from an earlier configuration is not listed).
+test_binaries() {  # $1 preset
+  ctest --preset "$1" --show-only=json-v1 2>/dev/null | grep -o '"/[^"]*_test"' | tr -d '"' |
+    sort -u | while IFS= read -r f; do [ -x "$f" ] && echo "$f"; done
+}
+
+# One line: runtime library and test binaries. Also kept in build/<preset>/sizes.txt so the
+# next run can show growth.
+size_report() {  # $1 preset
+  local dir=build/$1 lib=build/$1/runtime/libtlvlink_runtime.a line tests=() prev
+  [ -f "$lib" ] || { echo "size $1: libtlvlink_runtime.a not built"; return; }
+  local lib_bytes; lib_bytes=$(elf_bytes "$lib")
+  line="size $1 (text+data): libtlvlink_runtime.a $(human "$lib_bytes")"
+  prev=$(awk '$1 == "libtlvlink_runtime.a" {print $2}' "$dir/sizes.txt" 2>/dev/null)
+  if [ -n "$prev" ] && [ "$prev" != "$lib_bytes" ]; then
+    line+=" ($(awk -v a="$prev" -v b="$lib_bytes" 'BEGIN {printf "%+d B", b - a}') since last run)"
+  fi
+  echo "libtlvlink_runtime.a $lib_bytes" >"$dir/sizes.txt.new"
+  while IFS= read -r t; do
+    local b; b=$(elf_bytes "$t")
+    tests+=("$(basename "$t") $(human "$b")")
+    echo "$(basename "$t") $b" >>"$dir/sizes.txt.new"
+  done < <(test_binaries "$1")
+  mv "$dir/sizes.txt.new" "$dir/sizes.txt"
+  if [ ${#tests[@]} -gt 0 ]; then
+    line+="; tests: $(printf '%s, ' "${tests[@]}")"
+    line=${line%, }
+  fi
+  echo "$line"
+}
+
+summary=()
+failed=0
+for preset in "${presets[@]}"; do
+  cpu=$(sed -n 's/.*"TLVLINK_QEMU_CPU": "\([^"]*\)".*/\1/p' "boards/$preset.json")
+  log=build/logs/cross-$preset
+  echo "=== $preset: configure + build (-j$jobs)"
+  t0=$(now)
+  # shellcheck disable=SC2086  # extra arguments are meant to split
+  if ! cmake --preset "$preset" ${TLVLINK_CROSS_CMAKE_ARGS:-} >"$log-configure.log" 2>&1; then
+    grep -E -A12 "CMake Error|FATAL" "$log-configure.log" | head -60
+    summary+=("$preset: CONFIGURE FAILED (log: $log-configure.log)"); failed=1; continue
+  fi
+  # Keep going past errors: the tests that did build still run (the rest show as *_NOT_BUILT).
+  build_ok=1
+  if ! cmake --build --preset "$preset" -j "$jobs" -- -k 0 >"$log-build.log" 2>&1; then
+    grep -E "error:|FAILED:|undefined reference" "$log-build.log" | cut -c1-300 | head -40
+    build_ok=0; failed=1
+  fi
+  t_build=$(secs "$t0" "$(now)")
+  if [ $build_ok -eq 1 ]; then echo "build: ${t_build}s"; else echo "build: FAILED after ${t_build}s (log: $log-build.log)"; fi
+  size_report "$preset"
+
+  echo "=== $preset: tests under qemu-aarch64 -cpu $cpu (-j$jobs)"
+  t0=$(now)
+  ctest --preset "$preset" -j "$jobs" --output-on-failure >"$log-test.log" 2>&1
+  rc=$?
+  t_test=$(secs "$t0" "$(now)")
+  # Everything but the per-test "Start"/"Passed" lines and ctest's search list for an unbuilt
+  # test: failures with their output, the totals.
+  grep -vE '^ *Start +[0-9]+:|Test +#[0-9]+: .* +Passed +' "$log-test.log" |
+    awk '/^Looked in the following places:/ {skip = 1; next} /^Unable to find executable/ {skip = 0}
+         !skip' | sed '/^$/N;/^\n$/D'
+  # "97% tests passed, 1 tests failed out of 33" -> "32 passed, 1 failed"
+  counts=$(grep -Eo "[0-9]+ tests failed out of [0-9]+" "$log-test.log" | tail -1 |
+           awk '{printf "%d passed, %d failed", $6 - $1, $1}')
+  build_note="build ${t_build}s"
+  [ $build_ok -eq 1 ] || build_note="BUILD FAILED after ${t_build}s (log: $log-build.log)"
+  if [ $rc -eq 0 ]; then
+    summary+=("$preset: $build_note, tests ${t_test}s under -cpu $cpu: ${counts:-no summary}")
+  else
+    summary+=("$preset: $build_note, TESTS FAILED under -cpu $cpu (${counts:-no summary}) in ${t_test}s (log: $log-test.log)")
+    failed=1
+  fi
+done
+
+echo
+echo "cross_test summary (install_deps ${t_install}s, sysroot ${t_sysroot}s, -j$jobs):"
+printf '  %s\n' "${summary[@]}"
+if [ $failed -eq 0 ]; then echo "cross_test: PASS"; else echo "cross_test: FAIL"; fi
+exit $failed
