@@ -72,6 +72,27 @@ TEST_F(Cli, GenReferenceWritesAModelThatLoads) {
   EXPECT_RUN(tlvlink("inspect " + path("g.tlvm")), 0);
 }
 
+TEST_F(Cli, GenFramesWritesSeededFramesThatInferAccepts) {
+  EXPECT_RUN(tlvlink("gen-frames -o " + path("f") + " -n 2 --height 60 --width 80 --seed 5"), 0);
+  auto a = tools::read_pnm(path("f/frame_0000.ppm"));
+  auto b = tools::read_pnm(path("f/frame_0001.ppm"));
+  ASSERT_TRUE(a.ok()) << a.error().message();
+  ASSERT_TRUE(b.ok()) << b.error().message();
+  EXPECT_EQ(a->width, 80);
+  EXPECT_EQ(a->height, 60);
+  EXPECT_EQ(a->channels, 3);
+  EXPECT_NE(a->pixels, b->pixels) << "frames with different seeds must differ";
+  // Same seed, same bytes (the demo and tests rely on it).
+  EXPECT_RUN(tlvlink("gen-frames -o " + path("g") + " -n 1 --height 60 --width 80 --seed 5"), 0);
+  auto again = tools::read_pnm(path("g/frame_0000.ppm"));
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->pixels, a->pixels);
+  // A frame of another size goes through the model's preprocessing (resize) into infer.
+  EXPECT_RUN(tlvlink("infer " + path("int8.tlvm") + " --input " + path("f/frame_0000.ppm")), 0);
+  EXPECT_RUN(tlvlink("gen-frames -o " + path("h") + " --width 0"), 2);
+  EXPECT_RUN(tlvlink("gen-frames -o " + path("h") + " --height 5000"), 2);
+}
+
 TEST_F(Cli, InspectPrintsTablesAndJson) {
   CliRun text = tlvlink("inspect " + path("int8.tlvm"));
   EXPECT_RUN(text, 0);

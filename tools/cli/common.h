@@ -52,5 +52,6 @@ void add_infer_command(CLI::App& app, int& exit_code);
 void add_verify_command(CLI::App& app, int& exit_code);
 void add_bench_command(CLI::App& app, int& exit_code);
 void add_gen_reference_command(CLI::App& app, int& exit_code);
+void add_gen_frames_command(CLI::App& app, int& exit_code);
 
 }  // namespace tlvlink::cli
