@@ -17,3 +17,10 @@ endif()
 # The on-device code builds without exceptions or RTTI (errors are values).
 add_library(tlvlink_target_code INTERFACE)
 target_compile_options(tlvlink_target_code INTERFACE -fno-exceptions)
+
+# Fuzz builds instrument all of tlvlink's code for coverage (not only the fuzz target), or the
+# fuzzer cannot see into the loader it is fuzzing.
+if(TLVLINK_BUILD_FUZZERS)
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=address,undefined)
+endif()

@@ -5,6 +5,8 @@
 # Environment:
 #   TLVLINK_JOBS              parallel build/test jobs (default 2: the machine is shared)
 #   TLVLINK_CROSS_CMAKE_ARGS  extra configure arguments, e.g. -DTLVLINK_BUILD_HOST_TOOLS=ON
+# Before the boards, records x86-64 outputs of two reference encoders into build/parity; each
+# board's cross_arch_parity_test must reproduce them (int8 bit-identical, fp32 within 1e-4).
 # Prints per-step timings, a size line per board (STYLE practice 14) and a summary; exits non-zero
 # if anything failed. Logs: build/logs/cross-<preset>-{configure,build,test}.log
 set -uo pipefail
@@ -31,6 +33,28 @@ t0=$(now)
 bash tools/setup/make_sysroot.sh || { echo "cross_test: make_sysroot.sh failed" >&2; exit 1; }
 t_sysroot=$(secs "$t0" "$(now)")
 echo "cross_test: install_deps ${t_install}s, sysroot ${t_sysroot}s"
+
+# 3. The x86-64 recording the boards' cross_arch_parity_test compares against: the host build
+#    generates two reference encoders (int8, fp32) and records both executors' outputs.
+t0=$(now)
+record_parity() {
+  cmake --preset host >build/logs/cross-parity-record.log 2>&1 &&
+    cmake --build --preset host -j "$jobs" --target tlvlink cross_arch_parity_test \
+      >>build/logs/cross-parity-record.log 2>&1 || return 1
+  rm -rf build/parity && mkdir -p build/parity
+  for dtype in int8 fp32; do
+    build/host/tools/cli/tlvlink gen-reference -o "build/parity/encoder_$dtype.tlvm" \
+      --dtype "$dtype" --seed 7 >>build/logs/cross-parity-record.log 2>&1 || return 1
+  done
+  TLVLINK_PARITY_DIR=build/parity TLVLINK_PARITY_RECORD=1 build/host/tests/parity/cross_arch_parity_test \
+    >>build/logs/cross-parity-record.log 2>&1
+}
+if ! record_parity; then
+  tail -30 build/logs/cross-parity-record.log
+  echo "cross_test: recording the x86-64 parity outputs failed (log: build/logs/cross-parity-record.log)" >&2
+  exit 1
+fi
+echo "cross_test: x86-64 parity recording $(secs "$t0" "$(now)")s ($(ls build/parity | wc -l) files in build/parity)"
 
 # Text+data bytes of an ELF file or archive (what ends up in flash/RAM; debug info excluded).
 elf_bytes() {

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs everything tlvlink needs from Debian's packages. Idempotent; safe to rerun.
 #   install_deps.sh [core|test|cross|all]   (default: all)
-# core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries
+# core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries, JPEG, HDF5
 # test  : core + GoogleTest/Benchmark, clang (libFuzzer, sanitizers)
 # cross : aarch64 cross compiler + qemu-user (the arm64 sysroot is tools/setup/make_sysroot.sh)
 set -euo pipefail
@@ -12,7 +12,8 @@ SUDO=""; [ "$(id -u)" = 0 ] || SUDO=sudo
 core_pkgs=(build-essential cmake ninja-build pkg-config
   libxnnpack-dev libpthreadpool-dev libcpuinfo-dev
   libflatbuffers-dev flatbuffers-compiler
-  libcli11-dev nlohmann-json3-dev)
+  libcli11-dev nlohmann-json3-dev
+  libturbojpeg0-dev libhdf5-dev)
 test_pkgs=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev llvm)
 cross_pkgs=(g++-aarch64-linux-gnu qemu-user)
 
@@ -25,14 +26,25 @@ case "$what" in
   *) echo "install_deps.sh: unknown set '$what' (core|test|cross|all)" >&2; exit 2 ;;
 esac
 
+# The arm64 sysroot (make_sysroot.sh) needs arm64 package lists: add the architecture before the
+# one `apt-get update`, so a fresh machine updates once.
+if [ "$what" = cross ] || [ "$what" = all ]; then
+  if ! dpkg --print-foreign-architectures | grep -qx arm64; then
+    $SUDO dpkg --add-architecture arm64
+    need_update=1
+  fi
+fi
+
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "install_deps: installing ${missing[*]}"
+if [ ${#missing[@]} -gt 0 ] || [ "${need_update:-0}" = 1 ]; then
+  echo "install_deps: installing ${missing[*]:-(nothing; refreshing package lists for arm64)}"
   $SUDO apt-get update -qq
-  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  if [ ${#missing[@]} -gt 0 ]; then
+    $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  fi
 else
   echo "install_deps: all packages for '$what' present"
 fi

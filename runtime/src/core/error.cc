@@ -8,7 +8,8 @@ namespace tlvlink {
 namespace {
 
 // Formats into a fixed buffer; an over-long message ends in "..." rather than being cut silently.
-void format_into(char (&out)[Error::kMaxErrorMessage + 1], const char* format, va_list args) {
+// The format attribute lets clang check the callers' literal formats instead of this forward.
+[[gnu::format(printf, 2, 0)]] void format_into(char (&out)[Error::kMaxErrorMessage + 1], const char* format, va_list args) {
   const int n = std::vsnprintf(out, sizeof(out), format, args);
   if (n > static_cast<int>(Error::kMaxErrorMessage)) {
     std::memcpy(out + Error::kMaxErrorMessage - 3, "...", 4);

@@ -54,7 +54,8 @@ Status check_quantized(const Graph& graph, size_t op_index, const Operator& op, 
   }
   const auto* bq = bias ? reinterpret_cast<const int32_t*>(bias->data.data()) : nullptr;
   for (int32_t c = 0; c < cout; ++c) {
-    const double s_w = w.quant.scale[w.quant.per_channel() ? static_cast<size_t>(c) : 0];
+    const double s_w =
+        static_cast<double>(w.quant.scale[w.quant.per_channel() ? static_cast<size_t>(c) : 0]);
     const double multiplier = static_cast<double>(s_in) * s_w / static_cast<double>(s_out);
     TLV_ENSURE(multiplier >= kMinRequantMultiplier && multiplier < kMaxRequantMultiplier,
                ErrorCode::kModelInvalidOperator,
@@ -73,7 +74,7 @@ Status check_quantized(const Graph& graph, size_t op_index, const Operator& op, 
     if (bq != nullptr) {
       const size_t bc = bias->quant.per_channel() ? static_cast<size_t>(c) : 0;
       const double expected = static_cast<double>(s_in) * s_w;
-      const double actual = bias->quant.scale[bc];
+      const double actual = static_cast<double>(bias->quant.scale[bc]);
       TLV_ENSURE(std::fabs(actual - expected) <= kBiasScaleRelTolerance * expected,
                  ErrorCode::kModelInvalidOperator,
                  "%s bias scale[%zu] = %g, expected input_scale*weight_scale = %g", who.text, bc,

@@ -47,7 +47,7 @@ Status validate_binary(const Graph& graph, size_t op_index, const Operator& op) 
   TLV_TRY(check_per_tensor_int8(graph, op_index, op.inputs[0]));
   TLV_TRY(check_per_tensor_int8(graph, op_index, op.inputs[1]));
   TLV_TRY(check_per_tensor_int8(graph, op_index, op.output));
-  const double s_out = out.quant.scale[0];
+  const double s_out = static_cast<double>(out.quant.scale[0]);
   const double ratios[2] = {
       op.type == OpType::kAdd
           ? static_cast<double>(a.quant.scale[0]) / s_out

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# The README's test command: sets up a fresh Debian 12 machine and runs every test stage.
+#   tools/setup/run_tests.sh [stage ...]     stages: host asan fuzz cross   (default: all)
+# Each stage builds into build/<preset> and runs its tests (logs in build/logs/). The closing line
+# "tests: N passed, N failed" adds up every ctest run (a failed build or fuzz stage counts as a failure). Set TLVLINK_FUZZ_SECONDS to change the fuzzing budget.
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+root=$(pwd)
+stages=("$@")
+[ ${#stages[@]} -eq 0 ] && stages=(host asan fuzz cross)
+jobs=${TLVLINK_JOBS:-$(nproc)}
+fuzz_seconds=${TLVLINK_FUZZ_SECONDS:-60}
+
+bash tools/setup/install_deps.sh all || { echo "run_tests: dependency installation failed" >&2; exit 1; }
+
+passed=0; failed=0; failed_names=()
+stage_start() { echo; echo "=== stage $1 ($(date -u +%H:%M:%S)) ==="; stage_t0=$(date +%s); }
+stage_end() {  # $1 name, $2 status
+  local dt=$(( $(date +%s) - stage_t0 ))
+  if [ "$2" -eq 0 ]; then passed=$((passed + 1)); echo "=== stage $1 passed in ${dt}s ===";
+  else failed=$((failed + 1)); failed_names+=("$1"); echo "=== stage $1 FAILED in ${dt}s ==="; fi
+}
+
+build_and_test() {  # $1 preset
+  cmake --preset "$1" >/dev/null &&
+    cmake --build --preset "$1" -j "$jobs" &&
+    ctest --preset "$1" -j "$jobs" --output-on-failure
+}
+
+run_fuzz() {
+  local dir=build/fuzz
+  CC=clang CXX=clang++ cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DTLVLINK_BUILD_FUZZERS=ON -DTLVLINK_BUILD_TESTS=OFF -DTLVLINK_WERROR=ON >/dev/null &&
+    cmake --build "$dir" -j "$jobs" --target model_loader_fuzz make_fuzz_corpus || return 1
+  rm -rf "$dir/corpus" && mkdir -p "$dir/corpus" "$dir/artifacts"
+  "$dir/tests/fuzz/make_fuzz_corpus" "$dir/corpus" || return 1
+  "$dir/tests/fuzz/model_loader_fuzz" -max_total_time="$fuzz_seconds" -max_len=65536 -timeout=10 \
+    -rss_limit_mb=2048 -artifact_prefix="$dir/artifacts/" -print_final_stats=1 "$dir/corpus" \
+    2>"$dir/fuzz.log"
+  local rc=$?
+  grep -E "stat::number_of_executed_units|Done [0-9]+ runs|ERROR|SUMMARY" "$dir/fuzz.log" | head -20
+  [ $rc -eq 0 ] || { tail -60 "$dir/fuzz.log"; ls "$dir/artifacts"; }
+  return $rc
+}
+
+t0=$(date +%s)
+mkdir -p build/logs
+tests_passed=0; tests_failed=0
+for s in "${stages[@]}"; do
+  stage_start "$s"
+  log="build/logs/$s.log"
+  case "$s" in
+    host) build_and_test host 2>&1 | tee "$log"; rc=${PIPESTATUS[0]} ;;
+    asan) build_and_test host-asan 2>&1 | tee "$log"; rc=${PIPESTATUS[0]} ;;
+    fuzz) run_fuzz 2>&1 | tee "$log"; rc=${PIPESTATUS[0]} ;;
+    cross) bash tools/setup/cross_test.sh all 2>&1 | tee "$log"; rc=${PIPESTATUS[0]} ;;
+    *) echo "run_tests: unknown stage '$s' (host asan fuzz cross)" >&2; rc=2 ;;
+  esac
+  stage_end "$s" "$rc"
+  # ctest: "100% tests passed, 0 tests failed out of 57"
+  counts=$(grep -Eo "tests passed, [0-9]+ tests failed out of [0-9]+" "$log" 2>/dev/null |
+           awk '{f+=$3; t+=$8} END {print t-f, f+0}')
+  read -r p f <<<"${counts:-0 0}"
+  tests_passed=$((tests_passed + p)); tests_failed=$((tests_failed + f))
+  if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then tests_failed=$((tests_failed + 1)); fi
+done
+echo
+echo "run_tests: wall time $(( $(date +%s) - t0 ))s; failed stages: ${failed_names[*]:-none}"
+echo "stages: $passed passed, $failed failed"
+echo "tests: $tests_passed passed, $tests_failed failed"
+[ "$failed" -eq 0 ]
