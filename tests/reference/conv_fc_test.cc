@@ -384,7 +384,7 @@ TEST(ReferenceFullyConnected, Int8SaturatesExactlyAtBothRailsAndActivationBounds
             (std::vector<int8_t>{70, 10, 15}));
 }
 
-TEST(ReferenceFullyConnected, AccumulatorAtWorstCaseBoundIsExact) {
+TEST(ReferenceFullyConnected, AccumulatorAtWorstCaseBoundIsExactOnBothExecutors) {
   // |bias| + 255 * 127 * K = 10,000,000 + 2,137,410,000 = 2,147,410,000 < 2^31 - 1: the largest
   // accumulator the loader admits at this K. An int32 overflow would flip the sign.
   const int cin = 66000, cout = 2;
@@ -397,15 +397,19 @@ TEST(ReferenceFullyConnected, AccumulatorAtWorstCaseBoundIsExact) {
   // multiplier s_x*s_w/s_y = 2^-13 / s_y; s_y chosen so the result is ~+/-100.3 (not a tie).
   q.out = {0x1p-13f * 2147410000.0f / 100.3f, 0};
   const std::vector<int8_t> x(cin, 127);
-  const auto y = run1<int8_t>(fc_model_qs8(1, cin, cout, q, Activation::kNone), x);
   const double multiplier = 0x1p-13 / static_cast<double>(q.out.scale);
   const int64_t acc = 10'000'000 + int64_t{255} * 127 * cin;
   const auto expected = static_cast<int8_t>(std::nearbyint(static_cast<double>(acc) * multiplier));
   EXPECT_EQ(expected, 100);
-  EXPECT_EQ(y, (std::vector<int8_t>{expected, static_cast<int8_t>(-expected)}));
+  // Both executors: XNNPACK runs this FC as a 1x1 convolution (its 2022 qs8 FC is missing).
+  for (ExecutorKind kind : kAllExecutors) {
+    SCOPED_TRACE(executor_kind_name(kind));
+    EXPECT_EQ(run1<int8_t>(fc_model_qs8(1, cin, cout, q, Activation::kNone), x, kind),
+              (std::vector<int8_t>{expected, static_cast<int8_t>(-expected)}));
+  }
 }
 
-TEST(ReferenceConv, AccumulatorAtWorstCaseBoundIsExact) {
+TEST(ReferenceConv, AccumulatorAtWorstCaseBoundIsExactOnBothExecutors) {
   // Same bound through the conv kernel: 1x1 conv with Cin = 66000 on a 1x1 image.
   ConvSpec s;
   s.h = s.w = 1, s.kh = s.kw = 1, s.cin = 66000, s.cout = 2;
@@ -416,8 +420,11 @@ TEST(ReferenceConv, AccumulatorAtWorstCaseBoundIsExact) {
   q.w_scales = {1.0f / 128, 1.0f / 128};
   q.bias = {10'000'000, -10'000'000};
   q.out = {0x1p-13f * 2147410000.0f / 100.3f, 0};
-  EXPECT_EQ(run1<int8_t>(conv_model_qs8(s, q), std::vector<int8_t>(s.in_size(), 127)),
-            (std::vector<int8_t>{100, -100}));
+  for (ExecutorKind kind : kAllExecutors) {
+    SCOPED_TRACE(executor_kind_name(kind));
+    EXPECT_EQ(run1<int8_t>(conv_model_qs8(s, q), std::vector<int8_t>(s.in_size(), 127), kind),
+              (std::vector<int8_t>{100, -100}));
+  }
 }
 
 }  // namespace

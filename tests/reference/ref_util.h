@@ -22,6 +22,13 @@ using quantize::ModelBuilder;
 using quantize::QuantSpec;
 using testing::Rng;
 
+// The executors this build has (tests that state an exact expected value run on each).
+#ifdef TLVLINK_HAVE_XNNPACK
+inline constexpr ExecutorKind kAllExecutors[] = {ExecutorKind::kReference, ExecutorKind::kXnnpack};
+#else
+inline constexpr ExecutorKind kAllExecutors[] = {ExecutorKind::kReference};
+#endif
+
 // Float-vs-int8 oracle: the kernels scale in float and round half to even; the oracle works
 // in double, so a value within float rounding of a .5 tie may land one step away.
 inline constexpr int kInt8Tolerance = 1;
@@ -46,15 +53,17 @@ std::vector<T> from_bytes(std::span<const std::byte> b) {
   return v;
 }
 
-// Loads `file`, runs the reference executor once on `inputs` (raw bytes per graph input) and
-// returns every graph output. Records a gtest failure and returns {} on any error.
+// Loads `file`, runs the reference executor (or `kind`) once on `inputs` (raw bytes per graph
+// input) and returns every graph output. Records a gtest failure and returns {} on any error.
 std::vector<std::vector<std::byte>> run_reference(
-    const std::vector<std::byte>& file, const std::vector<std::vector<std::byte>>& inputs);
+    const std::vector<std::byte>& file, const std::vector<std::vector<std::byte>>& inputs,
+    ExecutorKind kind = ExecutorKind::kReference);
 
 // Convenience: one input, one output of types In / Out.
 template <typename Out, typename In>
-std::vector<Out> run1(const std::vector<std::byte>& file, const std::vector<In>& input) {
-  auto out = run_reference(file, {to_bytes(input)});
+std::vector<Out> run1(const std::vector<std::byte>& file, const std::vector<In>& input,
+                      ExecutorKind kind = ExecutorKind::kReference) {
+  auto out = run_reference(file, {to_bytes(input)}, kind);
   return out.empty() ? std::vector<Out>() : from_bytes<Out>(out[0]);
 }
 
