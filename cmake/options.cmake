@@ -5,6 +5,7 @@ option(TLVLINK_WITH_LIBCAMERA "Build the libcamera capture backend (needs libcam
 option(TLVLINK_WITH_USB       "Build the USB bulk transport (needs libusb-1.0)" OFF)
 option(TLVLINK_BUILD_TRAINER  "Build the libtorch trainer (needs libtorch-dev)" OFF)
 option(TLVLINK_BUILD_HOST_TOOLS "Build the host CLI, model writer and quantizer" ON)
+option(TLVLINK_WITH_ONNX     "Build `tlvlink convert` (ONNX import; host tools only, needs libonnx-dev, libprotobuf-dev)" ON)
 option(TLVLINK_BUILD_BENCHMARKS "Build Google Benchmark micro-benchmarks" OFF)
 option(TLVLINK_BUILD_TESTS    "Build the GoogleTest suites" ON)
 option(TLVLINK_BUILD_FUZZERS  "Build libFuzzer targets (needs clang)" OFF)

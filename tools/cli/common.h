@@ -53,5 +53,7 @@ void add_verify_command(CLI::App& app, int& exit_code);
 void add_bench_command(CLI::App& app, int& exit_code);
 void add_gen_reference_command(CLI::App& app, int& exit_code);
 void add_gen_frames_command(CLI::App& app, int& exit_code);
+void add_sim_command(CLI::App& app, int& exit_code);
+void add_convert_command(CLI::App& app, int& exit_code);  // convert.cc or convert_unavailable.cc
 
 }  // namespace tlvlink::cli

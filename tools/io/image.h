@@ -1,6 +1,7 @@
 #pragma once
 // An 8-bit image in memory: rows top to bottom, pixels interleaved (RGB or gray).
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 

@@ -1,0 +1,162 @@
+// The simulator's generators through the writers and back through the loaders, and the
+// CLI's ordered parallel generation giving the same bytes for any thread count.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "cli/sim_commands.h"
+#include "datasets/samples.h"
+#include "tlvlink/datasets/datasets.h"
+#include "tlvlink/sim/generate.h"
+
+namespace tlvlink::datasets {
+namespace {
+
+using testing::TempDir;
+
+sim::TouchSetOptions small_touch_set() {
+  sim::TouchSetOptions o;
+  o.sessions = 3;
+  o.frames_per_session = 2;
+  o.vision_height = 48;
+  o.vision_width = 64;
+  o.seed = 11;
+  return o;
+}
+
+Status write_touch(const std::string& dir, const sim::TouchSetOptions& gen, int threads, bool tag) {
+  std::vector<std::unique_ptr<sim::TouchSampleGenerator>> generators;
+  for (int t = 0; t < threads; ++t) {
+    TLV_ASSIGN_OR_RETURN(auto g, sim::TouchSampleGenerator::create(gen));
+    generators.push_back(std::move(g));
+  }
+  WriterOptions wo;
+  wo.generator_json = touch_set_options_json(gen);
+  wo.test_fraction = 1.0 / 3.0;
+  TLV_ASSIGN_OR_RETURN(auto writer,
+                       tag ? create_tag_writer(dir, wo) : create_touch100k_writer(dir, wo));
+  std::FILE* sink = std::tmpfile();
+  tools::Progress progress("test", generators[0]->size(), sink, tools::ProgressMode::kQuiet);
+  const std::function<Status(const sim::TouchSample&)> consume = [&](const sim::TouchSample& s) {
+    return writer->write(s);
+  };
+  Status s = cli::generate_in_order<sim::TouchSample>(generators, generators[0]->size(), consume,
+                                                      progress);
+  std::fclose(sink);
+  TLV_TRY(s);
+  return writer->finish();
+}
+
+std::string file_bytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(Generated, TouchSetsLoadBackInBothFormats) {
+  TempDir tmp;
+  const auto gen = small_touch_set();
+  ASSERT_TRUE(write_touch(tmp / "t100k", gen, 1, false).ok());
+  ASSERT_TRUE(write_touch(tmp / "tag", gen, 1, true).ok());
+  auto generator = sim::TouchSampleGenerator::create(gen);
+  ASSERT_TRUE(generator.ok());
+  std::vector<sim::TouchSample> want(6);
+  for (int64_t i = 0; i < 6; ++i)
+    ASSERT_TRUE((*generator)->generate(i, want[static_cast<size_t>(i)]).ok());
+
+  auto t100k = open_touch100k(tmp / "t100k", {});
+  ASSERT_TRUE(t100k.ok());
+  sim::TouchSample got;
+  for (const auto& w : want) {
+    auto more = (*t100k)->next(got);
+    ASSERT_TRUE(more.ok() && more.value());
+    EXPECT_EQ(got.sentence_desc, w.sentence_desc);
+    EXPECT_EQ(got.phrases, w.phrases);
+    EXPECT_EQ(got.session, w.session);
+    EXPECT_EQ(got.material.class_id, w.material.class_id);
+    EXPECT_EQ(got.touch.width, w.touch.width);
+    EXPECT_EQ(got.vision.height, 48);
+  }
+  EXPECT_EQ((*t100k)->report().problem_count(), 0) << (*t100k)->report().summary();
+
+  TagLoaderOptions o;
+  o.split = Split::kAll;
+  auto tag = open_touch_and_go(tmp / "tag", o);
+  ASSERT_TRUE(tag.ok());
+  int n = 0;
+  while ((*tag)->next(got).value()) ++n;
+  EXPECT_EQ(n, 6);
+  EXPECT_EQ((*tag)->report().problem_count(), 0) << (*tag)->report().summary();
+  auto stats = dataset_stats(tmp / "t100k");
+  ASSERT_TRUE(stats.ok());
+  EXPECT_EQ(stats->samples, 6);
+  EXPECT_GT(stats->sentence_mean_words, 0.0);
+}
+
+TEST(Generated, OutputDoesNotDependOnTheThreadCount) {
+  TempDir tmp;
+  const auto gen = small_touch_set();
+  ASSERT_TRUE(write_touch(tmp / "one", gen, 1, false).ok());
+  ASSERT_TRUE(write_touch(tmp / "three", gen, 3, false).ok());
+  int files = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(tmp / "one")) {
+    if (!e.is_regular_file()) continue;
+    const auto rel = std::filesystem::relative(e.path(), tmp / "one");
+    EXPECT_EQ(file_bytes(e.path()), file_bytes(std::filesystem::path(tmp / "three") / rel)) << rel;
+    ++files;
+  }
+  EXPECT_EQ(files, 6 * 2 + 3);  // images, data_list.json, sidecar, tlvlink_sim.json
+}
+
+TEST(Generated, GraspEpisodesLoadBackFromHdf5AndRepacked) {
+  TempDir tmp;
+  sim::GraspSetOptions gen;
+  gen.objects = 3;
+  gen.grasps_per_object = 2;
+  gen.vision_height = 24;
+  gen.vision_width = 32;
+  gen.seed = 5;
+  auto generator = sim::GraspEpisodeGenerator::create(gen);
+  ASSERT_TRUE(generator.ok()) << generator.error().message();
+  FeelWriterOptions wo;
+  wo.generator_json = grasp_set_options_json(gen);
+  wo.camera_jpeg_quality = 95;
+  auto h5 = create_feel_writer(tmp / "h5", wo);
+  auto repacked = create_feel_repacked_writer(tmp / "repacked", wo);
+  ASSERT_TRUE(h5.ok() && repacked.ok());
+  std::vector<sim::GraspEpisode> want(6);
+  for (int64_t i = 0; i < 6; ++i) {
+    auto& e = want[static_cast<size_t>(i)];
+    ASSERT_TRUE((*generator)->generate(i, e).ok());
+    ASSERT_TRUE((*h5)->write(e).ok());
+    ASSERT_TRUE((*repacked)->write(e).ok());
+  }
+  ASSERT_TRUE((*h5)->finish().ok());
+  ASSERT_TRUE((*repacked)->finish().ok());
+
+  auto loader = open_feel(tmp / "h5", {});
+  ASSERT_TRUE(loader.ok());
+  sim::GraspEpisode got;
+  for (const auto& w : want) {
+    auto more = (*loader)->next(got);
+    ASSERT_TRUE(more.ok() && more.value());
+    EXPECT_EQ(got.object_name, w.object_name);
+    EXPECT_EQ(got.is_gripping, w.is_gripping);
+    EXPECT_DOUBLE_EQ(got.variables.mass_kg, w.variables.mass_kg);
+    EXPECT_EQ(got.frames[1][1].width, w.frames[1][1].width);
+    EXPECT_EQ(got.vision[2].width, 32);
+  }
+  EXPECT_EQ((*loader)->report().problem_count(), 0) << (*loader)->report().summary();
+  FeelLoaderOptions all;
+  auto rl = open_feel_repacked(tmp / "repacked", all);
+  ASSERT_TRUE(rl.ok());
+  int n = 0;
+  while ((*rl)->next(got).value()) ++n;
+  EXPECT_EQ(n, 6);
+  EXPECT_EQ((*rl)->report().problem_count(), 0) << (*rl)->report().summary();
+}
+
+}  // namespace
+}  // namespace tlvlink::datasets

@@ -1,0 +1,158 @@
+// The grasp-episode generator: sizes, determinism, order independence, frames that agree with
+// the label, visible variables that agree with the rendered contact, and the public oracle.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "support/random.h"
+#include "tlvlink/sim/generate.h"
+
+namespace tlvlink::sim {
+namespace {
+
+// The contact-area model is a coarse copy of the renderer's mechanics (5 px cells, no texture):
+// its area agrees with the rendered one to within this fraction (median over episodes).
+constexpr double kAreaAgreement = 0.15;
+// The renderer's slip ratio at the lift equals the label's rho up to the force bisection
+// tolerance (1e-3) and float rounding.
+constexpr double kRhoAgreement = 0.01;
+
+GraspSetOptions small_options(uint64_t seed) {
+  GraspSetOptions o;
+  o.objects = 4;
+  o.grasps_per_object = 3;
+  o.vision_height = 24;
+  o.vision_width = 32;
+  o.seed = seed;
+  return o;
+}
+
+std::unique_ptr<GraspEpisodeGenerator> make(const GraspSetOptions& o) {
+  auto g = GraspEpisodeGenerator::create(o);
+  EXPECT_TRUE(g.ok()) << (g.ok() ? "" : g.error().message());
+  return g.ok() ? std::move(g).value() : nullptr;
+}
+
+const ContactState& state(const GraspEpisode& e, int f, Moment m) {
+  return e.states[f][static_cast<int>(m)];
+}
+
+TEST(GraspGenerator, FramesAgreeWithTheLabel) {
+  const uint64_t seed = testing::test_seed();
+  SCOPED_SEED_TRACE(seed);
+  GraspSetOptions o = small_options(seed);
+  o.objects = 8;
+  auto gen = make(o);
+  ASSERT_NE(gen, nullptr);
+  ASSERT_EQ(gen->size(), 24);
+  GraspEpisode e;
+  std::vector<double> area_error;
+  int held = 0;
+  for (int64_t i = 0; i < gen->size(); ++i) {
+    SCOPED_TRACE("episode " + std::to_string(i));
+    ASSERT_TRUE(gen->generate(i, e).ok());
+    const GraspVariables& v = e.variables;
+    EXPECT_EQ(e.is_gripping, grasp_succeeds(v));
+    EXPECT_EQ(v.slip_ratio, grasp_slip_ratio(v));
+    EXPECT_DOUBLE_EQ(v.margin, 1 - v.slip_ratio);
+    EXPECT_GE(v.grip_force_n, 5);
+    EXPECT_LE(v.grip_force_n, 35);
+    EXPECT_GT(v.mass_kg, 0);
+    EXPECT_EQ(e.object_id, i / 3);
+    held += e.is_gripping;
+    for (int f = 0; f < kFingers; ++f) {
+      for (int m = 0; m < kMoments; ++m) {
+        EXPECT_EQ(e.frames[f][m].rgb.size(), 240u * 320u * 3u);
+        EXPECT_EQ(e.vision[m].rgb.size(), 24u * 32u * 3u);
+        EXPECT_TRUE(std::isfinite(e.states[f][m].slip_ratio));
+      }
+      EXPECT_FALSE(state(e, f, Moment::kBefore).in_contact);
+      EXPECT_EQ(state(e, f, Moment::kDuring).in_contact, v.finger_in_contact[f]);
+      EXPECT_LT(state(e, f, Moment::kDuring).slip_ratio, 1) << "the resting object does not slip";
+      if (v.finger_in_contact[f]) {
+        const double rendered = state(e, f, Moment::kDuring).contact_area_mm2;
+        area_error.push_back(std::fabs(v.contact_area_mm2[f] - rendered) / rendered);
+      }
+      const ContactState& after = state(e, f, Moment::kAfter);
+      if (e.is_gripping) {
+        EXPECT_TRUE(after.in_contact);
+        EXPECT_FALSE(after.gross_slip);
+        EXPECT_LE(after.slip_ratio, 1);
+      } else if (v.finger_in_contact[0] && v.finger_in_contact[1] && v.slip_ratio < 3) {
+        EXPECT_TRUE(after.gross_slip);
+        EXPECT_NEAR(after.slip_ratio, v.slip_ratio, kRhoAgreement * v.slip_ratio);
+      } else {
+        EXPECT_FALSE(after.in_contact) << "dropped";
+      }
+    }
+    if (e.is_gripping) {  // the finger with the larger rho carries the label's rho
+      const double rendered =
+          std::max(state(e, 0, Moment::kAfter).slip_ratio, state(e, 1, Moment::kAfter).slip_ratio);
+      EXPECT_NEAR(rendered, std::min(v.slip_ratio, 0.999), kRhoAgreement);
+    }
+  }
+  std::sort(area_error.begin(), area_error.end());
+  const double median = area_error[area_error.size() / 2];
+  std::printf("grasp: %d/24 held; contact area model vs rendered: median error %.3f, max %.3f\n",
+              held, median, area_error.back());
+  EXPECT_LT(median, kAreaAgreement);
+}
+
+TEST(GraspGenerator, DeterministicAndIndependentOfOrder) {
+  const uint64_t seed = testing::test_seed();
+  SCOPED_SEED_TRACE(seed);
+  auto a = make(small_options(seed)), b = make(small_options(seed));
+  ASSERT_NE(a, nullptr);
+  ASSERT_NE(b, nullptr);
+  GraspEpisode x, y, first;
+  ASSERT_TRUE(a->generate(0, first).ok());
+  for (int64_t i : {7, 3}) {
+    ASSERT_TRUE(a->generate(i, x).ok());
+    for (int64_t j = 11; j > i; --j) ASSERT_TRUE(b->generate(j, y).ok());  // b has another history
+    ASSERT_TRUE(b->generate(i, y).ok());
+    EXPECT_EQ(x.object_name, y.object_name);
+    EXPECT_EQ(x.is_gripping, y.is_gripping);
+    EXPECT_EQ(x.variables.mass_kg, y.variables.mass_kg);
+    for (int f = 0; f < kFingers; ++f) {
+      for (int m = 0; m < kMoments; ++m) EXPECT_EQ(x.frames[f][m].rgb, y.frames[f][m].rgb);
+    }
+    EXPECT_EQ(x.vision[2].rgb, y.vision[2].rgb);
+  }
+  // Grasps of one object share the object (name, material, mass), not the grasp.
+  GraspEpisode g0, g1, g3;
+  ASSERT_TRUE(a->generate(0, g0).ok());
+  ASSERT_TRUE(a->generate(1, g1).ok());
+  ASSERT_TRUE(a->generate(3, g3).ok());
+  EXPECT_EQ(g0.object_name, g1.object_name);
+  EXPECT_EQ(g0.variables.mass_kg, g1.variables.mass_kg);
+  EXPECT_EQ(g0.material.friction, g1.material.friction);
+  EXPECT_NE(g0.object_name, g3.object_name);
+  EXPECT_EQ(g0.frames[0][0].rgb, first.frames[0][0].rgb);
+}
+
+TEST(GraspGenerator, OracleFromThePublicApi) {
+  GraspSetOptions o = small_options(testing::test_seed());
+  const Result<GraspOracleReport> r = grasp_oracle_report(o, 600);
+  ASSERT_TRUE(r.ok());
+  EXPECT_GT(r.value().accuracy, 0.6);
+  EXPECT_LT(r.value().accuracy, 0.98);
+  EXPECT_EQ(grasp_oracle_accuracy(o, 600), r.value().accuracy);
+  o.sensor = "no-such-sensor";
+  EXPECT_EQ(grasp_oracle_accuracy(o, 100), 0);
+  EXPECT_FALSE(grasp_oracle_report(o, 100).ok());
+}
+
+TEST(GraspGenerator, BadOptionsAndIndicesAreErrors) {
+  GraspSetOptions o = small_options(1);
+  o.objects = 0;
+  EXPECT_EQ(GraspEpisodeGenerator::create(o).error().code(), ErrorCode::kInvalidArgument);
+  auto gen = make(small_options(1));
+  GraspEpisode e;
+  EXPECT_EQ(gen->generate(12, e).error().code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(gen->generate(-1, e).error().code(), ErrorCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace tlvlink::sim

@@ -1,0 +1,44 @@
+// tlvlink sim: the GelSight simulator on the command line: datasets in the Touch100k,
+// Touch-and-Go and Feel formats, single frames, the extreme set, dataset statistics.
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "cli/common.h"
+#include "cli/sim_commands.h"
+
+namespace tlvlink::cli {
+
+void add_sim_command(CLI::App& app, int& exit_code) {
+  CLI::App* sim = app.add_subcommand(
+      "sim",
+      "GelSight simulator: generate Touch100k / Touch-and-Go / Feel datasets, render "
+      "frames and the extreme set, print dataset statistics");
+  auto stats_dir = std::make_shared<std::string>();
+  CLI::Option* stats =
+      sim->add_option("--stats", *stats_dir,
+                      "Print the statistics of the Touch100k-format set in this directory "
+                      "(same as `tlvlink sim stats DIR`)");
+  sim->require_subcommand(0, 1);
+  sim->footer(kExitCodeFooter);
+  add_sim_touch_commands(*sim, exit_code);
+  add_sim_feel_command(*sim, exit_code);
+  add_sim_frame_command(*sim, exit_code);
+  add_sim_extreme_command(*sim, exit_code);
+  add_sim_stats_command(*sim, exit_code);
+  // --stats is a command of its own: combining it with a subcommand is a usage error.
+  for (CLI::App* sub : sim->get_subcommands([](CLI::App*) { return true; })) sub->excludes(stats);
+  sim->callback([sim, stats_dir, &exit_code] {
+    if (!sim->get_subcommands().empty()) return;
+    if (stats_dir->empty()) {
+      std::fprintf(stderr, "%s", sim->help().c_str());
+      std::fprintf(stderr, "tlvlink sim: give a subcommand or --stats DIR\n");
+      exit_code = kExitUsage;
+      return;
+    }
+    exit_code = run_sim_stats(*stats_dir, 20, true, false);
+  });
+}
+
+}  // namespace tlvlink::cli

@@ -1,0 +1,155 @@
+// tlvlink sim feel -o DIR: generated grasp episodes in Feel's HDF5 files or, with --repacked,
+// TLV-Link's jpg + info JSON-lines layout.
+
+#include <cstdio>
+#include <string>
+
+#include "cli/common.h"
+#include "cli/sim_commands.h"
+#include "io/progress.h"
+#include "tlvlink/datasets/feel.h"
+#include "tlvlink/sim/generate.h"
+
+namespace tlvlink::cli {
+namespace {
+
+struct FeelFlags {
+  std::string output_dir;
+  int objects = 20;
+  int grasps_per_object = 10;
+  uint64_t seed = 1;
+  std::string sensor = "gelsight-mini";
+  int vision_height = 240, vision_width = 320;
+  bool no_markers = false;
+  bool repacked = false;
+  int records_per_file = 100;
+  int deflate_level = 1;
+  int camera_jpeg_quality = 95;
+  int jpeg_quality = 95;
+  int quarter_turns = 0;
+  double test_fraction = 0.2;
+  bool no_sidecar = false;
+  int threads = 1;
+  bool oracle = false;
+};
+
+int run_feel(const FeelFlags& f) {
+  const char* command = "sim feel";
+  sim::GraspSetOptions gen;
+  gen.objects = f.objects;
+  gen.grasps_per_object = f.grasps_per_object;
+  gen.sensor = f.sensor;
+  gen.vision_height = f.vision_height;
+  gen.vision_width = f.vision_width;
+  gen.markers = !f.no_markers;
+  gen.seed = f.seed;
+  std::vector<std::unique_ptr<sim::GraspEpisodeGenerator>> generators;
+  for (int t = 0; t < f.threads; ++t) {
+    auto g = sim::GraspEpisodeGenerator::create(gen);
+    if (!g.ok()) return report_error(command, g.error());
+    generators.push_back(std::move(g).value());
+  }
+  datasets::FeelWriterOptions wo;
+  wo.jpeg_quality = f.jpeg_quality;
+  wo.test_fraction = f.test_fraction;
+  wo.sidecar = !f.no_sidecar;
+  wo.generator_json = datasets::grasp_set_options_json(gen);
+  wo.records_per_file = f.records_per_file;
+  wo.deflate_level = f.deflate_level;
+  wo.camera_jpeg_quality = f.camera_jpeg_quality;
+  wo.gelsight_quarter_turns = f.quarter_turns;
+  auto writer = f.repacked ? datasets::create_feel_repacked_writer(f.output_dir, wo)
+                           : datasets::create_feel_writer(f.output_dir, wo);
+  if (!writer.ok()) return report_error(command, writer.error());
+  const int64_t total = generators[0]->size();
+  tools::Progress progress(command, total);
+  int64_t gripping = 0;
+  const std::function<Status(const sim::GraspEpisode&)> consume = [&](const sim::GraspEpisode& e) {
+    gripping += e.is_gripping ? 1 : 0;
+    return (*writer)->write(e);
+  };
+  Status s = generate_in_order<sim::GraspEpisode>(generators, total, consume, progress);
+  if (s.ok()) s = (*writer)->finish();
+  const datasets::WriteSummary& sum = (*writer)->summary();
+  progress.finish(human_bytes(static_cast<size_t>(sum.bytes)));
+  if (!s.ok()) return report_error(command, s.error());
+  std::printf(
+      "wrote %lld grasps of %lld objects (%lld test objects), %.1f %% still held after "
+      "the lift; %lld files, %s in %s\n",
+      static_cast<long long>(sum.items), static_cast<long long>(sum.objects),
+      static_cast<long long>(sum.test_objects),
+      sum.items > 0 ? 100.0 * static_cast<double>(gripping) / static_cast<double>(sum.items) : 0.0,
+      static_cast<long long>(sum.files), human_bytes(static_cast<size_t>(sum.bytes)).c_str(),
+      f.output_dir.c_str());
+  if (f.oracle) {
+    constexpr int64_t kOracleSamples = 20000;
+    std::printf("oracle accuracy from the visible variables (%lld fresh episodes): %.3f\n",
+                static_cast<long long>(kOracleSamples),
+                sim::grasp_oracle_accuracy(gen, kOracleSamples));
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+void add_sim_feel_command(CLI::App& sim, int& exit_code) {
+  auto f = std::make_shared<FeelFlags>();
+  CLI::App* cmd = sim.add_subcommand(
+      "feel",
+      "Generate Feel-style grasp episodes (two fingers x before/during/after) as "
+      "calandra_corl2017_NNN.h5 files, or TLV-Link's repacked layout with --repacked");
+  cmd->add_option("-o,--output", f->output_dir, "Output directory (created; must not hold a set)")
+      ->required();
+  cmd->add_option("--objects", f->objects, "Objects (splits are by object)")
+      ->check(CLI::Range(1, 1'000'000))
+      ->capture_default_str();
+  cmd->add_option("--grasps-per-object", f->grasps_per_object, "Grasps per object")
+      ->check(CLI::Range(1, 100'000))
+      ->capture_default_str();
+  cmd->add_option("-s,--seed", f->seed, "Seed; episode i depends only on (seed, i)")
+      ->capture_default_str();
+  cmd->add_option("--sensor", f->sensor, "Sensor profile")->capture_default_str();
+  cmd->add_option("--vision-height", f->vision_height, "kinectA_rgb height")
+      ->check(CLI::Range(1, 8192))
+      ->capture_default_str();
+  cmd->add_option("--vision-width", f->vision_width, "kinectA_rgb width")
+      ->check(CLI::Range(1, 8192))
+      ->capture_default_str();
+  cmd->add_flag("--no-markers", f->no_markers, "Render without the marker grid");
+  cmd->add_flag("--repacked", f->repacked,
+                "TLV-Link's layout: data/<touch_dir>/gelsight*.jpg + {train,test}_info.json");
+  cmd->add_option("--records-per-file", f->records_per_file, "HDF5: grasps per file")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  cmd->add_option("--deflate", f->deflate_level, "HDF5: deflate level (0 = none)")
+      ->check(CLI::Range(0, 9))
+      ->capture_default_str();
+  cmd->add_option("--camera-jpeg-quality", f->camera_jpeg_quality,
+                  "JPEG round trip of every frame before storing, like the rig's MJPEG camera "
+                  "(0 = none)")
+      ->check(CLI::Range(0, 100))
+      ->capture_default_str();
+  cmd->add_option("--jpeg-quality", f->jpeg_quality, "--repacked: quality of the stored JPEGs")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  cmd->add_option("--quarter-turns", f->quarter_turns,
+                  "HDF5: store GelSight frames rotated by this many quarter turns "
+                  "counterclockwise (the published files are stored rotated)")
+      ->check(CLI::Range(0, 3))
+      ->capture_default_str();
+  cmd->add_option("--test-fraction", f->test_fraction, "Share of objects in the test split")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_flag("--no-sidecar", f->no_sidecar,
+                "Do not write the simulator metadata (HDF5 attribute / sidecar JSON-lines)");
+  cmd->add_option("-t,--threads", f->threads,
+                  "Generator threads (output is identical for any count)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  cmd->add_flag("--oracle", f->oracle,
+                "Also print the accuracy an oracle reaches from the visible variables");
+  cmd->footer(kExitCodeFooter);
+  cmd->callback([f, &exit_code] { exit_code = run_feel(*f); });
+}
+
+}  // namespace tlvlink::cli

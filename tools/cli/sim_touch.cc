@@ -1,0 +1,126 @@
+// tlvlink sim touch100k|tag -o DIR: generated touch sessions in the Touch100k or Touch-and-Go
+// format (tools/datasets/README.md).
+
+#include <cstdio>
+#include <string>
+
+#include "cli/common.h"
+#include "cli/sim_commands.h"
+#include "io/progress.h"
+#include "tlvlink/datasets/touch100k.h"
+#include "tlvlink/datasets/touch_and_go.h"
+#include "tlvlink/sim/generate.h"
+
+namespace tlvlink::cli {
+namespace {
+
+struct TouchFlags {
+  std::string format;  // "touch100k" or "tag"
+  std::string output_dir;
+  int sessions = 100;
+  int frames_per_session = 10;
+  uint64_t seed = 1;
+  std::string sensor = "gelsight-mini";
+  int vision_height = 240, vision_width = 320;
+  bool markers = false;
+  int jpeg_quality = 90;
+  double test_fraction = 0.2;
+  bool no_sidecar = false;
+  int threads = 1;
+};
+
+int run_touch(const TouchFlags& f) {
+  const char* command = f.format == "tag" ? "sim tag" : "sim touch100k";
+  sim::TouchSetOptions gen;
+  gen.sessions = f.sessions;
+  gen.frames_per_session = f.frames_per_session;
+  gen.sensor = f.sensor;
+  gen.vision_height = f.vision_height;
+  gen.vision_width = f.vision_width;
+  gen.markers = f.markers;
+  gen.seed = f.seed;
+  std::vector<std::unique_ptr<sim::TouchSampleGenerator>> generators;
+  for (int t = 0; t < f.threads; ++t) {
+    auto g = sim::TouchSampleGenerator::create(gen);
+    if (!g.ok()) return report_error(command, g.error());
+    generators.push_back(std::move(g).value());
+  }
+  datasets::WriterOptions wo;
+  wo.jpeg_quality = f.jpeg_quality;
+  wo.test_fraction = f.test_fraction;
+  wo.sidecar = !f.no_sidecar;
+  wo.generator_json = datasets::touch_set_options_json(gen);
+  auto writer = f.format == "tag" ? datasets::create_tag_writer(f.output_dir, wo)
+                                  : datasets::create_touch100k_writer(f.output_dir, wo);
+  if (!writer.ok()) return report_error(command, writer.error());
+  const int64_t total = generators[0]->size();
+  tools::Progress progress(command, total);
+  const std::function<Status(const sim::TouchSample&)> consume = [&](const sim::TouchSample& s) {
+    return (*writer)->write(s);
+  };
+  Status s = generate_in_order<sim::TouchSample>(generators, total, consume, progress);
+  if (s.ok()) s = (*writer)->finish();
+  const datasets::WriteSummary& sum = (*writer)->summary();
+  progress.finish(human_bytes(static_cast<size_t>(sum.bytes)));
+  if (!s.ok()) return report_error(command, s.error());
+  std::printf("wrote %lld samples (%lld sessions: %lld train, %lld test; %lld files, %s) to %s\n",
+              static_cast<long long>(sum.items), static_cast<long long>(sum.objects),
+              static_cast<long long>(sum.objects - sum.test_objects),
+              static_cast<long long>(sum.test_objects), static_cast<long long>(sum.files),
+              human_bytes(static_cast<size_t>(sum.bytes)).c_str(), f.output_dir.c_str());
+  return kExitOk;
+}
+
+void add_touch_command(CLI::App& sim, int& exit_code, const char* name, const char* help) {
+  auto f = std::make_shared<TouchFlags>();
+  f->format = name;
+  CLI::App* cmd = sim.add_subcommand(name, help);
+  cmd->add_option("-o,--output", f->output_dir, "Output directory (created; must not hold a set)")
+      ->required();
+  cmd->add_option("--sessions", f->sessions, "Sessions (one object each)")
+      ->check(CLI::Range(1, 10'000'000))
+      ->capture_default_str();
+  cmd->add_option("--frames-per-session", f->frames_per_session, "Frames (presses) per session")
+      ->check(CLI::Range(1, 100'000))
+      ->capture_default_str();
+  cmd->add_option("-s,--seed", f->seed, "Seed; sample i depends only on (seed, i)")
+      ->capture_default_str();
+  cmd->add_option("--sensor", f->sensor,
+                  "Sensor profile: gelsight-mini, digit, digit-640x480, gelsight-r1.5")
+      ->capture_default_str();
+  cmd->add_option("--vision-height", f->vision_height, "Vision image height")
+      ->check(CLI::Range(1, 8192))
+      ->capture_default_str();
+  cmd->add_option("--vision-width", f->vision_width, "Vision image width")
+      ->check(CLI::Range(1, 8192))
+      ->capture_default_str();
+  cmd->add_flag("--markers", f->markers, "Render the marker grid");
+  cmd->add_option("--jpeg-quality", f->jpeg_quality, "Quality of the stored JPEGs")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  cmd->add_option("--test-fraction", f->test_fraction,
+                  "Share of sessions in the test split (train/test never share a session)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_flag("--no-sidecar", f->no_sidecar,
+                "Do not write the tlvlink_sim_*.jsonl ground-truth sidecars");
+  cmd->add_option("-t,--threads", f->threads,
+                  "Generator threads (output is identical for any count)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  cmd->footer(kExitCodeFooter);
+  cmd->callback([f, &exit_code] { exit_code = run_touch(*f); });
+}
+
+}  // namespace
+
+void add_sim_touch_commands(CLI::App& sim, int& exit_code) {
+  add_touch_command(sim, exit_code, "touch100k",
+                    "Generate a Touch100k-format set: touch/, vision/, data_list.json (img, "
+                    "sentence_desc, phrase_desc)");
+  add_touch_command(sim, exit_code, "tag",
+                    "Generate a Touch-and-Go-format set: session folders of gelsight_frame/ and "
+                    "video_frame/ JPEGs, material / hard / rough label files split by session");
+}
+
+}  // namespace tlvlink::cli

@@ -1,0 +1,24 @@
+#pragma once
+// Pieces the Feel HDF5 and repacked writers/loaders share. Internal.
+
+#include <string>
+
+#include "tlvlink/datasets/feel.h"
+
+namespace tlvlink::datasets {
+
+inline constexpr const char* kFeelFilePrefix = "calandra_corl2017_";
+inline constexpr const char* kMomentNames[sim::kMoments] = {"before", "during", "after"};
+inline constexpr const char* kFingerNames[sim::kFingers] = {"A", "B"};
+
+std::string gelsight_key(int finger, int moment);  // "gelsightA_before"
+std::string kinect_key(int moment);                // "kinectA_rgb_before"
+
+Status validate(const FeelWriterOptions& options);
+Status validate(const FeelLoaderOptions& options);
+// Non-empty object name; GelSight frames (and the kinect images when need_vision) RGB.
+Status check_episode(const sim::GraspEpisode& episode, bool need_vision);
+// Clears what a loaded episode does not overwrite, keeping the image buffers for reuse.
+void reset_episode(sim::GraspEpisode& episode);
+
+}  // namespace tlvlink::datasets

@@ -1,0 +1,192 @@
+#include "datasets/src/meta.h"
+
+#include <sys/stat.h>
+
+namespace tlvlink::datasets {
+namespace {
+
+OrderedJson material_json(const sim::MaterialSample& m) {
+  return {{"class_id", m.class_id}, {"modulus_pa", m.modulus_pa},
+          {"poisson", m.poisson},   {"friction", m.friction},
+          {"sq_um", m.sq_um},       {"correlation_length_mm", m.correlation_length_mm},
+          {"hurst", m.hurst},       {"hard", m.hard},
+          {"rough", m.rough}};
+}
+
+void read_material(const Json& j, sim::MaterialSample& m) {
+  m.class_id = j.at("class_id").get<int32_t>();
+  m.modulus_pa = j.at("modulus_pa").get<double>();
+  m.poisson = j.at("poisson").get<double>();
+  m.friction = j.at("friction").get<double>();
+  m.sq_um = j.at("sq_um").get<double>();
+  m.correlation_length_mm = j.at("correlation_length_mm").get<double>();
+  m.hurst = j.at("hurst").get<double>();
+  m.hard = j.at("hard").get<bool>();
+  m.rough = j.at("rough").get<int32_t>();
+}
+
+OrderedJson contact_json(const sim::ContactState& c) {
+  return {{"in_contact", c.in_contact},
+          {"force_n", c.force_n},
+          {"press_mm", c.press_mm},
+          {"max_gel_indentation_mm", c.max_gel_indentation_mm},
+          {"kappa", c.kappa},
+          {"contact_area_mm2", c.contact_area_mm2},
+          {"contact_radius_mm", c.contact_radius_mm},
+          {"stick_radius_mm", c.stick_radius_mm},
+          {"slip_ratio", c.slip_ratio},
+          {"gross_slip", c.gross_slip},
+          {"markers_deviating", c.markers_deviating},
+          {"mean_shear_mm", c.mean_shear_mm}};
+}
+
+void read_contact(const Json& j, sim::ContactState& c) {
+  c.in_contact = j.at("in_contact").get<bool>();
+  c.force_n = j.at("force_n").get<double>();
+  c.press_mm = j.at("press_mm").get<double>();
+  c.max_gel_indentation_mm = j.at("max_gel_indentation_mm").get<double>();
+  c.kappa = j.at("kappa").get<double>();
+  c.contact_area_mm2 = j.at("contact_area_mm2").get<double>();
+  c.contact_radius_mm = j.at("contact_radius_mm").get<double>();
+  c.stick_radius_mm = j.at("stick_radius_mm").get<double>();
+  c.slip_ratio = j.at("slip_ratio").get<double>();
+  c.gross_slip = j.at("gross_slip").get<bool>();
+  c.markers_deviating = j.at("markers_deviating").get<int32_t>();
+  c.mean_shear_mm = j.at("mean_shear_mm").get<double>();
+}
+
+OrderedJson variables_json(const sim::GraspVariables& v) {
+  return {{"grip_force_n", v.grip_force_n},
+          {"friction", v.friction},
+          {"contact_area_mm2", {v.contact_area_mm2[0], v.contact_area_mm2[1]}},
+          {"finger_in_contact", {v.finger_in_contact[0], v.finger_in_contact[1]}},
+          {"mass_kg", v.mass_kg},
+          {"com_offset_mm", v.com_offset_mm},
+          {"lift_accel_mps2", v.lift_accel_mps2},
+          {"slip_ratio", v.slip_ratio},
+          {"margin", v.margin}};
+}
+
+void read_variables(const Json& j, sim::GraspVariables& v) {
+  v.grip_force_n = j.at("grip_force_n").get<double>();
+  v.friction = j.at("friction").get<double>();
+  for (int f = 0; f < sim::kFingers; ++f) {
+    v.contact_area_mm2[f] = j.at("contact_area_mm2").at(static_cast<size_t>(f)).get<double>();
+    v.finger_in_contact[f] = j.at("finger_in_contact").at(static_cast<size_t>(f)).get<bool>();
+  }
+  v.mass_kg = j.at("mass_kg").get<double>();
+  v.com_offset_mm = j.at("com_offset_mm").get<double>();
+  v.lift_accel_mps2 = j.at("lift_accel_mps2").get<double>();
+  v.slip_ratio = j.at("slip_ratio").get<double>();
+  v.margin = j.at("margin").get<double>();
+}
+
+}  // namespace
+
+bool parse_json(const std::string& text, Json& out, std::string& why) {
+  try {
+    out = Json::parse(text);
+    return true;
+  } catch (const Json::exception& e) {
+    why = e.what();
+    return false;
+  }
+}
+
+OrderedJson touch_meta(const sim::TouchSample& s, const std::string& key, bool test) {
+  return {{"key", key},
+          {"split", test ? "test" : "train"},
+          {"session", s.session},
+          {"frame_index", s.frame_index},
+          {"object_id", s.object_id},
+          {"material", material_json(s.material)},
+          {"contact", contact_json(s.contact)}};
+}
+
+OrderedJson grasp_meta(const sim::GraspEpisode& e, const std::string& key, bool test) {
+  OrderedJson states = OrderedJson::array();
+  for (int f = 0; f < sim::kFingers; ++f) {
+    OrderedJson finger = OrderedJson::array();
+    for (int m = 0; m < sim::kMoments; ++m) finger.push_back(contact_json(e.states[f][m]));
+    states.push_back(std::move(finger));
+  }
+  return {{"key", key},
+          {"split", test ? "test" : "train"},
+          {"object_name", e.object_name},
+          {"object_id", e.object_id},
+          {"is_gripping", e.is_gripping},
+          {"material", material_json(e.material)},
+          {"variables", variables_json(e.variables)},
+          {"states", std::move(states)}};
+}
+
+bool apply_touch_meta(const Json& meta, sim::TouchSample& out, std::string& why) {
+  try {
+    out.object_id = meta.at("object_id").get<int32_t>();
+    read_material(meta.at("material"), out.material);
+    read_contact(meta.at("contact"), out.contact);
+    return true;
+  } catch (const Json::exception& e) {
+    why = e.what();
+    return false;
+  }
+}
+
+bool apply_grasp_meta(const Json& meta, sim::GraspEpisode& out, std::string& why) {
+  try {
+    out.object_id = meta.at("object_id").get<int32_t>();
+    read_material(meta.at("material"), out.material);
+    read_variables(meta.at("variables"), out.variables);
+    const Json& states = meta.at("states");
+    for (int f = 0; f < sim::kFingers; ++f)
+      for (int m = 0; m < sim::kMoments; ++m)
+        read_contact(states.at(static_cast<size_t>(f)).at(static_cast<size_t>(m)),
+                     out.states[f][m]);
+    return true;
+  } catch (const Json::exception& e) {
+    why = e.what();
+    return false;
+  }
+}
+
+void SidecarReader::open(const std::string& path) {
+  struct stat st {};
+  active_ = ::stat(path.c_str(), &st) == 0 && reader_.open(path).ok();
+}
+
+const Json* SidecarReader::next(const std::string& key, LoadReport& report) {
+  if (!active_) return nullptr;
+  std::string line;
+  do {
+    if (!reader_.next(line)) {
+      stop("ends before the index does", report);
+      return nullptr;
+    }
+  } while (is_blank(line));
+  std::string why;
+  if (!parse_json(line, current_, why)) {
+    stop(why, report);
+    return nullptr;
+  }
+  const auto it = current_.find("key");
+  if (it == current_.end() || !it->is_string() || it->get<std::string>() != key) {
+    stop("key does not match the index entry '" + key + "'", report);
+    return nullptr;
+  }
+  return &current_;
+}
+
+void SidecarReader::skip() {
+  if (!active_) return;
+  std::string line;
+  while (reader_.next(line) && is_blank(line)) {
+  }
+}
+
+void SidecarReader::stop(const std::string& why, LoadReport& report) {
+  active_ = false;
+  report.add({ProblemKind::kSidecarMismatch, reader_.path(), reader_.line_number(),
+              why + "; simulator metadata ignored from here on"});
+}
+
+}  // namespace tlvlink::datasets

@@ -1,0 +1,47 @@
+#pragma once
+// The simulator's ground truth per item as JSON (tlvlink_sim_*.jsonl sidecars, the HDF5
+// `tlvlink_sim` attribute), both ways, and the lock-step sidecar reader. Internal.
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+#include "datasets/src/line_io.h"
+#include "tlvlink/datasets/report.h"
+#include "tlvlink/sim/dataset.h"
+
+namespace tlvlink::datasets {
+
+using Json = nlohmann::json;
+using OrderedJson = nlohmann::ordered_json;
+
+// Parses one JSON text; false with the parser's reason.
+bool parse_json(const std::string& text, Json& out, std::string& why);
+
+OrderedJson touch_meta(const sim::TouchSample& sample, const std::string& key, bool test);
+OrderedJson grasp_meta(const sim::GraspEpisode& episode, const std::string& key, bool test);
+// Fill the simulator fields (object id, material, contact / variables, states) from metadata;
+// false with the reason when a field is missing or of the wrong type.
+bool apply_touch_meta(const Json& meta, sim::TouchSample& out, std::string& why);
+bool apply_grasp_meta(const Json& meta, sim::GraspEpisode& out, std::string& why);
+
+// Reads a sidecar line for line with its index file. Absent file: inactive, no problem.
+// A line whose "key" differs from the index's, or a malformed line, is reported once as
+// kSidecarMismatch and the reader stops (metadata is then left at its defaults).
+class SidecarReader {
+ public:
+  void open(const std::string& path);
+  bool active() const { return active_; }
+  // The metadata of the next index line (key must match), or nullptr.
+  const Json* next(const std::string& key, LoadReport& report);
+  // Advances past the line of an index line that was itself unusable.
+  void skip();
+
+ private:
+  void stop(const std::string& why, LoadReport& report);
+  LineReader reader_;
+  Json current_;
+  bool active_ = false;
+};
+
+}  // namespace tlvlink::datasets

@@ -1,0 +1,18 @@
+#pragma once
+// tlvlink_sim.json: what made a dataset and how it was written. Internal.
+
+#include <string>
+
+#include "datasets/src/meta.h"
+#include "tlvlink/datasets/writer.h"
+
+namespace tlvlink::datasets {
+
+inline constexpr const char* kProvenanceFile = "tlvlink_sim.json";
+
+// Writes DIR/tlvlink_sim.json: {"format", "generator", "writer", "counts"}; `writer_extra`
+// holds format-specific writer options. Adds the file to `summary`.
+Status write_provenance(const std::string& dir, const char* format, const WriterOptions& options,
+                        const OrderedJson& writer_extra, WriteSummary& summary);
+
+}  // namespace tlvlink::datasets

@@ -1,0 +1,68 @@
+#pragma once
+// Generated samples, format-independent: what the dataset writers (Touch100k, Touch-and-Go,
+// Feel) store and what the loaders give back. Generation is seeded and streaming: a generator
+// yields one item at a time and never holds the dataset in memory.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tlvlink/error.h"
+#include "tlvlink/sim/materials.h"
+#include "tlvlink/sim/renderer.h"
+
+namespace tlvlink::sim {
+
+struct RgbImage {
+  int32_t height = 0, width = 0;
+  std::vector<uint8_t> rgb;         // height * width * 3
+};
+
+// One touch frame of a session (Touch100k / Touch-and-Go). A session is one object touched
+// several times; sessions never straddle a train/test split.
+struct TouchSample {
+  std::string session;              // "YYYYMMDD_HHMMSS", unique per session
+  int32_t frame_index = 0;          // within the session
+  int32_t object_id = 0;            // one object per session
+  MaterialSample material;
+  ContactState contact;
+  RgbImage touch;                   // the GelSight frame
+  RgbImage vision;                  // the paired camera image of the object
+  std::string sentence_desc;        // sentence-level tactile description
+  std::vector<std::string> phrases; // phrase-level description (phrase_desc = join ", ")
+};
+
+enum class Moment : uint8_t { kBefore = 0, kDuring = 1, kAfter = 2 };
+inline constexpr int32_t kFingers = 2;   // gelsightA, gelsightB
+inline constexpr int32_t kMoments = 3;
+
+// The variables of one grasp. Visible ones can be estimated from before+during frames;
+// hidden ones (mass, centre-of-mass offset, lift acceleration) cannot.
+struct GraspVariables {
+  // visible
+  double grip_force_n = 0;          // P, integer 5..35 N as in Feel
+  double friction = 0;              // mu, from the material
+  double contact_area_mm2[kFingers] = {0, 0};
+  bool finger_in_contact[kFingers] = {true, true};
+  // hidden
+  double mass_kg = 0;
+  double com_offset_mm = 0;
+  double lift_accel_mps2 = 0;
+  // outcome
+  double slip_ratio = 0;            // rho at the lift (max over fingers)
+  double margin = 0;                // 1 - rho
+};
+
+struct GraspEpisode {
+  std::string object_name;          // unique per object; splits are by object
+  int32_t object_id = 0;
+  MaterialSample material;
+  GraspVariables variables;
+  bool is_gripping = false;         // label: still held after the lift
+  RgbImage frames[kFingers][kMoments];   // [finger][Moment]
+  ContactState states[kFingers][kMoments];
+  RgbImage vision[kMoments];        // kinectA_rgb_{before,during,after} stand-in
+};
+
+}  // namespace tlvlink::sim

@@ -1,0 +1,82 @@
+#pragma once
+// Seeded, streaming generators of whole datasets: touch sessions (Touch100k / Touch-and-Go
+// style: material, touch frame, vision image, descriptions) and Feel-style grasp episodes.
+// Item i depends only on (seed, i), so generation can be split across threads and resumed, and
+// the same options always give the same bytes.
+
+#include <cstdint>
+#include <memory>
+#include <string_view>
+
+#include "tlvlink/error.h"
+#include "tlvlink/sim/dataset.h"
+
+namespace tlvlink::sim {
+
+struct TouchSetOptions {
+  int32_t sessions = 100;           // one object (one material sample) per session
+  int32_t frames_per_session = 10;  // presses of that object at varied force/position/shear
+  std::string_view sensor = "gelsight-mini";
+  int32_t vision_height = 240, vision_width = 320;
+  bool markers = false;
+  uint64_t seed = 1;
+};
+
+class TouchSampleGenerator {
+ public:
+  static Result<std::unique_ptr<TouchSampleGenerator>> create(const TouchSetOptions& options);
+  virtual ~TouchSampleGenerator() = default;
+  virtual int64_t size() const = 0;  // sessions * frames_per_session
+  // Fills `out` with sample `index` (0 <= index < size()), reusing its buffers.
+  virtual Status generate(int64_t index, TouchSample& out) = 0;
+};
+
+struct GraspSetOptions {
+  int32_t objects = 20;
+  int32_t grasps_per_object = 10;
+  std::string_view sensor = "gelsight-mini";
+  int32_t vision_height = 240, vision_width = 320;
+  bool markers = true;              // shear shows in the marker field
+  uint64_t seed = 1;
+};
+
+class GraspEpisodeGenerator {
+ public:
+  static Result<std::unique_ptr<GraspEpisodeGenerator>> create(const GraspSetOptions& options);
+  virtual ~GraspEpisodeGenerator() = default;
+  virtual int64_t size() const = 0;  // objects * grasps_per_object
+  virtual Status generate(int64_t index, GraspEpisode& out) = 0;
+};
+
+// The friction-limit rule (gelsight-sim.md, GRASP EPISODE). Per finger, at the lift:
+// tangential load Q = m (g + a_l) / 2, torque M_z = m g d / 2, contact radius a = sqrt(area/pi),
+// rho = sqrt((Q / (mu P))^2 + (M_z / ((3 pi / 16) mu P a))^2); rho of the grasp = max over the
+// fingers in contact, capped at kMaxSlipRatio so metadata stays finite.
+inline constexpr double kGravity = 9.81;             // m/s^2
+inline constexpr double kGraspSafetyFactor = 1.0;    // success needs rho <= 1 / SF
+inline constexpr double kMaxSlipRatio = 1e6;
+double grasp_slip_ratio(const GraspVariables& v);
+
+// The success rule: both fingers in contact with P > 0, and either nothing to hold (m = 0) or
+// rho <= 1 / SF. So mu = 0 with m > 0 fails, m = 0 succeeds when both fingers touch, and a
+// missing finger always fails. Reads only the visible and hidden inputs of `v`, never its
+// outcome fields.
+bool grasp_succeeds(const GraspVariables& v);
+
+// Accuracy of the Bayes-optimal predictor that sees only the visible variables (grip force,
+// friction, contact areas, which fingers touch), estimated by Monte Carlo over the hidden ones
+// with `samples` episodes; tells how hard the grasp task is. The episodes are fresh draws from
+// the generator's prior (not the dataset's items). 0 when samples <= 0 or the sensor is unknown.
+double grasp_oracle_accuracy(const GraspSetOptions& options, int64_t samples);
+
+// The same estimate with the label balance it saw.
+struct GraspOracleReport {
+  int64_t samples = 0;
+  double accuracy = 0;          // the oracle's accuracy on the fresh episodes
+  double success_rate = 0;      // fraction of them with is_gripping
+  double majority_rate = 0;     // accuracy of always predicting the majority label
+  int64_t hidden_draws = 0;     // Monte Carlo draws of (mass, COM offset, lift accel) per episode
+};
+Result<GraspOracleReport> grasp_oracle_report(const GraspSetOptions& options, int64_t samples);
+
+}  // namespace tlvlink::sim

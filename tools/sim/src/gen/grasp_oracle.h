@@ -1,0 +1,26 @@
+#pragma once
+// The Bayes-optimal grasp predictor from the visible variables alone, and its accuracy.
+
+#include <cstdint>
+#include <vector>
+
+#include "sim/src/gen/contact_area.h"
+#include "tlvlink/sim/generate.h"
+
+namespace tlvlink::sim::internal {
+
+inline constexpr int64_t kOracleHiddenDraws = 4000;  // P(success | visible) to ~+-0.8 %
+
+// Precomputed draws of the hidden variables from their prior.
+struct HiddenDraws {
+  std::vector<double> mass_kg, com_offset_mm, lift_accel_mps2;
+};
+HiddenDraws draw_hidden(uint64_t seed, int64_t count);
+
+// P(success | visible part of v), by Monte Carlo over `hidden` (v's hidden fields are ignored).
+double success_probability(const GraspVariables& v, const HiddenDraws& hidden);
+
+// The oracle's accuracy on `samples` fresh episodes drawn from the grasp prior with `seed`.
+GraspOracleReport oracle_report(const GelContactModel& gel, uint64_t seed, int64_t samples);
+
+}  // namespace tlvlink::sim::internal

@@ -1,0 +1,12 @@
+#pragma once
+// The contact-area model of a sensor profile (the grasp variables and the oracle use the gel of
+// the sensor the episodes are rendered with).
+
+#include "sim/src/gen/contact_area.h"
+#include "tlvlink/sim/sensor.h"
+
+namespace tlvlink::sim::internal {
+
+GelContactModel gel_contact_model(const SensorProfile& profile);
+
+}  // namespace tlvlink::sim::internal
