@@ -1,0 +1,94 @@
+// `tlvlink convert` through the real binary: exit code 0 with a model that loads, 1 for a model
+// it cannot convert (the op and node named on stderr), 2 for bad arguments.
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "tlvlink/model.h"
+
+namespace tlvlink {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out;  // stdout and stderr
+};
+
+CliRun tlvlink(const std::string& args) {
+  CliRun r;
+  FILE* p = ::popen((std::string(TLVLINK_CLI_BINARY) + " " + args + " 2>&1").c_str(), "r");
+  if (p == nullptr) return r;
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+  const int status = ::pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+class ConvertCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("tlvlink_convert_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  static std::string model(const std::string& name) {
+    return std::string(TLVLINK_ONNX_MODELS) + "/" + name + ".onnx";
+  }
+  std::string out(const std::string& leaf) const { return (dir_ / leaf).string(); }
+  fs::path dir_;
+};
+
+TEST_F(ConvertCli, ConvertsAndTheModelLoads) {
+  const CliRun r = tlvlink("convert " + model("mobilenetv2_blocks") + " -o " + out("m.tlvm") +
+                        " --mean 0.485,0.456,0.406 --std 0.229,0.224,0.225 --name mnv2");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("opset 13"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("[1, 64, 64, 3]"), std::string::npos) << r.out;
+  auto m = Model::load_file(out("m.tlvm").c_str());
+  ASSERT_TRUE(m.ok()) << m.error().message();
+  EXPECT_EQ((*m)->metadata().name, "mnv2");
+  EXPECT_FLOAT_EQ((*m)->metadata().input.std[2], 0.225f);
+  EXPECT_EQ(tlvlink("inspect " + out("m.tlvm")).exit_code, 0);
+}
+
+TEST_F(ConvertCli, UnsupportedOpExitsOneNamingOpAndNode) {
+  const CliRun r = tlvlink("convert " + model("reject_softmax") + " -o " + out("s.tlvm"));
+  EXPECT_EQ(r.exit_code, 1) << r.out;
+  EXPECT_NE(r.out.find("'Softmax'"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("/2/Softmax"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out("s.tlvm")));
+}
+
+TEST_F(ConvertCli, BadArgumentsExitTwo) {
+  EXPECT_EQ(tlvlink("convert " + model("conv_dense_relu")).exit_code, 2);  // no -o
+  EXPECT_EQ(tlvlink("convert " + out("missing.onnx") + " -o " + out("x.tlvm")).exit_code, 2);
+  EXPECT_EQ(tlvlink("convert " + model("conv_dense_relu") + " -o " + out("x.tlvm") +
+                    " --channel-order yuv").exit_code, 2);
+  // Two means for a three-channel input: a usage error found after reading the model.
+  const CliRun r = tlvlink("convert " + model("conv_dense_relu") + " -o " + out("x.tlvm") +
+                        " --mean 0.1,0.2");
+  EXPECT_EQ(r.exit_code, 2) << r.out;
+  EXPECT_NE(r.out.find("mean has 2 values"), std::string::npos) << r.out;
+}
+
+TEST_F(ConvertCli, HelpListsTheOptions) {
+  const CliRun r = tlvlink("convert --help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* s : {"--mean", "--std", "--channel-order", "--output", "Exit codes"}) {
+    EXPECT_NE(r.out.find(s), std::string::npos) << s << " missing from:\n" << r.out;
+  }
+}
+
+}  // namespace
+}  // namespace tlvlink
