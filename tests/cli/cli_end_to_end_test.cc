@@ -137,6 +137,22 @@ TEST_F(Cli, InferOnImagesAndTensorsWithBothExecutors) {
   }
 }
 
+TEST_F(Cli, InferComparesBothExecutorsWithTheVerifyTolerances) {
+  tools::Image img{240, 320, 3, {}};
+  for (int i = 0; i < 240 * 320 * 3; ++i) img.pixels.push_back(static_cast<uint8_t>((i * 13) % 253));
+  ASSERT_TRUE(tools::write_pnm(path("cmp.ppm"), img).ok());
+  CliRun f = tlvlink("infer " + path("fp32.tlvm") + " -i " + path("cmp.ppm") + " --compare-executors");
+  EXPECT_RUN(f, 0);
+  EXPECT_NE(f.out.find("xnnpack vs reference executor"), std::string::npos) << f.out;
+  EXPECT_NE(f.out.find("1e-4 x max|reference|): PASS"), std::string::npos) << f.out;
+  CliRun q = tlvlink("infer " + path("int8.tlvm") + " -i " + path("cmp.ppm") +
+                     " -e reference --compare-executors -o " + path("cmp.npy"));
+  EXPECT_RUN(q, 0);
+  EXPECT_NE(q.out.find("reference vs xnnpack executor"), std::string::npos) << q.out;
+  EXPECT_NE(q.out.find(" LSB), tolerance"), std::string::npos) << q.out;
+  EXPECT_NE(q.out.find("1 LSB of the dequantized int8 output): PASS"), std::string::npos) << q.out;
+}
+
 TEST_F(Cli, InferRejectsMismatchedInputsNamingBothShapes) {
   std::vector<float> x(64 * 64 * 3, 0.0f);
   ASSERT_TRUE(

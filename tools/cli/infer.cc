@@ -8,6 +8,7 @@
 
 #include "cli/common.h"
 #include "cli/heads.h"
+#include "cli/output_tolerance.h"
 #include "io/file.h"
 #include "io/npy.h"
 #include "io/pnm.h"
@@ -19,6 +20,7 @@ namespace {
 struct InferOptions {
   std::string model, input, output;
   ExecutorFlags exec;
+  bool compare_executors = false;
 };
 
 bool starts_with(const std::vector<std::byte>& b, std::string_view prefix) {
@@ -110,6 +112,33 @@ void print_summary(const Model& model, const Executor& exec) {
   }
 }
 
+// Runs the same input through the other executor and checks every output against the rule of
+// cli/output_tolerance.h (the same as `verify`); exit 1 when an output is out of tolerance.
+int compare_with_other_executor(const InferOptions& o, const Model& m, const Executor& first) {
+  ExecutorFlags other = o.exec;
+  other.executor = first.kind() == ExecutorKind::kXnnpack ? "reference" : "xnnpack";
+  auto exec = create_executor(m, other);
+  if (!exec.ok()) return report_error("infer", exec.error());
+  Executor& e = **exec;
+  if (Status s = load_input(o.input, m, e.input(0)); !s.ok())
+    return report_error("infer", s.error());
+  if (Status s = e.invoke(); !s.ok()) return report_error("infer", s.error());
+  const Graph& g = m.graph();
+  bool all_pass = true;
+  for (size_t i = 0; i < g.outputs.size(); ++i) {
+    const Tensor& t = g.tensor(g.outputs[i]);
+    const std::vector<float> got = output_as_floats(t, first.output(i));
+    const std::vector<float> want = output_as_floats(t, e.output(i));
+    const OutputComparison c = compare_output(g, g.outputs[i], got, want);
+    all_pass = all_pass && c.pass;
+    std::printf("output %zu: %s vs %s executor: max abs difference %.4g", i,
+                executor_kind_name(first.kind()), executor_kind_name(e.kind()), c.max_abs_error);
+    if (c.error_in_lsb >= 0) std::printf(" (%.3g LSB)", c.error_in_lsb);
+    std::printf(", tolerance %.4g (%s): %s\n", c.tolerance, c.rule, c.pass ? "PASS" : "FAIL");
+  }
+  return all_pass ? kExitOk : kExitFailure;
+}
+
 int run_infer(const InferOptions& o) {
   auto model = load_model(o.model);
   if (!model.ok()) return report_error("infer", model.error());
@@ -143,12 +172,12 @@ int run_infer(const InferOptions& o) {
       std::printf("wrote %s (%s %s)\n", path.c_str(), dtype_name(t.dtype),
                   shape_string(t.shape).c_str());
     }
-    return kExitOk;
+    return o.compare_executors ? compare_with_other_executor(o, m, e) : kExitOk;
   }
   std::printf("%s executor, %d thread(s), invoke %.3f ms\n", executor_kind_name(e.kind()),
               o.exec.threads, ms);
   print_summary(m, e);
-  return kExitOk;
+  return o.compare_executors ? compare_with_other_executor(o, m, e) : kExitOk;
 }
 
 }  // namespace
@@ -168,6 +197,9 @@ void add_infer_command(CLI::App& app, int& exit_code) {
       "--output,-o", o->output,
       "Write output 0 to this .npy (output i>0 to NAME.i.npy); default: print a summary");
   o->exec.add_to(*cmd);
+  cmd->add_flag("--compare-executors", o->compare_executors,
+                "Also run the other executor on the same input and compare every output (the "
+                "tolerances of `verify`; exit 1 when out of tolerance)");
   cmd->footer(kExitCodeFooter);
   cmd->callback([o, &exit_code] { exit_code = run_infer(*o); });
 }
