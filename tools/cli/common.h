@@ -55,5 +55,7 @@ void add_gen_reference_command(CLI::App& app, int& exit_code);
 void add_gen_frames_command(CLI::App& app, int& exit_code);
 void add_sim_command(CLI::App& app, int& exit_code);
 void add_convert_command(CLI::App& app, int& exit_code);  // convert.cc or convert_unavailable.cc
+void add_eval_command(CLI::App& app, int& exit_code);    // eval.cc
+void add_heads_command(CLI::App& app, int& exit_code);   // heads_fit.cc (`heads fit`)
 
 }  // namespace tlvlink::cli

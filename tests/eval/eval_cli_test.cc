@@ -1,0 +1,212 @@
+// `tlvlink eval` and `tlvlink heads fit` end to end on small generated sets, with the seeded
+// reference encoder as the model (random but deterministic: accuracies are whatever they are, so
+// the tests assert structure, determinism, and that fitted heads beat chance on the train set).
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <regex>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace tlvlink {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out;  // stdout (stderr too when `merge`)
+};
+
+CliRun tlvlink(const std::string& args, bool merge = true) {
+  const std::string emulator = TLVLINK_CLI_EMULATOR;
+  const std::string cmd = (emulator.empty() ? "" : emulator + " ") + TLVLINK_CLI_BINARY + " " +
+                          args + (merge ? " 2>&1" : " 2>/dev/null");
+  CliRun r;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (p == nullptr) return r;
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0) r.out.append(buf, n);
+  const int status = ::pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+#define EXPECT_RUN(run, code) EXPECT_EQ((run).exit_code, code) << (run).out
+
+const std::string kData = TLVLINK_EVAL_DATA;
+const std::string kFp32 = kData + "/ref_fp32.tlvm";
+const std::string kInt8 = kData + "/ref_int8.tlvm";
+const std::string kTouch = " --touch " + kData + "/t100k";
+const std::string kGrasp = " --grasp " + kData + "/feel";
+// A small oracle estimate keeps the test fast; its value is only checked for range.
+const std::string kQuick = " -q --oracle-samples 500";
+
+class EvalCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!fs::exists(kFp32)) FAIL() << kFp32 << " missing: run through ctest (fixtures eval.data_*)";
+    dir_ = fs::temp_directory_path() /
+           ("tlvlink_eval_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  json eval_json(const std::string& args) {
+    const CliRun r = tlvlink("eval " + args + " --json" + kQuick, /*merge=*/false);
+    EXPECT_EQ(r.exit_code, 0) << r.out;
+    json j = json::parse(r.out, nullptr, false);
+    EXPECT_FALSE(j.is_discarded()) << r.out;
+    return j;
+  }
+  static const json* find(const json& report, const std::string& task, const std::string& method) {
+    for (const json& r : report.at("results"))
+      if (r.at("task") == task && r.at("method") == method) return &r;
+    return nullptr;
+  }
+  fs::path dir_;
+};
+
+TEST_F(EvalCli, JsonStructureAndDeterminism) {
+  const json a = eval_json(kFp32 + kTouch + kGrasp);
+  const json b = eval_json(kFp32 + kTouch + kGrasp);
+  ASSERT_EQ(a.at("reports").size(), 1u);
+  const json& r = a.at("reports")[0];
+  EXPECT_EQ(r.at("results"), b.at("reports")[0].at("results"));  // bit-for-bit the same cells
+  EXPECT_EQ(r.at("probes"), b.at("reports")[0].at("probes"));
+  ASSERT_EQ(r.at("results").size(), 12u);  // probe, model heads, zero-shot x 4 tasks
+  const int64_t touch_test = r.at("touch_split").at("test_items");
+  const int64_t grasp_test = r.at("grasp_split").at("test_items");
+  EXPECT_EQ(r.at("touch_split").at("source"), "recorded");
+  EXPECT_GT(touch_test, 0);
+  EXPECT_GT(grasp_test, 0);
+  for (const char* method : {"probe", "model-heads", "zero-shot"}) {
+    for (const char* task : {"material", "hard_soft", "rough_smooth", "grasp"}) {
+      const json* c = find(r, task, method);
+      ASSERT_NE(c, nullptr) << task << " " << method;
+      // The reference encoder has random linear + grasp heads and no zero-shot heads (those
+      // come from the built-in text encoder): every cell is available.
+      ASSERT_TRUE(c->at("available").get<bool>()) << c->dump();
+      const int64_t n = c->at("n"), unlabelled = c->at("unlabelled");
+      EXPECT_EQ(n + unlabelled, std::string(task) == "grasp" ? grasp_test : touch_test) << c->dump();
+      EXPECT_GE(c->at("accuracy").get<double>(), 0.0);
+      EXPECT_LE(c->at("accuracy").get<double>(), 1.0);
+    }
+  }
+  EXPECT_EQ(find(r, "material", "probe")->at("chance"), 0.05);
+  EXPECT_NE(find(r, "material", "zero-shot")->at("source").get<std::string>().find("hashing"),
+            std::string::npos);
+  const double oracle = r.at("grasp_oracle").at("accuracy");
+  EXPECT_GT(oracle, 0.5);
+  EXPECT_LE(oracle, 1.0);
+  EXPECT_EQ(a.at("paper").size(), 3u);
+}
+
+TEST_F(EvalCli, TableLikeThePapers) {
+  const CliRun r = tlvlink("eval " + kFp32 + kTouch + kGrasp + kQuick);
+  EXPECT_RUN(r, 0);
+  for (const char* s : {"linear probe", "model's heads", "zero-shot", "Material", "Hard/Soft",
+                        "Rough/Smooth", "Grasp", "chance (test majority)", "grasp oracle",
+                        "paper (real data)", "without curriculum"}) {
+    EXPECT_NE(r.out.find(s), std::string::npos) << s << "\n" << r.out;
+  }
+}
+
+TEST_F(EvalCli, HeadsFitWritesAModelThatRunsIdenticallyAndBeatsChance) {
+  const std::string out = (dir_ / "heads.tlvm").string();
+  const CliRun fit = tlvlink("heads fit " + kFp32 + kTouch + kGrasp + " -q -o " + out);
+  EXPECT_RUN(fit, 0);
+  ASSERT_TRUE(fs::exists(out));
+  // Train-set accuracy of each fitted head against its chance level.
+  const std::pair<const char*, double> chance[] = {
+      {"material", 0.05}, {"hard_soft", 0.5}, {"rough_smooth", 0.5}, {"grasp", 0.5}};
+  for (const auto& [task, level] : chance) {
+    std::smatch m;
+    const std::regex re(std::string(task) + R"(\s+l2=\S+\s+train acc ([0-9.]+))");
+    ASSERT_TRUE(std::regex_search(fit.out, m, re)) << task << "\n" << fit.out;
+    EXPECT_GT(std::stod(m[1]), level) << task << "\n" << fit.out;
+  }
+  // Same graph: the embedded golden pairs still verify.
+  EXPECT_RUN(tlvlink("verify " + out), 0);
+  // The stored heads score exactly what the freshly fitted probes score (same embeddings,
+  // deterministic fit), and the zero-shot heads now come from the model.
+  const json j = eval_json(out + kTouch + kGrasp);
+  const json& r = j.at("reports")[0];
+  for (const char* task : {"material", "hard_soft", "rough_smooth", "grasp"}) {
+    EXPECT_EQ(find(r, task, "probe")->at("correct"), find(r, task, "model-heads")->at("correct"))
+        << task;
+    EXPECT_NE(find(r, task, "zero-shot")->at("source").get<std::string>().find("model zero-shot"),
+              std::string::npos);
+  }
+}
+
+TEST_F(EvalCli, CompareFp32AndInt8) {
+  const json j = eval_json(kFp32 + " --compare " + kInt8 + kTouch + kGrasp);
+  ASSERT_EQ(j.at("reports").size(), 2u);
+  EXPECT_EQ(j.at("reports")[1].at("results").size(), 12u);
+  const CliRun t = tlvlink("eval " + kFp32 + " --compare " + kInt8 + kTouch + kQuick);
+  EXPECT_RUN(t, 0);
+  EXPECT_NE(t.out.find("difference [2] - [1]"), std::string::npos) << t.out;
+}
+
+TEST_F(EvalCli, TouchAndGoAndBeforeAfterGraspFeatures) {
+  const json j = eval_json(kFp32 + " --touch " + kData + "/tag" + kGrasp +
+                           " --grasp-features before-after");
+  const json& r = j.at("reports")[0];
+  EXPECT_EQ(r.at("grasp_features"), "before-after");
+  EXPECT_TRUE(find(r, "material", "probe")->at("available").get<bool>());
+  EXPECT_EQ(r.at("touch_split").at("source"), "recorded");
+  EXPECT_EQ(r.at("touch_split").at("format"), "touch_and_go");
+  EXPECT_EQ(r.at("grasp_split").at("format"), "feel_repacked");
+}
+
+TEST_F(EvalCli, FeelHdf5) {
+  const json j = eval_json(kFp32 + " --grasp " + kData + "/feel_h5");
+  const json& r = j.at("reports")[0];
+  EXPECT_EQ(r.at("grasp_split").at("format"), "feel_hdf5");
+  EXPECT_EQ(r.at("grasp_split").at("source"), "recorded");
+  EXPECT_EQ(r.at("grasp_split").at("test_groups"), 1);  // round(4 objects * 0.2)
+  EXPECT_EQ(find(r, "grasp", "zero-shot")->at("n"), 2);
+  EXPECT_TRUE(r.at("touch_split").is_null());
+}
+
+// The reference executor is slow: a few items per split (--max-*) and a forced hash split.
+TEST_F(EvalCli, ReferenceExecutorCapsAndResplit) {
+  const json j = eval_json(kFp32 + kTouch + kGrasp +
+                           " --executor reference --max-touch 3 --max-grasp 2 --resplit 0.5");
+  const json& r = j.at("reports")[0];
+  EXPECT_EQ(r.at("executor"), "reference");
+  EXPECT_LE(r.at("touch_split").at("train_items").get<int64_t>(), 3);
+  EXPECT_LE(r.at("touch_split").at("test_items").get<int64_t>(), 3);
+  EXPECT_LE(r.at("grasp_split").at("test_items").get<int64_t>(), 2);
+  EXPECT_EQ(r.at("touch_split").at("source"), "hash(test_fraction=0.5, seed=0)");
+}
+
+TEST_F(EvalCli, BadInputsGiveClearErrors) {
+  CliRun r = tlvlink("eval " + kFp32 + " --touch " + (dir_ / "missing").string());
+  EXPECT_RUN(r, 1);
+  EXPECT_NE(r.out.find("is not a directory"), std::string::npos) << r.out;
+  r = tlvlink("eval " + kFp32);  // no dataset
+  EXPECT_RUN(r, 2);
+  r = tlvlink("eval " + kFp32 + " -q --touch " + kData + "/t100k_nolabels");
+  EXPECT_RUN(r, 1);
+  EXPECT_NE(r.out.find("no material, hard/soft or rough/smooth label"), std::string::npos) << r.out;
+  r = tlvlink("eval " + (dir_ / "nope.tlvm").string() + kTouch);
+  EXPECT_RUN(r, 1);
+  r = tlvlink("heads fit " + kFp32 + kTouch);  // no -o
+  EXPECT_RUN(r, 2);
+  r = tlvlink("eval " + kFp32 + " --touch " + kData + "/feel");  // a grasp set given as touch
+  EXPECT_RUN(r, 1);
+  EXPECT_NE(r.out.find("neither a Touch100k set"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace tlvlink

@@ -1,0 +1,119 @@
+#include "cli/eval_flags.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace tlvlink::cli {
+
+void EvalFlags::add_to(CLI::App& app) {
+  app.add_option("--touch", touch,
+                 "Touch dataset dir: Touch100k (data_list.json; labels from the simulator's "
+                 "sidecar) or Touch-and-Go (train.txt/test.txt label files)");
+  app.add_option("--touch-format", touch_format, "auto, touch100k or tag")
+      ->check(CLI::IsMember({"auto", "touch100k", "tag"}))
+      ->capture_default_str();
+  app.add_option("--grasp", grasp,
+                 "Grasp dataset: Feel HDF5 dir (or one .h5 file) or TLV-Link's repacked layout");
+  app.add_option("--grasp-format", grasp_format, "auto, hdf5 or repacked")
+      ->check(CLI::IsMember({"auto", "hdf5", "repacked"}))
+      ->capture_default_str();
+  app.add_option("--resplit", resplit,
+                 "Split by a hash of the session/object with this test fraction (default: the "
+                 "recorded split of a generated set, else 0.2)")
+      ->check(CLI::Range(0.0, 1.0));
+  app.add_option("--split-seed", split_seed, "Seed of the hash split")->capture_default_str();
+  app.add_option("--max-touch", max_touch, "Touch samples per split (0 = all)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--max-grasp", max_grasp, "Grasp episodes per split (0 = all)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--jpeg-scale", jpeg_scale, "Decode JPEGs at 1/N size (1, 2, 4, 8)")
+      ->check(CLI::IsMember({1, 2, 4, 8}))
+      ->capture_default_str();
+  app.add_option("--quarter-turns", quarter_turns,
+                 "Feel HDF5: undo the stored rotation of the GelSight frames (0-3)")
+      ->check(CLI::Range(0, 3))
+      ->capture_default_str();
+  app.add_option("--grasp-features", grasp_features,
+                 "Grasp probe features: before-during (A/B before + during, Calandra) or "
+                 "before-after (TLV-Link parity)")
+      ->check(CLI::IsMember({"before-during", "before-after"}))
+      ->capture_default_str();
+  app.add_option("--l2", l2_grid,
+                 "Comma-separated L2 strengths to choose from on a validation split by "
+                 "session/object (default 1e-4,1e-3,1e-2,0.1,1,10; one value: no validation)");
+  app.add_option("--max-iterations", max_iterations, "L-BFGS iterations per fit")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  app.add_option("--zero-shot", zero_shot,
+                 "Zero-shot heads: auto (the model's, else from the text encoder), model, text")
+      ->check(CLI::IsMember({"auto", "model", "text"}))
+      ->capture_default_str();
+  app.add_option("--text-embeddings", text_embeddings,
+                 "Precomputed text embeddings dir for zero-shot heads (tools/text layout)");
+  app.add_option("--text-seed", text_seed,
+                 "Built-in hashing text encoder seed (default: the model's recorded encoder, "
+                 "else 7)");
+  app.add_option("--oracle-samples", oracle_samples,
+                 "Monte Carlo episodes of the grasp oracle for generated sets (0 = skip)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_flag("--quiet,-q", quiet, "No progress on stderr");
+  exec.add_to(app);
+}
+
+Result<eval::EvalData> EvalFlags::data() const {
+  eval::EvalData d;
+  d.touch_dir = touch;
+  d.grasp_dir = grasp;
+  d.touch_format = touch_format == "touch100k" ? eval::TouchFormat::kTouch100k
+                   : touch_format == "tag"     ? eval::TouchFormat::kTouchAndGo
+                                               : eval::TouchFormat::kAuto;
+  d.grasp_format = grasp_format == "hdf5"       ? eval::GraspFormat::kFeelHdf5
+                   : grasp_format == "repacked" ? eval::GraspFormat::kFeelRepacked
+                                                : eval::GraspFormat::kAuto;
+  if (resplit >= 0) d.resplit = datasets::HashSplit{resplit, split_seed};
+  d.default_split.seed = split_seed;
+  d.scale_denominator = jpeg_scale;
+  d.gelsight_quarter_turns = quarter_turns;
+  d.max_touch_samples = max_touch;
+  d.max_grasp_episodes = max_grasp;
+  TLV_ENSURE(!touch.empty() || !grasp.empty(), ErrorCode::kInvalidArgument,
+             "give a dataset: --touch DIR and/or --grasp DIR");
+  return d;
+}
+
+Result<eval::EvalOptions> EvalFlags::options() const {
+  eval::EvalOptions o;
+  TLV_ASSIGN_OR_RETURN(o.embedder.executor, parse_executor_kind(exec.executor));
+  o.embedder.threads = exec.threads;
+  o.embedder.progress = !quiet;
+  TLV_ASSIGN_OR_RETURN(o.heads.grasp_features, eval::parse_grasp_features(grasp_features));
+  if (!l2_grid.empty()) {
+    o.heads.probe.l2_grid.clear();
+    size_t start = 0;
+    while (start <= l2_grid.size()) {
+      const size_t comma = std::min(l2_grid.find(',', start), l2_grid.size());
+      const std::string item = l2_grid.substr(start, comma - start);
+      char* end = nullptr;
+      const double v = std::strtod(item.c_str(), &end);
+      TLV_ENSURE(!item.empty() && end == item.c_str() + item.size() && std::isfinite(v) && v >= 0,
+                 ErrorCode::kInvalidArgument, "--l2: '%s' is not a finite number >= 0",
+                 item.c_str());
+      o.heads.probe.l2_grid.push_back(v);
+      start = comma + 1;
+    }
+  }
+  o.heads.probe.logistic.max_iterations = max_iterations;
+  o.zero_shot = zero_shot == "model"  ? eval::ZeroShotSource::kModel
+                : zero_shot == "text" ? eval::ZeroShotSource::kText
+                                      : eval::ZeroShotSource::kAuto;
+  o.text.precomputed_dir = text_embeddings;
+  if (text_seed >= 0) o.text.hashing_seed = static_cast<uint64_t>(text_seed);
+  o.oracle_samples = oracle_samples;
+  return o;
+}
+
+}  // namespace tlvlink::cli

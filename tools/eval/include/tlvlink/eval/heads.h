@@ -1,0 +1,101 @@
+#pragma once
+// Task heads fitted on runtime embeddings, zero-shot heads from a text encoder, and writing them
+// into a copy of a model ("same graph, new metadata").
+//
+// Head semantics (what the runtime and `tlvlink infer` apply, tools/cli/heads.cc):
+//   linear head    logits = W e + b on the RAW embedding e
+//   zero-shot      logits = scale * M (e / |e|)   (prompt rows are unit length)
+//   grasp head     p(gripping) = sigmoid(w . f + b), f = the embeddings named by feature_layout
+//                  concatenated in that order, e.g. "A.before,A.during,B.before,B.during"
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "tlvlink/error.h"
+#include "tlvlink/eval/embeddings.h"
+#include "tlvlink/eval/probe.h"
+#include "tlvlink/eval/tasks.h"
+#include "tlvlink/metadata.h"
+#include "tlvlink/model.h"
+#include "tlvlink/quantize/model_builder.h"
+
+namespace tlvlink::eval {
+
+// Which frames of a grasp episode feed the grasp probe.
+enum class GraspFeatures : uint8_t {
+  kBeforeDuring = 0,  // "A.before,A.during,B.before,B.during" (Calandra's predictor; default)
+  kBeforeAfter,       // "A.before,A.after,B.before,B.after" (TLV-Link's released code)
+};
+const char* grasp_features_name(GraspFeatures f);  // "before-during" / "before-after"
+Result<GraspFeatures> parse_grasp_features(std::string_view name);
+std::string grasp_feature_layout(GraspFeatures f);
+
+// A feature_layout string as (finger, moment) pairs. Fingers "A"/"B" or "finger0"/"finger1";
+// moments "before"/"during"/"after". Errors name the bad token.
+Result<std::vector<std::pair<int32_t, sim::Moment>>> parse_grasp_layout(std::string_view layout);
+
+// p(gripping) logit of a grasp head on one episode: w . concat(frames per layout) + b.
+Result<float> grasp_head_logit(std::span<const float> weight, float bias,
+                               std::string_view feature_layout, const GraspEmbeddings& set,
+                               size_t episode);
+
+// Zero-shot logits exactly as the runtime computes them (float, tools/cli/heads.cc order).
+void zero_shot_logits(std::span<const float> prompt_matrix, float logit_scale,
+                      std::span<const float> embedding, std::span<float> logits);
+
+// Text encoder for zero-shot heads a model does not carry.
+struct TextOptions {
+  std::string precomputed_dir;           // set: open_precomputed_text_embeddings(dir)
+  std::optional<uint64_t> hashing_seed;  // set: the built-in hashing encoder, dim = embedding_dim
+  // Neither set: the encoder recorded in the model's provenance.training ("text_encoder":
+  // {"dim", "seed", "embeddings_dir"}, as `tlvlink export` writes it), else hashing seed 7.
+};
+inline constexpr uint64_t kDefaultHashingSeed = 7;
+inline constexpr float kZeroShotLogitScale = 100.0f;  // the paper's zero-shot scale
+
+// The four zero-shot heads from the paper's prompt templates through the text encoder, named and
+// ordered like tools/text's prompt sets ("material", "hard", "rough", "grasp"; class i = label
+// value i), logit scale 100 — the heads `tlvlink export` writes. Error when the encoder's dim
+// differs from the model's embedding_dim.
+struct TextHeads {
+  std::vector<quantize::ZeroShotHeadSpec> heads;
+  std::string encoder;  // TextEncoder::description()
+};
+Result<TextHeads> zero_shot_heads_from_text(const Metadata& metadata, const TextOptions& text);
+
+struct HeadFitOptions {
+  ProbeOptions probe;
+  GraspFeatures grasp_features = GraspFeatures::kBeforeDuring;
+};
+
+// Probes fitted on the TRAIN split: linear heads named by task_name() with canonical labels,
+// and a grasp head (two-class fit turned into w = w_true - w_false, b = b_true - b_false, which
+// gives the same decision and probability). Tasks without training labels are left out (note).
+struct FittedHeads {
+  std::vector<quantize::LinearHeadSpec> linear;
+  std::optional<quantize::GraspHeadSpec> grasp;
+  std::vector<std::pair<Task, FittedProbe>> probes;  // diagnostics per fitted task
+  std::vector<std::string> notes;                    // tasks skipped and why
+};
+Result<FittedHeads> fit_heads(const EmbeddingSet& set, const HeadFitOptions& options);
+
+struct WriteHeadsOptions {
+  bool replace_linear = true;      // fitted heads replace the model's heads of the same name
+  bool replace_grasp = true;
+  // Zero-shot heads for tasks the model has none for (from `text`); existing ones are kept.
+  bool add_missing_zero_shot = true;
+  TextOptions text;
+  std::string provenance_note;     // appended to provenance.training as {"heads": ...} context
+};
+// The bytes of a copy of `model` with the heads in its metadata: same graph, constants,
+// quantization and golden pairs (quantize/model_copy.h), so outputs are bit-identical.
+Result<std::vector<std::byte>> model_with_heads(const Model& model, const FittedHeads& heads,
+                                                const WriteHeadsOptions& options);
+
+}  // namespace tlvlink::eval

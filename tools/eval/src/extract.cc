@@ -1,0 +1,254 @@
+// extract_embeddings: streams the touch and grasp loaders through an Embedder.
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <unordered_map>
+
+#include "eval/src/data_paths.h"
+#include "io/progress.h"
+#include "tlvlink/datasets/feel.h"
+#include "tlvlink/datasets/touch100k.h"
+#include "tlvlink/datasets/touch_and_go.h"
+#include "tlvlink/eval/embeddings.h"
+
+namespace tlvlink::eval {
+namespace {
+
+using internal::join;
+
+// key -> is_test from a generated Touch100k set's sidecar (the loader does not expose it).
+Result<std::unordered_map<std::string, bool>> touch100k_recorded_split(const std::string& dir) {
+  const std::string path = join(dir, datasets::kTouch100kSidecar);
+  std::ifstream in(path);
+  TLV_ENSURE(in.good(), ErrorCode::kIo,
+             "%s: cannot open; needed for the recorded split (or evaluate with a hash split)",
+             path.c_str());
+  std::unordered_map<std::string, bool> split;
+  std::string line;
+  int64_t n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+    TLV_ENSURE(!j.is_discarded() && j.is_object() && j.contains("key") && j.contains("split") &&
+                   j["key"].is_string() && j["split"].is_string(),
+               ErrorCode::kFormat, "%s:%lld: no string \"key\" and \"split\"", path.c_str(),
+               static_cast<long long>(n));
+    split[j["key"].get<std::string>()] = j["split"].get<std::string>() == "test";
+  }
+  return split;
+}
+
+struct TouchSink {
+  Embedder& embedder;
+  TouchEmbeddings& out;
+  tools::Progress& progress;
+  int64_t cap = 0;  // per split, 0 = none
+  int64_t taken[2] = {0, 0};
+
+  bool full(bool test) const { return cap > 0 && taken[test ? 1 : 0] >= cap; }
+
+  Status add(const sim::TouchSample& s, const std::string& key, bool test, bool has_labels) {
+    if (full(test)) return {};
+    const size_t d = static_cast<size_t>(out.dim);
+    out.values.resize(out.values.size() + d);
+    std::span<float> row(out.values.data() + out.values.size() - d, d);
+    if (Status st = embedder.embed(s.touch, row); !st.ok())
+      return st.error().with_context("touch sample '%s'", key.c_str());
+    out.material.push_back(has_labels ? s.material.class_id : -1);
+    out.hard.push_back(has_labels ? (s.material.hard ? 1 : 0) : -1);
+    out.rough.push_back(has_labels ? s.material.rough : -1);
+    out.group.push_back(s.session);
+    out.is_test.push_back(test ? 1 : 0);
+    out.keys.push_back(key);
+    ++taken[test ? 1 : 0];
+    progress.add();
+    return {};
+  }
+};
+
+Status run_touch100k(const EvalData& data, TouchSink& sink) {
+  // The recorded split lives in the simulator's sidecar; a set without one is split by hash.
+  const bool recorded_split =
+      internal::is_generated(data.touch_dir) &&
+      internal::file_exists(join(data.touch_dir, datasets::kTouch100kSidecar));
+  const std::optional<datasets::HashSplit> hash = internal::split_to_apply(data, recorded_split);
+  std::unordered_map<std::string, bool> recorded;
+  if (!hash) {
+    TLV_ASSIGN_OR_RETURN(recorded, touch100k_recorded_split(data.touch_dir));
+  }
+  datasets::Touch100kLoaderOptions o;
+  o.load_vision = o.require_vision = false;
+  o.scale_denominator = data.scale_denominator;
+  TLV_ASSIGN_OR_RETURN(auto loader, datasets::open_touch100k(data.touch_dir, o));
+  sim::TouchSample s;
+  for (;;) {
+    TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
+    if (!more || (sink.full(false) && sink.full(true))) break;
+    const std::string& key = loader->key();
+    bool test = false;
+    if (hash) {
+      test = datasets::hash_split_is_test(s.session, *hash);
+    } else {
+      const auto it = recorded.find(key);
+      TLV_ENSURE(it != recorded.end(), ErrorCode::kFormat,
+                 "%s: sample '%s' has no recorded split in %s", data.touch_dir.c_str(),
+                 key.c_str(), datasets::kTouch100kSidecar);
+      test = it->second;
+    }
+    // Without the simulator's sidecar Touch100k has no labels (class_id stays -1).
+    TLV_TRY(sink.add(s, key, test, s.material.class_id >= 0));
+  }
+  sink.out.split.source = internal::split_source(hash);
+  sink.out.format = "touch100k";
+  sink.out.load_summary = loader->report().summary();
+  return {};
+}
+
+Status run_tag(const EvalData& data, TouchSink& sink) {
+  const bool generated = internal::is_generated(data.touch_dir);
+  const std::optional<datasets::HashSplit> hash = internal::split_to_apply(data, generated);
+  std::string summary;
+  for (const bool test : {false, true}) {
+    datasets::TagLoaderOptions o;
+    o.load_vision = o.require_vision = false;
+    o.scale_denominator = data.scale_denominator;
+    o.split = test ? datasets::Split::kTest : datasets::Split::kTrain;
+    o.resplit = hash;
+    TLV_ASSIGN_OR_RETURN(auto loader, datasets::open_touch_and_go(data.touch_dir, o));
+    sim::TouchSample s;
+    for (;;) {
+      TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
+      if (!more || sink.full(test)) break;
+      TLV_TRY(sink.add(s, loader->key(), test, s.material.class_id >= 0));
+    }
+    summary += std::string(summary.empty() ? "" : "; ") + (test ? "test: " : "train: ") +
+               loader->report().summary();
+  }
+  sink.out.split.source = internal::split_source(hash);
+  sink.out.format = "touch_and_go";
+  sink.out.load_summary = summary;
+  return {};
+}
+
+Result<TouchEmbeddings> extract_touch(Embedder& embedder, const EvalData& data,
+                                      const EmbedderOptions& options) {
+  TLV_ASSIGN_OR_RETURN(const TouchFormat format,
+                       internal::detect_touch_format(data.touch_dir, data.touch_format));
+  TouchEmbeddings out;
+  out.dim = embedder.dim();
+  int64_t total = internal::expected_touch_items(data.touch_dir, format);
+  if (data.max_touch_samples > 0) total = std::min(total, 2 * data.max_touch_samples);
+  tools::Progress progress("embedding touch frames", total, stderr,
+                           options.progress ? tools::ProgressMode::kAuto
+                                            : tools::ProgressMode::kQuiet);
+  TouchSink sink{embedder, out, progress, data.max_touch_samples, {0, 0}};
+  if (format == TouchFormat::kTouch100k) {
+    TLV_TRY(run_touch100k(data, sink));
+  } else {
+    TLV_TRY(run_tag(data, sink));
+  }
+  if (options.progress) progress.finish();
+  internal::fill_split_counts(out.split, out.group, out.is_test);
+  TLV_ENSURE(out.size() > 0, ErrorCode::kFormat, "%s: no touch sample could be loaded (%s)",
+             data.touch_dir.c_str(), out.load_summary.c_str());
+  bool labelled = false;
+  for (size_t i = 0; i < out.size() && !labelled; ++i)
+    labelled = out.material[i] >= 0 || out.hard[i] >= 0 || out.rough[i] >= 0;
+  TLV_ENSURE(labelled, ErrorCode::kFormat,
+             "%s: %zu samples but no material, hard/soft or rough/smooth label (a Touch100k set "
+             "carries labels only in the simulator's %s sidecar)",
+             data.touch_dir.c_str(), out.size(), datasets::kTouch100kSidecar);
+  return out;
+}
+
+Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
+                                      const EmbedderOptions& options) {
+  TLV_ASSIGN_OR_RETURN(const GraspFormat format,
+                       internal::detect_grasp_format(data.grasp_dir, data.grasp_format));
+  const bool generated = internal::is_generated(data.grasp_dir);
+  const std::optional<datasets::HashSplit> hash = internal::split_to_apply(data, generated);
+  GraspEmbeddings out;
+  out.dim = embedder.dim();
+  out.format = format == GraspFormat::kFeelHdf5 ? "feel_hdf5" : "feel_repacked";
+  out.generator_json = internal::generator_json(data.grasp_dir);
+  const size_t d = static_cast<size_t>(out.dim);
+  int64_t total = internal::expected_grasp_items(data.grasp_dir, format);
+  if (data.max_grasp_episodes > 0) total = std::min(total, 2 * data.max_grasp_episodes);
+  tools::Progress progress("embedding grasp episodes", total, stderr,
+                           options.progress ? tools::ProgressMode::kAuto
+                                            : tools::ProgressMode::kQuiet);
+  std::string summary;
+  for (const bool test : {false, true}) {
+    datasets::FeelLoaderOptions o;
+    o.load_vision = o.require_vision = false;
+    o.scale_denominator = data.scale_denominator;
+    o.split = test ? datasets::Split::kTest : datasets::Split::kTrain;
+    o.resplit = hash;
+    o.gelsight_quarter_turns = data.gelsight_quarter_turns;
+    auto loader = format == GraspFormat::kFeelHdf5 ? datasets::open_feel(data.grasp_dir, o)
+                                                   : datasets::open_feel_repacked(data.grasp_dir, o);
+    if (!loader.ok()) return loader.error();
+    sim::GraspEpisode e;
+    int64_t taken = 0;
+    for (;;) {
+      TLV_ASSIGN_OR_RETURN(const bool more, (*loader)->next(e));
+      if (!more || (data.max_grasp_episodes > 0 && taken >= data.max_grasp_episodes)) break;
+      out.values.resize(out.values.size() + d * kGraspFrames);
+      float* base = out.values.data() + out.values.size() - d * kGraspFrames;
+      for (int32_t f = 0; f < sim::kFingers; ++f) {
+        for (int32_t m = 0; m < sim::kMoments; ++m) {
+          std::span<float> row(base + static_cast<size_t>(f * sim::kMoments + m) * d, d);
+          if (Status st = embedder.embed(e.frames[f][m], row); !st.ok()) {
+            return st.error().with_context("grasp episode '%s' finger %d moment %d",
+                                           (*loader)->key().c_str(), f, m);
+          }
+        }
+      }
+      out.label.push_back(e.is_gripping ? 1 : 0);
+      out.group.push_back(e.object_name);
+      out.is_test.push_back(test ? 1 : 0);
+      out.keys.push_back((*loader)->key());
+      ++taken;
+      progress.add();
+    }
+    summary += std::string(summary.empty() ? "" : "; ") + (test ? "test: " : "train: ") +
+               (*loader)->report().summary();
+  }
+  if (options.progress) progress.finish();
+  out.split.source = internal::split_source(hash);
+  out.load_summary = summary;
+  internal::fill_split_counts(out.split, out.group, out.is_test);
+  TLV_ENSURE(out.size() > 0, ErrorCode::kFormat, "%s: no grasp episode could be loaded (%s)",
+             data.grasp_dir.c_str(), summary.c_str());
+  return out;
+}
+
+}  // namespace
+
+Result<EmbeddingSet> extract_embeddings(const Model& model, const EvalData& data,
+                                        const EmbedderOptions& options) {
+  TLV_ENSURE(!data.touch_dir.empty() || !data.grasp_dir.empty(), ErrorCode::kInvalidArgument,
+             "no dataset given (a touch dir and/or a grasp dir)");
+  TLV_ENSURE(data.max_touch_samples >= 0 && data.max_grasp_episodes >= 0,
+             ErrorCode::kInvalidArgument, "sample caps must be >= 0 (0 = all)");
+  TLV_ASSIGN_OR_RETURN(std::unique_ptr<Embedder> embedder, Embedder::create(model, options));
+  const auto t0 = std::chrono::steady_clock::now();
+  EmbeddingSet set;
+  if (!data.touch_dir.empty()) {
+    TLV_ASSIGN_OR_RETURN(TouchEmbeddings t, extract_touch(*embedder, data, options));
+    set.frames += static_cast<int64_t>(t.size());
+    set.touch = std::move(t);
+  }
+  if (!data.grasp_dir.empty()) {
+    TLV_ASSIGN_OR_RETURN(GraspEmbeddings g, extract_grasp(*embedder, data, options));
+    set.frames += static_cast<int64_t>(g.size()) * kGraspFrames;
+    set.grasp = std::move(g);
+  }
+  set.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return set;
+}
+
+}  // namespace tlvlink::eval

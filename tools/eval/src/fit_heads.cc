@@ -1,0 +1,170 @@
+// fit_heads: probes on the train split; model_with_heads: the heads written into a model copy.
+
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "tlvlink/eval/heads.h"
+#include "tlvlink/quantize/calibrate.h"
+#include "tlvlink/quantize/model_copy.h"
+
+namespace tlvlink::eval {
+namespace {
+
+const std::vector<int32_t>& touch_labels(const TouchEmbeddings& t, Task task) {
+  return task == Task::kMaterial ? t.material : task == Task::kHard ? t.hard : t.rough;
+}
+
+std::vector<std::string> canonical_labels(Task task) {
+  std::vector<std::string> out;
+  for (std::string_view c : task_classes(task)) out.emplace_back(c);
+  return out;
+}
+
+// Why a task cannot be fitted ("" when it can).
+std::string unfit_reason(std::span<const int32_t> labels) {
+  if (labels.empty()) return "no labelled training rows";
+  std::set<int32_t> distinct(labels.begin(), labels.end());
+  if (distinct.size() < 2) return "training rows hold one class only";
+  return {};
+}
+
+Status fit_touch(const TouchEmbeddings& t, const HeadFitOptions& o, FittedHeads& out) {
+  for (Task task : {Task::kMaterial, Task::kHard, Task::kRough}) {
+    const std::vector<int32_t>& all = touch_labels(t, task);
+    std::vector<float> x;
+    std::vector<int32_t> y;
+    std::vector<std::string> groups;
+    for (size_t i = 0; i < t.size(); ++i) {
+      if (t.is_test[i] != 0 || all[i] < 0) continue;
+      const std::span<const float> r = t.row(i);
+      x.insert(x.end(), r.begin(), r.end());
+      y.push_back(all[i]);
+      groups.push_back(t.group[i]);
+    }
+    if (const std::string why = unfit_reason(y); !why.empty()) {
+      out.notes.push_back(std::string(task_name(task)) + ": not fitted, " + why);
+      continue;
+    }
+    ProbeData data{x, t.dim, y, task_class_count(task), groups};
+    auto probe = fit_probe(data, o.probe);
+    if (!probe.ok()) return probe.error().with_context("fitting the %s probe", task_name(task));
+    out.linear.push_back({task_name(task), canonical_labels(task), probe->weight, probe->bias});
+    out.probes.emplace_back(task, std::move(probe).value());
+  }
+  return {};
+}
+
+Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads& out) {
+  const std::string layout_text = grasp_feature_layout(o.grasp_features);
+  TLV_ASSIGN_OR_RETURN(const auto layout, parse_grasp_layout(layout_text));
+  std::vector<float> x;
+  std::vector<int32_t> y;
+  std::vector<std::string> groups;
+  for (size_t i = 0; i < g.size(); ++i) {
+    if (g.is_test[i] != 0) continue;
+    for (const auto& [finger, moment] : layout) {
+      const std::span<const float> e = g.frame(i, finger, moment);
+      x.insert(x.end(), e.begin(), e.end());
+    }
+    y.push_back(g.label[i]);
+    groups.push_back(g.group[i]);
+  }
+  if (const std::string why = unfit_reason(y); !why.empty()) {
+    out.notes.push_back("grasp: not fitted, " + why);
+    return {};
+  }
+  const auto features = static_cast<int32_t>(layout.size()) * g.dim;
+  ProbeData data{x, features, y, 2, groups};
+  auto probe = fit_probe(data, o.probe);
+  if (!probe.ok()) return probe.error().with_context("fitting the grasp probe");
+  // Two-class softmax == sigmoid of the logit difference: same decision, same probability.
+  quantize::GraspHeadSpec h;
+  h.name = task_name(Task::kGrasp);
+  h.feature_layout = layout_text;
+  const size_t f = static_cast<size_t>(features);
+  h.weight.resize(f);
+  for (size_t i = 0; i < f; ++i) h.weight[i] = probe->weight[f + i] - probe->weight[i];
+  h.bias = probe->bias[1] - probe->bias[0];
+  out.grasp = std::move(h);
+  out.probes.emplace_back(Task::kGrasp, std::move(probe).value());
+  return {};
+}
+
+nlohmann::json probes_json(const FittedHeads& heads, const WriteHeadsOptions& o) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [task, p] : heads.probes) {
+    j[task_name(task)] = {{"l2", p.l2},
+                          {"validation_accuracy", p.validation_accuracy},
+                          {"train_rows", p.train_rows},
+                          {"validation_rows", p.validation_rows},
+                          {"train_accuracy", p.train_accuracy},
+                          {"iterations", p.iterations},
+                          {"note", p.note}};
+  }
+  if (heads.grasp) j["grasp_feature_layout"] = heads.grasp->feature_layout;
+  j["notes"] = heads.notes;
+  if (!o.provenance_note.empty()) j["context"] = o.provenance_note;
+  return j;
+}
+
+}  // namespace
+
+Result<FittedHeads> fit_heads(const EmbeddingSet& set, const HeadFitOptions& options) {
+  FittedHeads out;
+  if (set.touch) TLV_TRY(fit_touch(*set.touch, options, out));
+  if (set.grasp) TLV_TRY(fit_grasp(*set.grasp, options, out));
+  return out;
+}
+
+Result<std::vector<std::byte>> model_with_heads(const Model& model, const FittedHeads& heads,
+                                                const WriteHeadsOptions& options) {
+  const Metadata& src = model.metadata();
+  quantize::MetadataSpec meta = quantize::metadata_spec_from(src);
+  for (const quantize::LinearHeadSpec& h : heads.linear) {
+    bool replaced = false;
+    for (quantize::LinearHeadSpec& old : meta.linear_heads) {
+      auto ot = task_of_head(old.name), nt = task_of_head(h.name);
+      if (ot.ok() && nt.ok() && *ot == *nt) {
+        if (options.replace_linear) old = h;
+        replaced = true;
+      }
+    }
+    if (!replaced) meta.linear_heads.push_back(h);
+  }
+  if (heads.grasp && (options.replace_grasp || !meta.has_grasp_head)) {
+    meta.has_grasp_head = true;
+    meta.grasp_head = *heads.grasp;
+  }
+  std::string text_encoder;
+  if (options.add_missing_zero_shot) {
+    std::set<Task> have;
+    for (const quantize::ZeroShotHeadSpec& h : meta.zero_shot_heads)
+      if (auto t = task_of_head(h.name); t.ok()) have.insert(*t);
+    if (have.size() < kAllTasks.size()) {
+      TLV_ASSIGN_OR_RETURN(TextHeads text, zero_shot_heads_from_text(src, options.text));
+      for (quantize::ZeroShotHeadSpec& h : text.heads) {
+        auto t = task_of_head(h.name);
+        if (t.ok() && have.count(*t) == 0) meta.zero_shot_heads.push_back(std::move(h));
+      }
+      text_encoder = text.encoder;
+    }
+  }
+  nlohmann::json training =
+      nlohmann::json::parse(meta.training_json, nullptr, /*allow_exceptions=*/false);
+  if (training.is_discarded() || !training.is_object()) {
+    training = nlohmann::json::object();
+    if (!meta.training_json.empty()) training["original"] = meta.training_json;
+  }
+  nlohmann::json fit = probes_json(heads, options);
+  if (!text_encoder.empty()) fit["zero_shot_text_encoder"] = text_encoder;
+  training["heads_fit"] = std::move(fit);
+  meta.training_json = training.dump();
+  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder, quantize::rebuild_with_metadata(model, meta));
+  std::vector<std::byte> bytes = builder.finish();
+  // The file must load before anyone gets it.
+  auto check = Model::load(bytes);
+  if (!check.ok()) return check.error().with_context("model with fitted heads does not load");
+  return bytes;
+}
+
+}  // namespace tlvlink::eval
