@@ -14,33 +14,21 @@
 
 #include "io/npy.h"
 #include "io/pnm.h"
+#include "support/cli_run.h"
 
 namespace tlvlink {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;  // stdout and stderr together
-};
+using ::tlvlink::testing::CliRun;
+using ::tlvlink::testing::run_cli;
+using ::tlvlink::testing::Stderr;
 
 CliRun tlvlink(const std::string& args) {
-  const std::string emulator = TLVLINK_CLI_EMULATOR;
-  const std::string cmd =
-      (emulator.empty() ? "" : emulator + " ") + TLVLINK_CLI_BINARY + " " + args + " 2>&1";
-  CliRun r;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (p == nullptr) return r;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0) r.out.append(buf, n);
-  const int status = ::pclose(p);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return run_cli(TLVLINK_CLI_BINARY, args, Stderr::kMerged, TLVLINK_CLI_EMULATOR);
 }
 
-#define EXPECT_RUN(run, code) EXPECT_EQ((run).exit_code, code) << (run).out
 
 // Models come from the CTest fixtures cli.gen_reference_{fp32,int8} (96 px, seed 3, run once
 // per ctest invocation); every test writes its own files into a private directory.

@@ -8,6 +8,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 
 #include "datasets/samples.h"
 
@@ -103,6 +105,55 @@ TEST(Touch100k, WithoutSidecarOnlyTheFormatsFields) {
   EXPECT_EQ(loaded[0].object_id, -1);
   EXPECT_EQ(loaded[0].material.class_id, -1);
   EXPECT_EQ(loaded[0].phrases.size(), 3u);
+}
+
+// The split the writer recorded in the sidecar comes back per sample, whole sessions at a time.
+TEST(Touch100k, RecordedSplitFromTheSidecar) {
+  TempDir tmp;
+  WriterOptions o;
+  o.test_fraction = 0.5;
+  write_set(tmp.path(), testing::touch_set(4, 2), o);
+  Touch100kLoaderOptions lo;
+  lo.load_images = false;
+  auto loader = open_touch100k(tmp.path(), lo);
+  ASSERT_TRUE(loader.ok()) << loader.error().message();
+  std::map<std::string, std::set<Split>> by_session;
+  sim::TouchSample s;
+  while ((*loader)->next(s).value()) by_session[s.session].insert((*loader)->recorded_split());
+  ASSERT_EQ(by_session.size(), 4u);
+  int test_sessions = 0;
+  for (const auto& [session, splits] : by_session) {
+    ASSERT_EQ(splits.size(), 1u) << session << " straddles the split";
+    ASSERT_NE(*splits.begin(), Split::kAll) << session;
+    test_sessions += *splits.begin() == Split::kTest ? 1 : 0;
+  }
+  EXPECT_EQ(test_sessions, 2);
+
+  // Without the sidecar, or with a line whose split is garbage, nothing is recorded; the bad
+  // line is counted with the sample's key.
+  lo.use_sidecar = false;
+  auto blind = open_touch100k(tmp.path(), lo);
+  ASSERT_TRUE(blind.ok());
+  ASSERT_TRUE((*blind)->next(s).value());
+  EXPECT_EQ((*blind)->recorded_split(), Split::kAll);
+
+  auto lines = testing::read_lines(tmp / "tlvlink_sim_samples.jsonl");
+  auto first = nlohmann::json::parse(lines[0]);
+  first["split"] = "validation";
+  lines[0] = first.dump();
+  std::ofstream out(tmp / "tlvlink_sim_samples.jsonl", std::ios::trunc);
+  for (const std::string& line : lines) out << line << "\n";
+  out.close();
+  lo.use_sidecar = true;
+  auto bad = open_touch100k(tmp.path(), lo);
+  ASSERT_TRUE(bad.ok());
+  ASSERT_TRUE((*bad)->next(s).value());
+  EXPECT_EQ((*bad)->recorded_split(), Split::kAll);
+  EXPECT_EQ((*bad)->report().count(ProblemKind::kSidecarMismatch), 1);
+  EXPECT_NE((*bad)->report().summary().find("sidecar"), std::string::npos)
+      << (*bad)->report().summary();
+  ASSERT_TRUE((*bad)->next(s).value());
+  EXPECT_NE((*bad)->recorded_split(), Split::kAll);
 }
 
 TEST(Touch100k, MissingAndCorruptImagesAreCountedWithPaths) {

@@ -13,33 +13,25 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "support/cli_run.h"
+
 namespace tlvlink {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;  // stdout (stderr too when `merge`)
-};
+using ::tlvlink::testing::CliRun;
+using ::tlvlink::testing::run_cli;
+using ::tlvlink::testing::Stderr;
 
+// stdout only unless `merge`.
 CliRun tlvlink(const std::string& args, bool merge = true) {
-  const std::string emulator = TLVLINK_CLI_EMULATOR;
-  const std::string cmd = (emulator.empty() ? "" : emulator + " ") + TLVLINK_CLI_BINARY + " " +
-                          args + (merge ? " 2>&1" : " 2>/dev/null");
-  CliRun r;
-  FILE* p = ::popen(cmd.c_str(), "r");
-  if (p == nullptr) return r;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0) r.out.append(buf, n);
-  const int status = ::pclose(p);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return run_cli(TLVLINK_CLI_BINARY, args,
+                          merge ? Stderr::kMerged : Stderr::kDropped,
+                          TLVLINK_CLI_EMULATOR);
 }
 
-#define EXPECT_RUN(run, code) EXPECT_EQ((run).exit_code, code) << (run).out
 
 const std::string kData = TLVLINK_EVAL_DATA;
 const std::string kFp32 = kData + "/ref_fp32.tlvm";

@@ -11,28 +11,18 @@
 #include <gtest/gtest.h>
 
 #include "tlvlink/model.h"
+#include "support/cli_run.h"
 
 namespace tlvlink {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;  // stdout and stderr
-};
+using ::tlvlink::testing::CliRun;
+using ::tlvlink::testing::run_cli;
+using ::tlvlink::testing::Stderr;
 
-CliRun tlvlink(const std::string& args) {
-  CliRun r;
-  FILE* p = ::popen((std::string(TLVLINK_CLI_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  if (p == nullptr) return r;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int status = ::pclose(p);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+CliRun tlvlink(const std::string& args) { return run_cli(TLVLINK_CLI_BINARY, args); }
 
 class ConvertCli : public ::testing::Test {
  protected:

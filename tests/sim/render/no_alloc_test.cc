@@ -1,75 +1,12 @@
 // render() must not allocate after the first frame (STYLE.md: setup allocates, the frame loop
-// does not; the renderer will serve as the live simulated sensor). This binary replaces the
-// global operator new family and counts calls while a flag is set. JPEG round trips are
-// excluded (libturbojpeg allocates its buffers).
-#include <atomic>
-#include <cstdlib>
-#include <new>
+// does not; the renderer will serve as the live simulated sensor), counted by
+// support/alloc_counter. JPEG round trips are excluded (libturbojpeg allocates its buffers).
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "sim/render/render_test_util.h"
-
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<size_t> g_allocations{0};
-
-void* counted_alloc(size_t n, size_t alignment = 0) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
-  if (n == 0) n = 1;
-  return alignment > alignof(std::max_align_t)
-             ? std::aligned_alloc(alignment, (n + alignment - 1) / alignment * alignment)
-             : std::malloc(n);
-}
-}  // namespace
-
-void* operator new(size_t n) {
-  void* p = counted_alloc(n);
-  if (p == nullptr) std::abort();
-  return p;
-}
-void* operator new[](size_t n) {
-  return operator new(n);
-}
-void* operator new(size_t n, const std::nothrow_t&) noexcept {
-  return counted_alloc(n);
-}
-void* operator new[](size_t n, const std::nothrow_t&) noexcept {
-  return counted_alloc(n);
-}
-void* operator new(size_t n, std::align_val_t a) {
-  void* p = counted_alloc(n, static_cast<size_t>(a));
-  if (p == nullptr) std::abort();
-  return p;
-}
-void* operator new[](size_t n, std::align_val_t a) {
-  return operator new(n, a);
-}
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, size_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, size_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, size_t, std::align_val_t) noexcept {
-  std::free(p);
-}
-void operator delete[](void* p, size_t, std::align_val_t) noexcept {
-  std::free(p);
-}
+#include "support/alloc_counter.h"
 
 namespace tlvlink::sim {
 namespace {
@@ -130,15 +67,14 @@ size_t allocations_in_steady_state(std::string_view profile) {
   const auto work = jobs(r->profile().height, r->profile().width);
   Frame f;
   for (const Job& j : work) EXPECT_TRUE(r->render(j.scene, j.options, 1, f).ok());  // warm-up
-  g_allocations = 0;
-  g_counting = true;
+  ::tlvlink::testing::start_counting_allocations();
   bool ok = true;
   for (int pass = 0; pass < 2; ++pass) {
     for (const Job& j : work) ok = r->render(j.scene, j.options, 7, f).ok() && ok;
   }
-  g_counting = false;
+  const size_t allocations = ::tlvlink::testing::stop_counting_allocations();
   EXPECT_TRUE(ok);
-  return g_allocations.load();
+  return allocations;
 }
 
 TEST(SimRenderNoAlloc, SteadyStateRenderDoesNotAllocate) {
@@ -148,12 +84,11 @@ TEST(SimRenderNoAlloc, SteadyStateRenderDoesNotAllocate) {
 }
 
 TEST(SimRenderNoAlloc, TheCounterWorks) {
-  g_allocations = 0;
-  g_counting = true;
+  ::tlvlink::testing::start_counting_allocations();
   auto* p = new std::vector<int>(10);
-  g_counting = false;
+  const size_t allocations = ::tlvlink::testing::stop_counting_allocations();
   delete p;
-  EXPECT_GE(g_allocations.load(), 1u);
+  EXPECT_GE(allocations, 1u);
 }
 
 }  // namespace

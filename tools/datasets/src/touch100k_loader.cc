@@ -54,6 +54,7 @@ class Touch100kLoader final : public TouchSampleLoader {
   }
 
   const std::string& key() const override { return key_; }
+  Split recorded_split() const override { return recorded_split_; }
   LoadReport& report() override { return report_; }
 
  private:
@@ -62,6 +63,18 @@ class Touch100kLoader final : public TouchSampleLoader {
     report_.add({ProblemKind::kMalformedLine, index_.path(), index_.line_number(), why});
     sidecar_.skip();
     return false;
+  }
+
+  // "split": "train" | "test" of a sidecar line; anything else is counted and reads as unrecorded.
+  Split sidecar_split(const Json& meta, const std::string& name) {
+    const auto split = meta.find("split");
+    if (split != meta.end() && split->is_string()) {
+      if (*split == "train") return Split::kTrain;
+      if (*split == "test") return Split::kTest;
+    }
+    report_.add({ProblemKind::kSidecarMismatch, kTouch100kSidecar, 0,
+                 name + ": no \"split\" of \"train\" or \"test\""});
+    return Split::kAll;
   }
 
   bool load_line(const std::string& line, sim::TouchSample& out) {
@@ -117,6 +130,7 @@ class Touch100kLoader final : public TouchSampleLoader {
     if (meta != nullptr && !apply_touch_meta(*meta, out, why)) {
       report_.add({ProblemKind::kSidecarMismatch, kTouch100kSidecar, 0, name + ": " + why});
     }
+    recorded_split_ = meta != nullptr ? sidecar_split(*meta, name) : Split::kAll;
     key_ = name;
     return true;
   }
@@ -127,6 +141,7 @@ class Touch100kLoader final : public TouchSampleLoader {
   LineReader index_;
   SidecarReader sidecar_;
   std::string key_;
+  Split recorded_split_ = Split::kAll;
 };
 
 }  // namespace

@@ -2,9 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <fstream>
-#include <nlohmann/json.hpp>
-#include <unordered_map>
 
 #include "eval/src/data_paths.h"
 #include "io/progress.h"
@@ -17,29 +14,6 @@ namespace tlvlink::eval {
 namespace {
 
 using internal::join;
-
-// key -> is_test from a generated Touch100k set's sidecar (the loader does not expose it).
-Result<std::unordered_map<std::string, bool>> touch100k_recorded_split(const std::string& dir) {
-  const std::string path = join(dir, datasets::kTouch100kSidecar);
-  std::ifstream in(path);
-  TLV_ENSURE(in.good(), ErrorCode::kIo,
-             "%s: cannot open; needed for the recorded split (or evaluate with a hash split)",
-             path.c_str());
-  std::unordered_map<std::string, bool> split;
-  std::string line;
-  int64_t n = 0;
-  while (std::getline(in, line)) {
-    ++n;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
-    TLV_ENSURE(!j.is_discarded() && j.is_object() && j.contains("key") && j.contains("split") &&
-                   j["key"].is_string() && j["split"].is_string(),
-               ErrorCode::kFormat, "%s:%lld: no string \"key\" and \"split\"", path.c_str(),
-               static_cast<long long>(n));
-    split[j["key"].get<std::string>()] = j["split"].get<std::string>() == "test";
-  }
-  return split;
-}
 
 struct TouchSink {
   Embedder& embedder;
@@ -75,10 +49,6 @@ Status run_touch100k(const EvalData& data, TouchSink& sink) {
       internal::is_generated(data.touch_dir) &&
       internal::file_exists(join(data.touch_dir, datasets::kTouch100kSidecar));
   const std::optional<datasets::HashSplit> hash = internal::split_to_apply(data, recorded_split);
-  std::unordered_map<std::string, bool> recorded;
-  if (!hash) {
-    TLV_ASSIGN_OR_RETURN(recorded, touch100k_recorded_split(data.touch_dir));
-  }
   datasets::Touch100kLoaderOptions o;
   o.load_vision = o.require_vision = false;
   o.scale_denominator = data.scale_denominator;
@@ -92,11 +62,11 @@ Status run_touch100k(const EvalData& data, TouchSink& sink) {
     if (hash) {
       test = datasets::hash_split_is_test(s.session, *hash);
     } else {
-      const auto it = recorded.find(key);
-      TLV_ENSURE(it != recorded.end(), ErrorCode::kFormat,
-                 "%s: sample '%s' has no recorded split in %s", data.touch_dir.c_str(),
-                 key.c_str(), datasets::kTouch100kSidecar);
-      test = it->second;
+      const datasets::Split recorded = loader->recorded_split();
+      TLV_ENSURE(recorded != datasets::Split::kAll, ErrorCode::kFormat,
+                 "%s: sample '%s' has no recorded split in %s (or evaluate with a hash split)",
+                 data.touch_dir.c_str(), key.c_str(), datasets::kTouch100kSidecar);
+      test = recorded == datasets::Split::kTest;
     }
     // Without the simulator's sidecar Touch100k has no labels (class_id stays -1).
     TLV_TRY(sink.add(s, key, test, s.material.class_id >= 0));

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "tlvlink/datasets/report.h"
+#include "tlvlink/datasets/split.h"
 #include "tlvlink/error.h"
 #include "tlvlink/sim/dataset.h"
 
@@ -31,6 +32,9 @@ class TouchSampleLoader {
   // The format's key of the sample last returned: the `img` of Touch100k, the
   // "SESSION/NNNNNNNNNN.jpg" of Touch-and-Go.
   virtual const std::string& key() const = 0;
+  // The split the dataset itself records for the sample last returned (a generated Touch100k
+  // set's sidecar does); Split::kAll when it records none.
+  virtual Split recorded_split() const { return Split::kAll; }
   virtual LoadReport& report() = 0;
 };
 
