@@ -49,6 +49,9 @@ if(TLVLINK_BUILD_HOST_TOOLS)
   tlvlink_require(TURBOJPEG_FOUND "libturbojpeg (TurboJPEG API)" libturbojpeg0-dev)
   pkg_check_modules(HDF5 IMPORTED_TARGET hdf5)
   tlvlink_require(HDF5_FOUND "HDF5 C library" libhdf5-dev)
+  # PNG images (tools/io/png.cc: calibration folders).
+  find_package(PNG QUIET)
+  tlvlink_require(PNG_FOUND "libpng" libpng-dev)
 endif()
 if(TLVLINK_BUILD_HOST_TOOLS AND TLVLINK_WITH_ONNX)
   # ONNX's config imports onnx_proto, which links protobuf::libprotobuf: find protobuf first.

@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
   add_gen_frames_command(app, exit_code);
   add_sim_command(app, exit_code);
   add_convert_command(app, exit_code);
+  add_quantize_command(app, exit_code);
+  add_quantize_sweep_command(app, exit_code);
   add_eval_command(app, exit_code);
   add_heads_command(app, exit_code);
   try {

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs everything tlvlink needs from Debian's packages. Idempotent; safe to rerun.
 #   install_deps.sh [core|test|cross|all]   (default: all)
-# core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries, JPEG, HDF5, ONNX
+# core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries, JPEG, PNG, HDF5, ONNX
 # test  : core + GoogleTest/Benchmark, clang (libFuzzer, sanitizers), Debian's torch + onnx
 #         (the ONNX import tests export their models with /usr/bin/python3)
 # cross : aarch64 cross compiler + qemu-user (the arm64 sysroot is tools/setup/make_sysroot.sh)
@@ -14,7 +14,7 @@ core_pkgs=(build-essential cmake ninja-build pkg-config
   libxnnpack-dev libpthreadpool-dev libcpuinfo-dev
   libflatbuffers-dev flatbuffers-compiler
   libcli11-dev nlohmann-json3-dev
-  libturbojpeg0-dev libhdf5-dev
+  libturbojpeg0-dev libpng-dev libhdf5-dev
   libonnx-dev libprotobuf-dev)
 test_pkgs=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev llvm
   python3-torch python3-onnx python3-numpy)

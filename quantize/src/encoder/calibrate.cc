@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "quantizer/quantizer_internal.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/quant_math.h"
 #include "tlvlink/quantize/calibrate.h"
@@ -43,13 +44,11 @@ Result<std::vector<TensorRange>> collect_ranges(const Model& model,
 }
 
 QuantSpec activation_quant(float min, float max, float min_range) {
-  float lo = std::min(min, 0.0f), hi = std::max(max, 0.0f);
-  if (hi - lo < min_range) hi = lo + min_range;
-  const float scale = (hi - lo) / 255.0f;
-  const int32_t zp = std::clamp(static_cast<int32_t>(std::lround(static_cast<double>(kInt8Min) -
-                                                                 static_cast<double>(lo / scale))),
-                                kInt8Min, kInt8Max);
-  return QuantSpec::per_tensor(scale, zp);
+  TensorRange r;
+  r.min = min;
+  r.max = max;
+  // A range with no finite normal scale gives an empty spec (quantize_model reports why).
+  return quantizer_internal::activation_params(r, min_range).spec;
 }
 
 Result<std::vector<std::byte>> run_reference(const Model& model, std::span<const std::byte> input) {

@@ -8,7 +8,8 @@
 //     scale s_in * s_w[c];
 //   - pass-through ops (Reshape, Pad, MaxPool2D, Clamp, ResizeBilinear) share their input's
 //     parameters; Sigmoid outputs use (1/256, -128).
-// It is deliberately small and general over the op set; the real quantizer grows from it.
+// convert_to_int8 is quantize_model (quantizer.h) with its defaults; `tlvlink quantize` adds the
+// calibration methods, mixed-precision fallback and the error report on top.
 //
 //   auto ranges = collect_ranges(fp32_model, calibration_inputs);
 //   auto builder = convert_to_int8(fp32_model, *ranges, {});
@@ -44,7 +45,8 @@ struct TensorRange {
 Result<std::vector<TensorRange>> collect_ranges(const Model& model,
                                                 std::span<const std::vector<float>> inputs);
 
-// Per-tensor asymmetric int8 parameters covering [min, max] ∪ {0}.
+// Per-tensor asymmetric int8 parameters covering [min, max] ∪ {0} (computed in double, so even
+// +-3e38 gets a finite scale); empty when no finite normal scale exists.
 QuantSpec activation_quant(float min, float max, float min_range = kMinActivationRange);
 
 struct Int8ConversionOptions {

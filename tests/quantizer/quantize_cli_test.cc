@@ -1,0 +1,246 @@
+// `tlvlink quantize` and `tlvlink quantize-sweep` through the built binary: exit codes 0/1/2,
+// --help, every calibration source (a simulated Touch100k set, the extreme set, an image folder),
+// mixed precision on the command line, the report files, verify on the written model, NaN
+// weights, and the sweep's CSV / JSON / SVG. The float model (gen-reference --dtype fp32, 96 px)
+// and the data (`tlvlink sim touch100k`) are generated in this process's temp dir.
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <png.h>
+
+#include "io/jpeg.h"
+#include "io/pnm.h"
+#include "tlvlink/model.h"
+#include "tlvlink/quantize/model_builder.h"
+#include "tlvlink/quantize/reference_encoder.h"
+#include "support/cli_run.h"
+
+namespace tlvlink {
+namespace {
+
+namespace fs = std::filesystem;
+
+using ::tlvlink::testing::CliRun;
+using ::tlvlink::testing::run_cli;
+using ::tlvlink::testing::Stderr;
+
+CliRun tlvlink(const std::string& args) {
+  return run_cli(TLVLINK_CLI_BINARY, args, Stderr::kMerged, TLVLINK_CLI_EMULATOR);
+}
+
+
+std::string read_text(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+// Shared inputs, made once per test process: fp32 reference encoder (96 px) and a small
+// simulated Touch100k set (6 sessions x 4 frames).
+class QuantizeCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::temp_directory_path() / ("tlvlink_quantize_cli_" + std::to_string(::getpid())));
+    fs::create_directories(*dir_);
+    setup_ = tlvlink("gen-reference -o " + path("fp32.tlvm") + " --dtype fp32 -r 96 --seed 4 --golden 0");
+    if (setup_.exit_code == 0)
+      setup_ = tlvlink("sim touch100k -o " + path("t100k") +
+                       " --sessions 6 --frames-per-session 4 --seed 2 --vision-height 24 --vision-width 32");
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(*dir_);
+    delete dir_;
+  }
+  void SetUp() override { ASSERT_RUN(setup_, 0); }
+  static std::string path(const std::string& leaf) { return (*dir_ / leaf).string(); }
+
+  static fs::path* dir_;
+  static CliRun setup_;
+};
+fs::path* QuantizeCli::dir_ = nullptr;
+CliRun QuantizeCli::setup_;
+
+// Small counts keep the reference executor's share of each run to a few seconds.
+const std::string kCounts = " --calib-count 10 --heldout-count 6 -q";
+
+TEST_F(QuantizeCli, HelpListsTheOptionsAndExitsZero) {
+  CliRun r = tlvlink("quantize --help");
+  EXPECT_RUN(r, 0);
+  for (const char* flag : {"--calib", "--method", "--keep-float", "--report", "--calib-count", "--weights"})
+    EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
+  r = tlvlink("quantize-sweep --help");
+  EXPECT_RUN(r, 0);
+  EXPECT_NE(r.out.find("--models"), std::string::npos);
+}
+
+TEST_F(QuantizeCli, BadArgumentsExitTwo) {
+  const std::string m = path("fp32.tlvm");
+  EXPECT_RUN(tlvlink("quantize " + m + " -o " + path("x.tlvm")), 2);  // no --calib
+  EXPECT_RUN(tlvlink("quantize " + m + " --calib " + path("t100k") + " -o " + path("x.tlvm") +
+                     " --method kl"), 2);
+  EXPECT_RUN(tlvlink("quantize " + m + " --calib " + path("t100k") + " -o " + path("x.tlvm") +
+                     " --keep-float no_such_layer"), 2);
+  EXPECT_RUN(tlvlink("quantize " + m + " --calib " + path("missing") + " -o " + path("x.tlvm")), 2);
+  EXPECT_RUN(tlvlink("quantize " + m + " --calib extreme -o " + path("x.tlvm") + " --percentile 20"), 2);
+  EXPECT_RUN(tlvlink("quantize " + m + " --calib extreme -o " + path("x.tlvm") + " --calib-split train"), 2);
+  EXPECT_FALSE(fs::exists(path("x.tlvm")));
+}
+
+TEST_F(QuantizeCli, Touch100kSetGivesAVerifiableInt8ModelAndAReport) {
+  const std::string out = path("q.tlvm");
+  CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " + out +
+                     " --report " + path("rep") + kCounts);
+  ASSERT_RUN(r, 0);
+  EXPECT_NE(r.out.find("touch100k"), std::string::npos);
+  EXPECT_NE(r.out.find("per layer"), std::string::npos);
+  EXPECT_NE(r.out.find("embedding"), std::string::npos);
+  auto model = Model::load_file(out.c_str());
+  ASSERT_TRUE(model.ok()) << model.error().message();
+  size_t int8_convs = 0;
+  for (const Operator& op : (*model)->graph().operators)
+    int8_convs += op.type == OpType::kConv2D && (*model)->graph().tensor(op.output).dtype == DType::kInt8;
+  EXPECT_GT(int8_convs, 10u);
+  EXPECT_EQ((*model)->metadata().golden.size(), 2u);
+  EXPECT_NE((*model)->metadata().provenance.quantization.find("percentile"), std::string::npos);
+  EXPECT_RUN(tlvlink("verify " + out), 0);
+
+  const auto j = nlohmann::json::parse(read_text(fs::path(path("rep")) / "report.json"));
+  EXPECT_EQ(j["calibration"]["frames"], 10);
+  EXPECT_EQ(j["calibration"]["heldout_frames"], 6);
+  EXPECT_GT(j["embedding"]["cosine_mean"].get<double>(), 0.99);
+  ASSERT_TRUE(j["layers"].is_array());
+  EXPECT_EQ(j["layers"].size(), (*model)->graph().operators.size() - 2);  // minus Q and DQ
+  const std::string csv = read_text(fs::path(path("rep")) / "layers.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), static_cast<long>(j["layers"].size()) + 1);
+  EXPECT_TRUE(fs::exists(fs::path(path("rep")) / "summary.txt"));
+
+  // The training split only (the sidecar's recorded split: 6 sessions, 1 of them test).
+  r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " + path("qt.tlvm") +
+              " --calib-split train" + kCounts);
+  ASSERT_RUN(r, 0);
+  EXPECT_NE(r.out.find("(train split): 20 frames in 5 groups"), std::string::npos) << r.out;
+}
+
+TEST_F(QuantizeCli, KeepFloatFirstAndLastAreReportedWithTheirReason) {
+  CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " +
+                     path("mixed.tlvm") + " --keep-float first,last --report " + path("rep2") + kCounts);
+  ASSERT_RUN(r, 0);
+  EXPECT_NE(r.out.find("fp32 layers"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("stem (Conv2D): kept fp32 by --keep-float"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("embedding (FullyConnected): kept fp32"), std::string::npos) << r.out;
+  const auto j = nlohmann::json::parse(read_text(fs::path(path("rep2")) / "report.json"));
+  EXPECT_EQ(j["operators"]["fp32"], 2);
+  EXPECT_RUN(tlvlink("verify " + path("mixed.tlvm")), 0);
+}
+
+TEST_F(QuantizeCli, ExtremeSetAndEveryMethodWork) {
+  for (const char* method : {"minmax", "ema", "percentile", "entropy", "mse"}) {
+    CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib extreme -o " + path("e.tlvm") +
+                       " --method " + method + kCounts);
+    EXPECT_RUN(r, 0);
+    EXPECT_NE(r.out.find("extreme set"), std::string::npos) << r.out;
+  }
+}
+
+TEST_F(QuantizeCli, TouchAndGoAndFeelSetsAreDetectedAndRead) {
+  ASSERT_RUN(tlvlink("sim tag -o " + path("tag") + " --sessions 4 --frames-per-session 3 --seed 5"), 0);
+  ASSERT_RUN(tlvlink("sim feel -o " + path("feel") + " --objects 3 --grasps-per-object 2 --seed 5"), 0);
+  ASSERT_RUN(tlvlink("sim feel -o " + path("feelr") + " --objects 3 --grasps-per-object 2 --seed 5 --repacked"), 0);
+  for (const auto& [dir, format] : {std::pair{"tag", "tag "}, {"feel", "feel "}, {"feelr", "feel-repacked "}}) {
+    CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path(dir) + " -o " +
+                       path(std::string(dir) + ".tlvm") + " --calib-count 6 --heldout-count 3 -q");
+    EXPECT_RUN(r, 0);
+    EXPECT_NE(r.out.find(std::string("data         ") + format), std::string::npos) << r.out;
+  }
+  // The format can be forced; a wrong one is a data error naming the set.
+  EXPECT_RUN(tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("tag") + " --calib-format feel -o " +
+                     path("bad.tlvm") + kCounts), 1);
+}
+
+TEST_F(QuantizeCli, ImageFolderOfPpmJpegAndPng) {
+  const fs::path images = path("images");
+  fs::create_directories(images / "sessionA");
+  fs::create_directories(images / "sessionB");
+  for (int i = 0; i < 4; ++i) {
+    tools::Image img{120, 100, 3, quantize::synthetic_touch_frame(100, 120, static_cast<uint64_t>(i))};
+    ASSERT_TRUE(tools::write_pnm((images / "sessionA" / ("f" + std::to_string(i) + ".ppm")).string(), img).ok());
+    ASSERT_TRUE(tools::write_jpeg((images / "sessionB" / ("f" + std::to_string(i) + ".jpg")).string(), img, 90).ok());
+    png_image png{};
+    png.version = PNG_IMAGE_VERSION;
+    png.width = 120;
+    png.height = 100;
+    png.format = PNG_FORMAT_RGB;
+    ASSERT_NE(png_image_write_to_file(&png, (images / ("top" + std::to_string(i) + ".png")).c_str(), 0,
+                                      img.pixels.data(), 0, nullptr), 0);
+  }
+  CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + images.string() + " -o " +
+                     path("img.tlvm") + " --calib-count 6 --heldout-count 2 -q");
+  ASSERT_RUN(r, 0);
+  EXPECT_NE(r.out.find("images"), std::string::npos);
+  EXPECT_NE(r.out.find("calibration 6 frames"), std::string::npos) << r.out;
+  // A corrupt image is skipped and counted, not fatal.
+  std::ofstream(images / "sessionA" / "broken.jpg") << "not a jpeg";
+  r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + images.string() + " -o " +
+              path("img2.tlvm") + " --calib-count 12 --heldout-count 0 -q");
+  EXPECT_RUN(r, 0);
+}
+
+TEST_F(QuantizeCli, NanWeightsFailNamingTheTensor) {
+  quantize::ModelBuilder b;
+  const int32_t x = b.add_activation("x", DType::kFloat32, {1, 96, 96, 3});
+  const std::vector<float> w = {1.0f, std::nanf(""), 0.5f};
+  const int32_t wt = b.add_constant<float>("stem.weights", {1, 1, 1, 3}, w);
+  const int32_t y = b.add_activation("y", DType::kFloat32, {1, 96, 96, 1});
+  b.add_op(OpType::kConv2D, "stem", {x, wt, kNoTensor}, y, Conv2DParams{});
+  b.set_inputs({x});
+  b.set_outputs({y});
+  const std::vector<std::byte> file = b.finish();
+  std::ofstream(path("nan.tlvm"), std::ios::binary)
+      .write(reinterpret_cast<const char*>(file.data()), static_cast<std::streamsize>(file.size()));
+  CliRun r = tlvlink("quantize " + path("nan.tlvm") + " --calib extreme -o " + path("n.tlvm") + kCounts);
+  EXPECT_RUN(r, 1);
+  EXPECT_NE(r.out.find("stem.weights"), std::string::npos) << r.out;
+}
+
+TEST_F(QuantizeCli, AnInt8ModelIsNotQuantizedAgain) {
+  ASSERT_RUN(tlvlink("quantize " + path("fp32.tlvm") + " --calib extreme -o " + path("once.tlvm") + kCounts), 0);
+  CliRun r = tlvlink("quantize " + path("once.tlvm") + " --calib extreme -o " + path("twice.tlvm") + kCounts);
+  EXPECT_RUN(r, 1);
+  EXPECT_NE(r.out.find("already"), std::string::npos) << r.out;
+}
+
+TEST_F(QuantizeCli, SweepWritesOneRowPerVariantAndThreadCount) {
+  ASSERT_RUN(tlvlink("gen-reference -o " + path("fp32_112.tlvm") + " --dtype fp32 -r 112 --seed 4 --golden 0"), 0);
+  CliRun r = tlvlink("quantize-sweep --models " + path("fp32.tlvm") + "," + path("fp32_112.tlvm") +
+                     " --calib " + path("t100k") + " -o " + path("sweep") +
+                     " --methods minmax,mse --threads 1,2 --runs 3 --warmup 1" + kCounts);
+  ASSERT_RUN(r, 0);
+  // 2 models x (fp32, per-tensor minmax, per-channel minmax, per-channel mse) x 2 thread counts.
+  constexpr long kRows = 2 * 4 * 2;
+  const std::string csv = read_text(fs::path(path("sweep")) / "sweep.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), kRows + 1);
+  const auto j = nlohmann::json::parse(read_text(fs::path(path("sweep")) / "sweep.json"));
+  ASSERT_EQ(j["rows"].size(), static_cast<size_t>(kRows));
+  for (const auto& row : j["rows"]) {
+    EXPECT_GT(row["latency_median_ms"].get<double>(), 0.0);
+    EXPECT_GT(row["cosine_mean"].get<double>(), 0.99);
+  }
+  const std::string svg = read_text(fs::path(path("sweep")) / "sweep.svg");
+  EXPECT_NE(svg.find("</svg>"), std::string::npos);
+  EXPECT_NE(svg.find("int8 per-channel mse"), std::string::npos);
+  EXPECT_RUN(tlvlink("quantize-sweep --models " + path("nope.tlvm") + " --calib extreme -o " + path("s2")), 2);
+}
+
+}  // namespace
+}  // namespace tlvlink

@@ -1,0 +1,46 @@
+#pragma once
+// Internals of quantize_data.cc: listing the items of a calibration source without decoding
+// images (pass 1), then reading the frames of the selected items (pass 2).
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include "cli/quantize_data.h"
+#include "io/image.h"
+#include "tlvlink/datasets/split.h"
+#include "tlvlink/error.h"
+
+namespace tlvlink::cli::quantize_sources {
+
+struct Item {
+  std::string key;    // the loader's key (or the image's relative path)
+  std::string group;  // session / object / folder: held-out never shares one with calibration
+  int32_t frame = 0;  // Feel: finger * 3 + moment; else 0
+  datasets::Split recorded = datasets::Split::kAll;  // the split the set records, if it does
+  std::string id() const { return key + "#" + std::to_string(frame); }
+};
+
+// Pass 1 (labels / file names only), keeping the items of `split`. A set written by tlvlink's
+// simulator (it holds tlvlink_sim.json) has its recorded split (Touch100k: the sidecar; TAG: the
+// train/test files; Feel: the recorded split); any other set is split by a hash of the group
+// with kDefaultSplit — the same rule as tools/eval, so `--calib-split train` never calibrates on
+// the frames `tlvlink eval` tests on.
+inline constexpr datasets::HashSplit kDefaultSplit{0.2, 0};
+Result<std::vector<Item>> list_items(CalibFormat format, const std::string& path,
+                                     datasets::Split split);
+
+// Pass 2: calls `visit` for every frame whose Item::id() is in `wanted`, in dataset order.
+// `load_summary` receives the loader's problem counts. `on_item` is called per wanted frame read.
+using FrameVisitor = std::function<Status(const Item& item, const tools::Image& image)>;
+Status read_frames(CalibFormat format, const std::string& path,
+                   const std::unordered_set<std::string>& wanted, const FrameVisitor& visit,
+                   std::string& load_summary, const std::function<void()>& on_item);
+
+// Image files of a folder (recursive), by extension: .jpg .jpeg .ppm .pgm .pnm .png.
+bool is_image_file(const std::string& path);
+Result<tools::Image> read_image(const std::string& path);
+
+}  // namespace tlvlink::cli::quantize_sources
