@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
   add_convert_command(app, exit_code);
   add_quantize_command(app, exit_code);
   add_quantize_sweep_command(app, exit_code);
+  add_train_command(app, exit_code);
+  add_export_command(app, exit_code);
   add_eval_command(app, exit_code);
   add_heads_command(app, exit_code);
   try {

@@ -3,7 +3,8 @@
 #   install_deps.sh [core|test|cross|all]   (default: all)
 # core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries, JPEG, PNG, HDF5, ONNX
 # test  : core + GoogleTest/Benchmark, clang (libFuzzer, sanitizers), Debian's torch + onnx
-#         (the ONNX import tests export their models with /usr/bin/python3)
+#         (the ONNX import tests export their models with /usr/bin/python3), libtorch-dev
+#         (the trainer, TLVLINK_BUILD_TRAINER in the host preset)
 # cross : aarch64 cross compiler + qemu-user (the arm64 sysroot is tools/setup/make_sysroot.sh)
 set -euo pipefail
 what=${1:-all}
@@ -17,7 +18,7 @@ core_pkgs=(build-essential cmake ninja-build pkg-config
   libturbojpeg0-dev libpng-dev libhdf5-dev
   libonnx-dev libprotobuf-dev)
 test_pkgs=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev llvm
-  python3-torch python3-onnx python3-numpy)
+  python3-torch python3-onnx python3-numpy libtorch-dev)
 cross_pkgs=(g++-aarch64-linux-gnu qemu-user)
 
 pkgs=("${core_pkgs[@]}")

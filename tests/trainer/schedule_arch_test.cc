@@ -1,0 +1,163 @@
+// beta and learning-rate schedules, the architectures' cost, option validation, data order.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "tlvlink/trainer/arch.h"
+#include "tlvlink/trainer/schedule.h"
+#include "tlvlink/trainer/trainer.h"
+#include "trainer/src/options_json.h"
+
+namespace tlvlink::trainer {
+namespace {
+
+constexpr double kExact = 1e-12;  // closed-form double arithmetic, a few ulps at most
+
+TEST(BetaSchedule, LinearFollowsThePaper) {
+  BetaOptions o;  // linear, beta1 0.9, span 0.9, beta_min 0
+  const int64_t total = 1000;  // span = 900 steps
+  EXPECT_NEAR(beta_at(o, 0, total), 0.9, kExact);
+  EXPECT_NEAR(beta_at(o, 450, total), 0.45, kExact);
+  EXPECT_NEAR(beta_at(o, 225, total), 0.675, kExact);
+  EXPECT_NEAR(beta_at(o, 900, total), 0.0, kExact);
+  EXPECT_NEAR(beta_at(o, 999, total), 0.0, kExact);
+}
+
+TEST(BetaSchedule, CosineAndExponentialHitTheEndpoints) {
+  BetaOptions o;
+  o.beta_min = 0.1;
+  const int64_t total = 100;  // span = 90 steps
+  o.schedule = BetaSchedule::kCosine;
+  EXPECT_NEAR(beta_at(o, 0, total), 0.9, kExact);
+  EXPECT_NEAR(beta_at(o, 45, total), 0.5, kExact);  // midpoint of a cosine half-wave
+  EXPECT_NEAR(beta_at(o, 90, total), 0.1, kExact);
+  EXPECT_NEAR(beta_at(o, 30, total), 0.1 + 0.8 * 0.5 * (1 + std::cos(std::numbers::pi / 3)),
+              kExact);  // t = 1/3
+  o.schedule = BetaSchedule::kExponential;
+  EXPECT_NEAR(beta_at(o, 0, total), 0.9, kExact);
+  EXPECT_NEAR(beta_at(o, 90, total), 0.1, kExact);
+  // Faster than linear early on: below the linear value at t = 1/3.
+  const double e = beta_at(o, 30, total);
+  EXPECT_LT(e, 0.9 - 0.8 / 3.0);
+  const double k = kExponentialBetaRate;
+  EXPECT_NEAR(e, 0.1 + 0.8 * (std::exp(-k / 3) - std::exp(-k)) / (1 - std::exp(-k)), kExact);
+  for (BetaSchedule s : {BetaSchedule::kLinear, BetaSchedule::kCosine, BetaSchedule::kExponential}) {
+    o.schedule = s;
+    for (int64_t step = 1; step < total; ++step) {
+      EXPECT_LE(beta_at(o, step, total), beta_at(o, step - 1, total)) << beta_schedule_name(s);
+    }
+  }
+}
+
+TEST(BetaSchedule, NoCurriculumIsZeroEverywhere) {
+  BetaOptions o;
+  o.schedule = BetaSchedule::kNone;
+  for (int64_t step : {0, 1, 50, 99}) EXPECT_EQ(beta_at(o, step, 100), 0.0);
+}
+
+TEST(BetaSchedule, ParseAndValidate) {
+  EXPECT_EQ(parse_beta_schedule("cosine").value(), BetaSchedule::kCosine);
+  EXPECT_FALSE(parse_beta_schedule("sigmoid").ok());
+  BetaOptions o;
+  o.beta_min = 0.95;  // above beta1
+  EXPECT_EQ(validate(o).error().code(), ErrorCode::kInvalidArgument);
+  o = {};
+  o.span = 0;
+  EXPECT_FALSE(validate(o).ok());
+  o = {};
+  o.beta1 = 1.5;
+  EXPECT_FALSE(validate(o).ok());
+}
+
+TEST(LrSchedule, WarmupThenCosine) {
+  LrOptions o;  // 2e-4, 200 warm-up steps, min 0
+  const int64_t total = 1201;  // decay over steps 200..1200
+  EXPECT_NEAR(lr_at(o, 0, total), 2e-4 / 200, kExact);
+  EXPECT_NEAR(lr_at(o, 99, total), 2e-4 * 100 / 200, kExact);
+  EXPECT_NEAR(lr_at(o, 199, total), 2e-4, kExact);
+  EXPECT_NEAR(lr_at(o, 200, total), 2e-4, kExact);
+  EXPECT_NEAR(lr_at(o, 700, total), 1e-4, kExact);  // halfway through the decay
+  EXPECT_NEAR(lr_at(o, 1200, total), 0.0, kExact);
+  // Runs shorter than the warm-up warm up over a tenth of the steps instead.
+  EXPECT_EQ(effective_warmup(o, 50), 5);
+  EXPECT_NEAR(lr_at(o, 4, 50), 2e-4, kExact);
+}
+
+TEST(Arch, CostsWithinTheBrief) {
+  auto small = make_arch("small", 96, 128, 128);
+  auto tiny = make_arch("tiny", 96, 128, 128);
+  ASSERT_TRUE(small.ok() && tiny.ok());
+  const ArchStats s = arch_stats(*small), t = arch_stats(*tiny);
+  // small <= ~60 MMAC, tiny ~10-20 MMAC, a few M parameters at most.
+  EXPECT_GT(s.macs, 30'000'000u);
+  EXPECT_LT(s.macs, 60'000'000u);
+  EXPECT_GT(t.macs, 10'000'000u);
+  EXPECT_LT(t.macs, 20'000'000u);
+  EXPECT_LT(s.params, 3'000'000u);
+  EXPECT_LT(t.params, s.params);
+  EXPECT_EQ(s.final_height, 3);
+  EXPECT_EQ(s.final_width, 4);
+  // Hand count of small's stem: 48x64 outputs x 16 channels x 27 weights.
+  EXPECT_EQ(small->layers[0].out_channels, 16);
+  for (const LayerSpec& l : small->layers) EXPECT_TRUE(l.kernel == 3 || l.kernel == 1);
+  std::printf("%s\n%s\n", describe_arch(*small).c_str(), describe_arch(*tiny).c_str());
+}
+
+TEST(Arch, RejectsBadRequests) {
+  EXPECT_EQ(make_arch("huge", 96, 128, 128).error().code(), ErrorCode::kInvalidArgument);
+  EXPECT_FALSE(make_arch("small", 16, 128, 128).ok());
+  EXPECT_FALSE(make_arch("small", 96, 128, 4).ok());
+  EXPECT_EQ(conv_output_size(96, 3, 2), 48);
+  EXPECT_EQ(conv_output_size(3, 3, 2), 2);
+  EXPECT_EQ(conv_output_size(7, 1, 1), 7);
+}
+
+TEST(Options, ValidationNamesTheSetting) {
+  TrainOptions o;
+  o.data_dir = "/tmp/x";
+  o.output = "/tmp/x.ckpt";
+  EXPECT_TRUE(validate(o).ok());
+  TrainOptions bad = o;
+  bad.batch = 1;
+  EXPECT_NE(std::string(validate(bad).error().message()).find("batch"), std::string::npos);
+  bad = o;
+  bad.arch = "resnet50";
+  EXPECT_NE(std::string(validate(bad).error().message()).find("resnet50"), std::string::npos);
+  bad = o;
+  bad.output.clear();
+  EXPECT_FALSE(validate(bad).ok());
+  bad = o;
+  bad.init_temperature = 0.001;  // 1/T = 1000 > max logit scale 100
+  EXPECT_FALSE(validate(bad).ok());
+}
+
+TEST(Options, RoundTripThroughJson) {
+  TrainOptions o;
+  o.arch = "tiny";
+  o.beta.schedule = BetaSchedule::kExponential;
+  o.beta.beta1 = 0.7;
+  o.lr.lr = 3e-4;
+  o.seed = 42;
+  TrainOptions back;
+  ASSERT_TRUE(options_from_json(options_to_json(o), back).ok());
+  EXPECT_EQ(back.arch, "tiny");
+  EXPECT_EQ(back.beta.schedule, BetaSchedule::kExponential);
+  EXPECT_EQ(back.beta.beta1, 0.7);
+  EXPECT_EQ(back.lr.lr, 3e-4);
+  EXPECT_EQ(back.seed, 42u);
+}
+
+TEST(DataOrder, SeededPermutations) {
+  const auto a = epoch_order(100, 1, 0), b = epoch_order(100, 1, 0), c = epoch_order(100, 1, 1);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  auto sorted = a;
+  std::sort(sorted.begin(), sorted.end());
+  for (int64_t i = 0; i < 100; ++i) EXPECT_EQ(sorted[static_cast<size_t>(i)], i);
+}
+
+}  // namespace
+}  // namespace tlvlink::trainer

@@ -1,0 +1,322 @@
+// Training end to end in-process on a small simulator set: determinism with a seed, resume ==
+// uninterrupted, export parity (libtorch eval vs the runtime's fp32 executors, embeddings and
+// zero-shot logits), and clear errors for bad inputs.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "tlvlink/executor.h"
+#include "tlvlink/model.h"
+#include "trainer/trainer_support.h"
+
+namespace tlvlink::trainer {
+namespace {
+
+using testing::quick_options;
+using testing::TempDir;
+using testing::write_touch_set;
+
+// The runtime's fp32 graph vs libtorch eval mode: the same float math in a different order
+// (oneDNN vs XNNPACK / reference GEMM blocking) -> relative differences of a few ulps per
+// layer; 1e-4 relative to the embedding's scale leaves room for ~15 layers of accumulation.
+constexpr double kParityCosine = 0.9999;
+constexpr double kParityMaxAbsRelative = 1e-4;
+// Zero-shot logits are 100 x cosine, so an embedding cosine of 1 - 1e-8 moves them by ~1e-4.
+constexpr double kLogitTolerance = 1e-3;
+
+class Trainer : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = std::make_unique<TempDir>("set");
+    // 8 sessions x 6 frames; a quarter of the sessions held out -> 36 train, 12 test.
+    const Status s = write_touch_set(data(), 8, 6, 21);
+    ASSERT_TRUE(s.ok()) << s.error().message();
+  }
+  static void TearDownTestSuite() { dir_.reset(); }
+  static std::string data() { return *dir_ / "t100k"; }
+
+  static std::unique_ptr<TempDir> dir_;
+};
+std::unique_ptr<TempDir> Trainer::dir_;
+
+// logit_scale x cosine(embedding, prompt row), as the runtime's zero-shot head computes it.
+std::vector<double> zero_shot_logits(const ZeroShotHead& h, std::span<const float> e) {
+  const size_t dim = e.size();
+  double norm = 0;
+  for (float v : e) norm += static_cast<double>(v) * static_cast<double>(v);
+  std::vector<double> logits(h.class_names.size());
+  for (size_t k = 0; k < logits.size(); ++k) {
+    double dot = 0;
+    for (size_t i = 0; i < dim; ++i) {
+      dot += static_cast<double>(h.prompt_matrix[k * dim + i]) * static_cast<double>(e[i]);
+    }
+    logits[k] = static_cast<double>(h.logit_scale) * dot / std::sqrt(norm);
+  }
+  return logits;
+}
+
+size_t argmax(const std::vector<double>& v) {
+  return static_cast<size_t>(std::max_element(v.begin(), v.end()) - v.begin());
+}
+
+std::vector<float> embed(const std::string& ckpt, const std::vector<float>& frames, int64_t n) {
+  auto e = libtorch_embeddings(ckpt, frames, n);
+  EXPECT_TRUE(e.ok()) << (e.ok() ? "" : e.error().message());
+  return e.ok() ? std::move(e).value() : std::vector<float>{};
+}
+
+TEST_F(Trainer, SameSeedSameModel) {
+  TempDir out("seed");
+  int64_t n = 0;
+  TrainOptions a = quick_options(data(), out / "a.ckpt");
+  TrainOptions b = quick_options(data(), out / "b.ckpt");
+  auto ra = train(a), rb = train(b);
+  ASSERT_TRUE(ra.ok()) << ra.error().message();
+  ASSERT_TRUE(rb.ok()) << rb.error().message();
+  EXPECT_EQ(ra->train_samples, 36);
+  EXPECT_EQ(ra->final_loss, rb->final_loss);
+  auto info = read_checkpoint_info(out / "a.ckpt");
+  ASSERT_TRUE(info.ok());
+  auto frames = testing::preprocessed_frames(data(), true, info->input, 4, n);
+  ASSERT_TRUE(frames.ok());
+  EXPECT_EQ(embed(out / "a.ckpt", *frames, n), embed(out / "b.ckpt", *frames, n));
+  // A different seed gives a different model.
+  TrainOptions c = quick_options(data(), out / "c.ckpt");
+  c.seed = 4;
+  ASSERT_TRUE(train(c).ok());
+  EXPECT_NE(embed(out / "a.ckpt", *frames, n), embed(out / "c.ckpt", *frames, n));
+}
+
+TEST_F(Trainer, ResumeEqualsUninterrupted) {
+  TempDir out("resume");
+  TrainOptions whole = quick_options(data(), out / "whole.ckpt");
+  whole.epochs = 3;  // 4 steps per epoch -> 12 steps
+  whole.checkpoint_dir = out.path();
+  whole.checkpoint_every = 5;
+  auto rw = train(whole);
+  ASSERT_TRUE(rw.ok()) << rw.error().message();
+  ASSERT_TRUE(std::filesystem::exists(out / "step_0000005.ckpt"));
+  ASSERT_TRUE(std::filesystem::exists(out / "step_0000012.ckpt"));
+
+  TrainOptions resumed;
+  resumed.data_dir = data();
+  resumed.output = out / "resumed.ckpt";
+  resumed.resume = out / "step_0000005.ckpt";
+  resumed.threads = whole.threads;
+  auto rr = train(resumed);
+  ASSERT_TRUE(rr.ok()) << rr.error().message();
+  EXPECT_EQ(rr->start_step, 5);
+  EXPECT_EQ(rr->steps, 12);
+  EXPECT_EQ(rr->final_loss, rw->final_loss);
+  EXPECT_EQ(rr->last_epoch_loss, rw->last_epoch_loss);
+
+  auto info = read_checkpoint_info(out / "whole.ckpt");
+  ASSERT_TRUE(info.ok());
+  int64_t n = 0;
+  auto frames = testing::preprocessed_frames(data(), true, info->input, 4, n);
+  ASSERT_TRUE(frames.ok());
+  EXPECT_EQ(embed(out / "whole.ckpt", *frames, n), embed(out / "resumed.ckpt", *frames, n));
+}
+
+TEST_F(Trainer, ExportedModelMatchesLibtorch) {
+  TempDir out("parity");
+  TrainOptions o = quick_options(data(), out / "m.ckpt");
+  o.beta.schedule = BetaSchedule::kCosine;
+  ASSERT_TRUE(train(o).ok());
+  ExportOptions e;
+  e.checkpoint = out / "m.ckpt";
+  e.output = out / "m.tlvm";
+  auto exported = export_model(e);
+  ASSERT_TRUE(exported.ok()) << exported.error().message();
+  EXPECT_EQ(exported->zero_shot_heads.size(), 4u);
+
+  auto model = Model::load_file(e.output.c_str());
+  ASSERT_TRUE(model.ok()) << model.error().message();
+  const Metadata& meta = (*model)->metadata();
+  EXPECT_EQ(meta.input.height, 48);
+  EXPECT_EQ(meta.input.width, 64);
+  EXPECT_EQ(meta.embedding_dim, 128);
+  ASSERT_EQ(meta.zero_shot_heads.size(), 4u);
+  EXPECT_EQ(meta.zero_shot_heads[0].class_names.size(), 20u);
+  EXPECT_EQ(meta.zero_shot_heads[0].logit_scale, 100.0f);
+  EXPECT_TRUE(meta.linear_heads.empty());
+  EXPECT_EQ(meta.golden.size(), 2u);  // from the recorded training set's test split
+  EXPECT_EQ(exported->golden_pairs, 2);
+  EXPECT_NE(meta.provenance.training.find("hashing-v1"), std::string_view::npos);
+
+  // Held-out frames through the runtime's preprocessing (tools::preprocess with the model's
+  // own InputSpec), then libtorch eval vs both fp32 executors.
+  int64_t n = 0;
+  auto frames = testing::preprocessed_frames(data(), true, meta.input, 12, n);
+  ASSERT_TRUE(frames.ok());
+  const std::vector<float> want = embed(e.checkpoint, *frames, n);
+  ASSERT_EQ(want.size(), static_cast<size_t>(n) * 128);
+  const size_t per_frame = frames->size() / static_cast<size_t>(n);
+  for (ExecutorKind kind : {ExecutorKind::kReference, ExecutorKind::kXnnpack}) {
+    auto exec = make_executor(**model, kind);
+    ASSERT_TRUE(exec.ok()) << exec.error().message();
+    std::vector<float> got;
+    for (int64_t i = 0; i < n; ++i) {
+      std::memcpy((*exec)->input(0).data(), frames->data() + static_cast<size_t>(i) * per_frame,
+                  per_frame * sizeof(float));
+      ASSERT_TRUE((*exec)->invoke().ok());
+      const auto out_bytes = (*exec)->output(0);
+      const auto* f = reinterpret_cast<const float*>(out_bytes.data());
+      got.insert(got.end(), f, f + 128);
+    }
+    const testing::Agreement g = testing::compare_rows(want, got, n);
+    std::printf("%s vs libtorch on %lld held-out frames: min cosine %.9f, max-abs %.3g "
+                "(max |e| %.3g)\n", executor_kind_name(kind), static_cast<long long>(n),
+                g.min_cosine, g.max_abs, g.max_magnitude);
+    EXPECT_GE(g.min_cosine, kParityCosine);
+    EXPECT_LE(g.max_abs, kParityMaxAbsRelative * std::max(1.0, g.max_magnitude));
+    // Zero-shot logits through the same head code from either embedding.
+    double worst = 0;
+    int64_t top1_disagreements = 0;
+    for (int64_t i = 0; i < n; ++i) {
+      for (const ZeroShotHead& h : meta.zero_shot_heads) {
+        const auto a = zero_shot_logits(h, std::span<const float>(want).subspan(
+                                               static_cast<size_t>(i) * 128, 128));
+        const auto b = zero_shot_logits(h, std::span<const float>(got).subspan(
+                                               static_cast<size_t>(i) * 128, 128));
+        for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(a[k] - b[k]));
+        top1_disagreements += argmax(a) != argmax(b);
+      }
+    }
+    EXPECT_EQ(top1_disagreements, 0);
+    std::printf("  zero-shot logits max |diff| %.3g\n", worst);
+    EXPECT_LE(worst, kLogitTolerance);
+  }
+}
+
+TEST_F(Trainer, NoCurriculumNeedsNoTeacher) {
+  TempDir out("nocurr");
+  TrainOptions o = quick_options(data(), out / "n.ckpt");
+  o.beta.schedule = BetaSchedule::kNone;
+  auto r = train(o);
+  ASSERT_TRUE(r.ok()) << r.error().message();
+  EXPECT_EQ(r->teacher_seconds, 0.0);
+  auto info = read_checkpoint_info(out / "n.ckpt");
+  ASSERT_TRUE(info.ok());
+  EXPECT_NE(info->meta_json.find("\"schedule\":\"none\""), std::string::npos);
+  // Every logged beta is 0.
+  std::ifstream log(out / "n.ckpt.log.jsonl");
+  std::string line;
+  int lines = 0;
+  while (std::getline(log, line)) {
+    ++lines;
+    EXPECT_NE(line.find("\"beta\":0,"), std::string::npos) << line;
+  }
+  EXPECT_EQ(lines, 8);  // 2 epochs x 4 steps, no teacher phase
+}
+
+TEST_F(Trainer, TorchScriptTeacherWithProjection) {
+  TempDir out("jit");
+  const std::string cmd = std::string("/usr/bin/python3 ") + TLVLINK_MAKE_TEACHER + " " +
+                          out.path() + " 2>&1";
+  if (std::system(cmd.c_str()) != 0) {
+    GTEST_SKIP() << "cannot write TorchScript teachers (" << cmd
+                 << "); install python3-torch (tools/setup/install_deps.sh test)";
+  }
+  TrainOptions o = quick_options(data(), out / "jit.ckpt");
+  o.teacher.torchscript = out / "teacher64.pt";
+  o.teacher.input_height = 32;
+  o.teacher.input_width = 40;
+  auto r = train(o);
+  ASSERT_TRUE(r.ok()) << r.error().message();
+  auto info = read_checkpoint_info(out / "jit.ckpt");
+  ASSERT_TRUE(info.ok());
+  EXPECT_NE(info->meta_json.find("\"teacher_dim\":64"), std::string::npos);
+  EXPECT_NE(info->meta_json.find("torchscript"), std::string::npos);
+  // The projection (64 -> 128) survives a resume.
+  TrainOptions more;
+  more.data_dir = data();
+  more.output = out / "more.ckpt";
+  more.resume = out / "jit.ckpt";
+  more.threads = o.threads;
+  auto rr = train(more);
+  ASSERT_TRUE(rr.ok()) << rr.error().message();
+  // A module that returns the wrong shape is refused with the shape it returned.
+  o.teacher.torchscript = out / "bad_shape.pt";
+  auto bad = train(o);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(std::string(bad.error().message()).find("returned shape"), std::string::npos)
+      << bad.error().message();
+  o.teacher.torchscript = out / "missing.pt";
+  EXPECT_EQ(train(o).error().code(), ErrorCode::kFormat);
+}
+
+// The error of a run that must fail (an "ok" error when it unexpectedly succeeds).
+Error train_error(const TrainOptions& o) {
+  auto r = train(o);
+  EXPECT_FALSE(r.ok()) << "training " << o.data_dir << " succeeded";
+  return r.ok() ? Error() : r.error();
+}
+
+bool mentions(const Error& e, const char* text) {
+  return std::string(e.message()).find(text) != std::string::npos;
+}
+
+TEST_F(Trainer, BadInputsGiveClearErrors) {
+  TempDir out("bad");
+  // An empty directory.
+  std::filesystem::create_directories(out / "empty");
+  Error e = train_error(quick_options(out / "empty", out / "x.ckpt"));
+  EXPECT_EQ(e.code(), ErrorCode::kInvalidArgument);
+  EXPECT_TRUE(mentions(e, "data_list.json")) << e.message();
+  // An index with no samples.
+  std::filesystem::create_directories(out / "blank");
+  std::ofstream(out / "blank/data_list.json") << "\n";
+  e = train_error(quick_options(out / "blank", out / "x.ckpt"));
+  EXPECT_TRUE(mentions(e, "no train samples")) << e.message();
+  // A batch larger than the training split.
+  TrainOptions big = quick_options(data(), out / "x.ckpt");
+  big.batch = 64;
+  e = train_error(big);
+  EXPECT_TRUE(mentions(e, "fewer than one batch")) << e.message();
+  // An image cache limit below what the set needs.
+  TrainOptions small_cache = quick_options(data(), out / "x.ckpt");
+  small_cache.max_cache_bytes = 1000;
+  EXPECT_EQ(train_error(small_cache).code(), ErrorCode::kOutOfMemory);
+  // Corrupt checkpoints: random bytes, and a real one cut in half.
+  std::ofstream(out / "junk.ckpt") << "this is not a checkpoint";
+  auto info = read_checkpoint_info(out / "junk.ckpt");
+  ASSERT_FALSE(info.ok());
+  EXPECT_EQ(info.error().code(), ErrorCode::kFormat);
+  ASSERT_TRUE(train(quick_options(data(), out / "good.ckpt")).ok());
+  const auto size = std::filesystem::file_size(out / "good.ckpt");
+  std::filesystem::copy_file(out / "good.ckpt", out / "cut.ckpt");
+  std::filesystem::resize_file(out / "cut.ckpt", size / 2);
+  ExportOptions ex;
+  ex.checkpoint = out / "cut.ckpt";
+  ex.output = out / "cut.tlvm";
+  auto exported = export_model(ex);
+  ASSERT_FALSE(exported.ok());
+  EXPECT_EQ(exported.error().code(), ErrorCode::kFormat);
+  std::printf("truncated checkpoint: %s\n", exported.error().message());
+  TrainOptions resume_junk;
+  resume_junk.data_dir = data();
+  resume_junk.output = out / "y.ckpt";
+  resume_junk.resume = out / "junk.ckpt";
+  EXPECT_EQ(train_error(resume_junk).code(), ErrorCode::kFormat);
+  // Resuming on a different set is refused.
+  TempDir other("other");
+  ASSERT_TRUE(write_touch_set(other / "t100k", 8, 6, 99).ok());
+  TrainOptions elsewhere;
+  elsewhere.data_dir = other / "t100k";
+  elsewhere.output = out / "z.ckpt";
+  elsewhere.resume = out / "good.ckpt";
+  e = train_error(elsewhere);
+  EXPECT_TRUE(mentions(e, "differ")) << e.message();
+}
+
+}  // namespace
+}  // namespace tlvlink::trainer

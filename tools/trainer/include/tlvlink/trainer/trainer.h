@@ -1,0 +1,144 @@
+#pragma once
+// tlvlink_trainer: TLV-Link training of an edge touch encoder with libtorch, and its export to a
+// float .tlvm. This header has no libtorch types, so the CLI and the tests compile without the
+// (slow) torch headers. See tools/trainer/README.md.
+//
+//   TrainOptions o;
+//   o.data_dir = "/tmp/t100k";       // Touch100k layout (tlvlink sim touch100k)
+//   o.output = "/tmp/small.ckpt";
+//   auto summary = train(o);          // pre-trains the vision teacher, then the student
+//   ExportOptions e{.checkpoint = "/tmp/small.ckpt", .output = "/tmp/small.tlvm"};
+//   auto exported = export_model(e);
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "tlvlink/error.h"
+#include "tlvlink/metadata.h"
+#include "tlvlink/trainer/schedule.h"
+
+namespace tlvlink::trainer {
+
+// Decoded, resized images are cached in memory once (uint8); more than this is an error that
+// names the size needed (--max-cache-mb raises it). 4 GiB holds ~58k samples at 96x128 with
+// their vision images.
+inline constexpr size_t kDefaultMaxCacheBytes = size_t{4} << 30;
+inline constexpr int32_t kMaxBatch = 4096;
+inline constexpr int32_t kMaxThreads = 64;
+
+struct TextOptions {
+  std::string embeddings_dir;  // precomputed embeddings (text_encoder.h layout); empty: hashing
+  int32_t dim = 128;           // hashing encoder only (precomputed: the files' D)
+  uint64_t seed = 7;           // hashing encoder only
+};
+
+struct TeacherOptions {
+  // Empty: the built-in teacher (a `builtin_arch` CNN pre-trained on the vision images against
+  // the same text features, then frozen). Else a TorchScript vision encoder (torch::jit::load)
+  // taking float [N, 3, input_height, input_width] RGB, (pixel/255 - mean) / std, and returning
+  // [N, D_t] (a projection D_t -> text dim is learned with the student when D_t differs).
+  std::string torchscript;
+  std::string builtin_arch = "tiny";
+  int32_t epochs = 3;          // built-in teacher pre-training epochs
+  double lr = 1e-3;            // built-in teacher peak learning rate (trained from scratch)
+  int32_t input_height = 224, input_width = 224;  // TorchScript teacher input
+  std::vector<float> mean = {0.48145466f, 0.4578275f, 0.40821073f};  // CLIP's, TorchScript only
+  std::vector<float> std = {0.26862954f, 0.26130258f, 0.27577711f};
+};
+
+struct TrainOptions {
+  std::string data_dir;         // Touch100k-format directory
+  std::string output;           // final checkpoint (required)
+  std::string checkpoint_dir;   // periodic checkpoints step_NNNNNNN.ckpt (empty: none)
+  int64_t checkpoint_every = 500;
+  std::string resume;           // checkpoint to continue from (its settings are used)
+  std::string log_path;         // JSON-lines training log; empty: <output>.log.jsonl
+
+  std::string arch = "small";
+  int32_t input_height = 96, input_width = 128;
+  ResizeFilter resize = ResizeFilter::kBilinear;
+  TextOptions text;
+  TeacherOptions teacher;
+  BetaOptions beta;             // schedule kNone = --no-curriculum (no teacher needed)
+
+  LrOptions lr;
+  double weight_decay = 0.2;    // AdamW, on conv/FC weights (not BN, biases, temperature)
+  double adam_beta1 = 0.9, adam_beta2 = 0.98, adam_eps = 1e-6;
+  double init_temperature = 0.07;
+  double max_logit_scale = 100;  // CLIP's clamp of 1 / temperature
+  int32_t batch = 96;
+  int32_t epochs = 12;
+  int64_t max_steps = 0;        // > 0: train this many steps (schedules span them) instead
+  uint64_t seed = 1;
+  int32_t threads = 1;          // torch intra-op threads (results depend on it; see README)
+  int64_t max_samples = 0;      // > 0: use only the first N training samples
+  size_t max_cache_bytes = kDefaultMaxCacheBytes;
+  double test_fraction = 0.2;   // split by session hash when the set has no sidecar
+};
+// Checks ranges and combinations; names the offending setting (kInvalidArgument).
+Status validate(const TrainOptions& options);
+
+struct TrainSummary {
+  std::string arch_description;  // describe_arch()
+  int64_t train_samples = 0;
+  int64_t steps = 0, start_step = 0, steps_per_epoch = 0;
+  double first_epoch_loss = 0, last_epoch_loss = 0, final_loss = 0;
+  double student_samples_per_s = 0;
+  double load_seconds = 0, teacher_seconds = 0, student_seconds = 0;
+  std::string checkpoint;        // the final checkpoint written
+  std::string log_path;
+};
+Result<TrainSummary> train(const TrainOptions& options);
+
+struct ExportOptions {
+  std::string checkpoint;
+  std::string output;           // .tlvm
+  std::string text_embeddings;  // override the recorded precomputed-embeddings directory
+  std::string name;             // model name; empty: "tlvlink-<arch>-<h>x<w>-fp32"
+  // Golden I/O pairs embedded in the model (`tlvlink verify` replays them on the board): the
+  // first `golden_frames` test-split touch frames of `golden_data` (empty: the checkpoint's
+  // training set, skipped with a note when it no longer exists), preprocessed by
+  // tools::preprocess, with libtorch's eval-mode embeddings as the expected outputs.
+  std::string golden_data;
+  int32_t golden_frames = 2;    // 0..8
+};
+inline constexpr int32_t kMaxGoldenFrames = 8;
+struct ExportSummary {
+  std::string arch_description;
+  uint64_t macs = 0;
+  size_t file_bytes = 0;
+  int32_t embedding_dim = 0;
+  std::vector<std::string> zero_shot_heads;
+  int32_t golden_pairs = 0;
+  std::string note;             // e.g. why no golden pairs were embedded
+};
+// Folds BatchNorm, writes the fp32 .tlvm with metadata and zero-shot heads, and checks that it
+// loads (Model::load).
+Result<ExportSummary> export_model(const ExportOptions& options);
+
+// --- Inspection hooks (tests, parity) ---
+
+// What a checkpoint records: the JSON settings/provenance and the step it was taken at.
+struct CheckpointInfo {
+  std::string meta_json;
+  int64_t step = 0, total_steps = 0;
+  InputSpec input;  // spans point into `mean` / `std`
+  std::vector<float> mean, std;
+  std::string arch;
+};
+Result<CheckpointInfo> read_checkpoint_info(const std::string& path);
+
+// The student's embeddings in libtorch, eval mode: `nhwc` is n preprocessed frames [n,H,W,3]
+// (tools::preprocess output), result [n, embedding_dim], not normalised.
+Result<std::vector<float>> libtorch_embeddings(const std::string& checkpoint,
+                                               std::span<const float> nhwc, int64_t n);
+
+// Symmetric InfoNCE of n pairs (rows of x and y, each [n, dim], L2-normalised here):
+// logits = scale * x y^T, loss = (CE(logits, diag) + CE(logits^T, diag)) / 2.
+Result<double> info_nce_loss(std::span<const float> x, std::span<const float> y, int64_t n,
+                             int64_t dim, double logit_scale);
+
+}  // namespace tlvlink::trainer

@@ -1,0 +1,181 @@
+// Validation and JSON form of the training settings.
+
+#include <algorithm>
+#include <cmath>
+
+#include "trainer/src/options_json.h"
+#include "tlvlink/trainer/arch.h"
+
+namespace tlvlink::trainer {
+namespace {
+
+const char* resize_name(ResizeFilter f) {
+  return f == ResizeFilter::kArea ? "area" : f == ResizeFilter::kNearest ? "nearest" : "bilinear";
+}
+
+}  // namespace
+
+Status validate(const TrainOptions& o) {
+  TLV_ENSURE(!o.data_dir.empty(), ErrorCode::kInvalidArgument, "no data directory given");
+  TLV_ENSURE(!o.output.empty(), ErrorCode::kInvalidArgument, "no output checkpoint given (-o)");
+  TLV_TRY(make_arch(o.arch, o.input_height, o.input_width, o.text.dim).status());
+  TLV_ENSURE(o.resize == ResizeFilter::kBilinear, ErrorCode::kInvalidArgument,
+             "resize filter %s: the trainer caches bilinear-resized frames only",
+             resize_name(o.resize));
+  TLV_TRY(validate(o.beta));
+  TLV_TRY(validate(o.lr));
+  TLV_ENSURE(o.weight_decay >= 0 && o.weight_decay < 10, ErrorCode::kInvalidArgument,
+             "weight decay %g outside [0, 10)", o.weight_decay);
+  TLV_ENSURE(o.adam_beta1 >= 0 && o.adam_beta1 < 1 && o.adam_beta2 >= 0 && o.adam_beta2 < 1,
+             ErrorCode::kInvalidArgument, "AdamW betas (%g, %g) outside [0, 1)", o.adam_beta1,
+             o.adam_beta2);
+  TLV_ENSURE(o.adam_eps > 0 && o.adam_eps < 1, ErrorCode::kInvalidArgument,
+             "AdamW eps %g outside (0, 1)", o.adam_eps);
+  TLV_ENSURE(o.init_temperature > 0 && o.init_temperature <= 1, ErrorCode::kInvalidArgument,
+             "initial temperature %g outside (0, 1]", o.init_temperature);
+  TLV_ENSURE(o.max_logit_scale >= 1 && o.max_logit_scale >= 1.0 / o.init_temperature,
+             ErrorCode::kInvalidArgument,
+             "maximum logit scale %g must be >= 1 and >= 1 / initial temperature (%g)",
+             o.max_logit_scale, 1.0 / o.init_temperature);
+  TLV_ENSURE(o.batch >= 2 && o.batch <= kMaxBatch, ErrorCode::kInvalidArgument,
+             "batch %d outside 2..%d (InfoNCE needs at least two pairs)", o.batch, kMaxBatch);
+  TLV_ENSURE(o.epochs >= 1 && o.epochs <= 10000, ErrorCode::kInvalidArgument,
+             "epochs %d outside 1..10000", o.epochs);
+  TLV_ENSURE(o.max_steps >= 0, ErrorCode::kInvalidArgument, "max steps %lld < 0",
+             static_cast<long long>(o.max_steps));
+  TLV_ENSURE(o.threads >= 1 && o.threads <= kMaxThreads, ErrorCode::kInvalidArgument,
+             "threads %d outside 1..%d", o.threads, kMaxThreads);
+  TLV_ENSURE(o.checkpoint_every >= 1, ErrorCode::kInvalidArgument,
+             "checkpoint interval %lld < 1 step", static_cast<long long>(o.checkpoint_every));
+  TLV_ENSURE(o.max_samples >= 0, ErrorCode::kInvalidArgument, "max samples %lld < 0",
+             static_cast<long long>(o.max_samples));
+  TLV_ENSURE(o.test_fraction >= 0 && o.test_fraction < 1, ErrorCode::kInvalidArgument,
+             "test fraction %g outside [0, 1)", o.test_fraction);
+  const TeacherOptions& t = o.teacher;
+  if (t.torchscript.empty()) {
+    TLV_TRY(make_arch(t.builtin_arch, o.input_height, o.input_width, o.text.dim).status());
+    TLV_ENSURE(t.epochs >= 1 && t.epochs <= 1000, ErrorCode::kInvalidArgument,
+               "teacher epochs %d outside 1..1000", t.epochs);
+    TLV_ENSURE(t.lr > 0 && t.lr < 1, ErrorCode::kInvalidArgument,
+               "teacher learning rate %g outside (0, 1)", t.lr);
+  } else {
+    TLV_ENSURE(t.input_height >= kMinInputSide && t.input_height <= kMaxInputSide &&
+                   t.input_width >= kMinInputSide && t.input_width <= kMaxInputSide,
+               ErrorCode::kInvalidArgument, "teacher input %dx%d: sides must be in %d..%d",
+               t.input_height, t.input_width, kMinInputSide, kMaxInputSide);
+    TLV_ENSURE(t.mean.size() == 3 && t.std.size() == 3, ErrorCode::kInvalidArgument,
+               "teacher mean/std need 3 values each (RGB), got %zu/%zu", t.mean.size(),
+               t.std.size());
+    for (float s : t.std) {
+      TLV_ENSURE(s > 0 && std::isfinite(s), ErrorCode::kInvalidArgument,
+                 "teacher std %g must be positive", static_cast<double>(s));
+    }
+  }
+  return {};
+}
+
+nlohmann::ordered_json options_to_json(const TrainOptions& o) {
+  nlohmann::ordered_json teacher;
+  if (o.beta.schedule == BetaSchedule::kNone) {
+    teacher = {{"kind", "none (no curriculum: beta = 0, the teacher is never used)"}};
+  } else if (o.teacher.torchscript.empty()) {
+    teacher = {{"kind", "builtin"}, {"arch", o.teacher.builtin_arch},
+               {"epochs", o.teacher.epochs}, {"lr", o.teacher.lr}};
+  } else {
+    teacher = {{"kind", "torchscript"}, {"file", o.teacher.torchscript},
+               {"input", {o.teacher.input_height, o.teacher.input_width}},
+               {"mean", o.teacher.mean}, {"std", o.teacher.std}};
+  }
+  return {
+      {"arch", o.arch},
+      {"input", {o.input_height, o.input_width}},
+      {"resize", resize_name(o.resize)},
+      {"text", {{"embeddings_dir", o.text.embeddings_dir}, {"dim", o.text.dim},
+                {"seed", o.text.seed}}},
+      {"teacher", teacher},
+      {"beta", {{"schedule", beta_schedule_name(o.beta.schedule)}, {"beta1", o.beta.beta1},
+                {"span", o.beta.span}, {"beta_min", o.beta.beta_min}}},
+      {"lr", o.lr.lr},
+      {"warmup_steps", o.lr.warmup_steps},
+      {"min_lr", o.lr.min_lr},
+      {"weight_decay", o.weight_decay},
+      {"adam", {o.adam_beta1, o.adam_beta2, o.adam_eps}},
+      {"init_temperature", o.init_temperature},
+      {"max_logit_scale", o.max_logit_scale},
+      {"batch", o.batch},
+      {"epochs", o.epochs},
+      {"max_steps", o.max_steps},
+      {"seed", o.seed},
+      {"max_samples", o.max_samples},
+      {"test_fraction", o.test_fraction},
+      {"checkpoint_every", o.checkpoint_every},
+  };
+}
+
+Status options_from_json(const nlohmann::ordered_json& j, TrainOptions& o) {
+  try {
+    o.arch = j.at("arch").get<std::string>();
+    o.input_height = j.at("input").at(0).get<int32_t>();
+    o.input_width = j.at("input").at(1).get<int32_t>();
+    o.text.embeddings_dir = j.at("text").at("embeddings_dir").get<std::string>();
+    o.text.dim = j.at("text").at("dim").get<int32_t>();
+    o.text.seed = j.at("text").at("seed").get<uint64_t>();
+    const nlohmann::ordered_json& t = j.at("teacher");
+    const std::string kind = t.at("kind").get<std::string>();
+    if (kind == "builtin") {
+      o.teacher.torchscript.clear();
+      o.teacher.builtin_arch = t.at("arch").get<std::string>();
+      o.teacher.epochs = t.at("epochs").get<int32_t>();
+      o.teacher.lr = t.at("lr").get<double>();
+    } else if (kind == "torchscript") {
+      o.teacher.torchscript = t.at("file").get<std::string>();
+      o.teacher.input_height = t.at("input").at(0).get<int32_t>();
+      o.teacher.input_width = t.at("input").at(1).get<int32_t>();
+      o.teacher.mean = t.at("mean").get<std::vector<float>>();
+      o.teacher.std = t.at("std").get<std::vector<float>>();
+    }
+    TLV_ASSIGN_OR_RETURN(o.beta.schedule,
+                         parse_beta_schedule(j.at("beta").at("schedule").get<std::string>()));
+    o.beta.beta1 = j.at("beta").at("beta1").get<double>();
+    o.beta.span = j.at("beta").at("span").get<double>();
+    o.beta.beta_min = j.at("beta").at("beta_min").get<double>();
+    o.lr.lr = j.at("lr").get<double>();
+    o.lr.warmup_steps = j.at("warmup_steps").get<int64_t>();
+    o.lr.min_lr = j.at("min_lr").get<double>();
+    o.weight_decay = j.at("weight_decay").get<double>();
+    o.adam_beta1 = j.at("adam").at(0).get<double>();
+    o.adam_beta2 = j.at("adam").at(1).get<double>();
+    o.adam_eps = j.at("adam").at(2).get<double>();
+    o.init_temperature = j.at("init_temperature").get<double>();
+    o.max_logit_scale = j.at("max_logit_scale").get<double>();
+    o.batch = j.at("batch").get<int32_t>();
+    o.epochs = j.at("epochs").get<int32_t>();
+    o.max_steps = j.at("max_steps").get<int64_t>();
+    o.seed = j.at("seed").get<uint64_t>();
+    o.max_samples = j.at("max_samples").get<int64_t>();
+    o.test_fraction = j.at("test_fraction").get<double>();
+    o.checkpoint_every = j.at("checkpoint_every").get<int64_t>();
+  } catch (const nlohmann::json::exception& e) {
+    return Error::make(ErrorCode::kFormat, "checkpoint settings: %s", e.what());
+  }
+  return {};
+}
+
+std::vector<int64_t> epoch_order(int64_t n, uint64_t seed, int64_t epoch) {
+  std::vector<int64_t> order(static_cast<size_t>(std::max<int64_t>(n, 0)));
+  for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int64_t>(i);
+  uint64_t state = seed ^ (static_cast<uint64_t>(epoch + 1) * 0xd1b54a32d192ed03ull);
+  auto next = [&state] {
+    uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+  };
+  for (size_t i = order.size(); i > 1; --i) {
+    const size_t j = static_cast<size_t>(next() % i);  // modulo bias < n / 2^64: negligible
+    std::swap(order[i - 1], order[j]);
+  }
+  return order;
+}
+
+}  // namespace tlvlink::trainer
