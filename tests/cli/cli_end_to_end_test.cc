@@ -4,14 +4,19 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <png.h>
 
+#include "io/jpeg.h"
 #include "io/npy.h"
 #include "io/pnm.h"
 #include "support/cli_run.h"
@@ -123,6 +128,51 @@ TEST_F(Cli, InferOnImagesAndTensorsWithBothExecutors) {
       EXPECT_EQ(y->shape, (std::vector<int64_t>{1, 128}));
     }
   }
+}
+
+// A camera's JPEG (and a PNG) feed the model like the PPM holding the same pixels: preprocessing
+// is shared, so the only difference is JPEG's loss. A cut-off JPEG is an error naming the file.
+TEST_F(Cli, InferTakesJpegAndPngFramesAndRejectsTruncatedOnes) {
+  tools::Image img{160, 120, 3, {}};  // width, height
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x)
+      for (int c = 0; c < 3; ++c) img.pixels.push_back(static_cast<uint8_t>(60 + x / 2 + c * 20));
+  ASSERT_TRUE(tools::write_pnm(path("smooth.ppm"), img).ok());
+  ASSERT_TRUE(tools::write_jpeg(path("smooth.jpg"), img, 95).ok());
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  png.width = 160;
+  png.height = 120;
+  png.format = PNG_FORMAT_RGB;
+  ASSERT_NE(png_image_write_to_file(&png, path("smooth.png").c_str(), 0, img.pixels.data(), 0,
+                                    nullptr),
+            0);
+  for (const char* name : {"smooth.ppm", "smooth.jpg", "smooth.png"}) {
+    EXPECT_RUN(tlvlink("infer " + path("fp32.tlvm") + " -i " + path(name) + " -o " +
+                       path(std::string(name) + ".npy")),
+               0);
+  }
+  auto ppm = tools::read_npy(path("smooth.ppm.npy"));
+  auto jpg = tools::read_npy(path("smooth.jpg.npy"));
+  auto pngo = tools::read_npy(path("smooth.png.npy"));
+  ASSERT_TRUE(ppm.ok() && jpg.ok() && pngo.ok());
+  EXPECT_EQ(pngo->data, ppm->data);  // lossless: bit-identical embeddings
+  // q95 JPEG of a smooth ramp moves pixels by ~1 DN: embeddings stay within 5 % of their scale.
+  const auto* a = reinterpret_cast<const float*>(ppm->data.data());
+  const auto* b = reinterpret_cast<const float*>(jpg->data.data());
+  float scale = 0, diff = 0;
+  for (size_t i = 0; i < ppm->data.size() / 4; ++i) {
+    scale = std::max(scale, std::abs(a[i]));
+    diff = std::max(diff, std::abs(a[i] - b[i]));
+  }
+  EXPECT_LE(diff, 0.05f * scale);
+
+  std::ifstream in(path("smooth.jpg"), std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::ofstream(path("cut.jpg"), std::ios::binary) << bytes.substr(0, bytes.size() / 3);
+  CliRun cut = tlvlink("infer " + path("fp32.tlvm") + " -i " + path("cut.jpg"));
+  EXPECT_RUN(cut, 1);
+  EXPECT_NE(cut.out.find(path("cut.jpg")), std::string::npos) << cut.out;
 }
 
 TEST_F(Cli, InferComparesBothExecutorsWithTheVerifyTolerances) {

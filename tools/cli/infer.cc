@@ -1,5 +1,5 @@
-// tlvlink infer MODEL --input X.npy|X.ppm [--output Y.npy]: one inference, outputs as .npy or a
-// summary.
+// tlvlink infer MODEL --input X.npy|X.ppm|X.jpg|X.png [--output Y.npy]: one inference, outputs as
+// .npy or a summary.
 
 #include <algorithm>
 #include <chrono>
@@ -10,7 +10,9 @@
 #include "cli/heads.h"
 #include "cli/output_tolerance.h"
 #include "io/file.h"
+#include "io/jpeg.h"
 #include "io/npy.h"
+#include "io/png.h"
 #include "io/pnm.h"
 #include "io/preprocess.h"
 
@@ -27,8 +29,8 @@ bool starts_with(const std::vector<std::byte>& b, std::string_view prefix) {
   return b.size() >= prefix.size() && std::memcmp(b.data(), prefix.data(), prefix.size()) == 0;
 }
 
-// Fills graph input 0 from a .npy tensor (used as-is), a uint8 .npy image or a PPM/PGM image
-// (both preprocessed per the model's InputSpec).
+// Fills graph input 0 from a .npy tensor (used as-is), or a uint8 .npy, PPM/PGM, JPEG or PNG image
+// (preprocessed per the model's InputSpec). The format is told by the file's magic bytes.
 Status load_input(const std::string& path, const Model& model, std::span<std::byte> dst) {
   const Graph& g = model.graph();
   const Tensor& in = g.tensor(g.inputs[0]);
@@ -53,8 +55,16 @@ Status load_input(const std::string& path, const Model& model, std::span<std::by
     TLV_ASSIGN_OR_RETURN(image, tools::image_from_npy(a, path));
   } else if (starts_with(bytes, "P6") || starts_with(bytes, "P5")) {
     TLV_ASSIGN_OR_RETURN(image, tools::parse_pnm(bytes, path));
+  } else if (starts_with(bytes, "\xff\xd8\xff")) {
+    TLV_ASSIGN_OR_RETURN(image, tools::decode_jpeg(std::span<const uint8_t>(
+                                                       reinterpret_cast<const uint8_t*>(bytes.data()),
+                                                       bytes.size()),
+                                                   path));
+  } else if (starts_with(bytes, "\x89PNG\r\n\x1a\n")) {
+    TLV_ASSIGN_OR_RETURN(image, tools::read_png(path));
   } else {
-    return Error::make(ErrorCode::kFormat, "%s: neither a .npy file nor a binary PPM/PGM image",
+    return Error::make(ErrorCode::kFormat,
+                       "%s: neither a .npy file nor a PPM/PGM (binary), JPEG or PNG image",
                        path.c_str());
   }
   TLV_ENSURE(in.dtype == DType::kFloat32, ErrorCode::kModelUnsupported,
@@ -185,13 +195,13 @@ int run_infer(const InferOptions& o) {
 void add_infer_command(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<InferOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "infer", "Run a model once on a tensor (.npy) or an image (.npy uint8, PPM/PGM)");
+      "infer", "Run a model once on a tensor (.npy) or an image (.npy uint8, PPM/PGM, JPEG, PNG)");
   cmd->add_option("model", o->model, "Model file (.tlvm)")->required();
   cmd->add_option(
          "--input,-i", o->input,
          "Input: float .npy shaped like the model input (used as-is), uint8 .npy image [H,W,C] or "
-         "[1,H,W,C], or a binary PPM/PGM; images are resized and normalised per the model's input "
-         "spec")
+         "[1,H,W,C], or a PPM/PGM (binary), JPEG or PNG image; images are resized and normalised "
+         "per the model's input spec")
       ->required();
   cmd->add_option(
       "--output,-o", o->output,
