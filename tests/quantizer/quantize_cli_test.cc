@@ -224,10 +224,11 @@ TEST_F(QuantizeCli, SweepWritesOneRowPerVariantAndThreadCount) {
   ASSERT_RUN(tlvlink("gen-reference -o " + path("fp32_112.tlvm") + " --dtype fp32 -r 112 --seed 4 --golden 0"), 0);
   CliRun r = tlvlink("quantize-sweep --models " + path("fp32.tlvm") + "," + path("fp32_112.tlvm") +
                      " --calib " + path("t100k") + " -o " + path("sweep") +
-                     " --methods minmax,mse --threads 1,2 --runs 3 --warmup 1" + kCounts);
+                     " --methods minmax,mse --threads 1,2 --runs 3 --warmup 1" +
+                     " --keep-float first,last" + kCounts);
   ASSERT_RUN(r, 0);
-  // 2 models x (fp32, per-tensor minmax, per-channel minmax, per-channel mse) x 2 thread counts.
-  constexpr long kRows = 2 * 4 * 2;
+  // 2 models x (fp32, per-tensor minmax, per-channel minmax, per-channel mse, mixed) x 2 threads.
+  constexpr long kRows = 2 * 5 * 2;
   const std::string csv = read_text(fs::path(path("sweep")) / "sweep.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), kRows + 1);
   const auto j = nlohmann::json::parse(read_text(fs::path(path("sweep")) / "sweep.json"));
@@ -239,6 +240,14 @@ TEST_F(QuantizeCli, SweepWritesOneRowPerVariantAndThreadCount) {
   const std::string svg = read_text(fs::path(path("sweep")) / "sweep.svg");
   EXPECT_NE(svg.find("</svg>"), std::string::npos);
   EXPECT_NE(svg.find("int8 per-channel mse"), std::string::npos);
+  // The mixed row (calibrated with the first method, minmax) keeps two layers in fp32.
+  size_t mixed = 0;
+  for (const auto& row : j["rows"]) {
+    if (row["variant"] != "int8 per-channel minmax + fp32 first,last") continue;
+    ++mixed;
+    EXPECT_EQ(row["fp32_ops"].get<int>(), 2) << row.dump();
+  }
+  EXPECT_EQ(mixed, 4u);
   EXPECT_RUN(tlvlink("quantize-sweep --models " + path("nope.tlvm") + " --calib extreme -o " + path("s2")), 2);
 }
 

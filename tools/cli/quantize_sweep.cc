@@ -35,6 +35,7 @@ struct SweepFlags {
   std::string out_dir;
   std::vector<int> threads = {1, 2};
   std::vector<std::string> methods = {"minmax", "ema", "percentile", "entropy", "mse"};
+  std::vector<std::string> keep_float;  // non-empty: one more row, mixed precision
   double percentile = 99.99;
   int runs = 50, warmup = 5;
   bool quiet = false;
@@ -45,6 +46,7 @@ struct Variant {
   bool fp32 = false;
   quantize::WeightGranularity weights = quantize::WeightGranularity::kPerChannel;
   quantize::CalibrationMethod method = quantize::CalibrationMethod::kMinMax;
+  std::vector<std::string> keep_float;
 };
 
 struct Latency {
@@ -125,14 +127,26 @@ double load_average() {
   return load;
 }
 
-std::vector<Variant> variants(const std::vector<quantize::CalibrationMethod>& methods) {
+std::vector<Variant> variants(const std::vector<quantize::CalibrationMethod>& methods,
+                              const std::vector<std::string>& keep_float) {
   std::vector<Variant> v;
-  v.push_back({"fp32", true, {}, {}});
+  v.push_back({"fp32", true, {}, {}, {}});
   v.push_back({std::string("int8 per-tensor ") + quantize::calibration_method_name(methods.front()),
-               false, quantize::WeightGranularity::kPerTensor, methods.front()});
+               false, quantize::WeightGranularity::kPerTensor, methods.front(), {}});
   for (quantize::CalibrationMethod m : methods)
     v.push_back({std::string("int8 per-channel ") + quantize::calibration_method_name(m), false,
-                 quantize::WeightGranularity::kPerChannel, m});
+                 quantize::WeightGranularity::kPerChannel, m, {}});
+  if (!keep_float.empty()) {
+    std::string list;
+    for (const std::string& k : keep_float) list += (list.empty() ? "" : ",") + k;
+    // Percentile (quantize's default) when swept, else the first method.
+    quantize::CalibrationMethod m = methods.front();
+    for (quantize::CalibrationMethod c : methods)
+      if (c == quantize::CalibrationMethod::kPercentile) m = c;
+    v.push_back({std::string("int8 per-channel ") + quantize::calibration_method_name(m) +
+                     " + fp32 " + list,
+                 false, quantize::WeightGranularity::kPerChannel, m, keep_float});
+  }
   return v;
 }
 
@@ -177,6 +191,7 @@ Status sweep_model(const SweepFlags& f, size_t index, const std::vector<Variant>
       c.percentile = f.percentile;
       quantize::QuantizerOptions qo;
       qo.weights = v.weights;
+      qo.keep_float = v.keep_float;
       TLV_ASSIGN_OR_RETURN(auto q, quantize::quantize_model(fp32, quantize::select_ranges(stats, c), qo));
       const std::vector<std::byte> file = q.builder.finish();
       TLV_ASSIGN_OR_RETURN(int8, Model::load(file));
@@ -304,7 +319,7 @@ int run_sweep(const SweepFlags& f) {
     methods.push_back(*m);
   }
   if (methods.empty()) return report_error(cmd, Error(ErrorCode::kInvalidArgument, "--methods is empty"));
-  const std::vector<Variant> vars = variants(methods);
+  const std::vector<Variant> vars = variants(methods, f.keep_float);
   const double load_before = load_average();
   std::vector<Row> rows;
   for (size_t i = 0; i < f.models.size(); ++i) {
@@ -362,6 +377,10 @@ void add_quantize_sweep_command(CLI::App& app, int& exit_code) {
       ->delimiter(',')
       ->check(CLI::IsMember({"minmax", "ema", "percentile", "entropy", "mse"}))
       ->capture_default_str();
+  cmd->add_option("--keep-float", f->keep_float,
+                  "Also a mixed-precision row: these operators in fp32 ('first' / 'last' as in "
+                  "quantize), calibrated with percentile when --methods has it, else the first method")
+      ->delimiter(',');
   cmd->add_option("--percentile", f->percentile, "Percentile of the percentile method")
       ->check(CLI::Range(50.0, 100.0))
       ->capture_default_str();
