@@ -45,6 +45,7 @@ std::vector<HeadPrediction> predict_heads(const Metadata& m, std::span<const flo
       logits[k] = h.logit_scale * acc;
     }
     out.push_back(top1(std::string(h.name), h.class_names, std::move(logits)));
+    out.back().kind = "zero-shot";
   }
   return out;
 }

@@ -11,6 +11,7 @@ namespace tlvlink::cli {
 
 struct HeadPrediction {
   std::string head;
+  const char* kind = "probe";  // "probe" (linear head) or "zero-shot" (prompt matrix)
   std::string label;      // top-1
   float probability = 0;  // softmax over the head's logits
   std::vector<float> logits;

@@ -105,12 +105,12 @@ void print_summary(const Model& model, const Executor& exec) {
       continue;
     }
     for (const HeadPrediction& p : predict_heads(m, v)) {
-      std::printf("head %-14s -> %-18s p=%.3f\n", p.head.c_str(), p.label.c_str(),
+      std::printf("head %-14s %-9s -> %-18s p=%.3f\n", p.head.c_str(), p.kind, p.label.c_str(),
                   static_cast<double>(p.probability));
     }
     if (m.grasp_head.present) {
-      std::printf("head %-14.*s -> needs %zu embeddings (%.*s); not computed from one frame\n",
-                  static_cast<int>(m.grasp_head.name.size()), m.grasp_head.name.data(),
+      std::printf("head %-14.*s %-9s -> needs %zu embeddings (%.*s); not computed from one frame\n",
+                  static_cast<int>(m.grasp_head.name.size()), m.grasp_head.name.data(), "probe",
                   m.grasp_head.weight.size() / static_cast<size_t>(m.embedding_dim),
                   static_cast<int>(m.grasp_head.feature_layout.size()),
                   m.grasp_head.feature_layout.data());
