@@ -27,12 +27,8 @@ namespace {
 namespace fs = std::filesystem;
 
 using ::tlvlink::testing::CliRun;
-using ::tlvlink::testing::run_cli;
-using ::tlvlink::testing::Stderr;
 
-CliRun tlvlink(const std::string& args) {
-  return run_cli(TLVLINK_CLI_BINARY, args, Stderr::kMerged, TLVLINK_CLI_EMULATOR);
-}
+using ::tlvlink::testing::run_tlvlink;
 
 
 // Models come from the CTest fixtures cli.gen_reference_{fp32,int8} (96 px, seed 3, run once
@@ -59,14 +55,14 @@ class Cli : public ::testing::Test {
 
 TEST_F(Cli, GenReferenceWritesAModelThatLoads) {
   CliRun gen =
-      tlvlink("gen-reference -o " + path("g.tlvm") + " --dtype fp32 -r 96 --golden 1 --seed 9");
+      run_tlvlink("gen-reference -o " + path("g.tlvm") + " --dtype fp32 -r 96 --golden 1 --seed 9");
   EXPECT_RUN(gen, 0);
   EXPECT_NE(gen.out.find("MMAC"), std::string::npos) << gen.out;
-  EXPECT_RUN(tlvlink("inspect " + path("g.tlvm")), 0);
+  EXPECT_RUN(run_tlvlink("inspect " + path("g.tlvm")), 0);
 }
 
 TEST_F(Cli, GenFramesWritesSeededFramesThatInferAccepts) {
-  EXPECT_RUN(tlvlink("gen-frames -o " + path("f") + " -n 2 --height 60 --width 80 --seed 5"), 0);
+  EXPECT_RUN(run_tlvlink("gen-frames -o " + path("f") + " -n 2 --height 60 --width 80 --seed 5"), 0);
   auto a = tools::read_pnm(path("f/frame_0000.ppm"));
   auto b = tools::read_pnm(path("f/frame_0001.ppm"));
   ASSERT_TRUE(a.ok()) << a.error().message();
@@ -76,24 +72,24 @@ TEST_F(Cli, GenFramesWritesSeededFramesThatInferAccepts) {
   EXPECT_EQ(a->channels, 3);
   EXPECT_NE(a->pixels, b->pixels) << "frames with different seeds must differ";
   // Same seed, same bytes (the demo and tests rely on it).
-  EXPECT_RUN(tlvlink("gen-frames -o " + path("g") + " -n 1 --height 60 --width 80 --seed 5"), 0);
+  EXPECT_RUN(run_tlvlink("gen-frames -o " + path("g") + " -n 1 --height 60 --width 80 --seed 5"), 0);
   auto again = tools::read_pnm(path("g/frame_0000.ppm"));
   ASSERT_TRUE(again.ok());
   EXPECT_EQ(again->pixels, a->pixels);
   // A frame of another size goes through the model's preprocessing (resize) into infer.
-  EXPECT_RUN(tlvlink("infer " + path("int8.tlvm") + " --input " + path("f/frame_0000.ppm")), 0);
-  EXPECT_RUN(tlvlink("gen-frames -o " + path("h") + " --width 0"), 2);
-  EXPECT_RUN(tlvlink("gen-frames -o " + path("h") + " --height 5000"), 2);
+  EXPECT_RUN(run_tlvlink("infer " + path("int8.tlvm") + " --input " + path("f/frame_0000.ppm")), 0);
+  EXPECT_RUN(run_tlvlink("gen-frames -o " + path("h") + " --width 0"), 2);
+  EXPECT_RUN(run_tlvlink("gen-frames -o " + path("h") + " --height 5000"), 2);
 }
 
 TEST_F(Cli, InspectPrintsTablesAndJson) {
-  CliRun text = tlvlink("inspect " + path("int8.tlvm"));
+  CliRun text = run_tlvlink("inspect " + path("int8.tlvm"));
   EXPECT_RUN(text, 0);
   for (const char* s : {"random-reference", "per-channel axis 0", "Quantize", "Dequantize",
                         "totals:", "MMAC", "material (20)"}) {
     EXPECT_NE(text.out.find(s), std::string::npos) << "missing '" << s << "' in\n" << text.out;
   }
-  CliRun json = tlvlink("inspect --json " + path("fp32.tlvm"));
+  CliRun json = run_tlvlink("inspect --json " + path("fp32.tlvm"));
   EXPECT_RUN(json, 0);
   const auto j = nlohmann::json::parse(json.out, nullptr, /*allow_exceptions=*/false);
   ASSERT_FALSE(j.is_discarded()) << json.out.substr(0, 500);
@@ -115,11 +111,11 @@ TEST_F(Cli, InferOnImagesAndTensorsWithBothExecutors) {
     for (const char* exec : {"xnnpack", "reference"}) {
       SCOPED_TRACE(std::string(model) + " " + exec);
       CliRun summary =
-          tlvlink("infer " + path(model) + " --input " + path("frame.ppm") + " --executor " + exec);
+          run_tlvlink("infer " + path(model) + " --input " + path("frame.ppm") + " --executor " + exec);
       EXPECT_RUN(summary, 0);
       EXPECT_NE(summary.out.find("head material"), std::string::npos) << summary.out;
       const std::string out = path(std::string(exec) + "_" + model + ".npy");
-      CliRun written = tlvlink("infer " + path(model) + " -i " + path("x.npy") + " -o " + out +
+      CliRun written = run_tlvlink("infer " + path(model) + " -i " + path("x.npy") + " -o " + out +
                                " -e " + exec + " -t 2");
       EXPECT_RUN(written, 0);
       auto y = tools::read_npy(out);
@@ -148,7 +144,7 @@ TEST_F(Cli, InferTakesJpegAndPngFramesAndRejectsTruncatedOnes) {
                                     nullptr),
             0);
   for (const char* name : {"smooth.ppm", "smooth.jpg", "smooth.png"}) {
-    EXPECT_RUN(tlvlink("infer " + path("fp32.tlvm") + " -i " + path(name) + " -o " +
+    EXPECT_RUN(run_tlvlink("infer " + path("fp32.tlvm") + " -i " + path(name) + " -o " +
                        path(std::string(name) + ".npy")),
                0);
   }
@@ -170,7 +166,7 @@ TEST_F(Cli, InferTakesJpegAndPngFramesAndRejectsTruncatedOnes) {
   std::ifstream in(path("smooth.jpg"), std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::ofstream(path("cut.jpg"), std::ios::binary) << bytes.substr(0, bytes.size() / 3);
-  CliRun cut = tlvlink("infer " + path("fp32.tlvm") + " -i " + path("cut.jpg"));
+  CliRun cut = run_tlvlink("infer " + path("fp32.tlvm") + " -i " + path("cut.jpg"));
   EXPECT_RUN(cut, 1);
   EXPECT_NE(cut.out.find(path("cut.jpg")), std::string::npos) << cut.out;
 }
@@ -179,11 +175,11 @@ TEST_F(Cli, InferComparesBothExecutorsWithTheVerifyTolerances) {
   tools::Image img{240, 320, 3, {}};
   for (int i = 0; i < 240 * 320 * 3; ++i) img.pixels.push_back(static_cast<uint8_t>((i * 13) % 253));
   ASSERT_TRUE(tools::write_pnm(path("cmp.ppm"), img).ok());
-  CliRun f = tlvlink("infer " + path("fp32.tlvm") + " -i " + path("cmp.ppm") + " --compare-executors");
+  CliRun f = run_tlvlink("infer " + path("fp32.tlvm") + " -i " + path("cmp.ppm") + " --compare-executors");
   EXPECT_RUN(f, 0);
   EXPECT_NE(f.out.find("xnnpack vs reference executor"), std::string::npos) << f.out;
   EXPECT_NE(f.out.find("1e-4 x max|reference|): PASS"), std::string::npos) << f.out;
-  CliRun q = tlvlink("infer " + path("int8.tlvm") + " -i " + path("cmp.ppm") +
+  CliRun q = run_tlvlink("infer " + path("int8.tlvm") + " -i " + path("cmp.ppm") +
                      " -e reference --compare-executors -o " + path("cmp.npy"));
   EXPECT_RUN(q, 0);
   EXPECT_NE(q.out.find("reference vs xnnpack executor"), std::string::npos) << q.out;
@@ -195,12 +191,12 @@ TEST_F(Cli, InferRejectsMismatchedInputsNamingBothShapes) {
   std::vector<float> x(64 * 64 * 3, 0.0f);
   ASSERT_TRUE(
       tools::write_npy(path("small.npy"), tools::NpyArray::from<float>({1, 64, 64, 3}, x)).ok());
-  CliRun r = tlvlink("infer " + path("fp32.tlvm") + " --input " + path("small.npy"));
+  CliRun r = run_tlvlink("infer " + path("fp32.tlvm") + " --input " + path("small.npy"));
   EXPECT_RUN(r, 1);
   EXPECT_NE(r.out.find("(1, 64, 64, 3)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("[1, 96, 96, 3]"), std::string::npos) << r.out;
   std::ofstream(path("junk.npy")) << "\x93NUMPY\x01\x00\xff\xff{";
-  CliRun junk = tlvlink("infer " + path("fp32.tlvm") + " --input " + path("junk.npy"));
+  CliRun junk = run_tlvlink("infer " + path("fp32.tlvm") + " --input " + path("junk.npy"));
   EXPECT_RUN(junk, 1);
   EXPECT_NE(junk.out.find(path("junk.npy")), std::string::npos) << junk.out;
 }
@@ -208,26 +204,26 @@ TEST_F(Cli, InferRejectsMismatchedInputsNamingBothShapes) {
 TEST_F(Cli, VerifyPassesOnBothExecutors) {
   for (const char* model : {"fp32.tlvm", "int8.tlvm"}) {
     for (const char* exec : {"xnnpack", "reference"}) {
-      CliRun r = tlvlink("verify " + path(model) + " --executor " + exec);
+      CliRun r = run_tlvlink("verify " + path(model) + " --executor " + exec);
       EXPECT_RUN(r, 0);
       EXPECT_NE(r.out.find("PASS"), std::string::npos) << r.out;
     }
   }
   CliRun none =
-      tlvlink("gen-reference -o " + path("nogold.tlvm") + " --dtype fp32 -r 96 --golden 0");
+      run_tlvlink("gen-reference -o " + path("nogold.tlvm") + " --dtype fp32 -r 96 --golden 0");
   EXPECT_RUN(none, 0);
-  CliRun r = tlvlink("verify " + path("nogold.tlvm"));
+  CliRun r = run_tlvlink("verify " + path("nogold.tlvm"));
   EXPECT_RUN(r, 1);
   EXPECT_NE(r.out.find("no golden pairs"), std::string::npos) << r.out;
 }
 
 TEST_F(Cli, BenchReportsTimingsAsTextAndJson) {
-  CliRun text = tlvlink("bench " + path("int8.tlvm") + " --runs 5 --warmup 1");
+  CliRun text = run_tlvlink("bench " + path("int8.tlvm") + " --runs 5 --warmup 1");
   EXPECT_RUN(text, 0);
   for (const char* s : {"median", "p90", "p99", "GMAC/s", "peak RSS", "init"}) {
     EXPECT_NE(text.out.find(s), std::string::npos) << s << "\n" << text.out;
   }
-  CliRun json = tlvlink("bench " + path("fp32.tlvm") + " --runs 5 --json -e reference");
+  CliRun json = run_tlvlink("bench " + path("fp32.tlvm") + " --runs 5 --json -e reference");
   EXPECT_RUN(json, 0);
   const auto j = nlohmann::json::parse(json.out, nullptr, false);
   ASSERT_FALSE(j.is_discarded()) << json.out;
@@ -239,7 +235,7 @@ TEST_F(Cli, BenchReportsTimingsAsTextAndJson) {
 
 TEST_F(Cli, BadModelFilesExitOneNamingTheProblem) {
   std::ofstream(path("garbage.tlvm")) << "this is not a model";
-  CliRun r = tlvlink("inspect " + path("garbage.tlvm"));
+  CliRun r = run_tlvlink("inspect " + path("garbage.tlvm"));
   EXPECT_RUN(r, 1);
   EXPECT_NE(r.out.find(path("garbage.tlvm")), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("model."), std::string::npos)
@@ -251,28 +247,28 @@ TEST_F(Cli, BadModelFilesExitOneNamingTheProblem) {
   const std::string cut = path("cut.tlvm");
   for (const std::string& cmd : {"inspect " + cut, "verify " + cut, "bench " + cut,
                                  "infer " + cut + " --input " + path("x.npy")}) {
-    CliRun c = tlvlink(cmd);
+    CliRun c = run_tlvlink(cmd);
     EXPECT_RUN(c, 1);
     EXPECT_NE(c.out.find("cut.tlvm"), std::string::npos) << c.out;
   }
-  CliRun missing = tlvlink("inspect " + path("missing.tlvm"));
+  CliRun missing = run_tlvlink("inspect " + path("missing.tlvm"));
   EXPECT_RUN(missing, 1);
 }
 
 TEST_F(Cli, BadArgumentsExitTwo) {
-  EXPECT_RUN(tlvlink(""), 2);
-  EXPECT_RUN(tlvlink("frobnicate"), 2);
-  EXPECT_RUN(tlvlink("inspect"), 2);
-  EXPECT_RUN(tlvlink("inspect a b c"), 2);
-  EXPECT_RUN(tlvlink("infer " + path("fp32.tlvm")), 2);  // --input is required
-  EXPECT_RUN(tlvlink("bench " + path("fp32.tlvm") + " --threads 0"), 2);
-  EXPECT_RUN(tlvlink("bench " + path("fp32.tlvm") + " --runs abc"), 2);
-  EXPECT_RUN(tlvlink("bench " + path("fp32.tlvm") + " --executor gpu"), 2);
-  EXPECT_RUN(tlvlink("gen-reference -o x.tlvm --resolution 50"), 2);
-  EXPECT_RUN(tlvlink("gen-reference -o x.tlvm --dtype fp16"), 2);
+  EXPECT_RUN(run_tlvlink(""), 2);
+  EXPECT_RUN(run_tlvlink("frobnicate"), 2);
+  EXPECT_RUN(run_tlvlink("inspect"), 2);
+  EXPECT_RUN(run_tlvlink("inspect a b c"), 2);
+  EXPECT_RUN(run_tlvlink("infer " + path("fp32.tlvm")), 2);  // --input is required
+  EXPECT_RUN(run_tlvlink("bench " + path("fp32.tlvm") + " --threads 0"), 2);
+  EXPECT_RUN(run_tlvlink("bench " + path("fp32.tlvm") + " --runs abc"), 2);
+  EXPECT_RUN(run_tlvlink("bench " + path("fp32.tlvm") + " --executor gpu"), 2);
+  EXPECT_RUN(run_tlvlink("gen-reference -o x.tlvm --resolution 50"), 2);
+  EXPECT_RUN(run_tlvlink("gen-reference -o x.tlvm --dtype fp16"), 2);
   // --help works everywhere and exits 0 with the exit-code footer.
   for (const char* cmd : {"", "inspect ", "infer ", "verify ", "bench ", "gen-reference "}) {
-    CliRun h = tlvlink(std::string(cmd) + "--help");
+    CliRun h = run_tlvlink(std::string(cmd) + "--help");
     EXPECT_RUN(h, 0);
     EXPECT_NE(h.out.find("Exit codes"), std::string::npos) << h.out;
   }

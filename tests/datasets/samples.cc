@@ -9,17 +9,6 @@
 
 namespace tlvlink::testing {
 
-TempDir::TempDir() {
-  std::string tmpl = (std::filesystem::temp_directory_path() / "tlvlink_datasets_XXXXXX").string();
-  if (mkdtemp(tmpl.data()) == nullptr) std::abort();
-  path_ = tmpl;
-}
-
-TempDir::~TempDir() {
-  std::error_code ec;
-  std::filesystem::remove_all(path_, ec);
-}
-
 sim::RgbImage smooth_image(int32_t height, int32_t width, uint64_t seed) {
   sim::RgbImage img;
   img.height = height;

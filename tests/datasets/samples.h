@@ -6,23 +6,10 @@
 #include <string>
 #include <vector>
 
+#include "support/temp_dir.h"
 #include "tlvlink/sim/dataset.h"
 
 namespace tlvlink::testing {
-
-// A fresh directory under the system temp dir, removed with everything in it.
-class TempDir {
- public:
-  TempDir();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::string& path() const { return path_; }
-  std::string operator/(const std::string& rel) const { return path_ + "/" + rel; }
-
- private:
-  std::string path_;
-};
 
 // A smooth, seed-dependent RGB image (JPEG-friendly, so round trips stay close).
 sim::RgbImage smooth_image(int32_t height, int32_t width, uint64_t seed);

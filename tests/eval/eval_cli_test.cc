@@ -22,14 +22,12 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 using ::tlvlink::testing::CliRun;
-using ::tlvlink::testing::run_cli;
-using ::tlvlink::testing::Stderr;
 
 // stdout only unless `merge`.
+// stdout only unless `merge`.
 CliRun tlvlink(const std::string& args, bool merge = true) {
-  return run_cli(TLVLINK_CLI_BINARY, args,
-                          merge ? Stderr::kMerged : Stderr::kDropped,
-                          TLVLINK_CLI_EMULATOR);
+  return ::tlvlink::testing::run_tlvlink(args, merge ? ::tlvlink::testing::Stderr::kMerged
+                                                    : ::tlvlink::testing::Stderr::kDropped);
 }
 
 

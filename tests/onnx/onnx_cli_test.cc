@@ -19,10 +19,8 @@ namespace {
 namespace fs = std::filesystem;
 
 using ::tlvlink::testing::CliRun;
-using ::tlvlink::testing::run_cli;
-using ::tlvlink::testing::Stderr;
 
-CliRun tlvlink(const std::string& args) { return run_cli(TLVLINK_CLI_BINARY, args); }
+using ::tlvlink::testing::run_tlvlink;
 
 class ConvertCli : public ::testing::Test {
  protected:
@@ -40,7 +38,7 @@ class ConvertCli : public ::testing::Test {
 };
 
 TEST_F(ConvertCli, ConvertsAndTheModelLoads) {
-  const CliRun r = tlvlink("convert " + model("mobilenetv2_blocks") + " -o " + out("m.tlvm") +
+  const CliRun r = run_tlvlink("convert " + model("mobilenetv2_blocks") + " -o " + out("m.tlvm") +
                         " --mean 0.485,0.456,0.406 --std 0.229,0.224,0.225 --name mnv2");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("opset 13"), std::string::npos) << r.out;
@@ -49,11 +47,11 @@ TEST_F(ConvertCli, ConvertsAndTheModelLoads) {
   ASSERT_TRUE(m.ok()) << m.error().message();
   EXPECT_EQ((*m)->metadata().name, "mnv2");
   EXPECT_FLOAT_EQ((*m)->metadata().input.std[2], 0.225f);
-  EXPECT_EQ(tlvlink("inspect " + out("m.tlvm")).exit_code, 0);
+  EXPECT_EQ(run_tlvlink("inspect " + out("m.tlvm")).exit_code, 0);
 }
 
 TEST_F(ConvertCli, UnsupportedOpExitsOneNamingOpAndNode) {
-  const CliRun r = tlvlink("convert " + model("reject_softmax") + " -o " + out("s.tlvm"));
+  const CliRun r = run_tlvlink("convert " + model("reject_softmax") + " -o " + out("s.tlvm"));
   EXPECT_EQ(r.exit_code, 1) << r.out;
   EXPECT_NE(r.out.find("'Softmax'"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("/2/Softmax"), std::string::npos) << r.out;
@@ -61,19 +59,19 @@ TEST_F(ConvertCli, UnsupportedOpExitsOneNamingOpAndNode) {
 }
 
 TEST_F(ConvertCli, BadArgumentsExitTwo) {
-  EXPECT_EQ(tlvlink("convert " + model("conv_dense_relu")).exit_code, 2);  // no -o
-  EXPECT_EQ(tlvlink("convert " + out("missing.onnx") + " -o " + out("x.tlvm")).exit_code, 2);
-  EXPECT_EQ(tlvlink("convert " + model("conv_dense_relu") + " -o " + out("x.tlvm") +
+  EXPECT_EQ(run_tlvlink("convert " + model("conv_dense_relu")).exit_code, 2);  // no -o
+  EXPECT_EQ(run_tlvlink("convert " + out("missing.onnx") + " -o " + out("x.tlvm")).exit_code, 2);
+  EXPECT_EQ(run_tlvlink("convert " + model("conv_dense_relu") + " -o " + out("x.tlvm") +
                     " --channel-order yuv").exit_code, 2);
   // Two means for a three-channel input: a usage error found after reading the model.
-  const CliRun r = tlvlink("convert " + model("conv_dense_relu") + " -o " + out("x.tlvm") +
+  const CliRun r = run_tlvlink("convert " + model("conv_dense_relu") + " -o " + out("x.tlvm") +
                         " --mean 0.1,0.2");
   EXPECT_EQ(r.exit_code, 2) << r.out;
   EXPECT_NE(r.out.find("mean has 2 values"), std::string::npos) << r.out;
 }
 
 TEST_F(ConvertCli, HelpListsTheOptions) {
-  const CliRun r = tlvlink("convert --help");
+  const CliRun r = run_tlvlink("convert --help");
   EXPECT_EQ(r.exit_code, 0);
   for (const char* s : {"--mean", "--std", "--channel-order", "--output", "Exit codes"}) {
     EXPECT_NE(r.out.find(s), std::string::npos) << s << " missing from:\n" << r.out;

@@ -31,12 +31,8 @@ namespace {
 namespace fs = std::filesystem;
 
 using ::tlvlink::testing::CliRun;
-using ::tlvlink::testing::run_cli;
-using ::tlvlink::testing::Stderr;
 
-CliRun tlvlink(const std::string& args) {
-  return run_cli(TLVLINK_CLI_BINARY, args, Stderr::kMerged, TLVLINK_CLI_EMULATOR);
-}
+using ::tlvlink::testing::run_tlvlink;
 
 
 std::string read_text(const fs::path& p) {
@@ -53,9 +49,9 @@ class QuantizeCli : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = new fs::path(fs::temp_directory_path() / ("tlvlink_quantize_cli_" + std::to_string(::getpid())));
     fs::create_directories(*dir_);
-    setup_ = tlvlink("gen-reference -o " + path("fp32.tlvm") + " --dtype fp32 -r 96 --seed 4 --golden 0");
+    setup_ = run_tlvlink("gen-reference -o " + path("fp32.tlvm") + " --dtype fp32 -r 96 --seed 4 --golden 0");
     if (setup_.exit_code == 0)
-      setup_ = tlvlink("sim touch100k -o " + path("t100k") +
+      setup_ = run_tlvlink("sim touch100k -o " + path("t100k") +
                        " --sessions 6 --frames-per-session 4 --seed 2 --vision-height 24 --vision-width 32");
   }
   static void TearDownTestSuite() {
@@ -75,31 +71,31 @@ CliRun QuantizeCli::setup_;
 const std::string kCounts = " --calib-count 10 --heldout-count 6 -q";
 
 TEST_F(QuantizeCli, HelpListsTheOptionsAndExitsZero) {
-  CliRun r = tlvlink("quantize --help");
+  CliRun r = run_tlvlink("quantize --help");
   EXPECT_RUN(r, 0);
   for (const char* flag : {"--calib", "--method", "--keep-float", "--report", "--calib-count", "--weights"})
     EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
-  r = tlvlink("quantize-sweep --help");
+  r = run_tlvlink("quantize-sweep --help");
   EXPECT_RUN(r, 0);
   EXPECT_NE(r.out.find("--models"), std::string::npos);
 }
 
 TEST_F(QuantizeCli, BadArgumentsExitTwo) {
   const std::string m = path("fp32.tlvm");
-  EXPECT_RUN(tlvlink("quantize " + m + " -o " + path("x.tlvm")), 2);  // no --calib
-  EXPECT_RUN(tlvlink("quantize " + m + " --calib " + path("t100k") + " -o " + path("x.tlvm") +
+  EXPECT_RUN(run_tlvlink("quantize " + m + " -o " + path("x.tlvm")), 2);  // no --calib
+  EXPECT_RUN(run_tlvlink("quantize " + m + " --calib " + path("t100k") + " -o " + path("x.tlvm") +
                      " --method kl"), 2);
-  EXPECT_RUN(tlvlink("quantize " + m + " --calib " + path("t100k") + " -o " + path("x.tlvm") +
+  EXPECT_RUN(run_tlvlink("quantize " + m + " --calib " + path("t100k") + " -o " + path("x.tlvm") +
                      " --keep-float no_such_layer"), 2);
-  EXPECT_RUN(tlvlink("quantize " + m + " --calib " + path("missing") + " -o " + path("x.tlvm")), 2);
-  EXPECT_RUN(tlvlink("quantize " + m + " --calib extreme -o " + path("x.tlvm") + " --percentile 20"), 2);
-  EXPECT_RUN(tlvlink("quantize " + m + " --calib extreme -o " + path("x.tlvm") + " --calib-split train"), 2);
+  EXPECT_RUN(run_tlvlink("quantize " + m + " --calib " + path("missing") + " -o " + path("x.tlvm")), 2);
+  EXPECT_RUN(run_tlvlink("quantize " + m + " --calib extreme -o " + path("x.tlvm") + " --percentile 20"), 2);
+  EXPECT_RUN(run_tlvlink("quantize " + m + " --calib extreme -o " + path("x.tlvm") + " --calib-split train"), 2);
   EXPECT_FALSE(fs::exists(path("x.tlvm")));
 }
 
 TEST_F(QuantizeCli, Touch100kSetGivesAVerifiableInt8ModelAndAReport) {
   const std::string out = path("q.tlvm");
-  CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " + out +
+  CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " + out +
                      " --report " + path("rep") + kCounts);
   ASSERT_RUN(r, 0);
   EXPECT_NE(r.out.find("touch100k"), std::string::npos);
@@ -113,7 +109,7 @@ TEST_F(QuantizeCli, Touch100kSetGivesAVerifiableInt8ModelAndAReport) {
   EXPECT_GT(int8_convs, 10u);
   EXPECT_EQ((*model)->metadata().golden.size(), 2u);
   EXPECT_NE((*model)->metadata().provenance.quantization.find("percentile"), std::string::npos);
-  EXPECT_RUN(tlvlink("verify " + out), 0);
+  EXPECT_RUN(run_tlvlink("verify " + out), 0);
 
   const auto j = nlohmann::json::parse(read_text(fs::path(path("rep")) / "report.json"));
   EXPECT_EQ(j["calibration"]["frames"], 10);
@@ -126,14 +122,14 @@ TEST_F(QuantizeCli, Touch100kSetGivesAVerifiableInt8ModelAndAReport) {
   EXPECT_TRUE(fs::exists(fs::path(path("rep")) / "summary.txt"));
 
   // The training split only (the sidecar's recorded split: 6 sessions, 1 of them test).
-  r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " + path("qt.tlvm") +
+  r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " + path("qt.tlvm") +
               " --calib-split train" + kCounts);
   ASSERT_RUN(r, 0);
   EXPECT_NE(r.out.find("(train split): 20 frames in 5 groups"), std::string::npos) << r.out;
 }
 
 TEST_F(QuantizeCli, KeepFloatFirstAndLastAreReportedWithTheirReason) {
-  CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " +
+  CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " +
                      path("mixed.tlvm") + " --keep-float first,last --report " + path("rep2") + kCounts);
   ASSERT_RUN(r, 0);
   EXPECT_NE(r.out.find("fp32 layers"), std::string::npos) << r.out;
@@ -141,12 +137,12 @@ TEST_F(QuantizeCli, KeepFloatFirstAndLastAreReportedWithTheirReason) {
   EXPECT_NE(r.out.find("embedding (FullyConnected): kept fp32"), std::string::npos) << r.out;
   const auto j = nlohmann::json::parse(read_text(fs::path(path("rep2")) / "report.json"));
   EXPECT_EQ(j["operators"]["fp32"], 2);
-  EXPECT_RUN(tlvlink("verify " + path("mixed.tlvm")), 0);
+  EXPECT_RUN(run_tlvlink("verify " + path("mixed.tlvm")), 0);
 }
 
 TEST_F(QuantizeCli, ExtremeSetAndEveryMethodWork) {
   for (const char* method : {"minmax", "ema", "percentile", "entropy", "mse"}) {
-    CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib extreme -o " + path("e.tlvm") +
+    CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib extreme -o " + path("e.tlvm") +
                        " --method " + method + kCounts);
     EXPECT_RUN(r, 0);
     EXPECT_NE(r.out.find("extreme set"), std::string::npos) << r.out;
@@ -154,17 +150,17 @@ TEST_F(QuantizeCli, ExtremeSetAndEveryMethodWork) {
 }
 
 TEST_F(QuantizeCli, TouchAndGoAndFeelSetsAreDetectedAndRead) {
-  ASSERT_RUN(tlvlink("sim tag -o " + path("tag") + " --sessions 4 --frames-per-session 3 --seed 5"), 0);
-  ASSERT_RUN(tlvlink("sim feel -o " + path("feel") + " --objects 3 --grasps-per-object 2 --seed 5"), 0);
-  ASSERT_RUN(tlvlink("sim feel -o " + path("feelr") + " --objects 3 --grasps-per-object 2 --seed 5 --repacked"), 0);
+  ASSERT_RUN(run_tlvlink("sim tag -o " + path("tag") + " --sessions 4 --frames-per-session 3 --seed 5"), 0);
+  ASSERT_RUN(run_tlvlink("sim feel -o " + path("feel") + " --objects 3 --grasps-per-object 2 --seed 5"), 0);
+  ASSERT_RUN(run_tlvlink("sim feel -o " + path("feelr") + " --objects 3 --grasps-per-object 2 --seed 5 --repacked"), 0);
   for (const auto& [dir, format] : {std::pair{"tag", "tag "}, {"feel", "feel "}, {"feelr", "feel-repacked "}}) {
-    CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path(dir) + " -o " +
+    CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path(dir) + " -o " +
                        path(std::string(dir) + ".tlvm") + " --calib-count 6 --heldout-count 3 -q");
     EXPECT_RUN(r, 0);
     EXPECT_NE(r.out.find(std::string("data         ") + format), std::string::npos) << r.out;
   }
   // The format can be forced; a wrong one is a data error naming the set.
-  EXPECT_RUN(tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("tag") + " --calib-format feel -o " +
+  EXPECT_RUN(run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("tag") + " --calib-format feel -o " +
                      path("bad.tlvm") + kCounts), 1);
 }
 
@@ -184,14 +180,14 @@ TEST_F(QuantizeCli, ImageFolderOfPpmJpegAndPng) {
     ASSERT_NE(png_image_write_to_file(&png, (images / ("top" + std::to_string(i) + ".png")).c_str(), 0,
                                       img.pixels.data(), 0, nullptr), 0);
   }
-  CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + images.string() + " -o " +
+  CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + images.string() + " -o " +
                      path("img.tlvm") + " --calib-count 6 --heldout-count 2 -q");
   ASSERT_RUN(r, 0);
   EXPECT_NE(r.out.find("images"), std::string::npos);
   EXPECT_NE(r.out.find("calibration 6 frames"), std::string::npos) << r.out;
   // A corrupt image is skipped and counted, not fatal.
   std::ofstream(images / "sessionA" / "broken.jpg") << "not a jpeg";
-  r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + images.string() + " -o " +
+  r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + images.string() + " -o " +
               path("img2.tlvm") + " --calib-count 12 --heldout-count 0 -q");
   EXPECT_RUN(r, 0);
 }
@@ -208,21 +204,21 @@ TEST_F(QuantizeCli, NanWeightsFailNamingTheTensor) {
   const std::vector<std::byte> file = b.finish();
   std::ofstream(path("nan.tlvm"), std::ios::binary)
       .write(reinterpret_cast<const char*>(file.data()), static_cast<std::streamsize>(file.size()));
-  CliRun r = tlvlink("quantize " + path("nan.tlvm") + " --calib extreme -o " + path("n.tlvm") + kCounts);
+  CliRun r = run_tlvlink("quantize " + path("nan.tlvm") + " --calib extreme -o " + path("n.tlvm") + kCounts);
   EXPECT_RUN(r, 1);
   EXPECT_NE(r.out.find("stem.weights"), std::string::npos) << r.out;
 }
 
 TEST_F(QuantizeCli, AnInt8ModelIsNotQuantizedAgain) {
-  ASSERT_RUN(tlvlink("quantize " + path("fp32.tlvm") + " --calib extreme -o " + path("once.tlvm") + kCounts), 0);
-  CliRun r = tlvlink("quantize " + path("once.tlvm") + " --calib extreme -o " + path("twice.tlvm") + kCounts);
+  ASSERT_RUN(run_tlvlink("quantize " + path("fp32.tlvm") + " --calib extreme -o " + path("once.tlvm") + kCounts), 0);
+  CliRun r = run_tlvlink("quantize " + path("once.tlvm") + " --calib extreme -o " + path("twice.tlvm") + kCounts);
   EXPECT_RUN(r, 1);
   EXPECT_NE(r.out.find("already"), std::string::npos) << r.out;
 }
 
 TEST_F(QuantizeCli, SweepWritesOneRowPerVariantAndThreadCount) {
-  ASSERT_RUN(tlvlink("gen-reference -o " + path("fp32_112.tlvm") + " --dtype fp32 -r 112 --seed 4 --golden 0"), 0);
-  CliRun r = tlvlink("quantize-sweep --models " + path("fp32.tlvm") + "," + path("fp32_112.tlvm") +
+  ASSERT_RUN(run_tlvlink("gen-reference -o " + path("fp32_112.tlvm") + " --dtype fp32 -r 112 --seed 4 --golden 0"), 0);
+  CliRun r = run_tlvlink("quantize-sweep --models " + path("fp32.tlvm") + "," + path("fp32_112.tlvm") +
                      " --calib " + path("t100k") + " -o " + path("sweep") +
                      " --methods minmax,mse --threads 1,2 --runs 3 --warmup 1" +
                      " --keep-float first,last" + kCounts);
@@ -248,7 +244,7 @@ TEST_F(QuantizeCli, SweepWritesOneRowPerVariantAndThreadCount) {
     EXPECT_EQ(row["fp32_ops"].get<int>(), 2) << row.dump();
   }
   EXPECT_EQ(mixed, 4u);
-  EXPECT_RUN(tlvlink("quantize-sweep --models " + path("nope.tlvm") + " --calib extreme -o " + path("s2")), 2);
+  EXPECT_RUN(run_tlvlink("quantize-sweep --models " + path("nope.tlvm") + " --calib extreme -o " + path("s2")), 2);
 }
 
 }  // namespace

@@ -19,6 +19,17 @@ enum class Stderr { kMerged, kDropped };
 CliRun run_cli(const std::string& binary, const std::string& args,
                Stderr stderr_mode = Stderr::kMerged, const std::string& emulator = "");
 
+#ifdef TLVLINK_CLI_BINARY
+#ifndef TLVLINK_CLI_EMULATOR
+#define TLVLINK_CLI_EMULATOR ""
+#endif
+// The `tlvlink` binary the including test target names (compile definitions TLVLINK_CLI_BINARY,
+// and TLVLINK_CLI_EMULATOR for a cross-built one).
+inline CliRun run_tlvlink(const std::string& args, Stderr stderr_mode = Stderr::kMerged) {
+  return run_cli(TLVLINK_CLI_BINARY, args, stderr_mode, TLVLINK_CLI_EMULATOR);
+}
+#endif
+
 }  // namespace tlvlink::testing
 
 #define EXPECT_RUN(run, code) EXPECT_EQ((run).exit_code, code) << (run).out

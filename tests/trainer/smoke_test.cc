@@ -30,10 +30,8 @@ constexpr double kParityMaxAbsRelative = 1e-4;
 constexpr double kRequiredLossDrop = 0.9;
 
 using ::tlvlink::testing::CliRun;
-using ::tlvlink::testing::run_cli;
-using ::tlvlink::testing::Stderr;
 
-CliRun tlvlink(const std::string& args) { return run_cli(TLVLINK_CLI_BINARY, args); }
+using ::tlvlink::testing::run_tlvlink;
 
 
 // Mean student loss per epoch from the JSON-lines log.
@@ -61,12 +59,12 @@ TEST(TrainerSmoke, GenerateTrainExportParity) {
   TempDir dir("smoke");
   const std::string data = dir / "t100k";
   // 24 sessions x 6 frames = 144 samples; 18 sessions (108 frames) train, 6 test.
-  ASSERT_RUN(tlvlink("sim touch100k -o " + data +
+  ASSERT_RUN(run_tlvlink("sim touch100k -o " + data +
                      " --sessions 24 --frames-per-session 6 --seed 5 --threads 2 "
                      "--vision-height 120 --vision-width 160 --test-fraction 0.25"),
              0);
   const std::string ckpt = dir / "tiny.ckpt";
-  const CliRun train_run = tlvlink("train " + data + " -o " + ckpt +
+  const CliRun train_run = run_tlvlink("train " + data + " -o " + ckpt +
                             " --arch tiny --batch 18 --epochs 8 --lr 2e-3 --warmup 6 "
                             "--teacher-epochs 3 --seed 1 --threads 1 --checkpoint-dir " +
                             dir.path() + " --checkpoint-every 24");
@@ -80,7 +78,7 @@ TEST(TrainerSmoke, GenerateTrainExportParity) {
   EXPECT_LT(means.back(), kRequiredLossDrop * means.front());
 
   const std::string model_path = dir / "tiny.tlvm";
-  ASSERT_RUN(tlvlink("export " + ckpt + " -o " + model_path), 0);
+  ASSERT_RUN(run_tlvlink("export " + ckpt + " -o " + model_path), 0);
   auto model = Model::load_file(model_path.c_str());
   ASSERT_TRUE(model.ok()) << model.error().message();
   int64_t n = 0;
@@ -111,10 +109,10 @@ TEST(TrainerSmoke, GenerateTrainExportParity) {
   }
   // The exported model runs through the CLI too, and its golden pairs (libtorch outputs on
   // test-split frames) replay on both executors.
-  ASSERT_RUN(tlvlink("inspect " + model_path), 0);
+  ASSERT_RUN(run_tlvlink("inspect " + model_path), 0);
   EXPECT_EQ((*model)->metadata().golden.size(), 2u);
-  ASSERT_RUN(tlvlink("verify " + model_path + " --executor xnnpack"), 0);
-  ASSERT_RUN(tlvlink("verify " + model_path + " --executor reference"), 0);
+  ASSERT_RUN(run_tlvlink("verify " + model_path + " --executor xnnpack"), 0);
+  ASSERT_RUN(run_tlvlink("verify " + model_path + " --executor reference"), 0);
   std::printf("smoke wall time %.1f s\n",
               std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
 }
@@ -122,27 +120,27 @@ TEST(TrainerSmoke, GenerateTrainExportParity) {
 TEST(TrainerSmoke, BadArgumentsAndFiles) {
   TempDir dir("smoke_bad");
   // Usage errors: exit 2.
-  ASSERT_RUN(tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") + " --batch 1"), 2);
-  ASSERT_RUN(tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") + " --arch huge"), 2);
-  ASSERT_RUN(tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") +
+  ASSERT_RUN(run_tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") + " --batch 1"), 2);
+  ASSERT_RUN(run_tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") + " --arch huge"), 2);
+  ASSERT_RUN(run_tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") +
                      " --beta-schedule sigmoid"),
              2);
-  ASSERT_RUN(tlvlink("train " + dir.path()), 2);  // no -o
-  CliRun r = tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") + " --resume " +
+  ASSERT_RUN(run_tlvlink("train " + dir.path()), 2);  // no -o
+  CliRun r = run_tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") + " --resume " +
                   (dir / "x.ckpt") + " --lr 1e-3");
   ASSERT_RUN(r, 2);
   EXPECT_NE(r.out.find("cannot be combined with --resume"), std::string::npos) << r.out;
   // A directory that is not a dataset: a usage error naming the missing index.
-  r = tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt"));
+  r = run_tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt"));
   ASSERT_RUN(r, 2);
   EXPECT_NE(r.out.find("data_list.json"), std::string::npos) << r.out;
   // A corrupt checkpoint: a failure of the work (exit 1) naming the file.
   std::ofstream(dir / "junk.ckpt") << "junk";
-  r = tlvlink("export " + (dir / "junk.ckpt") + " -o " + (dir / "junk.tlvm"));
+  r = run_tlvlink("export " + (dir / "junk.ckpt") + " -o " + (dir / "junk.tlvm"));
   ASSERT_RUN(r, 1);
   EXPECT_NE(r.out.find("junk.ckpt"), std::string::npos) << r.out;
-  ASSERT_RUN(tlvlink("export " + (dir / "missing.ckpt") + " -o " + (dir / "m.tlvm")), 1);
-  ASSERT_RUN(tlvlink("train --list-archs"), 0);
+  ASSERT_RUN(run_tlvlink("export " + (dir / "missing.ckpt") + " -o " + (dir / "m.tlvm")), 1);
+  ASSERT_RUN(run_tlvlink("train --list-archs"), 0);
 }
 
 }  // namespace

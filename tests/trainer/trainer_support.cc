@@ -14,21 +14,6 @@
 
 namespace tlvlink::trainer::testing {
 
-TempDir::TempDir(const std::string& tag) {
-  static int counter = 0;
-  path_ = (std::filesystem::temp_directory_path() /
-           ("tlvlink_trainer_" + tag + "_" + std::to_string(::getpid()) + "_" +
-            std::to_string(counter++)))
-              .string();
-  std::filesystem::remove_all(path_);
-  std::filesystem::create_directories(path_);
-}
-
-TempDir::~TempDir() {
-  std::error_code ec;
-  std::filesystem::remove_all(path_, ec);
-}
-
 Status write_touch_set(const std::string& dir, int32_t sessions, int32_t frames, uint64_t seed) {
   sim::TouchSetOptions gen;
   gen.sessions = sessions;

@@ -7,24 +7,13 @@
 #include <string>
 #include <vector>
 
+#include "support/temp_dir.h"
 #include "tlvlink/error.h"
 #include "tlvlink/trainer/trainer.h"
 
 namespace tlvlink::trainer::testing {
 
-// A fresh directory under the system temp dir, removed with everything in it.
-class TempDir {
- public:
-  explicit TempDir(const std::string& tag);
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::string& path() const { return path_; }
-  std::string operator/(const std::string& rel) const { return path_ + "/" + rel; }
-
- private:
-  std::string path_;
-};
+using ::tlvlink::testing::TempDir;
 
 // `sessions` x `frames` simulator samples written with the Touch100k writer (sidecar included,
 // a quarter of the sessions in the test split), vision images 60x80 to keep it quick.

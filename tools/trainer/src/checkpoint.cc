@@ -9,16 +9,6 @@
 #include <sys/stat.h>
 
 namespace tlvlink::trainer {
-namespace {
-
-// libtorch reports failures as c10::Error with a long backtrace; keep the first line.
-std::string first_line(const char* what) {
-  std::string s(what);
-  const size_t nl = s.find('\n');
-  return nl == std::string::npos ? s : s.substr(0, nl);
-}
-
-}  // namespace
 
 Result<ArchSpec> arch_from_meta(const nlohmann::ordered_json& meta) {
   try {

@@ -88,4 +88,10 @@ bool decays(const std::string& name, const torch::Tensor& p) {
   return p.dim() >= 2 && name.find("bn") == std::string::npos;
 }
 
+std::string first_line(const char* what) {
+  std::string s(what);
+  const size_t nl = s.find('\n');
+  return nl == std::string::npos ? s : s.substr(0, nl);
+}
+
 }  // namespace tlvlink::trainer

@@ -11,6 +11,7 @@
 #include <torch/nn/functional/normalization.h>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "tlvlink/trainer/arch.h"
@@ -50,5 +51,9 @@ torch::Tensor embed_all(EncoderNet& net, const std::vector<uint8_t>& pixels, int
 
 // Whether a parameter gets weight decay: conv and FC weights yes; BN, biases, scales no (CLIP).
 bool decays(const std::string& parameter_name, const torch::Tensor& parameter);
+
+// libtorch reports failures as c10::Error with a long backtrace; error messages keep its first
+// line.
+std::string first_line(const char* what);
 
 }  // namespace tlvlink::trainer

@@ -14,12 +14,6 @@
 namespace tlvlink::trainer {
 namespace {
 
-std::string first_line(const char* what) {
-  std::string s(what);
-  const size_t nl = s.find('\n');
-  return nl == std::string::npos ? s : s.substr(0, nl);
-}
-
 // Teacher shuffles use their own stream so the student's data order does not depend on them.
 constexpr uint64_t kTeacherSeedStream = 0x7ea7c4e7ull;
 
