@@ -51,7 +51,7 @@ for name in hard_rough soft_smooth; do
   "$tlvlink" infer "$int8" --input "$out/$name.jpg" --threads 1 | grep -E "^head|invoke" | sed 's/^/   /'
 done
 
-step "5/7 XNNPACK against the reference executor on the same frame (the tolerances of `tlvlink verify`)"
+step "5/7 XNNPACK against the reference executor on the same frame (the tolerances tlvlink verify uses)"
 "$tlvlink" infer "$int8" --input "$out/hard_rough.jpg" -o "$out/hard_rough.npy" --compare-executors |
   grep -E "^output|LSB" | sed 's/^/   /'
 
