@@ -3,7 +3,8 @@
 // records inputs and outputs; on any other build (aarch64 under qemu) the same inputs must give
 // int8 outputs identical to the recording, and fp32 outputs within kFloatRelTolerance.
 //
-// Files per model M.tlvm and input case C: M.C.in (input bytes), M.C.<executor>.out (output 0).
+// Files per model M.tlvm and input case C: M.C.in (input bytes), M.C.<executor>.out (output 0),
+// M.C.<executor>.t<N>.int8 (int8 tensor N entering a Dequantize, compared bit for bit).
 
 #include <algorithm>
 #include <cmath>
@@ -70,6 +71,14 @@ std::vector<std::pair<std::string, std::vector<std::byte>>> make_inputs(const Mo
   return cases;
 }
 
+// The int8 tensors the model dequantizes (where its int8 region ends).
+std::vector<int32_t> dequantize_inputs(const Graph& g) {
+  std::vector<int32_t> out;
+  for (const Operator& op : g.operators)
+    if (op.type == OpType::kDequantize) out.push_back(op.inputs[0]);
+  return out;
+}
+
 TEST(CrossArchParity, OutputsMatchTheX86Recording) {
   const char* dir_env = std::getenv("TLVLINK_PARITY_DIR");
   if (dir_env == nullptr || !fs::exists(dir_env)) {
@@ -98,7 +107,9 @@ TEST(CrossArchParity, OutputsMatchTheX86Recording) {
     const bool int8_model = last.output == model->graph().outputs[0] &&
                             last.type == OpType::kDequantize;
     for (ExecutorKind kind : {ExecutorKind::kXnnpack, ExecutorKind::kReference}) {
-      auto exec = make_executor(*model, kind, ExecutorOptions{});
+      ExecutorOptions options;
+      options.expose_all_tensors = true;  // the int8 tensors entering each Dequantize
+      auto exec = make_executor(*model, kind, options);
       ASSERT_TRUE(exec.ok()) << exec.error().message();
       for (const auto& [name, input] : make_inputs(*model)) {
         const std::string stem = path.stem().string() + "." + name;
@@ -114,6 +125,23 @@ TEST(CrossArchParity, OutputsMatchTheX86Recording) {
         std::memcpy((*exec)->input(0).data(), feed.data(), feed.size());
         ASSERT_TRUE((*exec)->invoke().ok());
         const std::span<const std::byte> got = (*exec)->output(0);
+        // Every int8 tensor leaving the int8 region must be bit-identical, also in a mixed
+        // model whose output comes from an fp32 layer after the Dequantize (the shipped one).
+        for (const int32_t q : dequantize_inputs(model->graph())) {
+          auto bytes = (*exec)->tensor(q);
+          ASSERT_TRUE(bytes.ok()) << bytes.error().message();
+          const fs::path q_file = dir / (stem + "." + executor_kind_name(kind) + ".t" +
+                                         std::to_string(q) + ".int8");
+          if (record) {
+            write_bytes(q_file, *bytes);
+          } else {
+            const std::vector<char> want_q = read_bytes(q_file);
+            ASSERT_EQ(want_q.size(), bytes->size()) << q_file << " missing or of another size";
+            EXPECT_EQ(std::memcmp(want_q.data(), bytes->data(), bytes->size()), 0)
+                << "int8 tensor " << model->graph().tensor(q).name
+                << " differs from the x86-64 recording";
+          }
+        }
         if (record) {
           write_bytes(in_file, feed);
           write_bytes(out_file, got);

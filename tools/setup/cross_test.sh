@@ -5,7 +5,8 @@
 # Environment:
 #   TLVLINK_JOBS              parallel build/test jobs (default 2: the machine is shared)
 #   TLVLINK_CROSS_CMAKE_ARGS  extra configure arguments, e.g. -DTLVLINK_BUILD_HOST_TOOLS=ON
-# Before the boards, records x86-64 outputs of two reference encoders into build/parity; each
+# Before the boards, records x86-64 outputs of two reference encoders and the two shipped models
+# (firmware/models/) into build/parity; each
 # board's cross_arch_parity_test must reproduce them (int8 bit-identical, fp32 within 1e-4).
 # Prints per-step timings, a size line per board (STYLE practice 14) and a summary; exits non-zero
 # if anything failed. Logs: build/logs/cross-<preset>-{configure,build,test}.log
@@ -46,6 +47,9 @@ record_parity() {
     build/host/tools/cli/tlvlink gen-reference -o "build/parity/encoder_$dtype.tlvm" \
       --dtype "$dtype" --seed 7 >>build/logs/cross-parity-record.log 2>&1 || return 1
   done
+  # The shipped default models too: what a board actually runs (the int8 one is mixed: an int8
+  # body that must be bit-identical, an fp32 embedding layer within the float tolerance).
+  cp firmware/models/touch-tiny-fp32.tlvm firmware/models/touch-tiny-int8.tlvm build/parity/ || return 1
   TLVLINK_PARITY_DIR=build/parity TLVLINK_PARITY_RECORD=1 build/host/tests/parity/cross_arch_parity_test \
     >>build/logs/cross-parity-record.log 2>&1
 }
