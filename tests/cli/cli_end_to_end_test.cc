@@ -10,7 +10,9 @@
 #include <iterator>
 #include <filesystem>
 #include <fstream>
+#include <span>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -27,6 +29,7 @@ namespace {
 namespace fs = std::filesystem;
 
 using ::tlvlink::testing::CliRun;
+using ::tlvlink::tools::NpyArray;
 
 using ::tlvlink::testing::run_tlvlink;
 
@@ -169,6 +172,73 @@ TEST_F(Cli, InferTakesJpegAndPngFramesAndRejectsTruncatedOnes) {
   CliRun cut = run_tlvlink("infer " + path("fp32.tlvm") + " -i " + path("cut.jpg"));
   EXPECT_RUN(cut, 1);
   EXPECT_NE(cut.out.find(path("cut.jpg")), std::string::npos) << cut.out;
+}
+
+// A uint8 .npy image ([H,W,3] as numpy holds an RGB frame, or [1,H,W,3]) takes the PPM's path
+// through preprocessing: bit-identical outputs on both models. A uint8 array that is no image
+// (wrong rank, channels or batch) and an image-shaped array of another dtype are bad data: exit 1,
+// the message naming the file and what is wrong with it.
+TEST_F(Cli, InferTakesUint8NpyImagesLikeTheSamePpm) {
+  constexpr int32_t kH = 100, kW = 120;  // not the model's 96x96: the resize is exercised too
+  tools::Image img{kW, kH, 3, {}};
+  for (int i = 0; i < kH * kW * 3; ++i) img.pixels.push_back(static_cast<uint8_t>((i * 11) % 241));
+  const std::span<const uint8_t> px(img.pixels);
+  ASSERT_TRUE(tools::write_pnm(path("img.ppm"), img).ok());
+  ASSERT_TRUE(tools::write_npy(path("img.npy"), NpyArray::from<uint8_t>({kH, kW, 3}, px)).ok());
+  ASSERT_TRUE(tools::write_npy(path("img1.npy"), NpyArray::from<uint8_t>({1, kH, kW, 3}, px)).ok());
+  for (const char* model : {"fp32.tlvm", "int8.tlvm"}) {
+    SCOPED_TRACE(model);
+    auto infer = [&](const std::string& input) {
+      const std::string out = path(input + "." + model + ".npy");
+      EXPECT_RUN(run_tlvlink("infer " + path(model) + " --input " + path(input) + " -o " + out), 0);
+      return tools::read_npy(out);
+    };
+    auto from_ppm = infer("img.ppm");
+    auto from_npy = infer("img.npy");
+    auto from_batched = infer("img1.npy");
+    ASSERT_TRUE(from_ppm.ok() && from_npy.ok() && from_batched.ok());
+    EXPECT_EQ(from_ppm->shape, (std::vector<int64_t>{1, 128}));
+    EXPECT_EQ(from_npy->dtype, from_ppm->dtype);
+    EXPECT_EQ(from_npy->shape, from_ppm->shape);
+    EXPECT_EQ(from_npy->data, from_ppm->data);
+    EXPECT_EQ(from_batched->data, from_ppm->data);
+  }
+
+  struct Bad {
+    std::string file;
+    NpyArray array;
+    int exit_code;
+    std::string message;
+  };
+  const size_t n = img.pixels.size();
+  const std::vector<uint8_t> two(2 * n, 9);  // two frames, or one of 4 channels (and spare)
+  const std::vector<int8_t> as_int8(n, 9);
+  const std::vector<float> as_float(n, 9.0f);
+  const Bad bad[] = {
+      {"gray2d.npy", NpyArray::from<uint8_t>({kH, kW}, px.first(n / 3)), 1,
+       "uint8 image shape (100, 120); expected [H,W,C] or [1,H,W,C]"},
+      {"rank5.npy", NpyArray::from<uint8_t>({1, 1, kH, kW, 3}, px), 1,
+       "uint8 image shape (1, 1, 100, 120, 3); expected [H,W,C] or [1,H,W,C]"},
+      {"batch2.npy", NpyArray::from<uint8_t>({2, kH, kW, 3}, std::span(two)), 1,
+       "uint8 image shape (2, 100, 120, 3); expected [H,W,C] or [1,H,W,C]"},
+      {"rgba.npy", NpyArray::from<uint8_t>({kH, kW, 4}, std::span(two).first(n / 3 * 4)), 1,
+       "uint8 image shape (100, 120, 4); need 1 or 3 channels"},
+      {"int8.npy", NpyArray::from<int8_t>({kH, kW, 3}, std::span(as_int8)), 1,
+       "int8 tensor of shape (100, 120, 3) does not match model input 'input' float32"},
+      {"float.npy", NpyArray::from<float>({kH, kW, 3}, std::span(as_float)), 1,
+       "float32 tensor of shape (100, 120, 3) does not match model input 'input' float32"},
+  };
+  for (const Bad& b : bad) {
+    SCOPED_TRACE(b.file);
+    ASSERT_TRUE(tools::write_npy(path(b.file), b.array).ok());
+    CliRun r = run_tlvlink("infer " + path("fp32.tlvm") + " --input " + path(b.file));
+    EXPECT_RUN(r, b.exit_code);
+    EXPECT_NE(r.out.find(path(b.file)), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(b.message), std::string::npos) << r.out;
+    if (b.array.dtype != DType::kUInt8) {
+      EXPECT_NE(r.out.find("images: uint8 [H,W,C] or [1,H,W,C]"), std::string::npos) << r.out;
+    }
+  }
 }
 
 TEST_F(Cli, InferComparesBothExecutorsWithTheVerifyTolerances) {

@@ -1,7 +1,9 @@
 // Stiff and extreme cases on both executors (issue 2, item 5): constant / maximum-contrast /
 // noise inputs, outputs at both int8 rails, NaN/Inf inputs, float extremes through Quantize,
 // an XNNPACK rejection named by node, and thread-count independence.
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <string>
@@ -24,16 +26,16 @@ struct Int8Model {
   std::unique_ptr<Model> model;
 };
 
-// A calibrated int8 model of `graph`; output scales divided by `output_squeeze` drive results
-// onto the rails.
-Int8Model make_int8(TGraph graph, Rng& rng, float output_squeeze = 1.0f) {
+// An int8 model of `graph` calibrated on inputs in [-in_range, in_range]; output scales divided
+// by `output_squeeze` drive results onto the rails.
+Int8Model make_int8(TGraph graph, Rng& rng, float output_squeeze = 1.0f, float in_range = 1.0f) {
   Int8Model m;
   m.graph = std::move(graph);
   std::vector<std::vector<float>> inputs;
   for (int32_t t : m.graph.inputs) {
     size_t n = 1;
     for (int32_t d : m.graph.tensor(t).shape) n *= static_cast<size_t>(d);
-    inputs.push_back(rng.floats(n, -1.0f, 1.0f));
+    inputs.push_back(rng.floats(n, -in_range, in_range));
   }
   auto fp32 = load_model(build_fp32(m.graph));
   if (fp32 == nullptr) return m;
@@ -43,14 +45,20 @@ Int8Model make_int8(TGraph graph, Rng& rng, float output_squeeze = 1.0f) {
   return m;
 }
 
+// Input patterns; "rail_channels" holds channels 0, 3, 6, ... at -128 and 1, 4, 7, ... at 127
+// (the last dimension is the channel) and fills the rest with noise.
 std::vector<std::vector<std::byte>> int8_pattern(const Model& model, const std::string& kind,
                                                  Rng& rng) {
   std::vector<std::vector<std::byte>> inputs;
   for (int32_t t : model.graph().inputs) {
-    const size_t n = model.graph().tensor(t).bytes();
+    const Tensor& tensor = model.graph().tensor(t);
+    const size_t n = tensor.bytes();
+    const auto channels = static_cast<size_t>(tensor.shape[tensor.shape.rank - 1]);
     std::vector<int8_t> v(n);
     for (size_t i = 0; i < n; ++i) {
-      if (kind == "min")
+      if (kind == "rail_channels" && (i % channels) % 3 != 2)
+        v[i] = (i % channels) % 3 == 0 ? -128 : 127;
+      else if (kind == "min")
         v[i] = -128;
       else if (kind == "zero")
         v[i] = 0;
@@ -84,6 +92,45 @@ TEST(XnnpackEdgeCases, Int8ExtremeInputPatternsAgree) {
   std::printf("[ agreement ] %s\n", agg.summary().c_str());
 }
 
+// Runs `m` on an input `pattern` with both executors: the output must reach both rails and the
+// executors must agree exactly (saturation leaves no rounding freedom). With "rail_channels" that
+// holds for the rail channels; its noise channels get kInt8Tolerance, as in ops_test.cc (the ops
+// used with it work per channel, so output channel c comes from input channel c).
+void expect_rails_agree(const Int8Model& m, const std::string& pattern, Rng& rng) {
+  const std::string op = m.graph.ops[0].name;
+  const auto inputs = int8_pattern(*m.model, pattern, rng);
+  const RunOutput ref = run(*m.model, ExecutorKind::kReference, inputs);
+  const RunOutput xnn = run(*m.model, ExecutorKind::kXnnpack, inputs);
+  const Tensor& out_tensor = m.model->graph().tensor(m.model->graph().outputs[0]);
+  const size_t out = static_cast<size_t>(m.model->graph().outputs[0]);
+  ASSERT_FALSE(ref.tensors.empty() || ref.tensors[out].empty()) << op;
+  ASSERT_FALSE(xnn.tensors.empty()) << op;
+  ASSERT_EQ(ref.tensors[out].size(), xnn.tensors[out].size()) << op;
+  if (pattern != "rail_channels") {
+    EXPECT_EQ(ref.tensors[out], xnn.tensors[out]) << op;
+  } else {
+    const auto channels = static_cast<size_t>(out_tensor.shape[out_tensor.shape.rank - 1]);
+    int rail_diff = 0, noise_diff = 0, off_rail = 0;
+    for (size_t i = 0; i < ref.tensors[out].size(); ++i) {
+      const auto x = static_cast<int8_t>(xnn.tensors[out][i]);
+      const int d = std::abs(static_cast<int8_t>(ref.tensors[out][i]) - x);
+      const size_t kind = (i % channels) % 3;  // as in int8_pattern
+      int& worst = kind == 2 ? noise_diff : rail_diff;
+      worst = std::max(worst, d);
+      off_rail += kind != 2 && x != (kind == 0 ? -128 : 127);
+    }
+    EXPECT_EQ(rail_diff, 0) << op << ": rail channels differ";
+    EXPECT_EQ(off_rail, 0) << op << ": rail channels left their rail";
+    EXPECT_LE(noise_diff, kInt8Tolerance) << op << ": noise channels";
+  }
+  bool low = false, high = false;
+  for (std::byte b : xnn.tensors[out]) {
+    low |= static_cast<int8_t>(b) == -128;
+    high |= static_cast<int8_t>(b) == 127;
+  }
+  EXPECT_TRUE(low && high) << op << ": outputs did not reach both rails";
+}
+
 // Outputs squeezed onto both rails must agree exactly: saturation leaves no rounding freedom.
 TEST(XnnpackEdgeCases, Int8OutputsAtBothRailsAgreeExactly) {
   const uint64_t seed = test_seed();
@@ -93,22 +140,47 @@ TEST(XnnpackEdgeCases, Int8OutputsAtBothRailsAgreeExactly) {
   c.cin = 8, c.cout = 16;
   const TGraph graphs[] = {
       conv_graph(c, rng), fc_graph(2, 32, 24, true, Activation::kNone, rng),
-      binary_graph(OpType::kAdd, {1, 6, 6, 8}, {1, 6, 6, 8}, false, Activation::kNone, rng)};
+      binary_graph(OpType::kAdd, {1, 6, 6, 8}, {1, 6, 6, 8}, false, Activation::kNone, rng),
+      binary_graph(OpType::kMul, {1, 6, 6, 8}, {1, 6, 6, 8}, false, Activation::kNone, rng)};
   for (const TGraph& graph : graphs) {
     Int8Model m = make_int8(graph, rng, /*output_squeeze=*/40.0f);
     ASSERT_NE(m.model, nullptr);
-    const auto inputs = int8_pattern(*m.model, "noise", rng);
-    const RunOutput ref = run(*m.model, ExecutorKind::kReference, inputs);
-    const RunOutput xnn = run(*m.model, ExecutorKind::kXnnpack, inputs);
-    const size_t out = static_cast<size_t>(m.model->graph().outputs[0]);
-    ASSERT_FALSE(ref.tensors[out].empty());
-    EXPECT_EQ(ref.tensors[out], xnn.tensors[out]) << m.graph.ops[0].name;
-    bool low = false, high = false;
-    for (std::byte b : xnn.tensors[out]) {
-      low |= static_cast<int8_t>(b) == -128;
-      high |= static_cast<int8_t>(b) == 127;
-    }
-    EXPECT_TRUE(low && high) << m.graph.ops[0].name << ": outputs did not reach both rails";
+    expect_rails_agree(m, "noise", rng);
+  }
+}
+
+// The ops whose output scale cannot simply be squeezed reach the rails through their inputs:
+//   GlobalAveragePool: XNNPACK takes its int8 input/output scale ratio only in [2^-8, 2^8) and
+//     calibrate() already allows up to 64, so a 40x squeeze could be refused. Instead, channels
+//     held at -128 / 127 average to the input's extremes, outside the narrower output range
+//     calibrated on averages of noise.
+//   ResizeBilinear keeps its input's scale and zero point (the loader requires it) and
+//     interpolates convexly, so it cannot saturate: it reaches a rail exactly where its input
+//     neighbourhood sits there. Channels held at -128 / 127 do that, and must stay there exactly
+//     (interpolation weights that do not sum to one would show); its noise channels may round
+//     either way.
+//   Sigmoid's output is fixed at (1/256, -128): 127 needs x >= ln(511) = 6.24, -128 needs
+//     x <= -6.24. Calibrating on [-16, 16] (x0.7..1.2) puts the int8 extremes beyond +-11.
+TEST(XnnpackEdgeCases, Int8PoolResizeSigmoidAgreeExactlyAtBothRails) {
+  const uint64_t seed = test_seed();
+  SCOPED_SEED_TRACE(seed);
+  Rng rng(seed);
+  struct Case {
+    TGraph graph;
+    float in_range;
+  };
+  const Case cases[] = {
+      {unary_graph(OpType::kGlobalAveragePool, {2, 7, 5, 12}, {2, 1, 1, 12}), 1.0f},
+      {unary_graph(OpType::kResizeBilinear, {1, 5, 7, 3}, {1, 10, 13, 3},
+                   ResizeBilinearParams{false}),
+       1.0f},
+      {unary_graph(OpType::kResizeBilinear, {1, 8, 8, 6}, {1, 3, 5, 6}, ResizeBilinearParams{true}),
+       1.0f},
+      {unary_graph(OpType::kSigmoid, {1, 6, 6, 4}, {1, 6, 6, 4}), 16.0f}};
+  for (const Case& c : cases) {
+    Int8Model m = make_int8(c.graph, rng, /*output_squeeze=*/1.0f, c.in_range);
+    ASSERT_NE(m.model, nullptr);
+    expect_rails_agree(m, "rail_channels", rng);
   }
 }
 

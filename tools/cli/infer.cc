@@ -44,11 +44,13 @@ Status load_input(const std::string& path, const Model& model, std::span<std::by
     if (!image_like) {
       const bool same_shape = a.shape.size() == in.shape.rank &&
                               std::equal(a.shape.begin(), a.shape.end(), in.shape.dims.begin());
+      // Float models also take uint8 images: the hint helps when one was saved as int8/float32.
       TLV_ENSURE(a.dtype == in.dtype && same_shape, ErrorCode::kShapeMismatch,
-                 "%s: %s tensor of shape %s does not match model input '%.*s' %s %s", path.c_str(),
-                 dtype_name(a.dtype), tools::npy_shape_string(a.shape).c_str(),
+                 "%s: %s tensor of shape %s does not match model input '%.*s' %s %s%s",
+                 path.c_str(), dtype_name(a.dtype), tools::npy_shape_string(a.shape).c_str(),
                  static_cast<int>(in.name.size()), in.name.data(), dtype_name(in.dtype),
-                 shape_string(in.shape).c_str());
+                 shape_string(in.shape).c_str(),
+                 in.dtype == DType::kFloat32 ? " (images: uint8 [H,W,C] or [1,H,W,C])" : "");
       std::memcpy(dst.data(), a.data.data(), dst.size());
       return {};
     }

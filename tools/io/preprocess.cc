@@ -94,14 +94,15 @@ Image resize_bilinear(const Image& in, int32_t height, int32_t width) {
 Result<std::vector<float>> preprocess(const Image& image, const InputSpec& spec) {
   TLV_ENSURE(!spec.background_subtraction, ErrorCode::kModelUnsupported,
              "the model asks for background subtraction, which the tools do not implement yet");
-  TLV_ENSURE(image.channels == 1 || image.channels == 3, ErrorCode::kInvalidArgument,
+  // A frame that does not fit the model is bad data (exit 1), not a bad argument.
+  TLV_ENSURE(image.channels == 1 || image.channels == 3, ErrorCode::kShapeMismatch,
              "image has %d channels (1 or 3 supported)", image.channels);
   const Image* src = &image;
   Image cropped;
   if (spec.crop_w > 0) {
     bool ok = false;
     cropped = crop(image, spec, ok);
-    TLV_ENSURE(ok, ErrorCode::kInvalidArgument, "crop %d,%d %dx%d does not fit the %dx%d image",
+    TLV_ENSURE(ok, ErrorCode::kShapeMismatch, "crop %d,%d %dx%d does not fit the %dx%d image",
                spec.crop_x, spec.crop_y, spec.crop_w, spec.crop_h, image.width, image.height);
     src = &cropped;
   }
@@ -136,16 +137,16 @@ Result<std::vector<float>> preprocess(const Image& image, const InputSpec& spec)
 }
 
 Result<Image> image_from_npy(const NpyArray& a, const std::string& name) {
-  TLV_ENSURE(a.dtype == DType::kUInt8, ErrorCode::kInvalidArgument,
+  TLV_ENSURE(a.dtype == DType::kUInt8, ErrorCode::kShapeMismatch,
              "%s: image tensors must be uint8, is %s", name.c_str(), npy_descr(a.dtype));
   const bool batched = a.shape.size() == 4;
-  TLV_ENSURE((a.shape.size() == 3 || (batched && a.shape[0] == 1)), ErrorCode::kInvalidArgument,
+  TLV_ENSURE((a.shape.size() == 3 || (batched && a.shape[0] == 1)), ErrorCode::kShapeMismatch,
              "%s: uint8 image shape %s; expected [H,W,C] or [1,H,W,C]", name.c_str(),
              npy_shape_string(a.shape).c_str());
   const size_t o = batched ? 1 : 0;
   const int64_t h = a.shape[o], w = a.shape[o + 1], c = a.shape[o + 2];
   TLV_ENSURE((c == 1 || c == 3) && h <= kMaxImageSideForNpy && w <= kMaxImageSideForNpy,
-             ErrorCode::kInvalidArgument,
+             ErrorCode::kShapeMismatch,
              "%s: uint8 image shape %s; need 1 or 3 channels and sides <= %d", name.c_str(),
              npy_shape_string(a.shape).c_str(), kMaxImageSideForNpy);
   Image img{static_cast<int32_t>(w), static_cast<int32_t>(h), static_cast<int32_t>(c), {}};
