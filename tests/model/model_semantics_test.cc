@@ -132,6 +132,68 @@ TEST(ModelSemantics, SigmoidInt8OutputQuantizationFixed) {
   expect_rejected(m, ErrorCode::kModelInvalidOperator, "scale 1/256 and zero point -128");
 }
 
+// An int8 activation read by an operator through a per-channel QuantSpec (3 scales, axis 3).
+std::vector<std::byte> per_channel_activation_model(OpType type) {
+  ModelBuilder b;
+  const int32_t x = b.add_activation("x_q", DType::kInt8, {1, 4, 4, 3},
+                                     QuantSpec::per_channel({0.1f, 0.2f, 0.3f}, 3));
+  if (type == OpType::kConv2D) {  // the reference read scale[0], XNNPACK refused at creation
+    const std::vector<int8_t> w(2 * 3, 1);
+    const int32_t wt = b.add_constant<int8_t>("conv.weight", {2, 1, 1, 3}, w,
+                                              QuantSpec::per_channel({0.01f, 0.01f}, 0));
+    const int32_t y =
+        b.add_activation("y", DType::kInt8, {1, 4, 4, 2}, QuantSpec::per_tensor(0.1f, 0));
+    b.add_op(OpType::kConv2D, "conv", {x, wt, kNoTensor}, y, Conv2DParams{});  // 1x1
+    b.set_outputs({y});
+  } else {
+    const int32_t y = b.add_activation("y", DType::kInt8, {1, 4, 4, 3},
+                                       QuantSpec::per_channel({0.1f, 0.2f, 0.3f}, 3));
+    b.add_op(type, "pool", {x}, y, Pool2DParams{});  // 1x1, a pass-through
+    b.set_outputs({y});
+  }
+  b.set_inputs({x});
+  return b.finish();
+}
+
+TEST(ModelSemantics, PerChannelActivationRejectedForEveryOperator) {
+  for (OpType type : {OpType::kConv2D, OpType::kMaxPool2D}) {
+    SCOPED_TRACE(op_type_name(type));
+    const Error e = load_error(per_channel_activation_model(type));
+    EXPECT_EQ(e.code(), ErrorCode::kModelInvalidOperator) << e.message();
+    const std::string fragments[] = {
+        std::string("operator 0 ") + op_type_name(type),
+        "input tensor 0 'x_q' is quantized per-channel (3 scales along axis 3)"};
+    for (const std::string& fragment : fragments) {
+      EXPECT_NE(std::string(e.message()).find(fragment), std::string::npos)
+          << "message '" << e.message() << "' should mention '" << fragment << "'";
+    }
+  }
+}
+
+TEST(ModelSemantics, PerChannelUnusedGraphInputRejected) {
+  TinyInt8Model m;
+  m.tweak = [](ModelBuilder& b) {
+    const int32_t side =
+        b.add_activation("side_q", DType::kInt8, {1, 2}, QuantSpec::per_channel({0.1f, 0.2f}, 1));
+    b.set_inputs({0, side});
+  };
+  expect_rejected(m, ErrorCode::kModelInvalidTensor,
+                  "graph input tensor 10 'side_q' is quantized per-channel");
+}
+
+// Fuzzer regression: XNNPACK asserted creating a runtime for an unread ResizeBilinear result.
+TEST(ModelSemantics, DeadOperatorRejected) {
+  TinyInt8Model m;
+  m.tweak = [](ModelBuilder& b) {
+    const int32_t r = b.add_activation("resize.out", DType::kInt8, {1, 4, 4, 4},
+                                       QuantSpec::per_tensor(0.05f, -10));
+    b.add_op(OpType::kResizeBilinear, "resize", {4}, r, ResizeBilinearParams{});
+  };
+  expect_rejected(m, ErrorCode::kModelInvalidOperator,
+                  "operator 6 ResizeBilinear 'resize' writes tensor 10 'resize.out', which no "
+                  "operator reads");
+}
+
 TEST(ModelSemantics, NonFiniteFloatWeightsNamed) {
   ModelBuilder b;
   std::vector<float> w(2 * 3, 0.5f);

@@ -1,5 +1,6 @@
 // Model::load: size limits -> aligned copy -> identifier -> flatbuffers Verifier -> version ->
-// tensors -> operators -> topology -> per-op semantics -> metadata -> checksum.
+// tensors -> operators -> topology -> per-op semantics -> no dead operator -> metadata ->
+// checksum.
 
 #include <cstdio>
 #include <cstdlib>
@@ -20,8 +21,55 @@ namespace {
 
 constexpr size_t kAlignment = 16;  // constant data is used in place by the kernels
 
+// Activations are int8 per-tensor (quantization.md): the reference kernels read scale[0] and an
+// XNNPACK qint8 value has one scale, so a per-channel activation would run with wrong numbers on
+// one executor and be refused by the other. Only Conv2D / FullyConnected weights and bias may be
+// per-channel. Checked here, for every operand of every operator before its family validator
+// reads scale[0], rather than op by op (Conv2D / FC once let a per-channel input through).
+Status check_activation_quantization(const Graph& graph, size_t op_index) {
+  const Operator& op = graph.operators[op_index];
+  const bool has_weights = op.type == OpType::kConv2D || op.type == OpType::kFullyConnected;
+  const size_t activation_inputs = has_weights ? 1 : op.input_count;
+  for (size_t k = 0; k <= activation_inputs; ++k) {
+    const int32_t t = k < activation_inputs ? op.inputs[k] : op.output;
+    if (t == kNoTensor) continue;
+    const QuantParams& q = graph.tensor(t).quant;
+    TLV_ENSURE(!q.per_channel(), ErrorCode::kModelInvalidOperator,
+               "%s: %s %s is quantized per-channel (%zu scales along axis %d); activations "
+               "must be quantized per-tensor",
+               model_internal::op_label(graph, op_index).text,
+               k < activation_inputs ? "input" : "output",
+               model_internal::tensor_label(graph, t).text, q.scale.size(), q.axis);
+  }
+  return {};
+}
+
+// Every operator's result is read by a later operator or is a graph output. Neither the
+// converter nor the quantizer writes a dead operator (one is a sign of a damaged file); it would
+// cost time every frame, and XNNPACK (2022) drops the unread value but keeps the node writing
+// it, then asserts when creating the runtime (found by the loader fuzzer). Checked after the
+// per-operator validators, so a malformed operator still gets its own error.
+Status check_outputs_used(const Graph& graph) {
+  std::vector<bool> used(graph.tensors.size(), false);
+  for (int32_t t : graph.outputs) used[static_cast<size_t>(t)] = true;
+  for (const Operator& op : graph.operators) {
+    for (size_t k = 0; k < op.input_count; ++k) {
+      if (op.inputs[k] != kNoTensor) used[static_cast<size_t>(op.inputs[k])] = true;
+    }
+  }
+  for (size_t i = 0; i < graph.operators.size(); ++i) {
+    const int32_t out = graph.operators[i].output;
+    TLV_ENSURE(used[static_cast<size_t>(out)], ErrorCode::kModelInvalidOperator,
+               "%s writes %s, which no operator reads and which is not a graph output",
+               model_internal::op_label(graph, i).text,
+               model_internal::tensor_label(graph, out).text);
+  }
+  return {};
+}
+
 Status validate_operators(const Graph& graph) {
   for (size_t i = 0; i < graph.operators.size(); ++i) {
+    TLV_TRY(check_activation_quantization(graph, i));
     switch (graph.operators[i].type) {
       case OpType::kConv2D:
       case OpType::kFullyConnected:
@@ -39,6 +87,15 @@ Status validate_operators(const Graph& graph) {
         TLV_TRY(model_internal::validate_shaping(graph, i));
         break;
     }
+  }
+  // Inputs that some operator reads were checked with that operator (whose name is the better
+  // clue); this catches the ones none reads.
+  for (int32_t t : graph.inputs) {
+    const QuantParams& q = graph.tensor(t).quant;
+    TLV_ENSURE(!q.per_channel(), ErrorCode::kModelInvalidTensor,
+               "graph input %s is quantized per-channel (%zu scales along axis %d); activations "
+               "must be quantized per-tensor",
+               model_internal::tensor_label(graph, t).text, q.scale.size(), q.axis);
   }
   return {};
 }
@@ -111,6 +168,7 @@ Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
   TLV_TRY(model_internal::convert_operators(*root->graph(), graph));
   TLV_TRY(model_internal::validate_topology(*root->graph(), graph));
   TLV_TRY(validate_operators(graph));
+  TLV_TRY(check_outputs_used(graph));
   TLV_TRY(model_internal::convert_metadata(root->metadata(), buffer_view, graph, model->metadata_));
 
   if (options.verify_checksum) {

@@ -40,7 +40,7 @@ Status check_quantized(const Graph& graph, size_t op_index, const Operator& op, 
   }
   const auto* wq = reinterpret_cast<const int8_t*>(w.data.data());
   const size_t per_channel = w.shape.elements() / static_cast<size_t>(cout);
-  const float s_in = in.quant.scale[0];
+  const float s_in = in.quant.scale[0];  // per-tensor: loader.cc checks every activation
   const float s_out = out.quant.scale[0];
   const Tensor* bias = op.inputs[2] == kNoTensor ? nullptr : &graph.tensor(op.inputs[2]);
   if (bias != nullptr) {
