@@ -1,5 +1,5 @@
 // Touch-and-Go writer -> loader: labels, session-disjoint splits, malformed label lines with
-// file:line, the session re-split.
+// file:line, missing and corrupt images with their paths, the session re-split.
 
 #include "tlvlink/datasets/touch_and_go.h"
 
@@ -7,8 +7,11 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
+#include <vector>
 
 #include "datasets/samples.h"
 
@@ -170,6 +173,89 @@ TEST(TouchAndGo, MalformedLabelLinesAreRejectedWithFileAndLine) {
       {train, 4},
       {train, 8}};
   EXPECT_EQ(where, want);
+}
+
+// Cuts a JPEG file inside its entropy-coded data, halfway between the start-of-scan marker and
+// the end: the header still reads, the decode runs out of data (a download or copy cut short).
+// Returns the new size (0 if the file has no SOS marker).
+size_t truncate_in_scan_data(const std::string& path) {
+  std::vector<char> bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  for (size_t i = 0; i + 1 < bytes.size(); ++i) {
+    if (static_cast<uint8_t>(bytes[i]) == 0xFF && static_cast<uint8_t>(bytes[i + 1]) == 0xDA) {
+      const size_t cut = i + (bytes.size() - i) / 2;
+      std::filesystem::resize_file(path, cut);
+      return cut;
+    }
+  }
+  return 0;
+}
+
+TEST(TouchAndGo, MissingAndCorruptImagesAreCountedWithPaths) {
+  TempDir tmp;
+  write_set(tmp.path(), testing::touch_set(2, 3), 0.0);  // all six frames in train.txt
+  // train.txt lists session 0 frames 3, 10, 17, then session 1's: the truncated touch image is
+  // met first, the missing camera image second.
+  const std::string corrupt = tmp / "20220101_000000/gelsight_frame/0000000010.jpg";
+  const std::string missing = tmp / "20220101_000001/video_frame/0000000003.jpg";
+  std::filesystem::remove(missing);
+  const auto size = std::filesystem::file_size(corrupt);
+  const size_t cut = truncate_in_scan_data(corrupt);
+  ASSERT_GT(cut, 0u);
+  ASSERT_LT(cut + 16, size);
+  TagLoaderOptions o;
+  o.split = Split::kAll;
+  const Loaded loaded = load(tmp.path(), o);
+  EXPECT_EQ(loaded.samples.size(), 4u);
+  EXPECT_EQ(loaded.report.loaded(), 4);
+  EXPECT_EQ(loaded.report.missing_files(), 1);
+  EXPECT_EQ(loaded.report.corrupt_files(), 1);
+  ASSERT_EQ(loaded.report.problems().size(), 2u) << loaded.report.summary();
+  EXPECT_EQ(loaded.report.problems()[0].path, corrupt);
+  EXPECT_EQ(loaded.report.problems()[0].kind, ProblemKind::kCorruptFile);
+  EXPECT_EQ(loaded.report.problems()[1].path, missing);
+  EXPECT_EQ(loaded.report.problems()[1].kind, ProblemKind::kMissingFile);
+  EXPECT_EQ(loaded.report.summary(), "4 loaded; 1 missing file, 1 corrupt file");
+  // The printed problem line names the file, the kind and the decoder's reason.
+  const std::string line = loaded.report.problems()[0].to_string();
+  EXPECT_EQ(line.rfind(corrupt + ": corrupt file: ", 0), 0u) << line;
+  for (const std::string& key : loaded.keys) {
+    EXPECT_NE(key, "20220101_000000/0000000010.jpg");
+    EXPECT_NE(key, "20220101_000001/0000000003.jpg");
+  }
+
+  // Without vision required, the frame whose camera image is missing comes back without it; the
+  // truncated touch image still drops its frame.
+  o.require_vision = false;
+  const Loaded lenient = load(tmp.path(), o);
+  ASSERT_EQ(lenient.samples.size(), 5u);
+  EXPECT_EQ(lenient.report.missing_files(), 1);
+  EXPECT_EQ(lenient.report.corrupt_files(), 1);
+  size_t without_vision = 0;
+  for (size_t i = 0; i < lenient.samples.size(); ++i) {
+    if (!lenient.samples[i].vision.rgb.empty()) continue;
+    ++without_vision;
+    EXPECT_EQ(lenient.keys[i], "20220101_000001/0000000003.jpg");
+  }
+  EXPECT_EQ(without_vision, 1u);
+}
+
+// A JPEG cut inside its header tables makes tjDecompressHeader3 fail and leaves the thread's
+// reused decompressor unusable (libjpeg-turbo 2.1.5): without tools/io/jpeg.cc starting a fresh
+// one after an error, the next valid image read as 0x0 and one bad file cost two samples.
+TEST(TouchAndGo, JpegCutInsideItsHeaderDoesNotSpoilTheNextImage) {
+  TempDir tmp;
+  write_set(tmp.path(), testing::touch_set(1, 3), 0.0);
+  const std::string corrupt = tmp / "20220101_000000/gelsight_frame/0000000010.jpg";
+  std::filesystem::resize_file(corrupt, 300);  // inside the quantisation/Huffman tables
+  TagLoaderOptions o;
+  o.split = Split::kAll;
+  const Loaded loaded = load(tmp.path(), o);
+  EXPECT_EQ(loaded.samples.size(), 2u) << loaded.report.summary();
+  EXPECT_EQ(loaded.report.corrupt_files(), 1);
 }
 
 TEST(TouchAndGo, MissingLabelFiles) {

@@ -1,14 +1,20 @@
 // tlvlink sim frame -o X.ppm: one rendered frame with a chosen sensor, shape and load, for
-// looking at (.jpg/.jpeg writes JPEG, anything else binary PPM).
+// looking at (.jpg/.jpeg writes JPEG, anything else binary PPM). --raw Y writes the same frame
+// as the sensor's camera emits it (MJPEG .jpg / YUYV .yuyv / RGB .rgb, tlvlink/sim/raw_camera.h).
 
 #include <cstdio>
+#include <initializer_list>
 #include <map>
+#include <span>
 #include <string>
+#include <utility>
 
 #include "cli/common.h"
 #include "cli/sim_commands.h"
+#include "io/file.h"
 #include "io/jpeg.h"
 #include "io/pnm.h"
+#include "tlvlink/sim/raw_camera.h"
 #include "tlvlink/sim/renderer.h"
 
 namespace tlvlink::cli {
@@ -24,6 +30,8 @@ const std::map<std::string, sim::Shape>& shape_names() {
 
 struct FrameFlags {
   std::string output;
+  std::string raw_output;
+  int32_t raw_quality = sim::RawOptions{}.jpeg_quality;
   std::string sensor = "gelsight-mini";
   std::string shape = "sphere";
   sim::ContactScene scene;
@@ -31,8 +39,8 @@ struct FrameFlags {
   uint64_t seed = 1;
 };
 
-bool is_jpeg_path(const std::string& path) {
-  for (const char* ext : {".jpg", ".jpeg", ".JPG", ".JPEG"}) {
+bool has_extension(const std::string& path, std::initializer_list<const char*> extensions) {
+  for (const char* ext : extensions) {
     const std::string e = ext;
     if (path.size() > e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0)
       return true;
@@ -40,29 +48,85 @@ bool is_jpeg_path(const std::string& path) {
   return false;
 }
 
-int run_frame(FrameFlags f) {
-  const char* command = "sim frame";
-  auto profile = sim::sensor_profile(f.sensor);
-  if (!profile.ok()) return report_error(command, profile.error());
-  f.scene.geometry.shape = shape_names().at(f.shape);
-  auto renderer = sim::Renderer::create(profile.value(), f.seed);
-  if (!renderer.ok()) return report_error(command, renderer.error());
-  sim::Frame frame;
-  if (Status s = (*renderer)->render(f.scene, f.options, f.seed, frame); !s.ok())
-    return report_error(command, s.error());
+bool is_jpeg_path(const std::string& path) {
+  return has_extension(path, {".jpg", ".jpeg", ".JPG", ".JPEG"});
+}
+
+// The raw file's extension must say what it holds: a YUYV frame named .jpg would mislead every
+// viewer that opens it.
+Status check_raw_path(const std::string& path, sim::RawFormat format) {
+  switch (format) {
+    case sim::RawFormat::kMjpeg:
+      TLV_ENSURE(is_jpeg_path(path), ErrorCode::kInvalidArgument,
+                 "--raw %s: this sensor emits MJPEG; name the file .jpg or .jpeg", path.c_str());
+      break;
+    case sim::RawFormat::kYuyv:
+      TLV_ENSURE(has_extension(path, {".yuyv", ".YUYV"}), ErrorCode::kInvalidArgument,
+                 "--raw %s: this sensor emits YUYV 4:2:2; name the file .yuyv", path.c_str());
+      break;
+    case sim::RawFormat::kRgb:
+      TLV_ENSURE(has_extension(path, {".rgb", ".RGB"}), ErrorCode::kInvalidArgument,
+                 "--raw %s: this sensor emits raw RGB; name the file .rgb", path.c_str());
+      break;
+  }
+  return {};
+}
+
+Status write_processed(const std::string& path, const sim::Frame& frame) {
   tools::Image image;
   image.height = frame.height;
   image.width = frame.width;
   image.channels = 3;
   image.pixels = frame.rgb;
-  const Status written = is_jpeg_path(f.output) ? tools::write_jpeg(f.output, image, 95)
-                                                : tools::write_pnm(f.output, image);
-  if (!written.ok()) return report_error(command, written.error());
+  return is_jpeg_path(path) ? tools::write_jpeg(path, image, 95) : tools::write_pnm(path, image);
+}
+
+// Renders through RawCamera when --raw is given (its processed frame is the Renderer's, byte for
+// byte), else through the Renderer alone.
+Status render(const FrameFlags& f, const sim::SensorProfile& profile, sim::Frame& frame,
+              sim::RawFrame& raw) {
+  if (f.raw_output.empty()) {
+    TLV_ASSIGN_OR_RETURN(auto renderer, sim::Renderer::create(profile, f.seed));
+    return renderer->render(f.scene, f.options, f.seed, frame);
+  }
+  sim::RawOptions o;
+  o.jpeg_quality = f.raw_quality;
+  TLV_ASSIGN_OR_RETURN(auto camera, sim::RawCamera::create(profile, f.seed, o));
+  TLV_TRY(check_raw_path(f.raw_output, camera->layout().format));
+  TLV_TRY(camera->render(f.scene, f.options, f.seed, raw));
+  frame = std::move(raw.processed);
+  const sim::RawLayout& l = camera->layout();
+  TLV_TRY(tools::write_file(f.raw_output, std::as_bytes(std::span<const uint8_t>(raw.bytes))));
+  std::printf("wrote %s (raw %s %dx%d%s, %zu bytes)\n", f.raw_output.c_str(),
+              sim::raw_format_name(l.format), l.width, l.height,
+              l.transposed ? ", camera orientation" : "", raw.bytes.size());
+  return {};
+}
+
+int run_frame(FrameFlags f) {
+  const char* command = "sim frame";
+  if (f.output.empty() && f.raw_output.empty()) {
+    return report_error(command, Error(ErrorCode::kInvalidArgument,
+                                       "nothing to write: give -o (processed frame), --raw "
+                                       "(camera output) or both"));
+  }
+  auto profile = sim::sensor_profile(f.sensor);
+  if (!profile.ok()) return report_error(command, profile.error());
+  f.scene.geometry.shape = shape_names().at(f.shape);
+  sim::Frame frame;
+  sim::RawFrame raw;
+  if (Status s = render(f, profile.value(), frame, raw); !s.ok())
+    return report_error(command, s.error());
+  if (!f.output.empty()) {
+    if (Status s = write_processed(f.output, frame); !s.ok())
+      return report_error(command, s.error());
+  }
   const sim::ContactState& c = frame.state;
+  const std::string what = f.output.empty() ? "processed frame" : "wrote " + f.output;
   std::printf(
-      "wrote %s (%dx%d, %s): %s, force %.3g N, press %.3g mm, kappa %.3g, area %.3g mm2, "
+      "%s (%dx%d, %s): %s, force %.3g N, press %.3g mm, kappa %.3g, area %.3g mm2, "
       "slip ratio %.3g%s\n",
-      f.output.c_str(), frame.width, frame.height, f.sensor.c_str(),
+      what.c_str(), frame.width, frame.height, f.sensor.c_str(),
       c.in_contact ? "in contact" : "no contact", c.force_n, c.press_mm, c.kappa,
       c.contact_area_mm2, c.slip_ratio, c.gross_slip ? " (gross slip)" : "");
   return kExitOk;
@@ -75,8 +139,15 @@ void add_sim_frame_command(CLI::App& sim, int& exit_code) {
   CLI::App* cmd = sim.add_subcommand(
       "frame",
       "Render one GelSight frame (PPM, or JPEG q95 for .jpg) with a chosen sensor, "
-      "object and load; ranges: tools/sim/README.md");
-  cmd->add_option("-o,--output", f->output, "Output file (.ppm, or .jpg/.jpeg)")->required();
+      "object and load, and/or the sensor camera's raw output; ranges: tools/sim/README.md");
+  cmd->add_option("-o,--output", f->output, "Processed frame file (.ppm, or .jpg/.jpeg)");
+  cmd->add_option("--raw", f->raw_output,
+                  "Also write the frame as the camera emits it: MJPEG .jpg (gelsight-mini "
+                  "3280x2464, gelsight-r1.5 320x240) or YUYV .yuyv (digit 320x240, "
+                  "digit-640x480; camera orientation, i.e. transposed)");
+  cmd->add_option("--raw-quality", f->raw_quality, "MJPEG quality of --raw")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
   cmd->add_option("--sensor", f->sensor,
                   "Sensor profile: gelsight-mini, digit, digit-640x480, gelsight-r1.5")
       ->capture_default_str();

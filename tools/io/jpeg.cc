@@ -19,7 +19,13 @@ struct Handles {
   tjhandle decompress = nullptr;
   ~Handles() {
     if (compress) tjDestroy(compress);
+    reset_decompress();
+  }
+  // libjpeg-turbo 2.1 leaves a handle that failed mid-header unusable (the next valid image
+  // reads as 0x0), so one bad file would spoil the next: start afresh after any error.
+  void reset_decompress() {
     if (decompress) tjDestroy(decompress);
+    decompress = nullptr;
   }
 };
 
@@ -79,8 +85,10 @@ Result<Image> decode_jpeg(std::span<const uint8_t> bytes, const std::string& nam
   auto* data = const_cast<unsigned char*>(bytes.data());
   if (tjDecompressHeader3(h.decompress, data, bytes.size(), &width, &height, &subsamp,
                           &colorspace) != 0) {
-    return Error::make(ErrorCode::kFormat, "%s: not a readable JPEG (%zu bytes): %s", name.c_str(),
-                       bytes.size(), tjGetErrorStr2(h.decompress));
+    const Error e = Error::make(ErrorCode::kFormat, "%s: not a readable JPEG (%zu bytes): %s",
+                                name.c_str(), bytes.size(), tjGetErrorStr2(h.decompress));
+    h.reset_decompress();
+    return e;
   }
   TLV_ENSURE(width >= 1 && height >= 1 && width <= kMaxJpegSide && height <= kMaxJpegSide,
              ErrorCode::kFormat, "%s: JPEG size %dx%d outside 1..%d", name.c_str(), width, height,
@@ -94,8 +102,11 @@ Result<Image> decode_jpeg(std::span<const uint8_t> bytes, const std::string& nam
   // STOPONWARNING: a truncated or damaged stream is reported, not silently padded with grey.
   if (tjDecompress2(h.decompress, data, bytes.size(), image.pixels.data(), image.width, 0,
                     image.height, TJPF_RGB, TJFLAG_STOPONWARNING) != 0) {
-    return Error::make(ErrorCode::kFormat, "%s: corrupt JPEG (%dx%d, %zu bytes): %s", name.c_str(),
-                       width, height, bytes.size(), tjGetErrorStr2(h.decompress));
+    const Error e = Error::make(ErrorCode::kFormat, "%s: corrupt JPEG (%dx%d, %zu bytes): %s",
+                                name.c_str(), width, height, bytes.size(),
+                                tjGetErrorStr2(h.decompress));
+    h.reset_decompress();
+    return e;
   }
   return image;
 }

@@ -37,10 +37,14 @@ TEST(SimRenderProfiles, GeometryFollowsTheSensorNotes) {
   EXPECT_EQ(mini->raw_width, 3280);  // the camera only offers MJPEG 3280x2464
   EXPECT_EQ(mini->raw_height, 2464);
   EXPECT_EQ(mini->raw_format, "mjpeg");
+  EXPECT_DOUBLE_EQ(mini->raw_crop, 0.15);  // 15 % of each border cut before resizing
+  EXPECT_FALSE(mini->raw_transposed);
   auto digit = sensor_profile("digit");
   ASSERT_TRUE(digit.ok());
   EXPECT_EQ(digit->raw_width, 320);  // 320x240 camera mode, stored transposed (portrait)
   EXPECT_EQ(digit->raw_height, 240);
+  EXPECT_TRUE(digit->raw_transposed);  // and flipped top to bottom, as digit_interface does
+  EXPECT_DOUBLE_EQ(digit->raw_crop, 0.0);
   EXPECT_EQ(digit->width, 240);
   EXPECT_EQ(digit->height, 320);
   EXPECT_DOUBLE_EQ(digit->mm_per_px, 0.04);

@@ -20,6 +20,7 @@ std::vector<Field> fields() {
   using C = InvalidCase;
   return {
       {"sensor.mm_per_px", [](C& c, double v) { c.sensor.mm_per_px = v; }},
+      {"sensor.raw_crop", [](C& c, double v) { c.sensor.raw_crop = v; }},
       {"sensor.gel_thickness_mm", [](C& c, double v) { c.sensor.gel_thickness_mm = v; }},
       {"sensor.gel_modulus_pa", [](C& c, double v) { c.sensor.gel_modulus_pa = v; }},
       {"sensor.gel_poisson", [](C& c, double v) { c.sensor.gel_poisson = v; }},
@@ -111,6 +112,7 @@ std::vector<InvalidCase> build() {
         [](InvalidCase& c) { c.sensor.light_count = 5; });
   range("range:raw-format", "sensor.raw_format",
         [](InvalidCase& c) { c.sensor.raw_format = "png"; });
+  range("range:raw-crop-0.5", "sensor.raw_crop", [](InvalidCase& c) { c.sensor.raw_crop = 0.5; });
   range("range:shape", "scene.geometry.shape",
         [](InvalidCase& c) { c.scene.geometry.shape = static_cast<Shape>(42); });
   range("range:gel-poisson-0.5", "sensor.gel_poisson",

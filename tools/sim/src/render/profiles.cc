@@ -19,6 +19,7 @@ SensorProfile gelsight_mini() {
   p.raw_height = 2464;
   p.raw_width = 3280;
   p.raw_format = "mjpeg";  // the only mode the camera offers
+  p.raw_crop = 0.15;       // gsrobotics crops 15 % of each border before resizing to 320x240
   p.lights[0] = {90, {1, 0, 0}};
   p.lights[1] = {210, {0, 1, 0}};
   p.lights[2] = {330, {0, 0, 1}};
@@ -27,8 +28,8 @@ SensorProfile gelsight_mini() {
   return p;
 }
 
-// DIGIT: the camera's 320x240 (W x H) frames are stored transposed, portrait 240 wide x 320 high,
-// as the DIGIT interface returns them. Thinner, slightly domed elastomer; TACTO's light layout.
+// DIGIT: the camera's 320x240 (W x H) frames are stored transposed (and flipped top to bottom),
+// portrait 240 wide x 320 high, as the DIGIT interface returns them. Thinner, slightly domed elastomer; TACTO's light layout.
 SensorProfile digit(int32_t scale) {
   SensorProfile p;
   p.name = scale == 1 ? "digit" : "digit-640x480";
@@ -38,6 +39,7 @@ SensorProfile digit(int32_t scale) {
   p.raw_height = 240 * scale;
   p.raw_width = 320 * scale;
   p.raw_format = "yuyv";
+  p.raw_transposed = true;  // digit_interface's get_frame: cv2.transpose, then cv2.flip(.., 0)
   p.gel_thickness_mm = 2.5;
   p.dome_sag_mm = 0.5;
   p.lights[0] = {30, {1, 0, 0}};

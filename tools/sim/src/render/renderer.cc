@@ -13,6 +13,7 @@
 #include "render/geometry.h"
 #include "render/markers.h"
 #include "render/model_constants.h"
+#include "render/renderer_internal.h"
 #include "render/sensor_tables.h"
 #include "render/shading.h"
 #include "render/shear.h"
@@ -28,11 +29,11 @@ constexpr double kPi = 3.14159265358979323846;
 
 class RendererImpl final : public Renderer {
  public:
-  RendererImpl(const SensorProfile& profile, uint64_t sensor_seed)
+  RendererImpl(const SensorProfile& profile, uint64_t sensor_seed, Periphery periphery)
       : name_(profile.name),
         profile_(with_name(profile, name_)),
-        blur_(profile.width, profile.height),
-        tables_(build_sensor_tables(profile_, sensor_seed, blur_)),
+        blur_(profile.width + 2 * periphery.x, profile.height + 2 * periphery.y),
+        tables_(build_sensor_tables(profile_, sensor_seed, blur_, periphery)),
         texture_(tables_.grid),
         solver_(tables_.grid),
         spreading_(tables_.grid, profile.gel_thickness_mm),
@@ -40,7 +41,7 @@ class RendererImpl final : public Renderer {
         h_(tables_.grid.pixels()),
         curvature_(tables_.grid.pixels()),
         u_gel_(tables_.grid.pixels()),
-        row_scratch_(static_cast<size_t>(profile.width) * 7) {
+        row_scratch_(static_cast<size_t>(tables_.grid.width) * 7) {
     for (auto& d : delta_) d.assign(tables_.grid.pixels(), 0.0f);
   }
   RendererImpl(const RendererImpl&) = delete;  // profile_.name points into name_
@@ -85,7 +86,7 @@ Roi RendererImpl::build_surface(const ContactScene& scene, const Placement& at) 
   const Roi surface = surface_bounds(h_.data(), g);
   // The membrane follows the object's shape, not its micro-texture: curvature before texture.
   tension_curvature(h_.data(), g, surface, curvature_.data());
-  texture_.add(scene.texture, at.center_x_mm, at.center_y_mm, surface, h_.data());
+  texture_.add(scene.texture, at.center_x_mm, at.center_y_mm, surface, h_.data(), tables_.view);
   return surface;
 }
 
@@ -245,8 +246,16 @@ Status RendererImpl::render(const ContactScene& scene, const RenderOptions& opti
 
 Result<std::unique_ptr<Renderer>> Renderer::create(const SensorProfile& profile,
                                                    uint64_t sensor_seed) {
+  return internal::create_renderer_with_periphery(profile, sensor_seed, {});
+}
+
+Result<std::unique_ptr<Renderer>> internal::create_renderer_with_periphery(
+    const SensorProfile& profile, uint64_t sensor_seed, Periphery periphery) {
   TLV_TRY(validate(profile));
-  return std::unique_ptr<Renderer>(new RendererImpl(profile, sensor_seed));
+  TLV_ENSURE(periphery.x >= 0 && periphery.y >= 0 && periphery.x <= 4096 && periphery.y <= 4096,
+             ErrorCode::kInvalidArgument, "renderer periphery %d x %d px outside 0..4096",
+             periphery.x, periphery.y);
+  return std::unique_ptr<Renderer>(new RendererImpl(profile, sensor_seed, periphery));
 }
 
 }  // namespace tlvlink::sim

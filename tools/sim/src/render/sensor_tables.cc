@@ -50,9 +50,11 @@ void build_lights(const SensorProfile& profile, std::array<LightModel, 4>& light
   }
 }
 
-SensorTables build_sensor_tables(const SensorProfile& p, uint64_t sensor_seed, GaussianBlur& blur) {
+SensorTables build_sensor_tables(const SensorProfile& p, uint64_t sensor_seed, GaussianBlur& blur,
+                                 Periphery periphery) {
   SensorTables t;
-  t.grid = {p.height, p.width, p.mm_per_px};
+  t.grid = {p.height + 2 * periphery.y, p.width + 2 * periphery.x, p.mm_per_px};
+  t.view = {periphery.x, periphery.y, periphery.x + p.width, periphery.y + p.height};
   const FrameGrid& g = t.grid;
   const size_t n = g.pixels();
   Xoshiro256 rng(mix64(sensor_seed ^ 0x5E5502ull));
@@ -88,8 +90,10 @@ SensorTables build_sensor_tables(const SensorProfile& p, uint64_t sensor_seed, G
     }
   }
 
-  // Background: b_c + amplitude * poly / max|poly|, then vignetting.
-  const double half_w = 0.5 * g.width * g.mm_per_px, half_h = 0.5 * g.height * g.mm_per_px;
+  // Background: b_c + amplitude * poly / max|poly|, then vignetting. Coordinates, the maximum
+  // and the corner radius are those of the processed frame (t.view), also with a periphery.
+  const double half_w = 0.5 * p.width * g.mm_per_px, half_h = 0.5 * p.height * g.mm_per_px;
+  const Roi& view = t.view;
   t.vignetting.resize(n);
   for (int c = 0; c < 3; ++c) {
     auto& raw = t.background_raw[static_cast<size_t>(c)];
@@ -100,7 +104,8 @@ SensorTables build_sensor_tables(const SensorProfile& p, uint64_t sensor_seed, G
         const double v =
             illumination_poly(poly[static_cast<size_t>(c)], g.x_mm(x) / half_w, g.y_mm(y) / half_h);
         raw[static_cast<size_t>(y * g.width + x)] = static_cast<float>(v);
-        max_abs = std::max(max_abs, std::fabs(v));
+        if (y >= view.y0 && y < view.y1 && x >= view.x0 && x < view.x1)
+          max_abs = std::max(max_abs, std::fabs(v));
       }
     }
     const double amp = max_abs > 0 ? p.background_nonuniformity_dn / max_abs : 0;
@@ -111,8 +116,9 @@ SensorTables build_sensor_tables(const SensorProfile& p, uint64_t sensor_seed, G
   for (int32_t y = 0; y < g.height; ++y) {
     for (int32_t x = 0; x < g.width; ++x) {
       const double r2 = (g.x_mm(x) * g.x_mm(x) + g.y_mm(y) * g.y_mm(y)) / corner2;
+      // r > 1 only in a periphery, where a strong k_v would go negative: dark, not negative.
       t.vignetting[static_cast<size_t>(y * g.width + x)] =
-          static_cast<float>(1 - p.vignetting * r2);
+          static_cast<float>(std::max(0.0, 1 - p.vignetting * r2));
     }
   }
   t.background_u8.resize(n * 3);
@@ -153,11 +159,20 @@ SensorTables build_sensor_tables(const SensorProfile& p, uint64_t sensor_seed, G
     }
   }
 
-  t.marker_rest_mm.reserve(static_cast<size_t>(p.marker_rows * p.marker_cols));
-  for (int32_t r = 0; r < p.marker_rows; ++r) {
-    for (int32_t c = 0; c < p.marker_cols; ++c) {
-      t.marker_rest_mm.push_back({(c - 0.5 * (p.marker_cols - 1)) * p.marker_pitch_mm,
-                                  (r - 0.5 * (p.marker_rows - 1)) * p.marker_pitch_mm});
+  // A periphery gets the whole pitches that fit in it (the gel's grid continues under it).
+  auto extra = [&](int32_t pad, int32_t count, int32_t side_px) {
+    if (pad == 0) return 0;
+    const double room =
+        0.5 * (side_px + 2 * pad) * g.mm_per_px - 0.5 * (count - 1) * p.marker_pitch_mm;
+    return std::max(0, static_cast<int32_t>(std::floor(room / p.marker_pitch_mm)));
+  };
+  const int32_t rows = p.marker_rows + 2 * extra(periphery.y, p.marker_rows, p.height);
+  const int32_t cols = p.marker_cols + 2 * extra(periphery.x, p.marker_cols, p.width);
+  t.marker_rest_mm.reserve(static_cast<size_t>(rows * cols));
+  for (int32_t r = 0; r < rows; ++r) {
+    for (int32_t c = 0; c < cols; ++c) {
+      t.marker_rest_mm.push_back(
+          {(c - 0.5 * (cols - 1)) * p.marker_pitch_mm, (r - 0.5 * (rows - 1)) * p.marker_pitch_mm});
     }
   }
   return t;

@@ -31,6 +31,15 @@ struct Roi {
   bool empty() const { return x1 <= x0 || y1 <= y0; }
 };
 
+// Pixels rendered beyond the processed frame on each side (x: left and right, y: top and
+// bottom). The raw camera path (tools/sim/src/raw) renders the periphery the processed crop cuts
+// away; the processed frame stays the reference for every normalisation (illumination polynomial
+// and its amplitude, vignetting radius, dome, texture statistics, marker grid), extended
+// outward, so the centre of a padded grid matches the plain one.
+struct Periphery {
+  int32_t x = 0, y = 0;
+};
+
 struct SensorTables {
   SensorTables() = default;
   SensorTables(SensorTables&&) = default;  // moving keeps dome_rest_ptr valid, copying would not
@@ -38,12 +47,13 @@ struct SensorTables {
   SensorTables(const SensorTables&) = delete;
   SensorTables& operator=(const SensorTables&) = delete;
 
-  FrameGrid grid;
+  FrameGrid grid;  // the processed frame plus the periphery
+  Roi view;        // the processed frame inside `grid`
   // Illumination b_c (1 + poly) in DN, before the camera blur, gain and vignetting (planar).
   std::array<std::vector<float>, 3> background_raw;
   // The camera's no-contact output at led_gain 1, before noise: vignetting * gain * blur(raw).
   std::array<std::vector<float>, 3> background_final;
-  std::vector<float> vignetting;  // 1 - k_v r^2, r = 1 at a corner
+  std::vector<float> vignetting;  // max(0, 1 - k_v r^2), r = 1 at a corner of the processed frame
   std::array<float, 3> gain{};    // profile channel gain x per-sensor white balance x exposure
   // Dome (rest surface height toward the object, and its slopes); empty for a flat gel.
   std::vector<float> dome_height, dome_p, dome_q;
@@ -52,13 +62,15 @@ struct SensorTables {
   std::array<LightModel, 4> lights{};
   int32_t light_count = 0;
   float light_scale = 0;  // the DN scale that puts the 45 deg response at kMaxDeltaAt45Dn
-  std::vector<std::array<double, 2>> marker_rest_mm;  // row-major grid, from the gel centre
+  // Row-major grid from the gel centre; with a periphery, extended by whole pitches on each
+  // side to fill it (the profile's grid stays where it is).
+  std::vector<std::array<double, 2>> marker_rest_mm;
   std::vector<uint8_t> background_u8;                 // interleaved RGB
 };
 
-// `blur` provides scratch for the camera blur of the background.
+// `blur` provides scratch for the camera blur of the background (sized for the padded grid).
 SensorTables build_sensor_tables(const SensorProfile& profile, uint64_t sensor_seed,
-                                 GaussianBlur& blur);
+                                 GaussianBlur& blur, Periphery periphery = {});
 
 // Light vectors and per-channel amplitudes (before per-sensor gains) and the scale that makes
 // the strongest channel change at a 45 deg tilt equal to kMaxDeltaAt45Dn.

@@ -26,7 +26,7 @@ FractalTexture::FractalTexture(const FrameGrid& grid)
       row_(static_cast<size_t>(grid.width) + 4) {}
 
 void FractalTexture::add(const SurfaceTexture& t, double origin_x_mm, double origin_y_mm, Roi roi,
-                         float* h) {
+                         float* h, Roi stats) {
   if (!(t.sq_um > 0) || roi.empty()) return;
   const int32_t w = roi.width(), hh = roi.height();
   const size_t n = static_cast<size_t>(w) * static_cast<size_t>(hh);
@@ -78,14 +78,22 @@ void FractalTexture::add(const SurfaceTexture& t, double origin_x_mm, double ori
       }
     }
   }
+  // Statistics over roi ∩ stats, in roi-relative coordinates (row-major, as tex_ is laid out).
+  Roi s{std::max(roi.x0, stats.x0) - roi.x0, std::max(roi.y0, stats.y0) - roi.y0,
+        std::min(roi.x1, stats.x1) - roi.x0, std::min(roi.y1, stats.y1) - roi.y0};
+  if (stats.empty() || s.empty()) s = {0, 0, w, hh};
   double sum = 0, sum_sq = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const auto v = static_cast<double>(tex_[i]);
-    sum += v;
-    sum_sq += v * v;
+  for (int32_t y = s.y0; y < s.y1; ++y) {
+    const float* tr = tex_.data() + static_cast<size_t>(y) * static_cast<size_t>(w);
+    for (int32_t x = s.x0; x < s.x1; ++x) {
+      const auto v = static_cast<double>(tr[x]);
+      sum += v;
+      sum_sq += v * v;
+    }
   }
-  const double mean = sum / static_cast<double>(n);
-  const double var = std::max(0.0, sum_sq / static_cast<double>(n) - mean * mean);
+  const auto count = static_cast<double>(s.width()) * static_cast<double>(s.height());
+  const double mean = sum / count;
+  const double var = std::max(0.0, sum_sq / count - mean * mean);
   if (!(var > 0)) return;
   const auto scale = static_cast<float>(t.sq_um * 1e-3 / std::sqrt(var));
   const auto m = static_cast<float>(mean);

@@ -19,9 +19,12 @@ class FractalTexture {
   explicit FractalTexture(const FrameGrid& grid);
 
   // Adds the texture of `t` (object origin at (origin_x_mm, origin_y_mm) from the gel centre)
-  // to h (mm) inside `roi` (the object's surface), zero-mean with RMS sq over it. Nothing happens
-  // for sq_um == 0.
-  void add(const SurfaceTexture& t, double origin_x_mm, double origin_y_mm, Roi roi, float* h);
+  // to h (mm) inside `roi` (the object's surface), zero-mean with RMS sq over roi ∩ `stats`
+  // (all of roi when `stats` is empty or misses it: a renderer with a periphery passes the
+  // processed view, so its centre gets the texture a plain renderer draws). Nothing happens for
+  // sq_um == 0.
+  void add(const SurfaceTexture& t, double origin_x_mm, double origin_y_mm, Roi roi, float* h,
+           Roi stats = {});
 
   // The last texture added (mm) over the last roi, row stride roi width; for tests.
   const std::vector<float>& last() const { return tex_; }

@@ -40,6 +40,7 @@ Status validate(const SensorProfile& p) {
     TLV_TRY(check_int_range("sensor.raw_height", p.raw_height, 16, 16384));
     TLV_TRY(check_int_range("sensor.raw_width", p.raw_width, 16, 16384));
   }
+  TLV_TRY(check_range("sensor.raw_crop", p.raw_crop, 0, 0.45));
   TLV_ENSURE(p.raw_format == "rgb" || p.raw_format == "mjpeg" || p.raw_format == "yuyv",
              ErrorCode::kInvalidArgument,
              "sensor.raw_format = \"%.*s\" (expected \"rgb\", \"mjpeg\" or \"yuyv\")",

@@ -25,10 +25,15 @@ struct SensorProfile {
   // Processed frame the simulator renders (what a dataset stores).
   int32_t height = 240, width = 320;         // [16, 4096]
   double mm_per_px = 0.0634;                 // [0.01, 0.5]
-  // What the physical camera emits before cropping/resizing (the raw capture path later
-  // fakes this): e.g. the Mini's MJPEG 3280x2464. 0 = same as the processed frame.
+  // What the physical camera emits before cropping/resizing (RawCamera in raw_camera.h renders
+  // it): e.g. the Mini's MJPEG 3280x2464. 0 = the processed size (in the camera's orientation).
   int32_t raw_height = 0, raw_width = 0;
   std::string_view raw_format = "rgb";       // "rgb", "mjpeg", "yuyv"
+  // The processed frame is the raw frame with raw_crop of each border cut away, resized; the
+  // Mini: 0.15. raw_transposed: the processed frame is the raw one transposed and then flipped
+  // top to bottom (what DIGIT's Python interface returns).
+  double raw_crop = 0;                       // [0, 0.45]
+  bool raw_transposed = false;
   // Gel.
   double gel_thickness_mm = 4.0;             // [0.5, 10]
   double gel_modulus_pa = 150e3;             // [1e3, 1e8]
@@ -55,7 +60,8 @@ struct SensorProfile {
 };
 
 // Names: "gelsight-mini" (240x320 processed, 0.0634 mm/px; the camera emits MJPEG 3280x2464),
-// "digit" (camera 320x240, stored transposed: 240 wide x 320 high, 0.04 mm/px),
+// "digit" (camera 320x240 YUYV, stored transposed and flipped top to bottom: 240 wide x 320
+// high, 0.04 mm/px),
 // "digit-640x480" (480 wide x 640 high, 0.02 mm/px), "gelsight-r1.5" (240x320, 0.06 mm/px).
 // Values and their sources: tools/sim/README.md, "Sensor profiles".
 std::span<const std::string_view> sensor_profile_names();

@@ -1,0 +1,186 @@
+// RawCamera: processed frame -> (periphery) -> upright raw RGB -> the camera's bytes.
+#include <algorithm>
+#include <cstring>
+
+#include "raw/layout.h"
+#include "raw/mjpeg.h"
+#include "raw/pixel_formats.h"
+#include "raw/resample.h"
+#include "render/renderer_internal.h"
+#include "tlvlink/sim/raw_camera.h"
+
+namespace tlvlink::sim {
+namespace {
+
+using namespace internal;  // NOLINT: the raw camera's own internals
+
+// Height-map value of the periphery the map does not cover: the lowest value validate()
+// accepts, 1 m below the gel, which no press (<= 20 mm) reaches.
+constexpr float kFarBelowMm = -1000.0f;
+
+class RawCameraImpl final : public RawCamera {
+ public:
+  Status init(const SensorProfile& profile, uint64_t sensor_seed, const RawOptions& options);
+  Status render(const ContactScene& scene, const RenderOptions& options, uint64_t noise_seed,
+                RawFrame& out) override;
+  const RawLayout& layout() const override { return layout_; }
+  const SensorProfile& profile() const override { return renderer_->profile(); }
+
+ private:
+  Status render_periphery(const ContactScene& scene, const RenderOptions& options,
+                          uint64_t noise_seed, const Frame& processed);
+  void pad_height_map(const ContactScene& scene);
+  Status encode(const uint8_t* upright, RawFrame& out);
+
+  RawLayout layout_;
+  UprightSize upright_size_;
+  Periphery pad_;
+  bool resize_ = false;  // false: the upright raw frame is the processed frame itself
+  std::unique_ptr<Renderer> renderer_, wide_;
+  ContactScene wide_scene_;
+  Frame wide_frame_;
+  Resampler resampler_;
+  std::vector<uint8_t> upright_, oriented_;
+  MjpegEncoder jpeg_;
+};
+
+Status RawCameraImpl::init(const SensorProfile& profile, uint64_t sensor_seed,
+                           const RawOptions& options) {
+  TLV_ASSIGN_OR_RETURN(layout_, raw_layout(profile));
+  TLV_ASSIGN_OR_RETURN(renderer_, Renderer::create(profile, sensor_seed));
+  upright_size_ = upright_size(layout_);
+  pad_ = raw_periphery(layout_, profile);
+  resize_ = layout_.crop > 0 || upright_size_.width != profile.width ||
+            upright_size_.height != profile.height;
+  if (layout_.crop > 0) {
+    // Same sensor seed: the periphery continues this sensor's background and LED gains.
+    TLV_ASSIGN_OR_RETURN(wide_, create_renderer_with_periphery(profile, sensor_seed, pad_));
+  }
+  const size_t upright_bytes =
+      static_cast<size_t>(upright_size_.width) * static_cast<size_t>(upright_size_.height) * 3;
+  if (resize_) {
+    const int32_t src_w = profile.width + 2 * pad_.x, src_h = profile.height + 2 * pad_.y;
+    resampler_.plan(src_w, src_h, upright_size_.width, upright_size_.height,
+                    raw_from_render(layout_.crop, upright_size_.width, profile.width, pad_.x),
+                    raw_from_render(layout_.crop, upright_size_.height, profile.height, pad_.y));
+    upright_.assign(upright_bytes, 0);
+  }
+  if (layout_.format == RawFormat::kMjpeg) {
+    TLV_TRY(jpeg_.init(layout_.width, layout_.height, options.jpeg_quality));
+    if (layout_.transposed) oriented_.assign(upright_bytes, 0);
+  }
+  return {};
+}
+
+// The scene for the wide render: the same object at the processed render's press depth, so the
+// imprint is continuous across the edge of the processed view even when the contact reaches
+// past it (by force, the extra contact area in the periphery would carry load and the imprint
+// would be shallower there). No JPEG round trip: the periphery is only seen through the MJPEG.
+Status RawCameraImpl::render_periphery(const ContactScene& scene, const RenderOptions& options,
+                                       uint64_t noise_seed, const Frame& processed) {
+  wide_scene_.geometry.shape = scene.geometry.shape;
+  wide_scene_.geometry.radius_mm = scene.geometry.radius_mm;
+  wide_scene_.geometry.length_mm = scene.geometry.length_mm;
+  wide_scene_.geometry.angle_deg = scene.geometry.angle_deg;
+  wide_scene_.geometry.center_x_mm = scene.geometry.center_x_mm;
+  wide_scene_.geometry.center_y_mm = scene.geometry.center_y_mm;
+  if (scene.geometry.shape == Shape::kHeightMap) pad_height_map(scene);
+  wide_scene_.texture = scene.texture;
+  wide_scene_.mechanics = scene.mechanics;
+  wide_scene_.loading = scene.loading;
+  wide_scene_.loading.force_n = -1;
+  // (Presses beyond the 20 mm a scene may ask for, reached only by very soft objects under
+  // force control, are capped there for the periphery.)
+  wide_scene_.loading.press_mm = std::clamp(processed.state.press_mm, 0.0, 20.0);
+  RenderOptions wide_options = options;
+  wide_options.jpeg_quality = 0;
+  TLV_TRY(wide_->render(wide_scene_, wide_options, noise_seed, wide_frame_));
+  // The processed frame itself in the centre: the raw frame holds exactly what
+  // RawFrame::processed holds (up to the resampling and the encoding).
+  const size_t row = static_cast<size_t>(processed.width) * 3;
+  const size_t wide_row = static_cast<size_t>(wide_frame_.width) * 3;
+  for (int32_t y = 0; y < processed.height; ++y) {
+    std::memcpy(wide_frame_.rgb.data() + static_cast<size_t>(y + pad_.y) * wide_row +
+                    static_cast<size_t>(pad_.x) * 3,
+                processed.rgb.data() + static_cast<size_t>(y) * row, row);
+  }
+  return {};
+}
+
+// The map covers the processed frame; the periphery has no surface. Built in place in
+// wide_scene_'s vector (its capacity survives from frame to frame).
+void RawCameraImpl::pad_height_map(const ContactScene& scene) {
+  const SensorProfile& p = renderer_->profile();
+  const size_t w = static_cast<size_t>(p.width), h = static_cast<size_t>(p.height);
+  const size_t ww = w + 2 * static_cast<size_t>(pad_.x);
+  const size_t wh = h + 2 * static_cast<size_t>(pad_.y);
+  auto& map = wide_scene_.geometry.height_map_mm;
+  map.assign(ww * wh, kFarBelowMm);
+  const auto& src = scene.geometry.height_map_mm;  // size checked: render() ran first
+  for (size_t y = 0; y < h; ++y) {
+    std::copy_n(src.data() + y * w, w,
+                map.data() + (y + static_cast<size_t>(pad_.y)) * ww + static_cast<size_t>(pad_.x));
+  }
+}
+
+Status RawCameraImpl::encode(const uint8_t* upright, RawFrame& out) {
+  switch (layout_.format) {
+    case RawFormat::kRgb:
+      out.bytes.resize(layout_.frame_bytes);
+      upright_to_raw_rgb(upright, layout_, out.bytes.data());
+      return {};
+    case RawFormat::kYuyv:
+      out.bytes.resize(layout_.frame_bytes);
+      upright_to_yuyv(upright, layout_, out.bytes.data());
+      return {};
+    case RawFormat::kMjpeg: {
+      const uint8_t* rgb = upright;
+      if (layout_.transposed) {
+        upright_to_raw_rgb(upright, layout_, oriented_.data());
+        rgb = oriented_.data();
+      }
+      TLV_ASSIGN_OR_RETURN(std::span<const uint8_t> jpeg, jpeg_.encode(rgb));
+      // Reserve the worst case once (address space; pages are touched as bytes are written):
+      // a later, larger frame never reallocates.
+      if (out.bytes.capacity() < jpeg_.max_bytes()) out.bytes.reserve(jpeg_.max_bytes());
+      out.bytes.assign(jpeg.begin(), jpeg.end());
+      return {};
+    }
+  }
+  return Error::make(ErrorCode::kInvalidArgument, "raw format %d",
+                     static_cast<int>(layout_.format));
+}
+
+Status RawCameraImpl::render(const ContactScene& scene, const RenderOptions& options,
+                             uint64_t noise_seed, RawFrame& out) {
+  TLV_TRY(renderer_->render(scene, options, noise_seed, out.processed));
+  const Frame* source = &out.processed;
+  if (wide_ != nullptr) {
+    TLV_TRY(render_periphery(scene, options, noise_seed, out.processed));
+    source = &wide_frame_;
+  }
+  const uint8_t* upright = source->rgb.data();
+  if (resize_) {
+    resampler_.run(source->rgb.data(), upright_.data());
+    upright = upright_.data();
+  }
+  const Status encoded = encode(upright, out);
+  if (!encoded.ok()) {
+    const SensorProfile& p = renderer_->profile();
+    return encoded.error().with_context("%.*s raw frame", static_cast<int>(p.name.size()),
+                                        p.name.data());
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<std::unique_ptr<RawCamera>> RawCamera::create(const SensorProfile& profile,
+                                                     uint64_t sensor_seed,
+                                                     const RawOptions& options) {
+  auto camera = std::make_unique<RawCameraImpl>();
+  TLV_TRY(camera->init(profile, sensor_seed, options));
+  return std::unique_ptr<RawCamera>(std::move(camera));
+}
+
+}  // namespace tlvlink::sim
