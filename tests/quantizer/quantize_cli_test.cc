@@ -115,6 +115,16 @@ TEST_F(QuantizeCli, Touch100kSetGivesAVerifiableInt8ModelAndAReport) {
   EXPECT_EQ(j["calibration"]["frames"], 10);
   EXPECT_EQ(j["calibration"]["heldout_frames"], 6);
   EXPECT_GT(j["embedding"]["cosine_mean"].get<double>(), 0.99);
+  // Bias correction is on by default: every conv/FC with a bias was measured and corrected.
+  EXPECT_NE(r.out.find("bias corr."), std::string::npos) << r.out;
+  ASSERT_TRUE(j["bias_correction"].is_object()) << j.dump();
+  EXPECT_EQ(j["bias_correction"]["frames"], 10);  // all 10 calibration frames (< 64)
+  size_t linear = 0;
+  for (const Operator& op : (*model)->graph().operators)
+    linear += op.type == OpType::kConv2D || op.type == OpType::kFullyConnected;
+  EXPECT_EQ(j["bias_correction"]["layers"].size(), linear);
+  for (const auto& l : j["bias_correction"]["layers"])
+    EXPECT_GT(l["channels_measured"].get<int>(), 0) << l.dump();
   ASSERT_TRUE(j["layers"].is_array());
   EXPECT_EQ(j["layers"].size(), (*model)->graph().operators.size() - 2);  // minus Q and DQ
   const std::string csv = read_text(fs::path(path("rep")) / "layers.csv");
@@ -126,6 +136,13 @@ TEST_F(QuantizeCli, Touch100kSetGivesAVerifiableInt8ModelAndAReport) {
               " --calib-split train" + kCounts);
   ASSERT_RUN(r, 0);
   EXPECT_NE(r.out.find("(train split): 20 frames in 5 groups"), std::string::npos) << r.out;
+
+  // --bias-correction 0 turns it off, and says so.
+  r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " + path("q0.tlvm") +
+              " --bias-correction 0 --report " + path("rep0") + kCounts);
+  ASSERT_RUN(r, 0);
+  EXPECT_NE(r.out.find("bias corr.   off"), std::string::npos) << r.out;
+  EXPECT_TRUE(nlohmann::json::parse(read_text(fs::path(path("rep0")) / "report.json"))["bias_correction"].is_null());
 }
 
 TEST_F(QuantizeCli, KeepFloatFirstAndLastAreReportedWithTheirReason) {
@@ -223,8 +240,9 @@ TEST_F(QuantizeCli, SweepWritesOneRowPerVariantAndThreadCount) {
                      " --methods minmax,mse --threads 1,2 --runs 3 --warmup 1" +
                      " --keep-float first,last" + kCounts);
   ASSERT_RUN(r, 0);
-  // 2 models x (fp32, per-tensor minmax, per-channel minmax, per-channel mse, mixed) x 2 threads.
-  constexpr long kRows = 2 * 5 * 2;
+  // 2 models x (fp32, per-channel minmax without bias correction, per-tensor minmax, per-channel
+  // minmax, per-channel mse, mixed) x 2 threads.
+  constexpr long kRows = 2 * 6 * 2;
   const std::string csv = read_text(fs::path(path("sweep")) / "sweep.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), kRows + 1);
   const auto j = nlohmann::json::parse(read_text(fs::path(path("sweep")) / "sweep.json"));
@@ -244,6 +262,12 @@ TEST_F(QuantizeCli, SweepWritesOneRowPerVariantAndThreadCount) {
     EXPECT_EQ(row["fp32_ops"].get<int>(), 2) << row.dump();
   }
   EXPECT_EQ(mixed, 4u);
+  // Every int8 row but the one named so is bias-corrected on the calibration frames.
+  for (const auto& row : j["rows"]) {
+    const bool plain = row["variant"] == "int8 per-channel minmax without bias correction";
+    const bool int8 = row["precision"] == "int8";
+    EXPECT_EQ(row["bias_correction_frames"].get<int>(), int8 && !plain ? 10 : 0) << row.dump();
+  }
   EXPECT_RUN(run_tlvlink("quantize-sweep --models " + path("nope.tlvm") + " --calib extreme -o " + path("s2")), 2);
 }
 

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cinttypes>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
 #include "cli/common.h"
@@ -14,6 +15,7 @@
 #include "cli/quantize_report.h"
 #include "io/file.h"
 #include "io/progress.h"
+#include "tlvlink/quantize/bias_correction.h"
 #include "tlvlink/quantize/layer_error.h"
 #include "tlvlink/quantize/quantizer.h"
 
@@ -37,6 +39,7 @@ struct QuantizeFlags {
   double max_bias_raise = 16.0;
   bool no_fuse = false;
   int golden = 2;
+  int bias_correction_frames = 64;
   TaskEvalFlags tasks;
   bool quiet = false;
 };
@@ -94,6 +97,7 @@ std::string quantization_json(const QuantizeFlags& f, const quantize::Calibratio
       {"activations", "int8 per-tensor asymmetric"},
       {"weights", "int8 " + f.weights + " symmetric [-127,127]"},
       {"bias", "int32"},
+      {"bias_correction_frames", f.bias_correction_frames},
       {"fp32_layers", fallbacks}};
   return j.dump();
 }
@@ -135,7 +139,25 @@ int run_quantize(const QuantizeFlags& f) {
   qopt.max_bias_scale_raise = f.max_bias_raise;
   qopt.fuse_clamps = !f.no_fuse;
   const std::vector<quantize::TensorRange> ranges = quantize::select_ranges(*stats, copt);
-  auto q = quantize::quantize_model(fp32, ranges, qopt);
+  std::optional<quantize::CorrectedModel> corrected;
+  auto make_int8 = [&]() -> Result<quantize::QuantizedModel> {
+    if (f.bias_correction_frames <= 0) return quantize::quantize_model(fp32, ranges, qopt);
+    int64_t layers = 0;
+    for (const Operator& op : fp32.graph().operators)
+      layers += (op.type == OpType::kConv2D || op.type == OpType::kFullyConnected) &&
+                op.inputs[2] != kNoTensor;
+    tools::Progress p("quantize: bias correction (layers)", layers, stderr,
+                      f.quiet ? tools::ProgressMode::kQuiet : tools::ProgressMode::kAuto);
+    quantize::BiasCorrectionOptions bo;
+    bo.max_frames = static_cast<size_t>(f.bias_correction_frames);
+    bo.on_layer = [&p](size_t done, size_t) { p.set(static_cast<int64_t>(done)); };
+    auto c = quantize::correct_biases(fp32, ranges, qopt, data->calibration, bo);
+    p.finish();
+    if (!c.ok()) return c.error();
+    corrected = std::move(c).value();
+    return std::move(corrected->model);
+  };
+  auto q = make_int8();
   if (!q.ok()) return report_error(cmd, q.error());
   std::string fallbacks;
   for (const quantize::LayerDecision& d : q->layers)
@@ -194,6 +216,7 @@ int run_quantize(const QuantizeFlags& f) {
   run.calibration_frames = stats->frames;
   run.heldout_frames = data->heldout.size();
   run.quantized = &*q;
+  run.corrected = corrected ? &*corrected : nullptr;
   run.error = error ? &*error : nullptr;
   if (!f.report_dir.empty()) {
     if (Status s = write_report(f.report_dir, run); !s.ok()) return report_error(cmd, s.error());
@@ -239,6 +262,12 @@ void add_quantize_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(1.0, 1e6))
       ->capture_default_str();
   cmd->add_flag("--no-fuse", f->no_fuse, "Do not fuse standalone ReLU/ReLU6 clamps into the op before");
+  cmd->add_option("--bias-correction", f->bias_correction_frames,
+                  "Empirical bias correction on this many calibration frames (0 = off): each "
+                  "conv/FC layer's mean output shift per channel, caused by quantization, is "
+                  "measured and removed from its bias, layer by layer")
+      ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
   cmd->add_option("--golden", f->golden, "Golden I/O pairs to embed (from held-out frames)")
       ->check(CLI::Range(0, 8))
       ->capture_default_str();

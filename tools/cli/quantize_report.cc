@@ -82,6 +82,22 @@ std::string format_summary(const QuantizeRun& run) {
     add(first ? "fp32 layers" : "", d.op + " (" + op_type_name(d.type) + "): " + d.reason);
     first = false;
   }
+  if (run.corrected != nullptr) {
+    const quantize::CorrectedModel& c = *run.corrected;
+    double worst = 0;
+    std::string worst_op;
+    for (const quantize::BiasCorrectionLayer& l : c.layers) {
+      const double in_steps = l.int8 && l.step > 0 ? l.max_abs_shift / l.step : 0;
+      if (in_steps >= worst) worst = in_steps, worst_op = l.op;
+    }
+    std::snprintf(line, sizeof(line),
+                  "%zu layers on %zu calibration frames; largest mean shift removed %.2f int8 "
+                  "steps (%s)",
+                  c.layers.size(), c.frames, worst, worst_op.c_str());
+    add("bias corr.", line);
+  } else {
+    add("bias corr.", "off");
+  }
   first = true;
   for (const quantize::LayerDecision& d : q.layers) {
     for (const std::string& a : d.adjustments) {
@@ -170,6 +186,21 @@ nlohmann::json report_json(const QuantizeRun& run) {
                       {"frames", run.calibration_frames},
                       {"heldout_frames", run.heldout_frames}};
   j["weights"] = quantize::weight_granularity_name(run.weights);
+  if (run.corrected != nullptr) {
+    nlohmann::json bc = nlohmann::json::array();
+    for (const quantize::BiasCorrectionLayer& l : run.corrected->layers) {
+      bc.push_back({{"op", l.op},
+                    {"dtype", l.int8 ? "int8" : "fp32"},
+                    {"step", l.step},
+                    {"mean_abs_shift", l.mean_abs_shift},
+                    {"max_abs_shift", l.max_abs_shift},
+                    {"channels", l.channels},
+                    {"channels_measured", l.channels_measured}});
+    }
+    j["bias_correction"] = {{"frames", run.corrected->frames}, {"layers", bc}};
+  } else {
+    j["bias_correction"] = nullptr;
+  }
   j["keep_float"] = run.keep_float;
   j["operators"] = {{"int8", q.int8_ops}, {"fp32", q.float_ops}, {"fused", q.fused_ops},
                     {"conversions_inserted", q.conversions}};

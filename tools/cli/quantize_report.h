@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tlvlink/error.h"
+#include "tlvlink/quantize/bias_correction.h"
 #include "tlvlink/quantize/calibration_method.h"
 #include "tlvlink/quantize/layer_error.h"
 #include "tlvlink/quantize/quantizer.h"
@@ -24,6 +25,7 @@ struct QuantizeRun {
   std::vector<std::string> keep_float;
   uint64_t calibration_frames = 0, heldout_frames = 0;
   const quantize::QuantizedModel* quantized = nullptr;  // borrowed for the call
+  const quantize::CorrectedModel* corrected = nullptr;  // with bias correction; borrowed
   const quantize::ModelError* error = nullptr;          // null: no held-out frames
   size_t output_bytes = 0, golden_pairs = 0;
   std::vector<std::pair<std::string, double>> timing;  // phase, seconds

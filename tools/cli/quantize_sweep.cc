@@ -20,6 +20,7 @@
 #include "cli/quantize_plot.h"
 #include "cli/quantize_report.h"
 #include "io/file.h"
+#include "tlvlink/quantize/bias_correction.h"
 #include "tlvlink/quantize/layer_error.h"
 #include "tlvlink/quantize/quantizer.h"
 
@@ -37,6 +38,7 @@ struct SweepFlags {
   std::vector<std::string> methods = {"minmax", "ema", "percentile", "entropy", "mse"};
   std::vector<std::string> keep_float;  // non-empty: one more row, mixed precision
   double percentile = 99.99;
+  int bias_correction_frames = 64;  // 0: off
   int runs = 50, warmup = 5;
   bool quiet = false;
 };
@@ -47,6 +49,7 @@ struct Variant {
   quantize::WeightGranularity weights = quantize::WeightGranularity::kPerChannel;
   quantize::CalibrationMethod method = quantize::CalibrationMethod::kMinMax;
   std::vector<std::string> keep_float;
+  bool bias_correction = true;  // when the sweep corrects at all (--bias-correction > 0)
 };
 
 struct Latency {
@@ -55,6 +58,7 @@ struct Latency {
 
 struct Row {
   std::string model, model_name, resolution, variant, precision, weights, method;
+  size_t bias_correction_frames = 0;
   size_t model_index = 0, variant_index = 0;
   double mmac = 0;
   int threads = 1;
@@ -128,9 +132,18 @@ double load_average() {
 }
 
 std::vector<Variant> variants(const std::vector<quantize::CalibrationMethod>& methods,
-                              const std::vector<std::string>& keep_float) {
+                              const std::vector<std::string>& keep_float, bool bias_correction) {
   std::vector<Variant> v;
   v.push_back({"fp32", true, {}, {}, {}});
+  // What bias correction does on its own: the main method's per-channel row without it.
+  quantize::CalibrationMethod main = methods.front();
+  for (quantize::CalibrationMethod c : methods)
+    if (c == quantize::CalibrationMethod::kPercentile) main = c;
+  if (bias_correction) {
+    v.push_back({std::string("int8 per-channel ") + quantize::calibration_method_name(main) +
+                     " without bias correction",
+                 false, quantize::WeightGranularity::kPerChannel, main, {}, false});
+  }
   v.push_back({std::string("int8 per-tensor ") + quantize::calibration_method_name(methods.front()),
                false, quantize::WeightGranularity::kPerTensor, methods.front(), {}});
   for (quantize::CalibrationMethod m : methods)
@@ -140,13 +153,11 @@ std::vector<Variant> variants(const std::vector<quantize::CalibrationMethod>& me
     std::string list;
     for (const std::string& k : keep_float) list += (list.empty() ? "" : ",") + k;
     // Percentile (quantize's default) when swept, else the first method.
-    quantize::CalibrationMethod m = methods.front();
-    for (quantize::CalibrationMethod c : methods)
-      if (c == quantize::CalibrationMethod::kPercentile) m = c;
-    v.push_back({std::string("int8 per-channel ") + quantize::calibration_method_name(m) +
+    v.push_back({std::string("int8 per-channel ") + quantize::calibration_method_name(main) +
                      " + fp32 " + list,
-                 false, quantize::WeightGranularity::kPerChannel, m, keep_float});
+                 false, quantize::WeightGranularity::kPerChannel, main, keep_float});
   }
+  for (Variant& x : v) x.bias_correction = x.bias_correction && bias_correction && !x.fp32;
   return v;
 }
 
@@ -192,7 +203,18 @@ Status sweep_model(const SweepFlags& f, size_t index, const std::vector<Variant>
       quantize::QuantizerOptions qo;
       qo.weights = v.weights;
       qo.keep_float = v.keep_float;
-      TLV_ASSIGN_OR_RETURN(auto q, quantize::quantize_model(fp32, quantize::select_ranges(stats, c), qo));
+      const std::vector<quantize::TensorRange> ranges = quantize::select_ranges(stats, c);
+      quantize::QuantizedModel q;
+      if (v.bias_correction) {
+        quantize::BiasCorrectionOptions bo;
+        bo.max_frames = static_cast<size_t>(f.bias_correction_frames);
+        TLV_ASSIGN_OR_RETURN(auto corrected,
+                             quantize::correct_biases(fp32, ranges, qo, data->calibration, bo));
+        base.bias_correction_frames = corrected.frames;
+        q = std::move(corrected.model);
+      } else {
+        TLV_ASSIGN_OR_RETURN(q, quantize::quantize_model(fp32, ranges, qo));
+      }
       const std::vector<std::byte> file = q.builder.finish();
       TLV_ASSIGN_OR_RETURN(int8, Model::load(file));
       base.bytes = file.size();
@@ -227,14 +249,15 @@ Status sweep_model(const SweepFlags& f, size_t index, const std::vector<Variant>
 }
 
 std::string csv_of(const std::vector<Row>& rows) {
-  std::string s = "model,name,resolution,mmac,variant,precision,weights,method,threads,int8_ops,fp32_ops,"
+  std::string s = "model,name,resolution,mmac,variant,precision,weights,method,bias_correction_frames,threads,int8_ops,fp32_ops,"
                   "bytes,cosine_mean,cosine_min,one_minus_cosine,sqnr_db,max_abs,latency_median_ms,"
                   "latency_p90_ms,latency_min_ms\n";
   char line[512];
   for (const Row& r : rows) {
-    std::snprintf(line, sizeof(line), "%s,%s,%s,%.2f,%s,%s,%s,%s,%d,%zu,%zu,%zu,%.7f,%.7f,%.3e,%s,%.5g,%.4f,%.4f,%.4f\n",
+    std::snprintf(line, sizeof(line), "%s,%s,%s,%.2f,%s,%s,%s,%s,%zu,%d,%zu,%zu,%zu,%.7f,%.7f,%.3e,%s,%.5g,%.4f,%.4f,%.4f\n",
                   csv_cell(r.model).c_str(), csv_cell(r.model_name).c_str(), r.resolution.c_str(), r.mmac,
-                  r.variant.c_str(), r.precision.c_str(), r.weights.c_str(), r.method.c_str(), r.threads,
+                  r.variant.c_str(), r.precision.c_str(), r.weights.c_str(), r.method.c_str(),
+                  r.bias_correction_frames, r.threads,
                   r.int8_ops, r.fp32_ops, r.bytes, r.cos_mean, r.cos_min, 1.0 - r.cos_mean,
                   format_db(r.sqnr_db).c_str(), r.max_abs, r.latency.median, r.latency.p90, r.latency.min);
     s += line;
@@ -259,7 +282,8 @@ nlohmann::json json_of(const SweepFlags& f, const std::vector<Row>& rows, double
   for (const Row& r : rows) {
     j["rows"].push_back({{"model", r.model}, {"name", r.model_name}, {"resolution", r.resolution},
                          {"mmac", r.mmac}, {"variant", r.variant}, {"precision", r.precision},
-                         {"weights", r.weights}, {"method", r.method}, {"threads", r.threads},
+                         {"weights", r.weights}, {"method", r.method},
+                         {"bias_correction_frames", r.bias_correction_frames}, {"threads", r.threads},
                          {"int8_ops", r.int8_ops}, {"fp32_ops", r.fp32_ops}, {"bytes", r.bytes},
                          {"cosine_mean", r.cos_mean}, {"cosine_min", r.cos_min},
                          {"sqnr_db", json_number(r.sqnr_db)}, {"max_abs", r.max_abs},
@@ -319,7 +343,7 @@ int run_sweep(const SweepFlags& f) {
     methods.push_back(*m);
   }
   if (methods.empty()) return report_error(cmd, Error(ErrorCode::kInvalidArgument, "--methods is empty"));
-  const std::vector<Variant> vars = variants(methods, f.keep_float);
+  const std::vector<Variant> vars = variants(methods, f.keep_float, f.bias_correction_frames > 0);
   const double load_before = load_average();
   std::vector<Row> rows;
   for (size_t i = 0; i < f.models.size(); ++i) {
@@ -383,6 +407,11 @@ void add_quantize_sweep_command(CLI::App& app, int& exit_code) {
       ->delimiter(',');
   cmd->add_option("--percentile", f->percentile, "Percentile of the percentile method")
       ->check(CLI::Range(50.0, 100.0))
+      ->capture_default_str();
+  cmd->add_option("--bias-correction", f->bias_correction_frames,
+                  "Empirical bias correction of every int8 variant on this many calibration frames "
+                  "(0 = off; otherwise one more row shows the main method without it)")
+      ->check(CLI::Range(0, 100000))
       ->capture_default_str();
   cmd->add_option("--runs", f->runs, "Timed inferences per latency figure")
       ->check(CLI::Range(1, 100000))

@@ -139,11 +139,39 @@ class Emitter {
     return s.f;
   }
 
+  // The float bias of operator i with its BiasOffset added (the model's own values without one).
+  std::vector<float> corrected_bias(size_t i) {
+    const Operator& op = g_.operators[i];
+    const std::span<const float> b = floats_of(g_.tensor(op.inputs[2]));
+    std::vector<float> out(b.begin(), b.end());
+    for (const BiasOffset& o : opt_.bias_offsets) {
+      if (o.op != op.name) continue;
+      for (size_t c = 0; c < out.size() && c < o.delta.size(); ++c) out[c] += o.delta[c];
+    }
+    return out;
+  }
+  bool has_offset(const Operator& op) const {
+    return std::any_of(opt_.bias_offsets.begin(), opt_.bias_offsets.end(),
+                       [&](const BiasOffset& o) { return o.op == op.name; });
+  }
+
   Status emit_float(size_t i, std::string reason) {
     const Operator& op = g_.operators[i];
+    const bool corrected = has_offset(op);  // bias input 2 becomes a corrected copy
     std::vector<int32_t> in;
-    for (size_t k = 0; k < op.input_count; ++k)
-      in.push_back(op.inputs[k] == kNoTensor ? kNoTensor : float_of(op.inputs[k]));
+    for (size_t k = 0; k < op.input_count; ++k) {
+      if (op.inputs[k] == kNoTensor) {
+        in.push_back(kNoTensor);
+      } else if (corrected && k == 2) {
+        const Tensor& b = g_.tensor(op.inputs[2]);
+        const std::vector<float> v = corrected_bias(i);
+        in.push_back(out_.builder.add_constant_bytes(std::string(b.name), DType::kFloat32,
+                                                     dims_of(b.shape),
+                                                     std::as_bytes(std::span<const float>(v))));
+      } else {
+        in.push_back(float_of(op.inputs[k]));
+      }
+    }
     const int32_t y = define_native(plan_[i].output, false);
     out_.builder.add_op(op.type, std::string(op.name), in, y, with_activation(op, plan_[i].activation));
     LayerDecision& d = out_.layers[i];
@@ -178,7 +206,11 @@ class Emitter {
     LinearRequest r;
     r.weights = floats_of(w);
     r.cout = w.shape[0];
-    if (op.inputs[2] != kNoTensor) r.bias = floats_of(g_.tensor(op.inputs[2]));
+    std::vector<float> bias;
+    if (op.inputs[2] != kNoTensor) {
+      bias = corrected_bias(i);
+      r.bias = bias;
+    }
     r.input_scale = in.spec.scale[0];
     r.output_scale = out.spec.scale[0];
     r.granularity = opt_.weights;

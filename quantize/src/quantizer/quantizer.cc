@@ -2,6 +2,7 @@
 
 #include "tlvlink/quantize/quantizer.h"
 
+#include <cmath>
 #include <cstring>
 
 #include "quantizer/quantizer_internal.h"
@@ -99,6 +100,23 @@ Result<QuantizedModel> quantize_model(const Model& fp32, std::span<const TensorR
     TLV_ENSURE(r.observed(), ErrorCode::kInvalidArgument,
                "tensor '%.*s' has no calibration range", static_cast<int>(t.name.size()),
                t.name.data());
+  }
+  for (const BiasOffset& o : options.bias_offsets) {
+    const Operator* op = nullptr;
+    for (const Operator& candidate : g.operators)
+      if (candidate.name == o.op) op = &candidate;
+    TLV_ENSURE(op != nullptr && (op->type == OpType::kConv2D || op->type == OpType::kFullyConnected) &&
+                   op->inputs[2] != kNoTensor,
+               ErrorCode::kInvalidArgument,
+               "bias offset for '%s': the model has no Conv2D / FullyConnected of that name with a bias",
+               o.op.c_str());
+    const size_t channels = g.tensor(op->inputs[2]).shape.elements();
+    TLV_ENSURE(o.delta.size() == channels, ErrorCode::kInvalidArgument,
+               "bias offset for '%s': %zu values for %zu output channels", o.op.c_str(),
+               o.delta.size(), channels);
+    for (float d : o.delta)
+      TLV_ENSURE(std::isfinite(d), ErrorCode::kNonFiniteValue, "bias offset for '%s' is not finite",
+                 o.op.c_str());
   }
   TLV_ASSIGN_OR_RETURN(auto plan, quantizer_internal::make_plan(g, options));
   TLV_ASSIGN_OR_RETURN(QuantizedModel q, quantizer_internal::emit_quantized(fp32, ranges, options, plan));

@@ -88,6 +88,15 @@ std::vector<TensorRange> select_ranges(const CalibrationStats& stats,
 enum class WeightGranularity : uint8_t { kPerChannel = 0, kPerTensor };
 const char* weight_granularity_name(WeightGranularity g);  // "per-channel", "per-tensor"
 
+// A correction added to the float bias of a Conv2D / FullyConnected before it is quantized (or
+// copied, for a layer that stays fp32): one value per output channel. Made by
+// correct_biases() (bias_correction.h); an unknown operator, an operator without a bias or a
+// length other than its channel count is an error (kInvalidArgument).
+struct BiasOffset {
+  std::string op;
+  std::vector<float> delta;
+};
+
 struct QuantizerOptions {
   WeightGranularity weights = WeightGranularity::kPerChannel;
   // Operator names kept in fp32; "first" / "last": the first / last Conv2D or FullyConnected.
@@ -101,6 +110,7 @@ struct QuantizerOptions {
   // before it (when it is that op's only consumer).
   bool fuse_clamps = true;
   std::string quantization_json;  // written into provenance.quantization
+  std::vector<BiasOffset> bias_offsets;
 };
 
 enum class LayerPrecision : uint8_t { kInt8 = 0, kFloat };
