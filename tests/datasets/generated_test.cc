@@ -2,10 +2,13 @@
 // CLI's ordered parallel generation giving the same bytes for any thread count.
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
+#include <tuple>
 
 #include "cli/sim_commands.h"
 #include "datasets/samples.h"
@@ -95,19 +98,55 @@ TEST(Generated, TouchSetsLoadBackInBothFormats) {
   EXPECT_GT(stats->sentence_mean_words, 0.0);
 }
 
+// Every regular file under `a` has the same bytes under `b`; returns how many were compared.
+int expect_same_files(const std::filesystem::path& a, const std::filesystem::path& b) {
+  int files = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(a)) {
+    if (!e.is_regular_file()) continue;
+    const auto rel = std::filesystem::relative(e.path(), a);
+    EXPECT_EQ(file_bytes(e.path()), file_bytes(b / rel)) << rel;
+    ++files;
+  }
+  return files;
+}
+
 TEST(Generated, OutputDoesNotDependOnTheThreadCount) {
   TempDir tmp;
   const auto gen = small_touch_set();
   ASSERT_TRUE(write_touch(tmp / "one", gen, 1, false).ok());
   ASSERT_TRUE(write_touch(tmp / "three", gen, 3, false).ok());
-  int files = 0;
-  for (const auto& e : std::filesystem::recursive_directory_iterator(tmp / "one")) {
-    if (!e.is_regular_file()) continue;
-    const auto rel = std::filesystem::relative(e.path(), tmp / "one");
-    EXPECT_EQ(file_bytes(e.path()), file_bytes(std::filesystem::path(tmp / "three") / rel)) << rel;
-    ++files;
+  // images, data_list.json, sidecar, tlvlink_sim.json
+  EXPECT_EQ(expect_same_files(tmp / "one", tmp / "three"), 6 * 2 + 3);
+}
+
+// With several sensor instances a worker switches Renderers between sessions: the bytes must
+// still depend only on (seed, index), and the instance is recorded in the sidecar and options.
+TEST(Generated, SensorInstancesDoNotDependOnTheThreadCountAndAreRecorded) {
+  TempDir tmp;
+  auto gen = small_touch_set();
+  gen.sessions = 6;
+  gen.sensor_instances = 4;
+  ASSERT_TRUE(write_touch(tmp / "one", gen, 1, false).ok());
+  ASSERT_TRUE(write_touch(tmp / "three", gen, 3, false).ok());
+  EXPECT_EQ(expect_same_files(tmp / "one", tmp / "three"), 12 * 2 + 3);
+
+  const auto prov = nlohmann::json::parse(file_bytes(tmp / "one/tlvlink_sim.json"));
+  EXPECT_EQ(prov["generator"]["sensor_instances"], 4);
+  auto generator = sim::TouchSampleGenerator::create(gen);
+  ASSERT_TRUE(generator.ok());
+  auto loader = open_touch100k(tmp / "one", {});
+  ASSERT_TRUE(loader.ok());
+  sim::TouchSample want, got;
+  std::set<int32_t> used;
+  for (int64_t i = 0; i < (*generator)->size(); ++i) {
+    ASSERT_TRUE((*generator)->generate(i, want).ok());
+    auto more = (*loader)->next(got);
+    ASSERT_TRUE(more.ok() && more.value());
+    EXPECT_EQ(got.sensor_instance, want.sensor_instance) << "sample " << i;
+    used.insert(want.sensor_instance);
   }
-  EXPECT_EQ(files, 6 * 2 + 3);  // images, data_list.json, sidecar, tlvlink_sim.json
+  EXPECT_GE(used.size(), 2u) << "6 sessions on 4 sensors";
+  EXPECT_EQ((*loader)->report().problem_count(), 0) << (*loader)->report().summary();
 }
 
 TEST(Generated, GraspEpisodesLoadBackFromHdf5AndRepacked) {
@@ -118,6 +157,7 @@ TEST(Generated, GraspEpisodesLoadBackFromHdf5AndRepacked) {
   gen.vision_height = 24;
   gen.vision_width = 32;
   gen.seed = 5;
+  gen.sensor_instances = 3;
   auto generator = sim::GraspEpisodeGenerator::create(gen);
   ASSERT_TRUE(generator.ok()) << generator.error().message();
   FeelWriterOptions wo;
@@ -145,6 +185,8 @@ TEST(Generated, GraspEpisodesLoadBackFromHdf5AndRepacked) {
     EXPECT_EQ(got.object_name, w.object_name);
     EXPECT_EQ(got.is_gripping, w.is_gripping);
     EXPECT_DOUBLE_EQ(got.variables.mass_kg, w.variables.mass_kg);
+    EXPECT_EQ(got.sensor_instance[0], w.sensor_instance[0]);  // from the tlvlink_sim attribute
+    EXPECT_EQ(got.sensor_instance[1], w.sensor_instance[1]);
     EXPECT_EQ(got.frames[1][1].width, w.frames[1][1].width);
     EXPECT_EQ(got.vision[2].width, 32);
   }
@@ -152,8 +194,19 @@ TEST(Generated, GraspEpisodesLoadBackFromHdf5AndRepacked) {
   FeelLoaderOptions all;
   auto rl = open_feel_repacked(tmp / "repacked", all);
   ASSERT_TRUE(rl.ok());
+  // The repacked loader gives the train split first: compare as sets of (episode, instances).
+  using Key = std::tuple<std::string, double, int32_t, int32_t>;
+  std::multiset<Key> wrote, loaded;
+  for (const auto& w : want)
+    wrote.emplace(w.object_name, w.variables.com_offset_mm, w.sensor_instance[0],
+                  w.sensor_instance[1]);
   int n = 0;
-  while ((*rl)->next(got).value()) ++n;
+  while ((*rl)->next(got).value()) {
+    ++n;
+    loaded.emplace(got.object_name, got.variables.com_offset_mm, got.sensor_instance[0],
+                   got.sensor_instance[1]);  // instances from the sidecar
+  }
+  EXPECT_EQ(loaded, wrote);
   EXPECT_EQ(n, 6);
   EXPECT_EQ((*rl)->report().problem_count(), 0) << (*rl)->report().summary();
 }

@@ -21,6 +21,7 @@ struct FeelFlags {
   std::string sensor = "gelsight-mini";
   int vision_height = 240, vision_width = 320;
   bool no_markers = false;
+  int sensor_instances = 1;
   bool repacked = false;
   int records_per_file = 100;
   int deflate_level = 1;
@@ -43,6 +44,7 @@ int run_feel(const FeelFlags& f) {
   gen.vision_width = f.vision_width;
   gen.markers = !f.no_markers;
   gen.seed = f.seed;
+  gen.sensor_instances = f.sensor_instances;
   std::vector<std::unique_ptr<sim::GraspEpisodeGenerator>> generators;
   for (int t = 0; t < f.threads; ++t) {
     auto g = sim::GraspEpisodeGenerator::create(gen);
@@ -116,6 +118,13 @@ void add_sim_feel_command(CLI::App& sim, int& exit_code) {
       ->check(CLI::Range(1, 8192))
       ->capture_default_str();
   cmd->add_flag("--no-markers", f->no_markers, "Render without the marker grid");
+  cmd->add_option("--sensor-instances", f->sensor_instances,
+                  "Simulated sensor instances to randomize over: each differs in LED gains "
+                  "(+-15 %), background non-uniformity, white balance and exposure; fingers A and "
+                  "B are two sensors, each drawn per episode from (seed, episode, finger). 1 = "
+                  "one sensor for both fingers and the whole set")
+      ->check(CLI::Range(1, sim::kMaxSensorInstances))
+      ->capture_default_str();
   cmd->add_flag("--repacked", f->repacked,
                 "TLV-Link's layout: data/<touch_dir>/gelsight*.jpg + {train,test}_info.json");
   cmd->add_option("--records-per-file", f->records_per_file, "HDF5: grasps per file")

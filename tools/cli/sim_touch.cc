@@ -14,6 +14,12 @@
 namespace tlvlink::cli {
 namespace {
 
+constexpr const char* kSensorInstancesHelp =
+    "Simulated sensor instances to randomize over: each differs in LED gains (+-15 %), "
+    "background non-uniformity, white balance and exposure; each session is recorded on one, "
+    "drawn from (seed, session). 1 = one sensor for the whole set (a model trained on it does "
+    "not transfer to another instance)";
+
 struct TouchFlags {
   std::string format;  // "touch100k" or "tag"
   std::string output_dir;
@@ -23,6 +29,7 @@ struct TouchFlags {
   std::string sensor = "gelsight-mini";
   int vision_height = 240, vision_width = 320;
   bool markers = false;
+  int sensor_instances = 1;
   int jpeg_quality = 90;
   double test_fraction = 0.2;
   bool no_sidecar = false;
@@ -39,6 +46,7 @@ int run_touch(const TouchFlags& f) {
   gen.vision_width = f.vision_width;
   gen.markers = f.markers;
   gen.seed = f.seed;
+  gen.sensor_instances = f.sensor_instances;
   std::vector<std::unique_ptr<sim::TouchSampleGenerator>> generators;
   for (int t = 0; t < f.threads; ++t) {
     auto g = sim::TouchSampleGenerator::create(gen);
@@ -95,6 +103,9 @@ void add_touch_command(CLI::App& sim, int& exit_code, const char* name, const ch
       ->check(CLI::Range(1, 8192))
       ->capture_default_str();
   cmd->add_flag("--markers", f->markers, "Render the marker grid");
+  cmd->add_option("--sensor-instances", f->sensor_instances, kSensorInstancesHelp)
+      ->check(CLI::Range(1, sim::kMaxSensorInstances))
+      ->capture_default_str();
   cmd->add_option("--jpeg-quality", f->jpeg_quality, "Quality of the stored JPEGs")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();

@@ -42,6 +42,7 @@ Status check_episode(const sim::GraspEpisode& e, bool need_vision) {
 void reset_episode(sim::GraspEpisode& e) {
   e.object_name.clear();
   e.object_id = -1;
+  for (int32_t& k : e.sensor_instance) k = -1;  // unknown unless the metadata says
   e.material = sim::MaterialSample{};
   e.material.class_id = -1;
   e.variables = sim::GraspVariables{};

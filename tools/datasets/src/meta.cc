@@ -81,6 +81,16 @@ void read_variables(const Json& j, sim::GraspVariables& v) {
   v.margin = j.at("margin").get<double>();
 }
 
+// "sensor_instance": an integer (touch) or one per finger (grasp). Sets written before the field
+// existed were drawn on one sensor, instance 0. Throws like .at() on a malformed value.
+int32_t read_instance(const Json& meta, int finger) {
+  const auto it = meta.find("sensor_instance");
+  if (it == meta.end()) return 0;
+  const int32_t k = (it->is_array() ? it->at(static_cast<size_t>(finger)) : *it).get<int32_t>();
+  if (k < 0) throw Json::other_error::create(501, "sensor_instance < 0", &meta);
+  return k;
+}
+
 }  // namespace
 
 bool parse_json(const std::string& text, Json& out, std::string& why) {
@@ -99,6 +109,7 @@ OrderedJson touch_meta(const sim::TouchSample& s, const std::string& key, bool t
           {"session", s.session},
           {"frame_index", s.frame_index},
           {"object_id", s.object_id},
+          {"sensor_instance", s.sensor_instance},
           {"material", material_json(s.material)},
           {"contact", contact_json(s.contact)}};
 }
@@ -114,6 +125,7 @@ OrderedJson grasp_meta(const sim::GraspEpisode& e, const std::string& key, bool 
           {"split", test ? "test" : "train"},
           {"object_name", e.object_name},
           {"object_id", e.object_id},
+          {"sensor_instance", {e.sensor_instance[0], e.sensor_instance[1]}},
           {"is_gripping", e.is_gripping},
           {"material", material_json(e.material)},
           {"variables", variables_json(e.variables)},
@@ -123,6 +135,7 @@ OrderedJson grasp_meta(const sim::GraspEpisode& e, const std::string& key, bool 
 bool apply_touch_meta(const Json& meta, sim::TouchSample& out, std::string& why) {
   try {
     out.object_id = meta.at("object_id").get<int32_t>();
+    out.sensor_instance = read_instance(meta, 0);
     read_material(meta.at("material"), out.material);
     read_contact(meta.at("contact"), out.contact);
     return true;
@@ -135,6 +148,7 @@ bool apply_touch_meta(const Json& meta, sim::TouchSample& out, std::string& why)
 bool apply_grasp_meta(const Json& meta, sim::GraspEpisode& out, std::string& why) {
   try {
     out.object_id = meta.at("object_id").get<int32_t>();
+    for (int f = 0; f < sim::kFingers; ++f) out.sensor_instance[f] = read_instance(meta, f);
     read_material(meta.at("material"), out.material);
     read_variables(meta.at("variables"), out.variables);
     const Json& states = meta.at("states");

@@ -29,7 +29,8 @@ std::string touch_set_options_json(const sim::TouchSetOptions& o) {
                    {"vision_height", o.vision_height},
                    {"vision_width", o.vision_width},
                    {"markers", o.markers},
-                   {"seed", o.seed}};
+                   {"seed", o.seed},
+                   {"sensor_instances", o.sensor_instances}};
   return j.dump();
 }
 
@@ -41,7 +42,8 @@ std::string grasp_set_options_json(const sim::GraspSetOptions& o) {
                    {"vision_height", o.vision_height},
                    {"vision_width", o.vision_width},
                    {"markers", o.markers},
-                   {"seed", o.seed}};
+                   {"seed", o.seed},
+                   {"sensor_instances", o.sensor_instances}};
   return j.dump();
 }
 

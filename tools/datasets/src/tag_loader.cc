@@ -117,6 +117,7 @@ class TagLoader final : public TouchSampleLoader {
     out.session = l.session;
     out.frame_index = l.frame_index;
     out.object_id = -1;
+    out.sensor_instance = -1;  // unknown unless the sidecar says
     out.material = sim::MaterialSample{};
     out.material.class_id = l.label;
     const auto hard = hard_.find(l.key);

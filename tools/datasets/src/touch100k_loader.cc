@@ -23,6 +23,7 @@ void reset_touch(sim::TouchSample& s) {
   s.session.clear();
   s.frame_index = -1;
   s.object_id = -1;
+  s.sensor_instance = -1;  // unknown unless the sidecar says
   s.material = sim::MaterialSample{};
   s.material.class_id = -1;
   s.contact = sim::ContactState{};

@@ -13,6 +13,7 @@
 
 #include "sim/src/gen/grasp_model.h"
 #include "sim/src/gen/grasp_profile.h"
+#include "sim/src/gen/sensor_instances.h"
 #include "sim/src/gen/session_names.h"
 #include "tlvlink/sim/generate.h"
 #include "tlvlink/sim/vision.h"
@@ -44,6 +45,9 @@ Status validate(const GraspSetOptions& o) {
                  o.vision_width <= kMaxVisionSide,
              ErrorCode::kInvalidArgument, "grasp set: vision size %dx%d is outside 1..%d",
              o.vision_height, o.vision_width, kMaxVisionSide);
+  TLV_ENSURE(o.sensor_instances >= 1 && o.sensor_instances <= kMaxSensorInstances,
+             ErrorCode::kInvalidArgument, "grasp set: sensor_instances = %d is outside 1..%d",
+             o.sensor_instances, kMaxSensorInstances);
   return {};
 }
 
@@ -65,11 +69,11 @@ FingerRatio finger_ratio(const GraspVariables& v, int32_t f) {
 
 class GraspGenerator final : public GraspEpisodeGenerator {
  public:
-  GraspGenerator(const GraspSetOptions& o, std::unique_ptr<Renderer> r)
+  GraspGenerator(const GraspSetOptions& o, std::unique_ptr<internal::RendererCache> r)
       : options_(o),
-        renderer_(std::move(r)),
-        gel_(internal::gel_contact_model(renderer_->profile())) {
-    options_.sensor = renderer_->profile().name;  // the caller's string may not outlive us
+        renderers_(std::move(r)),
+        gel_(internal::gel_contact_model(renderers_->profile())) {
+    options_.sensor = renderers_->profile().name;  // the caller's string may not outlive us
   }
 
   int64_t size() const override {
@@ -89,6 +93,9 @@ class GraspGenerator final : public GraspEpisodeGenerator {
     out.object_name = internal::object_name(object.material.class_id, object_index);
     out.object_id = static_cast<int32_t>(object_index);
     out.material = object.material;
+    for (int32_t f = 0; f < kFingers; ++f)
+      out.sensor_instance[f] =
+          internal::grasp_finger_instance(seed, index, f, options_.sensor_instances);
 
     Rng rng(derive_seed(seed, {tag(Stream::kGrasp), static_cast<uint64_t>(index), 1}));
     const bool both = setup.finger_in_contact[0] && setup.finger_in_contact[1];
@@ -97,6 +104,8 @@ class GraspGenerator final : public GraspEpisodeGenerator {
     RenderOptions render;
     render.markers = options_.markers;
     for (int32_t f = 0; f < kFingers; ++f) {
+      // Finger f's sensor; the cache keeps both fingers' Renderers.
+      TLV_ASSIGN_OR_RETURN(Renderer * renderer, renderers_->get(out.sensor_instance[f]));
       ContactScene scene = base_scene(object, setup, f);
       auto noise = [&](Moment m) {
         return derive_seed(seed, {tag(Stream::kRender), static_cast<uint64_t>(index),
@@ -105,20 +114,22 @@ class GraspGenerator final : public GraspEpisodeGenerator {
       // before: the fingers are open.
       ContactScene open = scene;
       open.geometry.shape = Shape::kNone;
-      TLV_TRY(render_into(open, render, noise(Moment::kBefore), out, f, Moment::kBefore));
+      TLV_TRY(
+          render_into(*renderer, open, render, noise(Moment::kBefore), out, f, Moment::kBefore));
       // during: closed on the resting object (a missing finger closes on air).
       ContactScene during = setup.finger_in_contact[f] ? scene : open;
       const double dir = rng.uniform(0, 2 * std::numbers::pi), q = rng.uniform(0, kDuringShearMaxN);
       during.loading.shear_x_n = q * std::cos(dir);
       during.loading.shear_y_n = q * std::sin(dir);
-      TLV_TRY(render_into(during, render, noise(Moment::kDuring), out, f, Moment::kDuring));
+      TLV_TRY(
+          render_into(*renderer, during, render, noise(Moment::kDuring), out, f, Moment::kDuring));
       // after: the lift.
       ContactScene after = dropped ? open : scene;
       if (!dropped) {
         set_lift_load(out.variables, f, out.states[f][static_cast<int>(Moment::kDuring)],
                       out.is_gripping, slip_mm, after.loading);
       }
-      TLV_TRY(render_into(after, render, noise(Moment::kAfter), out, f, Moment::kAfter));
+      TLV_TRY(render_into(*renderer, after, render, noise(Moment::kAfter), out, f, Moment::kAfter));
     }
     return render_vision(object, index, out);
   }
@@ -155,9 +166,9 @@ class GraspGenerator final : public GraspEpisodeGenerator {
     l.slip_mm = held ? 0.0 : slip_mm;
   }
 
-  Status render_into(const ContactScene& scene, const RenderOptions& render, uint64_t noise,
-                     GraspEpisode& out, int32_t f, Moment m) {
-    TLV_TRY(renderer_->render(scene, render, noise, frame_));
+  Status render_into(Renderer& renderer, const ContactScene& scene, const RenderOptions& render,
+                     uint64_t noise, GraspEpisode& out, int32_t f, Moment m) {
+    TLV_TRY(renderer.render(scene, render, noise, frame_));
     internal::copy_frame(frame_, out.frames[f][static_cast<int>(m)]);
     out.states[f][static_cast<int>(m)] = frame_.state;
     return {};
@@ -186,7 +197,7 @@ class GraspGenerator final : public GraspEpisodeGenerator {
   }
 
   GraspSetOptions options_;
-  std::unique_ptr<Renderer> renderer_;
+  std::unique_ptr<internal::RendererCache> renderers_;
   internal::GelContactModel gel_;
   Frame frame_;
 };
@@ -198,9 +209,9 @@ Result<std::unique_ptr<GraspEpisodeGenerator>> GraspEpisodeGenerator::create(
   TLV_TRY(validate(options));
   TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(options.sensor));
   TLV_ASSIGN_OR_RETURN(
-      std::unique_ptr<Renderer> renderer,
-      Renderer::create(profile, derive_seed(options.seed, {tag(Stream::kSensor)})));
-  return std::unique_ptr<GraspEpisodeGenerator>(new GraspGenerator(options, std::move(renderer)));
+      std::unique_ptr<internal::RendererCache> renderers,
+      internal::RendererCache::create(profile, options.seed, options.sensor_instances));
+  return std::unique_ptr<GraspEpisodeGenerator>(new GraspGenerator(options, std::move(renderers)));
 }
 
 }  // namespace tlvlink::sim

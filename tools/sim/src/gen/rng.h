@@ -41,6 +41,7 @@ enum class Stream : uint64_t {
   kOracle,
   kHidden,
   kTexture,
+  kSensorInstance,  // which sensor instance draws a session / a finger (appended: tags never move)
 };
 inline constexpr uint64_t tag(Stream s) {
   return static_cast<uint64_t>(s);

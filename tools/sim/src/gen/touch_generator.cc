@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "sim/src/gen/rng.h"
+#include "sim/src/gen/sensor_instances.h"
 #include "sim/src/gen/session_names.h"
 #include "tlvlink/sim/describe.h"
 #include "tlvlink/sim/generate.h"
@@ -49,15 +50,18 @@ Status validate(const TouchSetOptions& o) {
                  o.vision_width <= kMaxVisionSide,
              ErrorCode::kInvalidArgument, "touch set: vision size %dx%d is outside 1..%d",
              o.vision_height, o.vision_width, kMaxVisionSide);
+  TLV_ENSURE(o.sensor_instances >= 1 && o.sensor_instances <= kMaxSensorInstances,
+             ErrorCode::kInvalidArgument, "touch set: sensor_instances = %d is outside 1..%d",
+             o.sensor_instances, kMaxSensorInstances);
   return {};
 }
 
 class TouchGenerator final : public TouchSampleGenerator {
  public:
-  TouchGenerator(const TouchSetOptions& o, std::unique_ptr<Renderer> r,
+  TouchGenerator(const TouchSetOptions& o, std::unique_ptr<internal::RendererCache> r,
                  std::shared_ptr<const Describer> d)
-      : options_(o), renderer_(std::move(r)), describer_(std::move(d)) {
-    options_.sensor = renderer_->profile().name;  // the caller's string may not outlive us
+      : options_(o), renderers_(std::move(r)), describer_(std::move(d)) {
+    options_.sensor = renderers_->profile().name;  // the caller's string may not outlive us
   }
 
   int64_t size() const override {
@@ -78,6 +82,10 @@ class TouchGenerator final : public TouchSampleGenerator {
     out.session = internal::session_name(seed, session);
     out.frame_index = static_cast<int32_t>(index % options_.frames_per_session);
     out.object_id = static_cast<int32_t>(session);
+    // The session's sensor: consecutive frames of a session reuse the kept Renderer.
+    out.sensor_instance =
+        internal::touch_session_instance(seed, session, options_.sensor_instances);
+    TLV_ASSIGN_OR_RETURN(Renderer * renderer, renderers_->get(out.sensor_instance));
 
     // The press.
     Rng rng(derive_seed(seed, {tag(Stream::kFrame), static_cast<uint64_t>(index)}));
@@ -85,7 +93,7 @@ class TouchGenerator final : public TouchSampleGenerator {
     const Press press = make_press(out.material, texture_seed, rng, scene);
     RenderOptions render;
     render.markers = options_.markers;
-    TLV_TRY(renderer_->render(
+    TLV_TRY(renderer->render(
         scene, render, derive_seed(seed, {tag(Stream::kRender), static_cast<uint64_t>(index)}),
         frame_));
     internal::copy_frame(frame_, out.touch);
@@ -162,7 +170,7 @@ class TouchGenerator final : public TouchSampleGenerator {
   }
 
   TouchSetOptions options_;
-  std::unique_ptr<Renderer> renderer_;
+  std::unique_ptr<internal::RendererCache> renderers_;
   std::shared_ptr<const Describer> describer_;
   Frame frame_;
   Description description_;
@@ -174,13 +182,13 @@ Result<std::unique_ptr<TouchSampleGenerator>> TouchSampleGenerator::create(
     const TouchSetOptions& options) {
   TLV_TRY(validate(options));
   TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(options.sensor));
-  // One sensor instance per dataset: its background is fixed by the dataset seed.
+  // The set's sensor instances; their backgrounds are fixed by the dataset seed.
   TLV_ASSIGN_OR_RETURN(
-      std::unique_ptr<Renderer> renderer,
-      Renderer::create(profile, derive_seed(options.seed, {tag(Stream::kSensor)})));
+      std::unique_ptr<internal::RendererCache> renderers,
+      internal::RendererCache::create(profile, options.seed, options.sensor_instances));
   TLV_ASSIGN_OR_RETURN(std::shared_ptr<const Describer> describer, Describer::create());
   return std::unique_ptr<TouchSampleGenerator>(
-      new TouchGenerator(options, std::move(renderer), std::move(describer)));
+      new TouchGenerator(options, std::move(renderers), std::move(describer)));
 }
 
 }  // namespace tlvlink::sim

@@ -25,6 +25,10 @@ struct TouchSample {
   std::string session;              // "YYYYMMDD_HHMMSS", unique per session
   int32_t frame_index = 0;          // within the session
   int32_t object_id = 0;            // one object per session
+  // The simulated sensor the session was recorded on, 0..sensor_instances-1 (generate.h); the
+  // same for every frame of a session. Loaders: 0 from sidecars written before the field
+  // existed (those sets used one instance), -1 when there is no simulator metadata.
+  int32_t sensor_instance = 0;
   MaterialSample material;
   ContactState contact;
   RgbImage touch;                   // the GelSight frame
@@ -57,6 +61,8 @@ struct GraspVariables {
 struct GraspEpisode {
   std::string object_name;          // unique per object; splits are by object
   int32_t object_id = 0;
+  // The simulated sensor of each finger ([gelsightA, gelsightB]), as TouchSample's.
+  int32_t sensor_instance[kFingers] = {0, 0};
   MaterialSample material;
   GraspVariables variables;
   bool is_gripping = false;         // label: still held after the lift

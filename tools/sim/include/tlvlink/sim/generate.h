@@ -13,6 +13,16 @@
 
 namespace tlvlink::sim {
 
+// Domain randomization over sensor instances. Every Renderer seed is one physical sensor (LED
+// gains, background non-uniformity, white balance, exposure); a model trained on frames of one
+// instance does not transfer to another, so a set can be drawn on several. Instance 0 is the
+// one a set with a single instance uses (so `sensor_instances = 1` gives the bytes it always
+// gave); instance k >= 1 is seeded by hashing (seed, k).
+inline constexpr int32_t kMaxSensorInstances = 100'000;
+// The Renderer seed of instance `instance` (0 <= instance < kMaxSensorInstances) of a set with
+// this seed: Renderer::create(profile, sensor_instance_seed(seed, k)) rebuilds that sensor.
+uint64_t sensor_instance_seed(uint64_t seed, int32_t instance);
+
 struct TouchSetOptions {
   int32_t sessions = 100;           // one object (one material sample) per session
   int32_t frames_per_session = 10;  // presses of that object at varied force/position/shear
@@ -20,8 +30,16 @@ struct TouchSetOptions {
   int32_t vision_height = 240, vision_width = 320;
   bool markers = false;
   uint64_t seed = 1;
+  // 1..kMaxSensorInstances simulated sensors; each session is recorded on one of them, drawn by
+  // hashing (seed, session), like a real recording session on one physical sensor.
+  int32_t sensor_instances = 1;
 };
 
+// Generators keep at most two sensor instances' Renderers alive (both fingers of an episode,
+// or the current session plus one) and build another when a session or finger needs it: ~1 ms
+// of sensor tables and ~12 MB of buffers on the GelSight Mini, so with sensor_instances > 1 a
+// set costs ~1 ms more per session (touch, per generator thread) or per finger (grasp) and one
+// more Renderer per generator; memory does not grow with sensor_instances.
 class TouchSampleGenerator {
  public:
   static Result<std::unique_ptr<TouchSampleGenerator>> create(const TouchSetOptions& options);
@@ -38,6 +56,9 @@ struct GraspSetOptions {
   int32_t vision_height = 240, vision_width = 320;
   bool markers = true;              // shear shows in the marker field
   uint64_t seed = 1;
+  // 1..kMaxSensorInstances simulated sensors; fingers A and B are two physical sensors, so each
+  // episode draws one instance per finger, independently, by hashing (seed, episode, finger).
+  int32_t sensor_instances = 1;
 };
 
 class GraspEpisodeGenerator {
