@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Reproduces the shipped default models, firmware/models/touch-tiny-{fp32,int8}.tlvm:
 #   tools/setup/make_default_models.sh [--install] [OUT_DIR]      (OUT_DIR: /tmp/tlvlink-default)
-# 1. tools/trainer/train_default.sh: simulator set (12,000 Touch100k-format samples, seed 1),
+# 1. tools/trainer/train_default.sh: simulator set (12,000 Touch100k-format samples, seed 1, 64
+#    simulated sensor instances),
 #    TLV-Link training of `tiny` (built-in teacher, curriculum), export to OUT_DIR/tiny.tlvm.
-# 2. A simulated Feel set (150 objects x 8 grasps, seed 2027) for the grasp head.
+# 2. A simulated Feel set (150 objects x 8 grasps, seed 2027, 64 sensor instances) for the grasp head.
 # 3. `tlvlink heads fit`: linear probes (material, hard/soft, rough/smooth) on the training split
 #    of the Touch100k set and the grasp head on the Feel set, on the runtime's own embeddings
 #    -> OUT_DIR/touch-tiny-fp32.tlvm.
@@ -26,10 +27,11 @@ tlvlink=$build/tools/cli/tlvlink
 TLVLINK_BUILD=$build TLVLINK_TRAIN_ARCH=tiny bash tools/trainer/train_default.sh "$out"
 
 feel=$out/feel
-if [ ! -f "$feel/tlvlink_sim.json" ]; then
-  echo "== Feel set (grasp head): 150 objects x 8 grasps, seed 2027 -> $feel"
+if [ ! -f "$feel/tlvlink_sim.json" ] || ! grep -q '"sensor_instances": *64' "$feel/tlvlink_sim.json"; then
+  rm -rf "$feel"
+  echo "== Feel set (grasp head): 150 objects x 8 grasps, 64 sensor instances, seed 2027 -> $feel"
   "$tlvlink" sim feel -o "$feel" --objects 150 --grasps-per-object 8 --repacked --seed 2027 \
-    --vision-height 60 --vision-width 80
+    --sensor-instances 64 --vision-height 60 --vision-width 80
 fi
 
 echo "== heads fit -> $out/touch-tiny-fp32.tlvm"
