@@ -242,7 +242,7 @@ Status sweep_model(const SweepFlags& f, size_t index, const std::vector<Variant>
   TLV_TRY(time_interleaved(timed, f.runs));
   for (Timed& t : timed) rows[t.row].latency = latency_of(t.samples);
   for (size_t i = first_row; i < rows.size(); ++i) {
-    std::fprintf(stderr, "  %-28s %d thread(s): cosine %.5f, median %.3f ms\n", rows[i].variant.c_str(),
+    std::fprintf(stderr, "  %-50s %d thread(s): cosine %.5f, median %.3f ms\n", rows[i].variant.c_str(),
                  rows[i].threads, rows[i].cos_mean, rows[i].latency.median);
   }
   return {};
@@ -364,13 +364,16 @@ int run_sweep(const SweepFlags& f) {
                           shell_quote((dir / "sweep.svg").string());
     png = std::system(c.c_str()) == 0;
   }
-  std::printf("%-24s %-9s %-28s %3s %9s %9s %8s %10s %10s\n", "model", "res", "variant", "thr",
+  // The variant column is as wide as the longest name, so the figures line up.
+  int width = 7;
+  for (const Row& r : rows) width = std::max(width, static_cast<int>(r.variant.size()));
+  std::printf("%-24s %-9s %-*s %3s %9s %9s %8s %10s %10s\n", "model", "res", width, "variant", "thr",
               "cos mean", "cos min", "SQNR dB", "median ms", "p90 ms");
   for (const Row& r : rows) {
     const std::string name = fs::path(r.model).filename().string();
-    std::printf("%-24.24s %-9s %-28s %3d %9.5f %9.5f %8s %10.3f %10.3f\n", name.c_str(), r.resolution.c_str(),
-                r.variant.c_str(), r.threads, r.cos_mean, r.cos_min, format_db(r.sqnr_db).c_str(),
-                r.latency.median, r.latency.p90);
+    std::printf("%-24.24s %-9s %-*s %3d %9.5f %9.5f %8s %10.3f %10.3f\n", name.c_str(),
+                r.resolution.c_str(), width, r.variant.c_str(), r.threads, r.cos_mean, r.cos_min,
+                format_db(r.sqnr_db).c_str(), r.latency.median, r.latency.p90);
   }
   std::printf("load average (1 min) %.2f at the start, %.2f at the end, on %u cores\n", load_before,
               load_average(), std::thread::hardware_concurrency());
