@@ -13,8 +13,10 @@
 #include <fstream>
 #include <memory>
 
+#include "io/npy.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/model.h"
+#include "tlvlink/text/text_encoder.h"
 #include "trainer/trainer_support.h"
 
 namespace tlvlink::trainer {
@@ -252,6 +254,98 @@ TEST_F(Trainer, TorchScriptTeacherWithProjection) {
       << bad.error().message();
   o.teacher.torchscript = out / "missing.pt";
   EXPECT_EQ(train(o).error().code(), ErrorCode::kFormat);
+}
+
+// Precomputed embeddings (tools/text/README.md layout) of every sample and prompt: seeded random
+// unit vectors of dimension `dim`; `skip_key` leaves one sample out.
+void write_precomputed(const std::string& data_dir, const std::string& out, int32_t dim,
+                       const std::string& skip_key = "") {
+  std::filesystem::create_directories(out);
+  std::vector<std::string> keys;
+  std::ifstream list(data_dir + "/data_list.json");
+  std::string line;
+  while (std::getline(list, line)) {
+    const size_t a = line.find("\"img\":\"") + 7, b = line.find('"', a);
+    const std::string key = line.substr(a, b - a);
+    if (key != skip_key) keys.push_back(key);
+  }
+  std::vector<std::string> prompts;
+  for (const text::PromptSet& set : {text::material_prompts(), text::hardness_prompts(),
+                                     text::roughness_prompts(), text::grasp_prompts()})
+    for (size_t c = 0; c < set.class_names.size(); ++c)
+      for (const std::string& p : set.prompts_for(c)) prompts.push_back(p);
+  uint64_t state = 99;
+  auto rows = [&](size_t n) {
+    std::vector<float> v(n * static_cast<size_t>(dim));
+    for (float& x : v) {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      x = static_cast<float>(static_cast<int64_t>(state >> 40) - (int64_t{1} << 23)) / 8388608.0f;
+    }
+    return v;
+  };
+  auto write_lines = [](const std::string& path, const std::vector<std::string>& lines) {
+    std::ofstream f(path);
+    for (const std::string& l : lines) f << l << "\n";
+  };
+  const auto n = static_cast<int64_t>(keys.size()), pn = static_cast<int64_t>(prompts.size());
+  write_lines(out + "/keys.txt", keys);
+  write_lines(out + "/prompts.txt", prompts);
+  ASSERT_TRUE(tools::write_npy(out + "/sentence.npy", tools::NpyArray::from<float>({n, dim}, rows(keys.size()))).ok());
+  ASSERT_TRUE(tools::write_npy(out + "/phrase.npy", tools::NpyArray::from<float>({n, dim}, rows(keys.size()))).ok());
+  ASSERT_TRUE(tools::write_npy(out + "/prompts.npy", tools::NpyArray::from<float>({pn, dim}, rows(prompts.size()))).ok());
+}
+
+// A user's own frozen text model: training aligns the student with the precomputed sentence +
+// phrase embeddings (the embedding takes their dimension), export builds every zero-shot matrix
+// from the precomputed prompt embeddings, and a sample without an embedding is an error naming it.
+TEST_F(Trainer, PrecomputedTextEmbeddingsTrainAndExport) {
+  TempDir out("precomputed");
+  constexpr int32_t kDim = 32;
+  write_precomputed(data(), out / "emb", kDim);
+  TrainOptions o = quick_options(data(), out / "p.ckpt");
+  o.text.embeddings_dir = out / "emb";
+  auto r = train(o);
+  ASSERT_TRUE(r.ok()) << r.error().message();
+  ExportOptions e;
+  e.checkpoint = out / "p.ckpt";
+  e.output = out / "p.tlvm";
+  auto exported = export_model(e);
+  ASSERT_TRUE(exported.ok()) << exported.error().message();
+  auto model = Model::load_file(e.output.c_str());
+  ASSERT_TRUE(model.ok()) << model.error().message();
+  const Metadata& meta = (*model)->metadata();
+  EXPECT_EQ(meta.embedding_dim, kDim);
+  EXPECT_NE(meta.provenance.training.find("precomputed"), std::string::npos);
+  auto enc = text::open_precomputed_text_embeddings(out / "emb");
+  ASSERT_TRUE(enc.ok()) << enc.error().message();
+  const text::PromptSet sets[] = {text::material_prompts(), text::hardness_prompts(),
+                                  text::roughness_prompts(), text::grasp_prompts()};
+  ASSERT_EQ(meta.zero_shot_heads.size(), 4u);
+  for (size_t h = 0; h < 4; ++h) {
+    SCOPED_TRACE(sets[h].task);
+    auto want = text::zero_shot_matrix(**enc, sets[h]);
+    ASSERT_TRUE(want.ok()) << want.error().message();
+    const auto& got = meta.zero_shot_heads[h].prompt_matrix;
+    ASSERT_EQ(got.size(), want->size());
+    for (size_t i = 0; i < got.size(); ++i) EXPECT_FLOAT_EQ(got[i], (*want)[i]) << i;
+  }
+
+  // One training sample without its embedding: the error names the key.
+  std::string first_key;
+  {
+    std::ifstream list(data() + "/data_list.json");
+    std::string line;
+    std::getline(list, line);
+    const size_t a = line.find("\"img\":\"") + 7;
+    first_key = line.substr(a, line.find('"', a) - a);
+  }
+  write_precomputed(data(), out / "partial", kDim, first_key);
+  TrainOptions partial = quick_options(data(), out / "q.ckpt");
+  partial.text.embeddings_dir = out / "partial";
+  auto bad = train(partial);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(std::string(bad.error().message()).find(first_key), std::string::npos)
+      << bad.error().message();
 }
 
 // The error of a run that must fail (an "ok" error when it unexpectedly succeeds).
