@@ -142,10 +142,7 @@ int run_quantize(const QuantizeFlags& f) {
   std::optional<quantize::CorrectedModel> corrected;
   auto make_int8 = [&]() -> Result<quantize::QuantizedModel> {
     if (f.bias_correction_frames <= 0) return quantize::quantize_model(fp32, ranges, qopt);
-    int64_t layers = 0;
-    for (const Operator& op : fp32.graph().operators)
-      layers += (op.type == OpType::kConv2D || op.type == OpType::kFullyConnected) &&
-                op.inputs[2] != kNoTensor;
+    const auto layers = static_cast<int64_t>(quantize::correctable_layers(fp32.graph()));
     tools::Progress p("quantize: bias correction (layers)", layers, stderr,
                       f.quiet ? tools::ProgressMode::kQuiet : tools::ProgressMode::kAuto);
     quantize::BiasCorrectionOptions bo;

@@ -8,13 +8,14 @@
 #include <memory>
 #include <string_view>
 
+#include "quantizer/quantizer_internal.h"
 #include "tlvlink/quant_math.h"
 
 namespace tlvlink::quantize {
 namespace {
 
 // Conv2D / FullyConnected operators of the float model that have a bias, in graph order.
-std::vector<size_t> correctable_ops(const Graph& g) {
+std::vector<size_t> correctable_ops_of(const Graph& g) {
   std::vector<size_t> out;
   for (size_t i = 0; i < g.operators.size(); ++i) {
     const Operator& op = g.operators[i];
@@ -23,12 +24,6 @@ std::vector<size_t> correctable_ops(const Graph& g) {
       out.push_back(i);
   }
   return out;
-}
-
-Activation activation_of(const Operator& op) {
-  if (const auto* p = std::get_if<Conv2DParams>(&op.params)) return p->activation;
-  if (const auto* p = std::get_if<FullyConnectedParams>(&op.params)) return p->activation;
-  return Activation::kNone;
 }
 
 int32_t find_tensor(const Graph& g, std::string_view name) {
@@ -77,7 +72,7 @@ Result<Probe> probe_for(const Graph& f, const Graph& q, const Operator& op) {
              "bias correction: tensor '%.*s' of operator '%.*s' is missing from the float model",
              static_cast<int>(name.size()), name.data(), static_cast<int>(op.name.size()),
              op.name.data());
-  const Activation a = activation_of(*qop);
+  const Activation a = quantizer_internal::activation_of(*qop);
   p.lo = activation_min(a);
   p.hi = activation_max(a);
   p.int8 = qt.dtype == DType::kInt8;
@@ -132,6 +127,8 @@ void add_offset(std::vector<BiasOffset>& offsets, const std::string& op, const s
 
 }  // namespace
 
+size_t correctable_layers(const Graph& graph) { return correctable_ops_of(graph).size(); }
+
 Result<CorrectedModel> correct_biases(const Model& fp32, std::span<const TensorRange> ranges,
                                       const QuantizerOptions& options,
                                       std::span<const std::vector<float>> frames,
@@ -150,7 +147,7 @@ Result<CorrectedModel> correct_biases(const Model& fp32, std::span<const TensorR
   CorrectedModel out;
   out.frames = n;
   QuantizerOptions opt = options;
-  const std::vector<size_t> ops = correctable_ops(g);
+  const std::vector<size_t> ops = correctable_ops_of(g);
   for (size_t k = 0; k < ops.size(); ++k) {
     const Operator& op = g.operators[ops[k]];
     TLV_ASSIGN_OR_RETURN(QuantizedModel q, quantize_model(fp32, ranges, opt));

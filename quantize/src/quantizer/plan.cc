@@ -14,13 +14,6 @@ bool fusable_producer(OpType type) {
          type == OpType::kMul;
 }
 
-Activation activation_of(const Operator& op) {
-  if (const auto* p = std::get_if<Conv2DParams>(&op.params)) return p->activation;
-  if (const auto* p = std::get_if<FullyConnectedParams>(&op.params)) return p->activation;
-  if (const auto* p = std::get_if<BinaryParams>(&op.params)) return p->activation;
-  return Activation::kNone;
-}
-
 // The activation equal to applying `a` then clamping to [lo, hi], if there is one.
 bool combine(Activation a, float lo, float hi, Activation& out) {
   const float l = std::max(activation_min(a), lo), h = std::min(activation_max(a), hi);
@@ -76,6 +69,13 @@ Status mark_keep_float(const Graph& g, const std::vector<std::string>& names,
 }
 
 }  // namespace
+
+Activation activation_of(const Operator& op) {
+  if (const auto* p = std::get_if<Conv2DParams>(&op.params)) return p->activation;
+  if (const auto* p = std::get_if<FullyConnectedParams>(&op.params)) return p->activation;
+  if (const auto* p = std::get_if<BinaryParams>(&op.params)) return p->activation;
+  return Activation::kNone;
+}
 
 bool has_int8_kernel(OpType type) {
   switch (type) {

@@ -39,6 +39,9 @@ struct OpPlan {
 // One entry per float-model operator. Error (kInvalidArgument) for unknown keep_float names.
 Result<std::vector<OpPlan>> make_plan(const Graph& graph, const QuantizerOptions& options);
 
+// The activation fused into a Conv2D / FullyConnected / Add / Mul (kNone for other ops).
+Activation activation_of(const Operator& op);
+
 // Whether the runtime (reference and XNNPACK executors) has an int8 kernel for the op type.
 bool has_int8_kernel(OpType type);
 

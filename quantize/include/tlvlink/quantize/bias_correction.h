@@ -50,6 +50,9 @@ struct CorrectedModel {
   size_t frames = 0;
 };
 
+// How many layers correct_biases() measures: the Conv2D / FullyConnected operators with a bias.
+size_t correctable_layers(const Graph& graph);
+
 // Errors: no frames, a frame of the wrong size, executor failures (named), and whatever
 // quantize_model returns.
 Result<CorrectedModel> correct_biases(const Model& fp32, std::span<const TensorRange> ranges,
