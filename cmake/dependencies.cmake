@@ -26,6 +26,13 @@ if(TLVLINK_WITH_XNNPACK)
     ${XNNPACK_LIBRARY} ${PTHREADPOOL_LIBRARY} ${CPUINFO_LIBRARY} Threads::Threads)
 endif()
 
+if(TLVLINK_WITH_IMAGE OR TLVLINK_BUILD_HOST_TOOLS)
+  # JPEG: runtime/image wraps libturbojpeg for the whole project.
+  find_package(PkgConfig REQUIRED)
+  pkg_check_modules(TURBOJPEG IMPORTED_TARGET libturbojpeg)
+  tlvlink_require(TURBOJPEG_FOUND "libturbojpeg (TurboJPEG API)" libturbojpeg0-dev)
+endif()
+
 if(TLVLINK_WITH_LIBCAMERA)
   find_package(PkgConfig REQUIRED)
   pkg_check_modules(LIBCAMERA libcamera)
@@ -43,10 +50,8 @@ endif()
 if(TLVLINK_BUILD_HOST_TOOLS)
   find_package(CLI11 CONFIG REQUIRED)
   find_package(nlohmann_json CONFIG REQUIRED)
-  # JPEG (tools/io/jpeg.cc) and HDF5 (the Feel dataset format, tools/datasets).
+  # HDF5 (the Feel dataset format, tools/datasets).
   find_package(PkgConfig REQUIRED)
-  pkg_check_modules(TURBOJPEG IMPORTED_TARGET libturbojpeg)
-  tlvlink_require(TURBOJPEG_FOUND "libturbojpeg (TurboJPEG API)" libturbojpeg0-dev)
   pkg_check_modules(HDF5 IMPORTED_TARGET hdf5)
   tlvlink_require(HDF5_FOUND "HDF5 C library" libhdf5-dev)
   # PNG images (tools/io/png.cc: calibration folders).

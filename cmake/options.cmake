@@ -1,6 +1,7 @@
 # All tlvlink build options, declared once. A board preset (boards/*.cmake, CMakePresets.json)
 # sets these; the minimal runtime needs only XNNPACK, pthreadpool, cpuinfo and flatbuffers.
 option(TLVLINK_WITH_XNNPACK   "Build the XNNPACK executor (otherwise only the portable reference executor)" ON)
+option(TLVLINK_WITH_IMAGE     "Build image decoding and preprocessing (runtime/image; needs libturbojpeg)" ON)
 option(TLVLINK_WITH_LIBCAMERA "Build the libcamera capture backend (needs libcamera-dev)" OFF)
 option(TLVLINK_WITH_USB       "Build the USB bulk transport (needs libusb-1.0)" OFF)
 option(TLVLINK_BUILD_TRAINER  "Build the libtorch trainer (needs libtorch-dev)" OFF)
@@ -12,3 +13,8 @@ option(TLVLINK_BUILD_FUZZERS  "Build libFuzzer targets (needs clang)" OFF)
 option(TLVLINK_WERROR         "Treat compiler warnings as errors (CI sets this)" OFF)
 set(TLVLINK_SANITIZE "" CACHE STRING "Sanitizers to build with, e.g. address,undefined (empty = none)")
 set(TLVLINK_BOARD "host" CACHE STRING "Board definition this build targets (see boards/)")
+
+# Options that need others.
+if(TLVLINK_BUILD_HOST_TOOLS AND NOT TLVLINK_WITH_IMAGE)
+  message(FATAL_ERROR "tlvlink: TLVLINK_BUILD_HOST_TOOLS needs TLVLINK_WITH_IMAGE (the tools decode and preprocess frames through runtime/image)")
+endif()

@@ -9,7 +9,7 @@
 #include "tlvlink/trainer/arch.h"
 #include "tlvlink/trainer/schedule.h"
 #include "tlvlink/trainer/trainer.h"
-#include "trainer/src/options_json.h"
+#include "options_json.h"
 
 namespace tlvlink::trainer {
 namespace {

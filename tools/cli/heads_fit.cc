@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "cli/eval_flags.h"
-#include "io/file.h"
+#include "tlvlink/io/file.h"
 
 namespace tlvlink::cli {
 namespace {

@@ -8,7 +8,7 @@
 #include <regex>
 #include <set>
 
-#include "sim/src/gen/session_names.h"
+#include "gen/session_names.h"
 #include "support/random.h"
 #include "tlvlink/sim/describe.h"
 #include "tlvlink/sim/generate.h"

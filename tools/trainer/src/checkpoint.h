@@ -16,7 +16,7 @@
 #include <string>
 
 #include "tlvlink/error.h"
-#include "trainer/src/net.h"
+#include "net.h"
 
 namespace tlvlink::trainer {
 

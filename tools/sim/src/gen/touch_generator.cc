@@ -5,9 +5,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "sim/src/gen/rng.h"
-#include "sim/src/gen/sensor_instances.h"
-#include "sim/src/gen/session_names.h"
+#include "gen/rng.h"
+#include "gen/sensor_instances.h"
+#include "gen/session_names.h"
 #include "tlvlink/sim/describe.h"
 #include "tlvlink/sim/generate.h"
 #include "tlvlink/sim/vision.h"
