@@ -1,7 +1,7 @@
 #include <chrono>
 #include <ctime>
 
-#include "writer/writer_internal.h"
+#include "writer_internal.h"
 
 namespace tlvlink::quantize::writer_internal {
 namespace {

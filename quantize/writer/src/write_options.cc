@@ -1,4 +1,4 @@
-#include "writer/writer_internal.h"
+#include "writer_internal.h"
 
 namespace tlvlink::quantize::writer_internal {
 

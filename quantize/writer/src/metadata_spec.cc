@@ -1,6 +1,6 @@
 // Loaded metadata (views) -> owned MetadataSpec, for rewriting a model.
 
-#include "tlvlink/quantize/calibrate.h"
+#include "tlvlink/quantize/model_copy.h"
 
 namespace tlvlink::quantize {
 namespace {

@@ -1,7 +1,7 @@
 #include "tlvlink/quantize/model_builder.h"
 
 #include "tlvlink/model.h"
-#include "writer/writer_internal.h"
+#include "writer_internal.h"
 
 namespace tlvlink::quantize {
 
