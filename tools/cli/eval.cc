@@ -3,8 +3,10 @@
 
 #include <cstdio>
 #include <memory>
+#include <vector>
 
-#include "cli/eval_flags.h"
+#include "eval_flags.h"
+#include "tlvlink/eval/run.h"
 
 namespace tlvlink::cli {
 namespace {
@@ -17,15 +19,6 @@ struct EvalCommand {
   bool no_model_heads = false;
 };
 
-Result<eval::EvalReport> evaluate_one(const std::string& path, const eval::EvalData& data,
-                                      const eval::EvalOptions& options) {
-  TLV_ASSIGN_OR_RETURN(std::unique_ptr<Model> model, load_model(path));
-  auto report = eval::evaluate(*model, data, options);
-  if (!report.ok()) return report.error().with_context("evaluating %s", path.c_str());
-  report->model_path = path;
-  return std::move(report).value();
-}
-
 int run_eval(const EvalCommand& c) {
   const char* command = "eval";
   auto data = c.flags.data();
@@ -33,23 +26,16 @@ int run_eval(const EvalCommand& c) {
   auto options = c.flags.options();
   if (!options.ok()) return report_error(command, options.error());
   options->model_heads = !c.no_model_heads;
-  auto first = evaluate_one(c.model, *data, *options);
-  if (!first.ok()) return report_error(command, first.error());
-  std::vector<const eval::EvalReport*> reports{&*first};
-  std::optional<eval::EvalReport> second;
-  if (!c.compare.empty()) {
-    eval::EvalOptions o = *options;
-    o.oracle_samples = 0;  // the data is the same: one oracle estimate serves both
-    auto r = evaluate_one(c.compare, *data, o);
-    if (!r.ok()) return report_error(command, r.error());
-    r->oracle = first->oracle;
-    second = std::move(r).value();
-    reports.push_back(&*second);
-  }
+  std::vector<std::string> paths{c.model};
+  if (!c.compare.empty()) paths.push_back(c.compare);
+  auto reports = eval::evaluate_files(paths, *data, *options);
+  if (!reports.ok()) return report_error(command, reports.error());
+  std::vector<const eval::EvalReport*> views;
+  for (const eval::EvalReport& r : *reports) views.push_back(&r);
   if (c.json) {
-    std::printf("%s\n", eval::report_json(reports).c_str());
+    std::printf("%s\n", eval::report_json(views).c_str());
   } else {
-    std::printf("%s", eval::format_table(reports, !c.no_paper).c_str());
+    std::printf("%s", eval::format_table(views, !c.no_paper).c_str());
   }
   return kExitOk;
 }

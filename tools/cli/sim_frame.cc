@@ -9,8 +9,8 @@
 #include <string>
 #include <utility>
 
-#include "cli/common.h"
-#include "cli/sim_commands.h"
+#include "common.h"
+#include "sim_commands.h"
 #include "tlvlink/io/file.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/io/image.h"

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "cli/common.h"
+#include "common.h"
 #include "tlvlink/trainer/arch.h"
 #include "tlvlink/trainer/trainer.h"
 
