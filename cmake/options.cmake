@@ -1,7 +1,8 @@
 # All tlvlink build options, declared once. A board preset (boards/*.cmake, CMakePresets.json)
 # sets these; the minimal runtime needs only XNNPACK, pthreadpool, cpuinfo and flatbuffers.
 option(TLVLINK_WITH_XNNPACK   "Build the XNNPACK executor (otherwise only the portable reference executor)" ON)
-option(TLVLINK_WITH_LIBCAMERA "Build the libcamera capture backend (needs libcamera-dev)" OFF)
+option(TLVLINK_WITH_CAPTURE  "Build runtime/capture: frame sources (V4L2; kernel headers only)" ON)
+option(TLVLINK_WITH_LIBCAMERA "Build the libcamera frame source in runtime/capture (needs libcamera-dev and TLVLINK_WITH_CAPTURE)" OFF)
 option(TLVLINK_WITH_USB       "Build the USB bulk transport (needs libusb-1.0)" OFF)
 option(TLVLINK_BUILD_TRAINER  "Build the libtorch trainer (needs libtorch-dev)" OFF)
 option(TLVLINK_BUILD_HOST_TOOLS "Build the host CLI, model writer and quantizer" ON)
