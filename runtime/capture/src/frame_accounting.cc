@@ -8,6 +8,7 @@ void FrameAccounting::reset_stream(uint32_t warmup_frames) {
   warmup_left_ = warmup_frames;
   stamp_count_ = 0;
   stamp_next_ = 0;
+  frames_ = 0;
 }
 
 void FrameAccounting::count_sequence(uint32_t raw) {
@@ -30,17 +31,21 @@ void FrameAccounting::count_sequence(uint32_t raw) {
 }
 
 void FrameAccounting::count_timestamp(int64_t timestamp_ns) {
-  // A missing or non-increasing stamp (a flagged buffer may carry none) would distort the rate.
+  ++frames_;
+  // A missing or non-increasing stamp (a flagged buffer may carry none) is left out of the
+  // window; the frame still counts, so the rate stays the rate of frames.
   const int last = (stamp_next_ + kFpsWindow - 1) % kFpsWindow;
   if (timestamp_ns <= 0 || (stamp_count_ > 0 && timestamp_ns <= stamps_[last])) return;
   stamps_[stamp_next_] = timestamp_ns;
+  stamp_frames_[stamp_next_] = frames_;
   stamp_next_ = (stamp_next_ + 1) % kFpsWindow;
   if (stamp_count_ < kFpsWindow) ++stamp_count_;
   if (stamp_count_ < 2) return;
   const int oldest = stamp_count_ < kFpsWindow ? 0 : stamp_next_;
   const int newest = (stamp_next_ + kFpsWindow - 1) % kFpsWindow;
   const int64_t span_ns = stamps_[newest] - stamps_[oldest];
-  if (span_ns > 0) stats_.measured_fps = (stamp_count_ - 1) * 1e9 / static_cast<double>(span_ns);
+  const uint64_t frames = stamp_frames_[newest] - stamp_frames_[oldest];
+  stats_.measured_fps = static_cast<double>(frames) * 1e9 / static_cast<double>(span_ns);
 }
 
 Admission FrameAccounting::admit(const RawFrame& frame, const image::FrameFormat& format) {

@@ -4,10 +4,10 @@
 //
 //   V4l2Config c;
 //   c.label = "mini-left";
-//   c.device = *parse_device_selector("usb:0c45:636d:2BDF-Q7KX");
+//   c.device = parse_device_selector("usb:0c45:636d:2BDF-Q7KX").value();
 //   c.format = image::PixelFormat::kMjpeg; c.width = 3280; c.height = 2464; c.fps = 25;
 //   c.warmup_frames = 5;
-//   c.controls = *parse_controls("auto_exposure=1, exposure_time_absolute=180");
+//   c.controls = parse_controls("auto_exposure=1, exposure_time_absolute=180").value();
 //   auto src = make_v4l2_source(c);   // validates the configuration; opens nothing yet
 //
 // What start() does: find the node (device_select.h), open it O_RDWR|O_NONBLOCK|O_CLOEXEC, check
