@@ -142,7 +142,7 @@ TEST(V4l2Source, OutageWaitsAndBacksOffWithoutSpinning) {
       << last.error().message();
   EXPECT_NE(std::string(last.error().message()).find("no camera matches"), std::string::npos);
   (*src)->stop();
-  std::printf("outage: %llu reopen attempts in %.2f s, cpu %.4f s\n",
+  std::printf("note: outage: %llu reopen attempts in %.2f s, cpu %.4f s\n",
               static_cast<unsigned long long>(st.reconnect_attempts), wall, cpu);
 }
 

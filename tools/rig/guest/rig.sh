@@ -2,9 +2,10 @@
 #
 # Markers on the console, parsed by the host (tools/rig/riglib/markers.py):
 #   RIG-INIT <uptime>   RIG-BEGIN <name>   RIG-PASS <name>   RIG-FAIL <name>: <reason>
-#   RIG-SKIP <name>: <reason>   RIG-DONE <rc>
+#   RIG-SKIP <name>: <reason>   RIG-NOTE <name>: <text>   RIG-DONE <rc>
 # A test's output goes to /tmp/rig-logs/<name>.log and is printed to the console only when it
-# fails, between "RIG-LOG-BEGIN <name>" and "RIG-LOG-END <name>".
+# fails, between "RIG-LOG-BEGIN <name>" and "RIG-LOG-END <name>". Lines a test prints starting
+# with "note: " (figures worth keeping) are forwarded as "RIG-NOTE <name>: <text>" in any case.
 
 # Programs may call these functions too, through /bin/rig: `rig rig_vivid_unload`.
 
@@ -15,6 +16,9 @@ rig_begin() { echo "RIG-BEGIN $1"; }
 rig_pass() { echo "RIG-PASS $1"; }
 rig_fail() { echo "RIG-FAIL $1: $2"; echo "$1" >>"$RIG_FAILED_FILE"; }
 rig_skip() { echo "RIG-SKIP $1: $2"; }
+rig_notes() {  # NAME FILE
+  sed -n 's/^note: \(.*\)/RIG-NOTE '"$1"': \1/p' "$2"
+}
 rig_dump() {  # NAME FILE: a failed test's log on the console
   echo "RIG-LOG-BEGIN $1"; tail -n 200 "$2"; echo "RIG-LOG-END $1"
 }
@@ -29,6 +33,7 @@ rig_run() {
   rig_begin "$name"
   timeout "$secs" /bin/rig "$@" >"$log" 2>&1
   rc=$?
+  rig_notes "$name" "$log"
   case $rc in
     0) rig_pass "$name" ;;
     77) rig_skip "$name" "$(tail -n 1 "$log")" ;;
@@ -59,6 +64,7 @@ rig_gtest() {
     rig_begin "$name"
     timeout "$secs" "$bin" --gtest_filter="$suite$line" --gtest_color=no >"$log" 2>&1
     rc=$?
+    rig_notes "$name" "$log"
     if [ $rc -eq 0 ] && grep -q '^\[  SKIPPED \]' "$log"; then
       reason=$(awk '/: Skipped$/ {getline; print; exit}' "$log")
       rig_skip "$name" "${reason:-skipped}"

@@ -3,13 +3,14 @@ timed on the host's clock as the lines arrive."""
 
 import re
 
-MARKER = re.compile(r"RIG-(INIT|BEGIN|PASS|FAIL|SKIP|DONE)(?: ([^\s:]+)(?:: (.*))?)?")
+MARKER = re.compile(r"RIG-(INIT|BEGIN|PASS|FAIL|SKIP|NOTE|DONE)(?: ([^\s:]+)(?:: (.*))?)?")
 
 
 class Test:
     def __init__(self, name, start):
         self.name, self.start, self.end = name, start, None
         self.status, self.reason = "RUNNING", ""
+        self.notes = []
 
     @property
     def seconds(self):
@@ -51,6 +52,11 @@ class Results:
                 test = Test(name, now)
                 self.tests.append(test)
             self._finish(test, kind, reason, now)
+        elif kind == "NOTE":
+            for t in reversed(self.tests):
+                if t.name == name:
+                    t.notes.append(reason)
+                    break
         elif kind == "DONE":
             self.done_rc = int(name) if name and name.lstrip("-").isdigit() else -1
             self.done_at = now
