@@ -124,7 +124,7 @@ TEST(V4l2Source, OutageWaitsAndBacksOffWithoutSpinning) {
     ASSERT_FALSE(f.ok());
     EXPECT_EQ(f.error().code(), ErrorCode::kCaptureDisconnected);
     EXPECT_GE(ms, kTimeoutMs - 1) << "returned early: a caller's loop would spin";
-    EXPECT_LE(ms, kTimeoutMs + 80) << "blocked longer than its timeout";
+    EXPECT_LE(ms, kTimeoutMs + 250) << "blocked far longer than its timeout";  // slack: a loaded 2-core CI
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = cpu_seconds() - cpu0;

@@ -26,6 +26,12 @@
 
 namespace tlvlink::capture {
 
+// Limits every camera source shares (configurations outside them are refused, naming the field).
+inline constexpr uint32_t kMinBuffers = 2;        // fewer cannot stream without gaps
+inline constexpr uint32_t kMaxBuffers = 4;        // more only adds latency and memory
+inline constexpr uint32_t kMaxWarmupFrames = 120;  // warm-up frames discarded after an open
+inline constexpr int32_t kMinBackoffMs = 10, kMaxBackoffMs = 60000;  // reopen delays after an outage
+
 // A borrowed view of one frame (see the lifetime rules above).
 struct CapturedFrame {
   std::span<const uint8_t> bytes;  // the payload the driver reported (bytesused)

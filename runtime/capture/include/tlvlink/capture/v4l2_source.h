@@ -64,11 +64,7 @@ struct V4l2Config {
   std::vector<ControlSetting> controls;  // applied at every open, in order
 };
 
-inline constexpr uint32_t kMinBuffers = 2;
-inline constexpr uint32_t kMaxBuffers = 4;
-inline constexpr uint32_t kMaxWarmupFrames = 120;
 inline constexpr int32_t kMinWatchdogMs = 50, kMaxWatchdogMs = 60000;
-inline constexpr int32_t kMinBackoffMs = 10, kMaxBackoffMs = 60000;
 
 // Checks ranges and consistency; errors name the field (kInvalidArgument).
 Status validate_v4l2_config(const V4l2Config& config);
