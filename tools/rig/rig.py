@@ -10,6 +10,7 @@ Exit status of `run`: 0 when every test passed or was skipped and the script ret
 
 import argparse
 import os
+import signal
 import sys
 import time
 
@@ -89,7 +90,13 @@ def build_image(args, log):
     return k, image
 
 
+def _terminate(signum, _frame):
+    # SIGTERM (e.g. a CI time limit) unwinds like Ctrl-C: QEMU is stopped by its PID on the way out.
+    raise SystemExit(128 + signum)
+
+
 def main(argv):
+    signal.signal(signal.SIGTERM, _terminate)
     args = parse(argv)
     log = lambda msg: print(msg, flush=True)  # noqa: E731
     try:

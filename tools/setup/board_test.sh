@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
 # Runs the capture tests inside the emulated arm64 board: Debian's arm64 kernel under
-# qemu-system-aarch64 (virt machine, TCG) with vivid loaded (tools/rig). Cross-builds only the
-# capture test programs of the board presets (generic-a76 / rpi4-a72; the cross stage's build
-# trees are reused), boots the rig once per CPU and prints boot, test and build times.
+# qemu-system-aarch64 (virt machine, TCG) with vivid loaded (tools/rig). First the rig's own
+# tests (tools/rig/test_riglib.py, tools/rig/selftest.sh: ports, share, USB gadget, vivid), then
+# the capture test programs cross-built for the board presets (generic-a76 / rpi4-a72; only
+# those targets, in the cross stage's build trees), one boot per CPU, with boot, test and build
+# times.
 #   board_test.sh [a76|a72|all]        (default: all)
-# Environment: TLVLINK_JOBS (build jobs, default 2: the machine is shared).
+# Environment: TLVLINK_JOBS (build jobs, default 2: the machine is shared); PYTHON (default
+# /usr/bin/python3: the rig needs only its standard library).
 # Logs: build/logs/board-<preset>-{configure,build}.log; the guest's console: build/rig/<preset>/.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
@@ -18,6 +21,7 @@ case "$which" in
   *) echo "board_test.sh: unknown target '$which' (a76|a72|all)" >&2; exit 2 ;;
 esac
 programs=(tests/capture/capture_vivid_test tests/capture/capture_unit_test)
+py=${PYTHON:-/usr/bin/python3}
 
 now() { date +%s.%N; }
 secs() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.1f", b - a}'; }
@@ -26,11 +30,21 @@ mkdir -p build/logs
 t0=$(now)
 bash tools/setup/install_deps.sh rig || { echo "board_test: install_deps.sh rig failed" >&2; exit 1; }
 bash tools/setup/make_sysroot.sh || { echo "board_test: make_sysroot.sh failed" >&2; exit 1; }
-python3 tools/rig/rig.py prepare >/dev/null || { echo "board_test: rig.py prepare failed" >&2; exit 1; }
+"$py" tools/rig/rig.py prepare >/dev/null || { echo "board_test: rig.py prepare failed" >&2; exit 1; }
 echo "board_test: packages, sysroot, kernel + busybox cache $(secs "$t0" "$(now)")s"
 
 failed=0
 summary=()
+t0=$(now)
+if "$py" tools/rig/test_riglib.py >build/logs/board-riglib.log 2>&1 &&
+   PYTHON=$py bash tools/rig/selftest.sh >build/logs/board-selftest.log 2>&1; then
+  summary+=("rig self-test: $(grep -E '^rig: tests ' build/logs/board-selftest.log | tail -1 | sed 's/^rig: //') ($(secs "$t0" "$(now)")s)")
+else
+  cat build/logs/board-riglib.log build/logs/board-selftest.log | tail -60
+  summary+=("rig self-test: FAILED (logs: build/logs/board-riglib.log, build/logs/board-selftest.log)")
+  failed=1
+fi
+grep -E "^rig: tests " build/logs/board-selftest.log | tail -1
 for preset in "${presets[@]}"; do
   cpu=$(sed -n 's/.*"TLVLINK_QEMU_CPU": "\([^"]*\)".*/\1/p' "boards/$preset.json")
   log=build/logs/board-$preset
@@ -49,7 +63,7 @@ for preset in "${presets[@]}"; do
   for p in "${programs[@]}"; do args+=(--program "build/$preset/$p"); done
   echo "=== $preset: rig -cpu $cpu (build ${t_build}s)"
   t0=$(now)
-  python3 tools/rig/rig.py run --cpu "$cpu" --script tests/capture/rig/capture_rig.sh "${args[@]}" \
+  "$py" tools/rig/rig.py run --cpu "$cpu" --script tests/capture/rig/capture_rig.sh "${args[@]}" \
     --env TLVLINK_RIG=1 --out "build/rig/$preset" | tee "$log-rig.log"
   rc=${PIPESTATUS[0]}
   t_rig=$(secs "$t0" "$(now)")

@@ -1,6 +1,7 @@
 """Boots the rig under qemu-system-aarch64 (virt machine, TCG), watches the console for markers
 with bounded waits, records the virtio-serial ports, and always ends QEMU by its own PID."""
 
+import ctypes
 import os
 import select
 import shutil
@@ -68,6 +69,12 @@ def _connect(path, deadline):
     raise RigError(f"QEMU did not create {path}")
 
 
+def _die_with_parent():
+    """In the child before exec: QEMU gets SIGKILL if the runner dies without cleaning up."""
+    PR_SET_PDEATHSIG = 1
+    ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+
+
 def _stop(proc):
     """Ends this QEMU only: SIGTERM to its PID, SIGKILL if it has not exited within 5 s."""
     if proc.poll() is None:
@@ -103,7 +110,8 @@ def run(cfg, log=print):
         with open(os.path.join(cfg.out, "qemu-command.txt"), "w") as f:
             f.write(" ".join(cmd) + "\n")
         proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                stderr=subprocess.STDOUT, start_new_session=True)
+                                stderr=subprocess.STDOUT, start_new_session=True,
+                                preexec_fn=_die_with_parent)
         socks = {}
         for i, name in enumerate(cfg.ports):
             s = _connect(os.path.join(sockdir, f"p{i}.sock"), t0 + 10)
@@ -113,7 +121,8 @@ def run(cfg, log=print):
             for j, name in enumerate(cfg.host_ports):
                 env["RIG_PORT_" + name.upper().replace(".", "_").replace("-", "_")] = \
                     os.path.join(sockdir, f"p{len(cfg.ports) + j}.sock")
-            helper = subprocess.Popen(cfg.host_cmd, shell=True, env=env, start_new_session=True)
+            helper = subprocess.Popen(cfg.host_cmd, shell=True, env=env, start_new_session=True,
+                                      preexec_fn=_die_with_parent)
         note = _watch(proc, socks, console_path, results, cfg, t0)
         for f in socks.values():
             f.close()

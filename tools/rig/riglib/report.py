@@ -17,8 +17,8 @@ def print_report(results, seconds, console, note, cfg, log_lines=300):
     for t in r.tests:
         reason = f": {t.reason}" if t.reason and t.status != "PASS" else ""
         print(f"  {t.status:<7} {t.name}  {t.seconds:.2f}s{reason}")
-        for note in t.notes:
-            print(f"            {note}")
+        for text in t.notes:
+            print(f"            {text}")
     for e in r.errors:
         print(f"rig: marker problem: {e}")
     passed, failed, skipped = r.count("PASS"), r.count("FAIL") + r.count("RUNNING"), r.count("SKIP")
