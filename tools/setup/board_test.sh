@@ -20,7 +20,7 @@ case "$which" in
   all) presets=(generic-a76 rpi4-a72) ;;
   *) echo "board_test.sh: unknown target '$which' (a76|a72|all)" >&2; exit 2 ;;
 esac
-programs=(tests/capture/capture_vivid_test tests/capture/capture_unit_test)
+programs=(tests/capture/capture_vivid_test tests/capture/capture_unit_test runtime/capture/capture_probe)
 py=${PYTHON:-/usr/bin/python3}
 
 now() { date +%s.%N; }
