@@ -132,9 +132,12 @@ Result<uint32_t> query_v4l2_caps(const char* dev_path) {
   const int err = errno;
   ::close(fd);
   if (rc < 0) {
-    return Error::make(err == ENOTTY ? ErrorCode::kCaptureNotCamera : ErrorCode::kCapture,
+    // ENOTTY: the node has no such ioctl. ENOSYS: the same from an emulator (qemu-user passes
+    // only the ioctls it knows).
+    const bool not_v4l2 = err == ENOTTY || err == ENOSYS;
+    return Error::make(not_v4l2 ? ErrorCode::kCaptureNotCamera : ErrorCode::kCapture,
                        "%s: VIDIOC_QUERYCAP: %s%s", dev_path, std::strerror(err),
-                       err == ENOTTY ? " (not a V4L2 device)" : "");
+                       not_v4l2 ? " (not a V4L2 device)" : "");
   }
   return (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
 }
