@@ -82,10 +82,13 @@ TEST(ControlKey, MatchesV4l2Ctl) {
 }
 
 TEST(WellKnown, BothKernelSpellings) {
-  EXPECT_EQ(well_known_control("exposure_time_absolute"), static_cast<uint32_t>(V4L2_CID_EXPOSURE_ABSOLUTE));
-  EXPECT_EQ(well_known_control("exposure_absolute"), static_cast<uint32_t>(V4L2_CID_EXPOSURE_ABSOLUTE));
+  EXPECT_EQ(well_known_control("exposure_time_absolute"),
+            static_cast<uint32_t>(V4L2_CID_EXPOSURE_ABSOLUTE));
+  EXPECT_EQ(well_known_control("exposure_absolute"),
+            static_cast<uint32_t>(V4L2_CID_EXPOSURE_ABSOLUTE));
   EXPECT_EQ(well_known_control("auto_exposure"), static_cast<uint32_t>(V4L2_CID_EXPOSURE_AUTO));
-  EXPECT_EQ(well_known_control("white_balance_temperature_auto"), static_cast<uint32_t>(V4L2_CID_AUTO_WHITE_BALANCE));
+  EXPECT_EQ(well_known_control("white_balance_temperature_auto"),
+            static_cast<uint32_t>(V4L2_CID_AUTO_WHITE_BALANCE));
   EXPECT_EQ(well_known_control("led"), static_cast<uint32_t>(V4L2_CID_ZOOM_ABSOLUTE));
   EXPECT_EQ(well_known_control("percentage_of_dropped_buffers"), 0u);
 }

@@ -25,7 +25,12 @@ constexpr uint32_t kMetaCaps = V4L2_CAP_META_CAPTURE | V4L2_CAP_STREAMING;
 // interface under /sys/devices/.../<port>/<port>:1.0, idVendor/idProduct/serial on <port>.
 class FakeTree {
  public:
-  FakeTree() { roots.sysfs = dir / "sys"; roots.dev = dir / "dev"; roots.query_caps = &caps_of; roots.user = this; }
+  FakeTree() {
+    roots.sysfs = dir / "sys";
+    roots.dev = dir / "dev";
+    roots.query_caps = &caps_of;
+    roots.user = this;
+  }
 
   void add_usb_camera(const std::string& port, const char* vid, const char* pid, const char* serial,
                       const std::string& node, const std::string& name, uint32_t caps) {
@@ -58,7 +63,8 @@ class FakeTree {
     return it->second;
   }
 
-  void add_node(const std::string& node, const std::string& name, uint32_t caps, const fs::path& device) {
+  void add_node(const std::string& node, const std::string& name, uint32_t caps,
+                const fs::path& device) {
     const fs::path cls = dir / "sys/class/video4linux" / node;
     fs::create_directories(cls);
     write(cls / "name", name);
@@ -68,7 +74,9 @@ class FakeTree {
     caps_[fs::weakly_canonical(dir / "dev" / node).string()] = caps;
   }
 
-  static void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text << "\n"; }
+  static void write(const fs::path& p, const std::string& text) {
+    std::ofstream(p) << text << "\n";
+  }
 
   std::map<std::string, uint32_t> caps_;
 };
@@ -77,14 +85,16 @@ class Select : public ::testing::Test {
  protected:
   void SetUp() override {
     // A webcam first (so indices are not what the Mini gets), then a Mini with its metadata node.
-    t.add_usb_camera("1-1", "046d", "0825", "A1B2C3", "video0", "UVC Camera (046d:0825)", kCaptureCaps);
-    t.add_usb_camera("1-2", "0c45", "636d", "2BDF-Q7KX", "video2", "GelSight Mini R0B 2BDF-Q7KX", kCaptureCaps);
+    t.add_usb_camera("1-1", "046d", "0825", "A1B2C3", "video0", "UVC Camera (046d:0825)",
+                     kCaptureCaps);
+    t.add_usb_camera("1-2", "0c45", "636d", "2BDF-Q7KX", "video2", "GelSight Mini R0B 2BDF-Q7KX",
+                     kCaptureCaps);
     // The metadata node of the same camera (same USB device, another interface node).
     const fs::path cls = t.dir / "sys/class/video4linux/video3";
     fs::create_directories(cls);
     std::ofstream(cls / "name") << "GelSight Mini R0B 2BDF-Q7KX\n";
-    fs::create_directory_symlink(fs::relative(t.dir / "sys/devices/platform/xhci/usb1/1-2/1-2:1.0", cls),
-                                 cls / "device");
+    fs::create_directory_symlink(
+        fs::relative(t.dir / "sys/devices/platform/xhci/usb1/1-2/1-2:1.0", cls), cls / "device");
     std::ofstream(t.dir / "dev/video3");
     t.set_caps(fs::weakly_canonical(t.dir / "dev/video3").string(), kMetaCaps);
   }
@@ -122,7 +132,8 @@ TEST_F(Select, ByVidPidAndSerialSkipsTheMetadataNode) {
 }
 
 TEST_F(Select, TwoIdenticalCamerasAreToldApartBySerial) {
-  t.add_usb_camera("1-3", "0c45", "636d", "9XYZ-0001", "video4", "GelSight Mini R0B 9XYZ-0001", kCaptureCaps);
+  t.add_usb_camera("1-3", "0c45", "636d", "9XYZ-0001", "video4", "GelSight Mini R0B 9XYZ-0001",
+                   kCaptureCaps);
   auto left = find_v4l2_device(usb(0x0c45, 0x636d, "2BDF-Q7KX"), t.roots);
   auto right = find_v4l2_device(usb(0x0c45, 0x636d, "9XYZ-0001"), t.roots);
   ASSERT_TRUE(left.ok() && right.ok());

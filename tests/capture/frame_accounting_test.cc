@@ -129,14 +129,18 @@ TEST_F(Accounting, EveryFrameAccountedFor) {
   uint64_t issued = 0;
   for (int round = 0; round < 50; ++round) {
     // A "drain": 1-3 ready buffers, sometimes one bad, sometimes a gap before them.
-    if (round % 7 == 3) { seq += 2; issued += 2; }
+    if (round % 7 == 3) {
+      seq += 2;
+      issued += 2;
+    }
     const int ready = 1 + round % 3;
     int newest = -1;
     uint32_t stale = 0;
     for (int k = 0; k < ready; ++k) {
       const bool bad = (round + k) % 11 == 5;
       ++issued;
-      if (feed(seq++, 1 + static_cast<int64_t>(issued) * kPeriod40ms, bad) == Admission::kDeliverable) {
+      if (feed(seq++, 1 + static_cast<int64_t>(issued) * kPeriod40ms, bad) ==
+          Admission::kDeliverable) {
         if (newest >= 0) ++stale;
         newest = k;
       }

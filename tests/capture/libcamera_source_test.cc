@@ -32,13 +32,16 @@ TEST(Libcamera, VersionAndEnumeration) {
 TEST(Libcamera, NoCameraIsAClearError) {
   auto cams = list_libcamera_cameras();
   ASSERT_TRUE(cams.ok());
-  if (!cams->empty()) GTEST_SKIP() << "a libcamera camera is present (" << (*cams)[0].id << "); this checks the no-camera error";
+  if (!cams->empty())
+    GTEST_SKIP() << "a libcamera camera is present (" << (*cams)[0].id
+                 << "); this checks the no-camera error";
   auto src = make_libcamera_source(yuyv_config());
   ASSERT_TRUE(src.ok());
   Status s = (*src)->start();
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().code(), ErrorCode::kCaptureNoDevice);
-  EXPECT_NE(std::string(s.error().message()).find("pi-gel: libcamera v0.0.3 found no camera"), std::string::npos)
+  EXPECT_NE(std::string(s.error().message()).find("pi-gel: libcamera v0.0.3 found no camera"),
+            std::string::npos)
       << s.error().message();
   EXPECT_FALSE((*src)->next(0).ok());  // not started
 }
@@ -142,7 +145,8 @@ TEST_F(InjectedBuffers, CompletionFromAnotherThreadWakesNext) {
   });
   const auto t0 = std::chrono::steady_clock::now();
   auto f = src->next(2000);
-  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   producer.join();
   ASSERT_TRUE(f.ok()) << f.error().message();
   EXPECT_LT(ms, 1000) << "next() waited for its timeout instead of the completion";

@@ -42,7 +42,8 @@ TEST(MjpegStream, RealFramePassesAndDecodes) {
 
 TEST(MjpegStream, TruncationsAreCaught) {
   const auto j = mini_jpeg();
-  for (size_t keep : {j.size() - 1, j.size() - 2, j.size() * 9 / 10, j.size() / 2, size_t{600}, size_t{3}}) {
+  for (size_t keep :
+       {j.size() - 1, j.size() - 2, j.size() * 9 / 10, j.size() / 2, size_t{600}, size_t{3}}) {
     EXPECT_EQ(check_mjpeg(std::span(j).first(keep)), FrameProblem::kNoEoi) << "kept " << keep;
   }
 }
@@ -64,9 +65,9 @@ TEST(MjpegStream, InjectedStreamIsCountedAndSkipped) {
     bool flagged;
   };
   const Buffer stream[] = {
-      {&good, good.size(), false},         {&corrupt_start, good.size(), false},
-      {&good, good.size() / 2, false},     {&zero_length, 0, false},
-      {&no_eoi, no_eoi.size(), false},     {&padded, padded.size(), false},
+      {&good, good.size(), false},     {&corrupt_start, good.size(), false},
+      {&good, good.size() / 2, false}, {&zero_length, 0, false},
+      {&no_eoi, no_eoi.size(), false}, {&padded, padded.size(), false},
       {&good, good.size(), true},  // the driver flagged it (e.g. a USB transfer error)
       {&good, good.size(), false},
   };
@@ -77,7 +78,8 @@ TEST(MjpegStream, InjectedStreamIsCountedAndSkipped) {
   std::vector<uint64_t> delivered;
   uint32_t seq = 0;
   for (const Buffer& b : stream) {
-    const RawFrame raw{std::span(*b.bytes).first(b.keep), seq++, 1'000'000'000 + seq * 40'000'000LL, b.flagged};
+    const RawFrame raw{std::span(*b.bytes).first(b.keep), seq++, 1'000'000'000 + seq * 40'000'000LL,
+                       b.flagged};
     if (acc.admit(raw, mjpeg) == Admission::kDeliverable) {
       acc.count_delivered();
       delivered.push_back(acc.sequence());

@@ -8,6 +8,7 @@ TEST(CapturePublicHeader, SelfContained) {
   tlvlink::capture::FrameAccounting accounting(stats);
   accounting.reset_stream(0);
   EXPECT_EQ(stats.delivered, 0u);
-  EXPECT_STREQ(tlvlink::error_code_name(tlvlink::ErrorCode::kCaptureDisconnected), "capture.disconnected");
+  EXPECT_STREQ(tlvlink::error_code_name(tlvlink::ErrorCode::kCaptureDisconnected),
+               "capture.disconnected");
   EXPECT_STREQ(tlvlink::error_code_name(tlvlink::ErrorCode::kCaptureNoDevice), "capture.no_device");
 }

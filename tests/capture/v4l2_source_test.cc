@@ -40,7 +40,8 @@ TEST(V4l2Config, ErrorsNameTheField) {
   EXPECT_EQ(message_of(mini_config()), "");
   auto c = mini_config();
   c.buffers = 1;
-  EXPECT_NE(message_of(c).find("mini-left: buffers 1: must be 2..4"), std::string::npos) << message_of(c);
+  EXPECT_NE(message_of(c).find("mini-left: buffers 1: must be 2..4"), std::string::npos)
+      << message_of(c);
   c = mini_config();
   c.buffers = 5;
   EXPECT_NE(message_of(c).find("buffers 5"), std::string::npos);
@@ -86,8 +87,10 @@ TEST(V4l2Source, AbsentDeviceIsAClearError) {
   Status s = (*src)->start();
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().code(), ErrorCode::kCaptureNoDevice);
-  EXPECT_NE(std::string(s.error().message()).find("no camera matches usb 0c45:636d serial 2BDF-Q7KX"),
-            std::string::npos) << s.error().message();
+  EXPECT_NE(
+      std::string(s.error().message()).find("no camera matches usb 0c45:636d serial 2BDF-Q7KX"),
+      std::string::npos)
+      << s.error().message();
   EXPECT_FALSE((*src)->stats().connected);
 }
 
@@ -120,11 +123,13 @@ TEST(V4l2Source, OutageWaitsAndBacksOffWithoutSpinning) {
   for (int i = 0; i < kCalls; ++i) {
     const auto c0 = std::chrono::steady_clock::now();
     auto f = (*src)->next(kTimeoutMs);
-    const auto ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - c0).count();
+    const auto ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - c0).count();
     ASSERT_FALSE(f.ok());
     EXPECT_EQ(f.error().code(), ErrorCode::kCaptureDisconnected);
     EXPECT_GE(ms, kTimeoutMs - 1) << "returned early: a caller's loop would spin";
-    EXPECT_LE(ms, kTimeoutMs + 250) << "blocked far longer than its timeout";  // slack: a loaded 2-core CI
+    EXPECT_LE(ms, kTimeoutMs + 250)
+        << "blocked far longer than its timeout";  // slack: a loaded 2-core CI
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = cpu_seconds() - cpu0;
@@ -156,7 +161,8 @@ TEST(V4l2Source, ZeroTimeoutReturnsAtOnceWhileDisconnected) {
   ASSERT_TRUE((*src)->start().ok());
   const auto t0 = std::chrono::steady_clock::now();
   for (int i = 0; i < 100; ++i) EXPECT_FALSE((*src)->next(0).ok());
-  const auto ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const auto ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_LT(ms, 200);
   // Only the first call was due for an attempt (the next is backoff_initial_ms later).
   EXPECT_LE((*src)->stats().reconnect_attempts, 2u);

@@ -31,8 +31,8 @@ bool parse_int(std::string_view text, int64_t& out) {
 
 bool valid_key(std::string_view name) {
   for (char c : name) {
-    if (!(std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) ||
-          c == '_')) {
+    if (!(std::islower(static_cast<unsigned char>(c)) ||
+          std::isdigit(static_cast<unsigned char>(c)) || c == '_')) {
       return false;
     }
   }
@@ -112,20 +112,21 @@ Result<std::vector<ControlSetting>> parse_controls(std::string_view text) {
     ControlSetting setting;
     setting.name = std::string(key);
     if (!parse_int(trim(item.substr(eq + 1)), setting.value)) {
-      return Error::make(ErrorCode::kInvalidArgument,
-                         "control '%s': value is not an integer", shown.c_str());
+      return Error::make(ErrorCode::kInvalidArgument, "control '%s': value is not an integer",
+                         shown.c_str());
     }
     int64_t id = 0;
     if (!key.empty() && std::isdigit(static_cast<unsigned char>(key.front()))) {
       if (!parse_int(key, id) || id <= 0 || id > 0xFFFFFFFF) {
-        return Error::make(ErrorCode::kInvalidArgument,
-                           "control '%s': '%s' is not a control id", shown.c_str(), setting.name.c_str());
+        return Error::make(ErrorCode::kInvalidArgument, "control '%s': '%s' is not a control id",
+                           shown.c_str(), setting.name.c_str());
       }
       setting.id = static_cast<uint32_t>(id);
     } else if (!valid_key(key)) {
       return Error::make(ErrorCode::kInvalidArgument,
                          "control '%s': names are lower-case letters, digits and '_' "
-                         "(v4l2-ctl's keys, e.g. exposure_time_absolute)", shown.c_str());
+                         "(v4l2-ctl's keys, e.g. exposure_time_absolute)",
+                         shown.c_str());
     }
     if (out.size() == kMaxControls) {
       return Error::make(ErrorCode::kInvalidArgument, "more than %zu controls", kMaxControls);

@@ -30,7 +30,9 @@ std::string read_line(const std::string& path) {
   return out;
 }
 
-bool exists(const std::string& path) { return ::access(path.c_str(), F_OK) == 0; }
+bool exists(const std::string& path) {
+  return ::access(path.c_str(), F_OK) == 0;
+}
 
 std::string real_path(const std::string& path) {
   char buf[PATH_MAX];
@@ -39,13 +41,16 @@ std::string real_path(const std::string& path) {
 
 // The USB device above a video4linux node: the closest ancestor of its "device" link holding
 // idVendor/idProduct (a UVC node's device is the interface, e.g. .../1-1/1-1:1.0).
-void read_usb_identity(const std::string& node_dir, const std::string& sysfs_root, DeviceInfo& info) {
+void read_usb_identity(const std::string& node_dir, const std::string& sysfs_root,
+                       DeviceInfo& info) {
   std::string dir = real_path(node_dir + "/device");
   const std::string root = real_path(sysfs_root);
   for (int depth = 0; depth < 8 && !dir.empty() && dir.size() > root.size(); ++depth) {
     if (exists(dir + "/idVendor") && exists(dir + "/idProduct")) {
-      info.vendor_id = static_cast<uint16_t>(std::strtoul(read_line(dir + "/idVendor").c_str(), nullptr, 16));
-      info.product_id = static_cast<uint16_t>(std::strtoul(read_line(dir + "/idProduct").c_str(), nullptr, 16));
+      info.vendor_id =
+          static_cast<uint16_t>(std::strtoul(read_line(dir + "/idVendor").c_str(), nullptr, 16));
+      info.product_id =
+          static_cast<uint16_t>(std::strtoul(read_line(dir + "/idProduct").c_str(), nullptr, 16));
       info.serial = read_line(dir + "/serial");
       info.usb_port = dir.substr(dir.rfind('/') + 1);
       return;
@@ -61,7 +66,8 @@ bool node_less(const DeviceInfo& a, const DeviceInfo& b) {
 }
 
 Result<uint32_t> caps_of(const DeviceRoots& roots, const std::string& path) {
-  return roots.query_caps ? roots.query_caps(path.c_str(), roots.user) : query_v4l2_caps(path.c_str());
+  return roots.query_caps ? roots.query_caps(path.c_str(), roots.user)
+                          : query_v4l2_caps(path.c_str());
 }
 
 DeviceInfo describe_node(const DeviceRoots& roots, const std::string& node) {
@@ -80,7 +86,8 @@ std::string summary(const DeviceInfo& d) {
   char buf[160];
   if (d.vendor_id != 0 || d.product_id != 0) {
     std::snprintf(buf, sizeof(buf), "%s %04x:%04x SN '%s' '%s'%s", d.node.c_str(), d.vendor_id,
-                  d.product_id, d.serial.c_str(), d.name.c_str(), d.can_capture() ? "" : " (no capture)");
+                  d.product_id, d.serial.c_str(), d.name.c_str(),
+                  d.can_capture() ? "" : " (no capture)");
   } else {
     std::snprintf(buf, sizeof(buf), "%s '%s'%s", d.node.c_str(), d.name.c_str(),
                   d.can_capture() ? "" : " (no capture)");
@@ -103,10 +110,11 @@ Result<DeviceInfo> find_by_path(const DeviceSelector& sel, const DeviceRoots& ro
   info.node = node;
   TLV_ASSIGN_OR_RETURN(info.device_caps, caps_of(roots, real));
   if (!info.can_capture()) {
-    return Error::make(ErrorCode::kCaptureNotCamera,
-                       "%s ('%s') is not a video capture node with streaming (device_caps 0x%08x%s)",
-                       sel.path.c_str(), info.name.c_str(), info.device_caps,
-                       (info.device_caps & V4L2_CAP_META_CAPTURE) ? ": a metadata node" : "");
+    return Error::make(
+        ErrorCode::kCaptureNotCamera,
+        "%s ('%s') is not a video capture node with streaming (device_caps 0x%08x%s)",
+        sel.path.c_str(), info.name.c_str(), info.device_caps,
+        (info.device_caps & V4L2_CAP_META_CAPTURE) ? ": a metadata node" : "");
   }
   return info;
 }
@@ -122,7 +130,7 @@ Result<uint32_t> query_v4l2_caps(const char* dev_path) {
   if (fd < 0) {
     const int err = errno;
     return Error::make(err == ENOENT || err == ENODEV || err == ENXIO ? ErrorCode::kCaptureNoDevice
-                                                                       : ErrorCode::kCapture,
+                                                                      : ErrorCode::kCapture,
                        "%s: open: %s", dev_path, std::strerror(err));
   }
   v4l2_capability cap{};
@@ -174,8 +182,9 @@ Result<DeviceInfo> find_v4l2_device(const DeviceSelector& sel, const DeviceRoots
       for (const DeviceInfo* d : matching) present += (present.empty() ? "" : "; ") + summary(*d);
     }
     if (!matching.empty()) {
-      return Error::make(ErrorCode::kCaptureNotCamera, "%s: only nodes that cannot capture video: %s",
-                         wanted.c_str(), present.c_str());
+      return Error::make(ErrorCode::kCaptureNotCamera,
+                         "%s: only nodes that cannot capture video: %s", wanted.c_str(),
+                         present.c_str());
     }
     return Error::make(ErrorCode::kCaptureNoDevice, "no camera matches %s; present: %s",
                        wanted.c_str(), present.empty() ? "no video devices" : present.c_str());

@@ -12,10 +12,14 @@ bool parse_hex16(std::string_view text, uint16_t& out) {
   uint32_t v = 0;
   for (char c : text) {
     v <<= 4;
-    if (c >= '0' && c <= '9') v |= static_cast<uint32_t>(c - '0');
-    else if (c >= 'a' && c <= 'f') v |= static_cast<uint32_t>(c - 'a' + 10);
-    else if (c >= 'A' && c <= 'F') v |= static_cast<uint32_t>(c - 'A' + 10);
-    else return false;
+    if (c >= '0' && c <= '9')
+      v |= static_cast<uint32_t>(c - '0');
+    else if (c >= 'a' && c <= 'f')
+      v |= static_cast<uint32_t>(c - 'a' + 10);
+    else if (c >= 'A' && c <= 'F')
+      v |= static_cast<uint32_t>(c - 'A' + 10);
+    else
+      return false;
   }
   out = static_cast<uint16_t>(v);
   return true;
@@ -35,7 +39,8 @@ Result<DeviceSelector> parse_device_selector(std::string_view text) {
     std::string_view rest = text.substr(4);
     const size_t c1 = rest.find(':');
     const std::string_view vid = rest.substr(0, c1);
-    std::string_view after = c1 == std::string_view::npos ? std::string_view() : rest.substr(c1 + 1);
+    std::string_view after =
+        c1 == std::string_view::npos ? std::string_view() : rest.substr(c1 + 1);
     const size_t c2 = after.find(':');
     const std::string_view pid = after.substr(0, c2);
     if (c1 != std::string_view::npos && parse_hex16(vid, sel.vendor_id) &&

@@ -30,7 +30,8 @@ Status map_buffers(V4l2Source::State& s) {
     b.memory = V4L2_MEMORY_MMAP;
     b.index = i;
     if (int err = xioctl(s.fd, VIDIOC_QUERYBUF, &b); err != 0) {
-      return Error::make(ErrorCode::kCapture, "%s: VIDIOC_QUERYBUF %u: %s", s.name, i, std::strerror(err));
+      return Error::make(ErrorCode::kCapture, "%s: VIDIOC_QUERYBUF %u: %s", s.name, i,
+                         std::strerror(err));
     }
     void* p = ::mmap(nullptr, b.length, PROT_READ, MAP_SHARED, s.fd, b.m.offset);
     if (p == MAP_FAILED) {
@@ -39,7 +40,8 @@ Status map_buffers(V4l2Source::State& s) {
     }
     s.buffers[i] = {static_cast<const uint8_t*>(p), b.length};
     if (int err = xioctl(s.fd, VIDIOC_QBUF, &b); err != 0) {
-      return Error::make(ErrorCode::kCapture, "%s: VIDIOC_QBUF %u: %s", s.name, i, std::strerror(err));
+      return Error::make(ErrorCode::kCapture, "%s: VIDIOC_QBUF %u: %s", s.name, i,
+                         std::strerror(err));
     }
   }
   return Status();

@@ -23,7 +23,8 @@ bool find_by_key(int fd, const char* key, v4l2_query_ext_ctrl& out, char* offere
         out = q;
         return true;
       }
-      if (n + 2 < size) n += static_cast<size_t>(std::snprintf(offered + n, size - n, "%s%s", n ? ", " : "", k));
+      if (n + 2 < size)
+        n += static_cast<size_t>(std::snprintf(offered + n, size - n, "%s%s", n ? ", " : "", k));
     }
     q.id |= V4L2_CTRL_FLAG_NEXT_CTRL | V4L2_CTRL_FLAG_NEXT_COMPOUND;
   }
@@ -37,46 +38,56 @@ Status apply_one(V4l2Source::State& s, const ControlSetting& c) {
   if (id) {
     q.id = id;
     if (xioctl(s.fd, VIDIOC_QUERY_EXT_CTRL, &q) != 0 || (q.flags & V4L2_CTRL_FLAG_DISABLED)) {
-      return Error::make(ErrorCode::kCaptureControl, "%s: control '%s' (id 0x%08x) is not offered by the device",
-                         s.name, key, id);
+      return Error::make(ErrorCode::kCaptureControl,
+                         "%s: control '%s' (id 0x%08x) is not offered by the device", s.name, key,
+                         id);
     }
   } else {
     char offered[200];
     if (!find_by_key(s.fd, key, q, offered, sizeof(offered))) {
-      return Error::make(ErrorCode::kCaptureControl, "%s: unknown control '%s' (the device offers: %s)",
-                         s.name, key, offered[0] ? offered : "none");
+      return Error::make(ErrorCode::kCaptureControl,
+                         "%s: unknown control '%s' (the device offers: %s)", s.name, key,
+                         offered[0] ? offered : "none");
     }
   }
   switch (q.type) {
-    case V4L2_CTRL_TYPE_INTEGER: case V4L2_CTRL_TYPE_BOOLEAN: case V4L2_CTRL_TYPE_MENU:
-    case V4L2_CTRL_TYPE_INTEGER_MENU: case V4L2_CTRL_TYPE_BUTTON: case V4L2_CTRL_TYPE_INTEGER64:
-    case V4L2_CTRL_TYPE_BITMASK:
-      break;
+    case V4L2_CTRL_TYPE_INTEGER:
+    case V4L2_CTRL_TYPE_BOOLEAN:
+    case V4L2_CTRL_TYPE_MENU:
+    case V4L2_CTRL_TYPE_INTEGER_MENU:
+    case V4L2_CTRL_TYPE_BUTTON:
+    case V4L2_CTRL_TYPE_INTEGER64:
+    case V4L2_CTRL_TYPE_BITMASK: break;
     default:
-      return Error::make(ErrorCode::kCaptureControl, "%s: control '%s' (%s) is not a numeric control",
-                         s.name, key, q.name);
+      return Error::make(ErrorCode::kCaptureControl,
+                         "%s: control '%s' (%s) is not a numeric control", s.name, key, q.name);
   }
   if (q.flags & V4L2_CTRL_FLAG_READ_ONLY) {
-    return Error::make(ErrorCode::kCaptureControl, "%s: control '%s' (%s) is read-only", s.name, key, q.name);
+    return Error::make(ErrorCode::kCaptureControl, "%s: control '%s' (%s) is read-only", s.name,
+                       key, q.name);
   }
   if (q.type != V4L2_CTRL_TYPE_BUTTON && q.type != V4L2_CTRL_TYPE_BITMASK &&
       (c.value < q.minimum || c.value > q.maximum)) {
-    return Error::make(ErrorCode::kCaptureControl, "%s: control '%s' (%s) = %lld is outside [%lld, %lld]",
-                       s.name, key, q.name, static_cast<long long>(c.value),
-                       static_cast<long long>(q.minimum), static_cast<long long>(q.maximum));
+    return Error::make(ErrorCode::kCaptureControl,
+                       "%s: control '%s' (%s) = %lld is outside [%lld, %lld]", s.name, key, q.name,
+                       static_cast<long long>(c.value), static_cast<long long>(q.minimum),
+                       static_cast<long long>(q.maximum));
   }
   v4l2_ext_control ctrl{};
   ctrl.id = q.id;
-  if (q.type == V4L2_CTRL_TYPE_INTEGER64) ctrl.value64 = c.value;
-  else ctrl.value = static_cast<int32_t>(c.value);
+  if (q.type == V4L2_CTRL_TYPE_INTEGER64)
+    ctrl.value64 = c.value;
+  else
+    ctrl.value = static_cast<int32_t>(c.value);
   v4l2_ext_controls set{};
   set.which = V4L2_CTRL_WHICH_CUR_VAL;
   set.count = 1;
   set.controls = &ctrl;
   if (int err = xioctl(s.fd, VIDIOC_S_EXT_CTRLS, &set); err != 0) {
-    return Error::make(ErrorCode::kCaptureControl, "%s: setting control '%s' (%s) = %lld: %s%s", s.name, key,
-                       q.name, static_cast<long long>(c.value), std::strerror(err),
-                       err == EACCES ? " (an automatic mode governs it: set that mode to manual first)" : "");
+    return Error::make(
+        ErrorCode::kCaptureControl, "%s: setting control '%s' (%s) = %lld: %s%s", s.name, key,
+        q.name, static_cast<long long>(c.value), std::strerror(err),
+        err == EACCES ? " (an automatic mode governs it: set that mode to manual first)" : "");
   }
   AppliedControl applied{c.name, q.id, c.value};
   if (q.type != V4L2_CTRL_TYPE_BUTTON && !(q.flags & V4L2_CTRL_FLAG_WRITE_ONLY)) {

@@ -39,23 +39,23 @@ struct V4l2Source::State {
   DeviceInfo device;
   SourceStats stats;
   FrameAccounting accounting{stats};
-  image::FrameFormat format;      // fixed by the first successful open
+  image::FrameFormat format;  // fixed by the first successful open
   bool format_fixed = false;
   std::vector<AppliedControl> applied;
-  int32_t watchdog_ms = 1000;     // effective (config raised to 4 frame periods)
+  int32_t watchdog_ms = 1000;  // effective (config raised to 4 frame periods)
 
   // The open device.
   int fd = -1;
   internal::MappedBuffer buffers[internal::kMaxGrantedBuffers];
   uint32_t buffer_count = 0;
-  int held = -1;                  // buffer index delivered and not yet released
-  int pending_errno = 0;          // a release() that found the device gone: next() ends it
-  int64_t last_frame_ns = 0;      // watchdog reference: last dequeue (or stream start + grace)
+  int held = -1;              // buffer index delivered and not yet released
+  int pending_errno = 0;      // a release() that found the device gone: next() ends it
+  int64_t last_frame_ns = 0;  // watchdog reference: last dequeue (or stream start + grace)
 
   // Lifecycle and outages.
   bool started = false;
   int64_t outage_start_ns = 0;
-  int64_t closed_outage_ns = 0;   // total of outages already over
+  int64_t closed_outage_ns = 0;  // total of outages already over
   int64_t next_attempt_ns = 0;
   int32_t backoff_ms = 0;
   Error last_reopen_error;

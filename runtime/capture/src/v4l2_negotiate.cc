@@ -20,9 +20,11 @@ void offered_formats(int fd, char* out, size_t size) {
     d.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
     if (xioctl(fd, VIDIOC_ENUM_FMT, &d) != 0) break;
     image::PixelFormat f;
-    char fourcc[5] = {static_cast<char>(d.pixelformat & 0xFF), static_cast<char>((d.pixelformat >> 8) & 0xFF),
-                      static_cast<char>((d.pixelformat >> 16) & 0xFF), static_cast<char>(d.pixelformat >> 24), 0};
-    const char* shown = image::pixel_format_from_fourcc(d.pixelformat, f) ? image::pixel_format_name(f) : fourcc;
+    char fourcc[5] = {
+        static_cast<char>(d.pixelformat & 0xFF), static_cast<char>((d.pixelformat >> 8) & 0xFF),
+        static_cast<char>((d.pixelformat >> 16) & 0xFF), static_cast<char>(d.pixelformat >> 24), 0};
+    const char* shown =
+        image::pixel_format_from_fourcc(d.pixelformat, f) ? image::pixel_format_name(f) : fourcc;
     n += static_cast<size_t>(std::snprintf(out + n, size - n, "%s%s", n ? ", " : "", shown));
   }
 }
@@ -33,8 +35,9 @@ Status set_interval(V4l2Source::State& s) {
   parm.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   if (s.config.fps > 0) {
     if (int err = xioctl(s.fd, VIDIOC_G_PARM, &parm); err != 0) {
-      return Error::make(ErrorCode::kCaptureFormatRefused, "%s: cannot set %.2f fps: VIDIOC_G_PARM: %s",
-                         name, s.config.fps, std::strerror(err));
+      return Error::make(ErrorCode::kCaptureFormatRefused,
+                         "%s: cannot set %.2f fps: VIDIOC_G_PARM: %s", name, s.config.fps,
+                         std::strerror(err));
     }
     if (!(parm.parm.capture.capability & V4L2_CAP_TIMEPERFRAME)) {
       return Error::make(ErrorCode::kCaptureFormatRefused,
@@ -43,7 +46,8 @@ Status set_interval(V4l2Source::State& s) {
     }
     // 1000 / (fps * 1000): the driver picks its nearest supported interval.
     parm.parm.capture.timeperframe.numerator = 1000;
-    parm.parm.capture.timeperframe.denominator = static_cast<uint32_t>(std::lround(s.config.fps * 1000));
+    parm.parm.capture.timeperframe.denominator =
+        static_cast<uint32_t>(std::lround(s.config.fps * 1000));
     if (int err = xioctl(s.fd, VIDIOC_S_PARM, &parm); err != 0) {
       return Error::make(ErrorCode::kCaptureFormatRefused, "%s: VIDIOC_S_PARM %.2f fps: %s", name,
                          s.config.fps, std::strerror(err));
@@ -72,8 +76,8 @@ Status negotiate(V4l2Source::State& s) {
   f.fmt.pix.field = V4L2_FIELD_NONE;
   if (int err = xioctl(s.fd, VIDIOC_S_FMT, &f); err != 0) {
     return Error::make(err == EBUSY ? ErrorCode::kCapture : ErrorCode::kCaptureFormatRefused,
-                       "%s: VIDIOC_S_FMT %s %dx%d: %s%s", s.name, image::pixel_format_name(c.format),
-                       c.width, c.height, std::strerror(err),
+                       "%s: VIDIOC_S_FMT %s %dx%d: %s%s", s.name,
+                       image::pixel_format_name(c.format), c.width, c.height, std::strerror(err),
                        err == EBUSY ? " (another program is streaming from it)" : "");
   }
   f = {};
@@ -87,30 +91,33 @@ Status negotiate(V4l2Source::State& s) {
     offered_formats(s.fd, offered, sizeof(offered));
     image::PixelFormat got;
     const bool known = image::pixel_format_from_fourcc(p.pixelformat, got);
-    return Error::make(ErrorCode::kCaptureFormatRefused,
-                       "%s: asked for %s, the device set %s (it offers: %s)", s.name,
-                       image::pixel_format_name(c.format), known ? image::pixel_format_name(got) : "another format",
-                       offered[0] ? offered : "nothing");
+    return Error::make(
+        ErrorCode::kCaptureFormatRefused, "%s: asked for %s, the device set %s (it offers: %s)",
+        s.name, image::pixel_format_name(c.format),
+        known ? image::pixel_format_name(got) : "another format", offered[0] ? offered : "nothing");
   }
   if (static_cast<int32_t>(p.width) != c.width || static_cast<int32_t>(p.height) != c.height) {
     if (!c.accept_other_size) {
       return Error::make(ErrorCode::kCaptureFormatRefused,
                          "%s: asked for %s %dx%d, the device set %ux%u (it ignores the requested "
                          "size; accept_other_size uses what it delivers)",
-                         s.name, image::pixel_format_name(c.format), c.width, c.height, p.width, p.height);
+                         s.name, image::pixel_format_name(c.format), c.width, c.height, p.width,
+                         p.height);
     }
   }
   if (p.field != V4L2_FIELD_NONE && p.field != V4L2_FIELD_ANY) {
-    return Error::make(ErrorCode::kCaptureFormatRefused,
-                       "%s: the device delivers interlaced fields (field %u); progressive frames only",
-                       s.name, p.field);
+    return Error::make(
+        ErrorCode::kCaptureFormatRefused,
+        "%s: the device delivers interlaced fields (field %u); progressive frames only", s.name,
+        p.field);
   }
-  image::FrameFormat got{c.format, static_cast<int32_t>(p.width), static_cast<int32_t>(p.height),
-                         c.format == image::PixelFormat::kMjpeg ? 0 : static_cast<int32_t>(p.bytesperline)};
+  image::FrameFormat got{
+      c.format, static_cast<int32_t>(p.width), static_cast<int32_t>(p.height),
+      c.format == image::PixelFormat::kMjpeg ? 0 : static_cast<int32_t>(p.bytesperline)};
   if (c.format != image::PixelFormat::kMjpeg && p.sizeimage < image::frame_bytes(got)) {
     return Error::make(ErrorCode::kCaptureFormatRefused,
-                       "%s: the driver's buffer size %u is below one %ux%u %s frame (%zu bytes)", s.name,
-                       p.sizeimage, p.width, p.height, image::pixel_format_name(c.format),
+                       "%s: the driver's buffer size %u is below one %ux%u %s frame (%zu bytes)",
+                       s.name, p.sizeimage, p.width, p.height, image::pixel_format_name(c.format),
                        image::frame_bytes(got));
   }
   if (s.format_fixed && (got.width != s.format.width || got.height != s.format.height ||

@@ -16,10 +16,11 @@ void set_name(V4l2Source::State& s) {
   const char* label = s.config.label.empty() ? "v4l2" : s.config.label.c_str();
   const DeviceInfo& d = s.device;
   if (d.path.empty()) {
-    std::snprintf(s.name, sizeof(s.name), "%s (%s)", label, describe_selector(s.config.device).c_str());
+    std::snprintf(s.name, sizeof(s.name), "%s (%s)", label,
+                  describe_selector(s.config.device).c_str());
   } else if (d.vendor_id != 0 || d.product_id != 0) {
-    std::snprintf(s.name, sizeof(s.name), "%s (%04x:%04x SN %s, %s)", label, d.vendor_id, d.product_id,
-                  d.serial.empty() ? "-" : d.serial.c_str(), d.path.c_str());
+    std::snprintf(s.name, sizeof(s.name), "%s (%04x:%04x SN %s, %s)", label, d.vendor_id,
+                  d.product_id, d.serial.empty() ? "-" : d.serial.c_str(), d.path.c_str());
   } else {
     std::snprintf(s.name, sizeof(s.name), "%s (%s '%s')", label, d.path.c_str(), d.name.c_str());
   }
@@ -32,9 +33,10 @@ Status open_steps(V4l2Source::State& s) {
   s.fd = ::open(s.device.path.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
   if (s.fd < 0) {
     const int err = errno;
-    return Error::make(err == ENOENT || err == ENODEV ? ErrorCode::kCaptureNoDevice : ErrorCode::kCapture,
-                       "%s: open: %s%s", s.name, std::strerror(err),
-                       err == EACCES ? " (add the user to group 'video' or install the udev rule)" : "");
+    return Error::make(
+        err == ENOENT || err == ENODEV ? ErrorCode::kCaptureNoDevice : ErrorCode::kCapture,
+        "%s: open: %s%s", s.name, std::strerror(err),
+        err == EACCES ? " (add the user to group 'video' or install the udev rule)" : "");
   }
   TLV_TRY(apply_controls(s));
   TLV_TRY(negotiate(s));
@@ -89,8 +91,8 @@ Status validate_v4l2_config(const V4l2Config& c) {
   TLV_ENSURE(image::pixel_format_fourcc(c.format) != 0, ErrorCode::kInvalidArgument,
              "%s: format: unknown pixel format", label);
   TLV_ENSURE(c.width > 0 && c.height > 0 && c.width <= 16384 && c.height <= 16384,
-             ErrorCode::kInvalidArgument, "%s: size %dx%d: width and height must be 1..16384", label,
-             c.width, c.height);
+             ErrorCode::kInvalidArgument, "%s: size %dx%d: width and height must be 1..16384",
+             label, c.width, c.height);
   TLV_ENSURE(c.fps >= 0 && c.fps <= 1000, ErrorCode::kInvalidArgument,
              "%s: fps %.3f: must be 0 (keep the device's) or up to 1000", label, c.fps);
   TLV_ENSURE(c.buffers >= kMinBuffers && c.buffers <= kMaxBuffers, ErrorCode::kInvalidArgument,
@@ -98,8 +100,8 @@ Status validate_v4l2_config(const V4l2Config& c) {
   TLV_ENSURE(c.warmup_frames <= kMaxWarmupFrames, ErrorCode::kInvalidArgument,
              "%s: warmup_frames %u: at most %u", label, c.warmup_frames, kMaxWarmupFrames);
   TLV_ENSURE(c.watchdog_ms >= kMinWatchdogMs && c.watchdog_ms <= kMaxWatchdogMs,
-             ErrorCode::kInvalidArgument, "%s: watchdog_ms %d: must be %d..%d", label, c.watchdog_ms,
-             kMinWatchdogMs, kMaxWatchdogMs);
+             ErrorCode::kInvalidArgument, "%s: watchdog_ms %d: must be %d..%d", label,
+             c.watchdog_ms, kMinWatchdogMs, kMaxWatchdogMs);
   TLV_ENSURE(c.backoff_initial_ms >= kMinBackoffMs && c.backoff_max_ms <= kMaxBackoffMs &&
                  c.backoff_initial_ms <= c.backoff_max_ms,
              ErrorCode::kInvalidArgument,

@@ -59,20 +59,23 @@ Status reconnect(V4l2Source::State& s, int64_t deadline_ns) {
       }
       ++s.stats.reconnect_attempts;
       s.last_reopen_error = st.error();
-      s.backoff_ms = s.backoff_ms * 2 > s.config.backoff_max_ms ? s.config.backoff_max_ms : s.backoff_ms * 2;
+      s.backoff_ms =
+          s.backoff_ms * 2 > s.config.backoff_max_ms ? s.config.backoff_max_ms : s.backoff_ms * 2;
       s.next_attempt_ns = now + s.backoff_ms * kMs;
     }
     if (s.next_attempt_ns > deadline_ns) {
       internal::sleep_until_ns(deadline_ns);
       now = monotonic_ns();
       s.stats.outage_ns = s.closed_outage_ns + (now - s.outage_start_ns);
-      const char* reason = s.last_reopen_error.code() == ErrorCode::kOk ? "not reopened yet"
-                                                                        : s.last_reopen_error.message();
-      return Error::make(ErrorCode::kCaptureDisconnected,
-                         "%s: disconnected for %lld ms, %llu reopen attempts failed, next in %lld ms: %s",
-                         s.name, static_cast<long long>((now - s.outage_start_ns) / kMs),
-                         static_cast<unsigned long long>(s.stats.reconnect_attempts),
-                         static_cast<long long>((s.next_attempt_ns - now) / kMs), reason);
+      const char* reason = s.last_reopen_error.code() == ErrorCode::kOk
+                               ? "not reopened yet"
+                               : s.last_reopen_error.message();
+      return Error::make(
+          ErrorCode::kCaptureDisconnected,
+          "%s: disconnected for %lld ms, %llu reopen attempts failed, next in %lld ms: %s", s.name,
+          static_cast<long long>((now - s.outage_start_ns) / kMs),
+          static_cast<unsigned long long>(s.stats.reconnect_attempts),
+          static_cast<long long>((s.next_attempt_ns - now) / kMs), reason);
     }
     internal::sleep_until_ns(s.next_attempt_ns);
   }
@@ -90,7 +93,9 @@ bool requeue(V4l2Source::State& s, uint32_t index, int& err) {
 }  // namespace
 
 V4l2Source::V4l2Source(std::unique_ptr<State> state) : state_(std::move(state)) {}
-V4l2Source::~V4l2Source() { stop(); }
+V4l2Source::~V4l2Source() {
+  stop();
+}
 
 Status V4l2Source::start() {
   State& s = *state_;
@@ -154,12 +159,15 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
       s.last_frame_ns = now;
       const internal::MappedBuffer& m = s.buffers[b.index];
       RawFrame raw{{m.data, b.bytesused <= m.length ? b.bytesused : m.length},
-                   b.sequence, timestamp_of(b, s.stats, now), (b.flags & V4L2_BUF_FLAG_ERROR) != 0};
+                   b.sequence,
+                   timestamp_of(b, s.stats, now),
+                   (b.flags & V4L2_BUF_FLAG_ERROR) != 0};
       int qerr = 0;
       if (s.accounting.admit(raw, s.format) == Admission::kDeliverable) {
         if (newest >= 0) {
           ++stale;
-          if (!requeue(s, static_cast<uint32_t>(newest), qerr)) return begin_outage(s, "VIDIOC_QBUF failed", qerr);
+          if (!requeue(s, static_cast<uint32_t>(newest), qerr))
+            return begin_outage(s, "VIDIOC_QBUF failed", qerr);
         }
         newest = static_cast<int>(b.index);
         frame.bytes = raw.bytes;
@@ -186,7 +194,8 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
     }
     if (now >= deadline) {
       ++s.stats.timeouts;
-      return Error::make(ErrorCode::kCaptureTimeout, "%s: no frame within %d ms", s.name, timeout_ms);
+      return Error::make(ErrorCode::kCaptureTimeout, "%s: no frame within %d ms", s.name,
+                         timeout_ms);
     }
     const int64_t until = deadline < watchdog_at ? deadline : watchdog_at;
     pollfd p{s.fd, POLLIN, 0};
@@ -195,17 +204,32 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
     if (rc > 0 && (p.revents & (POLLERR | POLLHUP | POLLNVAL)) && !(p.revents & POLLIN)) {
       // An unregistered node (unplugged) polls POLLERR|POLLHUP; so does a queue in error state
       // or one that stopped streaming. All our buffers are queued here, so none of it passes.
-      return begin_outage(s, (p.revents & POLLHUP) ? "POLLHUP (device gone)" : "POLLERR (stream failed)", 0);
+      return begin_outage(
+          s, (p.revents & POLLHUP) ? "POLLHUP (device gone)" : "POLLERR (stream failed)", 0);
     }
   }
 }
 
-const image::FrameFormat& V4l2Source::format() const { return state_->format; }
-const SourceStats& V4l2Source::stats() const { return state_->stats; }
-const char* V4l2Source::name() const { return state_->name; }
-const DeviceInfo& V4l2Source::device() const { return state_->device; }
-const std::vector<AppliedControl>& V4l2Source::applied_controls() const { return state_->applied; }
-uint32_t V4l2Source::buffer_count() const { return state_->buffer_count; }
-size_t V4l2Source::buffer_bytes() const { return state_->buffers[0].length; }
+const image::FrameFormat& V4l2Source::format() const {
+  return state_->format;
+}
+const SourceStats& V4l2Source::stats() const {
+  return state_->stats;
+}
+const char* V4l2Source::name() const {
+  return state_->name;
+}
+const DeviceInfo& V4l2Source::device() const {
+  return state_->device;
+}
+const std::vector<AppliedControl>& V4l2Source::applied_controls() const {
+  return state_->applied;
+}
+uint32_t V4l2Source::buffer_count() const {
+  return state_->buffer_count;
+}
+size_t V4l2Source::buffer_bytes() const {
+  return state_->buffers[0].length;
+}
 
 }  // namespace tlvlink::capture

@@ -51,12 +51,15 @@ Status set_timings(const std::string& dev, bool output) {
 void frame_pattern(Pattern pattern, uint32_t index, std::span<uint8_t> out) {
   switch (pattern) {
     case Pattern::kIndexed:
-      for (size_t i = 0; i < out.size(); ++i) out[i] = static_cast<uint8_t>(mix(index * 2654435761U + static_cast<uint32_t>(i / 4)) >> (8 * (i % 4)));
+      for (size_t i = 0; i < out.size(); ++i)
+        out[i] = static_cast<uint8_t>(mix(index * 2654435761U + static_cast<uint32_t>(i / 4)) >>
+                                      (8 * (i % 4)));
       break;
     case Pattern::kAllZero: std::memset(out.data(), 0, out.size()); break;
     case Pattern::kAllMax: std::memset(out.data(), 255, out.size()); break;
     case Pattern::kNoise:
-      for (size_t i = 0; i < out.size(); ++i) out[i] = static_cast<uint8_t>(mix(0x5eed0000U ^ static_cast<uint32_t>(i)));
+      for (size_t i = 0; i < out.size(); ++i)
+        out[i] = static_cast<uint8_t>(mix(0x5eed0000U ^ static_cast<uint32_t>(i)));
       break;
   }
   if (out.size() < 8) return;
@@ -75,7 +78,8 @@ bool frame_index(std::span<const uint8_t> frame, uint32_t& index) {
 
 Result<std::unique_ptr<LoopFeeder>> LoopFeeder::start(const Nodes& nodes, image::PixelFormat format,
                                                       Pattern pattern) {
-  if (nodes.output.empty()) return Error::make(ErrorCode::kCaptureNoDevice, "vivid loop: no output node");
+  if (nodes.output.empty())
+    return Error::make(ErrorCode::kCaptureNoDevice, "vivid loop: no output node");
   TLV_TRY(set_timings(nodes.capture, false));
   TLV_TRY(set_timings(nodes.output, true));
   std::unique_ptr<LoopFeeder> f(new LoopFeeder());
@@ -91,8 +95,8 @@ Result<std::unique_ptr<LoopFeeder>> LoopFeeder::start(const Nodes& nodes, image:
   if (int err = xioctl(f->fd_, VIDIOC_S_FMT, &fmt); err != 0) return fail("output S_FMT", err);
   if (fmt.fmt.pix.width != kLoopWidth || fmt.fmt.pix.height != kLoopHeight ||
       fmt.fmt.pix.pixelformat != image::pixel_format_fourcc(format)) {
-    return Error::make(ErrorCode::kCaptureFormatRefused, "vivid loop: output set %ux%u", fmt.fmt.pix.width,
-                       fmt.fmt.pix.height);
+    return Error::make(ErrorCode::kCaptureFormatRefused, "vivid loop: output set %ux%u",
+                       fmt.fmt.pix.width, fmt.fmt.pix.height);
   }
   f->format_ = {format, kLoopWidth, kLoopHeight, static_cast<int32_t>(fmt.fmt.pix.bytesperline)};
   v4l2_requestbuffers req{};
@@ -106,7 +110,8 @@ Result<std::unique_ptr<LoopFeeder>> LoopFeeder::start(const Nodes& nodes, image:
     b.type = V4L2_BUF_TYPE_VIDEO_OUTPUT;
     b.memory = V4L2_MEMORY_MMAP;
     b.index = i;
-    if (int err = xioctl(f->fd_, VIDIOC_QUERYBUF, &b); err != 0) return fail("output QUERYBUF", err);
+    if (int err = xioctl(f->fd_, VIDIOC_QUERYBUF, &b); err != 0)
+      return fail("output QUERYBUF", err);
     void* p = ::mmap(nullptr, b.length, PROT_READ | PROT_WRITE, MAP_SHARED, f->fd_, b.m.offset);
     if (p == MAP_FAILED) return fail("output mmap", errno);
     f->buffers_[i] = static_cast<uint8_t*>(p);
@@ -115,7 +120,8 @@ Result<std::unique_ptr<LoopFeeder>> LoopFeeder::start(const Nodes& nodes, image:
   // Frame 0 in buffer 0; the others are queued as frames are fed.
   if (!f->queue_next()) return fail("output QBUF", errno);
   v4l2_buf_type type = V4L2_BUF_TYPE_VIDEO_OUTPUT;
-  if (int err = xioctl(f->fd_, VIDIOC_STREAMON, &type); err != 0) return fail("output STREAMON", err);
+  if (int err = xioctl(f->fd_, VIDIOC_STREAMON, &type); err != 0)
+    return fail("output STREAMON", err);
   f->thread_ = std::thread([p = f.get()] { p->run(); });
   return f;
 }
@@ -154,7 +160,9 @@ void LoopFeeder::run() {
   }
 }
 
-void LoopFeeder::feed_every(int32_t interval_ms) { interval_ms_.store(interval_ms); }
+void LoopFeeder::feed_every(int32_t interval_ms) {
+  interval_ms_.store(interval_ms);
+}
 
 void LoopFeeder::stop_output() {
   interval_ms_.store(0);

@@ -55,9 +55,11 @@ TEST_F(VividWebcam, FormatsAndSizes) {
     PixelFormat format;
     int32_t w, h;
   } cases[] = {
-      {PixelFormat::kYuyv, 320, 180},  {PixelFormat::kYuyv, 640, 360},  {PixelFormat::kYuyv, 1280, 720},
-      {PixelFormat::kNv12, 320, 180},  {PixelFormat::kNv12, 640, 360},  {PixelFormat::kRgb24, 320, 180},
-      {PixelFormat::kRgb24, 640, 360}, {PixelFormat::kGrey, 320, 180},  {PixelFormat::kGrey, 640, 480},
+      {PixelFormat::kYuyv, 320, 180},  {PixelFormat::kYuyv, 640, 360},
+      {PixelFormat::kYuyv, 1280, 720}, {PixelFormat::kNv12, 320, 180},
+      {PixelFormat::kNv12, 640, 360},  {PixelFormat::kRgb24, 320, 180},
+      {PixelFormat::kRgb24, 640, 360}, {PixelFormat::kGrey, 320, 180},
+      {PixelFormat::kGrey, 640, 480},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(std::string(image::pixel_format_name(c.format)) + " " + std::to_string(c.w) + "x" +
@@ -74,8 +76,9 @@ TEST_F(VividWebcam, FormatsAndSizes) {
     EXPECT_EQ((*src)->buffer_count(), 4u);
     stream(**src, 3);
     EXPECT_TRUE((*src)->stats().driver_timestamps);  // vivid stamps CLOCK_MONOTONIC
-    std::printf("note: %s %dx%d: stride %d, %zu bytes, %.2f fps nominal\n", image::pixel_format_name(c.format), c.w,
-                c.h, (*src)->format().stride, image::frame_bytes((*src)->format()), (*src)->stats().nominal_fps);
+    std::printf("note: %s %dx%d: stride %d, %zu bytes, %.2f fps nominal\n",
+                image::pixel_format_name(c.format), c.w, c.h, (*src)->format().stride,
+                image::frame_bytes((*src)->format()), (*src)->stats().nominal_fps);
   }
 }
 
@@ -85,7 +88,8 @@ double interval_fps(int fd) {
   v4l2_streamparm parm{};
   parm.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   if (::ioctl(fd, VIDIOC_G_PARM, &parm) != 0) return -1;
-  return static_cast<double>(parm.parm.capture.timeperframe.denominator) / parm.parm.capture.timeperframe.numerator;
+  return static_cast<double>(parm.parm.capture.timeperframe.denominator) /
+         parm.parm.capture.timeperframe.numerator;
 }
 
 int set_size(int fd, uint32_t w, uint32_t h) {
@@ -112,8 +116,10 @@ TEST_F(VividWebcam, IntervalIsSetAfterFormatAndReadBack) {
   ASSERT_EQ(set_size(fd, 320, 180), 0);
   const double after_back = interval_fps(fd);
   ::close(fd);
-  std::printf("note: vivid: S_PARM 60 fps at 320x180 -> %.2f; S_FMT 1280x720 -> %.2f; S_FMT 320x180 -> %.2f\n", set,
-              after_big, after_back);
+  std::printf(
+      "note: vivid: S_PARM 60 fps at 320x180 -> %.2f; S_FMT 1280x720 -> %.2f; S_FMT 320x180 -> "
+      "%.2f\n",
+      set, after_big, after_back);
   EXPECT_DOUBLE_EQ(set, 60.0);
   EXPECT_LT(after_big, 60.0);
   EXPECT_LT(after_back, 60.0) << "S_FMT changed the interval; only S_PARM after S_FMT sets it";
@@ -184,7 +190,8 @@ TEST_F(VividWebcam, HasNoMjpeg) {
   Status s = (*src)->start();
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().code(), ErrorCode::kCaptureFormatRefused);
-  EXPECT_NE(std::string(s.error().message()).find("asked for mjpeg, the device set"), std::string::npos)
+  EXPECT_NE(std::string(s.error().message()).find("asked for mjpeg, the device set"),
+            std::string::npos)
       << s.error().message();
 }
 
@@ -224,7 +231,8 @@ TEST_F(VividWebcam, UnknownControlIsNamed) {
   Status s = (*src)->start();
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().code(), ErrorCode::kCaptureControl);
-  EXPECT_NE(std::string(s.error().message()).find("unknown control 'led_intensity'"), std::string::npos)
+  EXPECT_NE(std::string(s.error().message()).find("unknown control 'led_intensity'"),
+            std::string::npos)
       << s.error().message();
   cfg.controls = parse_controls("brightness=300").value();
   auto range = make_v4l2_source(cfg);
@@ -238,7 +246,8 @@ TEST_F(VividWebcam, UnknownControlIsNamed) {
   s = (*led)->start();
   ASSERT_FALSE(s.ok());
   EXPECT_NE(std::string(s.error().message()).find("control 'led' (id 0x009a090d) is not offered"),
-            std::string::npos) << s.error().message();
+            std::string::npos)
+      << s.error().message();
 }
 
 }  // namespace

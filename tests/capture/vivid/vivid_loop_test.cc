@@ -24,7 +24,8 @@ class VividLoop : public ::testing::Test {
   void SetUp() override {
     if (auto reason = vivid::absent_reason(); !reason.empty()) GTEST_SKIP() << reason;
     nodes = *vivid::find_nodes();
-    if (nodes.output.empty()) GTEST_SKIP() << "vivid has no output node (load it with node_types=0x101)";
+    if (nodes.output.empty())
+      GTEST_SKIP() << "vivid has no output node (load it with node_types=0x101)";
   }
 
   // Output first (vivid loops only from a streaming output), then the capture source.
@@ -32,7 +33,8 @@ class VividLoop : public ::testing::Test {
     auto f = vivid::LoopFeeder::start(nodes, image::PixelFormat::kYuyv, pattern);
     ASSERT_TRUE(f.ok()) << f.error().message();
     feeder = std::move(*f);
-    auto cfg = vivid::capture_config(nodes, image::PixelFormat::kYuyv, vivid::kLoopWidth, vivid::kLoopHeight, 0);
+    auto cfg = vivid::capture_config(nodes, image::PixelFormat::kYuyv, vivid::kLoopWidth,
+                                     vivid::kLoopHeight, 0);
     cfg.controls = parse_controls("osd_text_mode=2, loop_video=1").value();
     auto s = make_v4l2_source(cfg);
     ASSERT_TRUE(s.ok());
@@ -97,10 +99,13 @@ TEST_F(VividLoop, FramesArriveBitExactWithDuplicatesAndGaps) {
   const Seen slow_feed = watch(100, 0, 40);
   // Fed at ~30 fps, read at ~7 fps: the newest frame wins, the ones in between are gaps.
   const Seen slow_reader = watch(33, 150, 10);
-  std::printf("note: feed 10 fps / read 60 fps: %d frames, %d bit-exact, %d duplicates, %d gaps, %d not looped\n",
-              slow_feed.frames, slow_feed.exact, slow_feed.duplicates, slow_feed.gaps, slow_feed.not_looped);
-  std::printf("note: feed 30 fps / read 7 fps: %d frames, %d bit-exact, %d duplicates, %d gaps\n", slow_reader.frames,
-              slow_reader.exact, slow_reader.duplicates, slow_reader.gaps);
+  std::printf(
+      "note: feed 10 fps / read 60 fps: %d frames, %d bit-exact, %d duplicates, %d gaps, %d not "
+      "looped\n",
+      slow_feed.frames, slow_feed.exact, slow_feed.duplicates, slow_feed.gaps,
+      slow_feed.not_looped);
+  std::printf("note: feed 30 fps / read 7 fps: %d frames, %d bit-exact, %d duplicates, %d gaps\n",
+              slow_reader.frames, slow_reader.exact, slow_reader.duplicates, slow_reader.gaps);
   EXPECT_GE(slow_feed.exact, 30);
   EXPECT_LE(slow_feed.not_looped, 3);
   EXPECT_GE(slow_feed.duplicates, 15);
@@ -164,9 +169,12 @@ TEST_F(VividLoop, StoppedFeedRepeatsTheLastFrame) {
   }
   EXPECT_GE(own_pattern, 4);
   EXPECT_EQ(src->stats().timeouts, 0u);
-  std::printf("note: feed stopped: the last fed frame repeated %d/10 times; output stopped: vivid's pattern "
-              "%d/5; timeouts %llu (vivid cannot starve a capture this way: percentage_of_dropped_buffers does)\n",
-              repeats, own_pattern, static_cast<unsigned long long>(src->stats().timeouts));
+  std::printf(
+      "note: feed stopped: the last fed frame repeated %d/10 times; output stopped: vivid's "
+      "pattern "
+      "%d/5; timeouts %llu (vivid cannot starve a capture this way: percentage_of_dropped_buffers "
+      "does)\n",
+      repeats, own_pattern, static_cast<unsigned long long>(src->stats().timeouts));
 }
 
 }  // namespace

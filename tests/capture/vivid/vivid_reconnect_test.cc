@@ -35,7 +35,8 @@ class VividReconnect : public ::testing::Test {
  protected:
   void SetUp() override {
     if (auto reason = vivid::absent_reason(); !reason.empty()) GTEST_SKIP() << reason;
-    if (!vivid::in_rig()) GTEST_SKIP() << "unbinds and reloads vivid: runs only in the board rig (TLVLINK_RIG=1)";
+    if (!vivid::in_rig())
+      GTEST_SKIP() << "unbinds and reloads vivid: runs only in the board rig (TLVLINK_RIG=1)";
     nodes = *vivid::find_nodes();
     ASSERT_EQ(vivid::select_input(nodes.capture, 0), 0);
   }
@@ -81,10 +82,11 @@ class VividReconnect : public ::testing::Test {
       ASSERT_FALSE(f.ok());
       EXPECT_EQ(f.error().code(), ErrorCode::kCaptureDisconnected) << f.error().message();
     }
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double cpu = cpu_seconds() - cpu0;
-    std::printf("note: gone: %d calls in %.2f s, cpu %.3f s, %llu reopen attempts so far\n", calls, wall, cpu,
-                static_cast<unsigned long long>(src.stats().reconnect_attempts));
+    std::printf("note: gone: %d calls in %.2f s, cpu %.3f s, %llu reopen attempts so far\n", calls,
+                wall, cpu, static_cast<unsigned long long>(src.stats().reconnect_attempts));
     EXPECT_GE(wall, calls * 0.095);
     EXPECT_LT(cpu, 0.25 * wall);
   }
@@ -125,8 +127,9 @@ TEST_F(VividReconnect, UnbindAndRebind) {
   EXPECT_EQ(src->stats().reconnects, 1u);
   ASSERT_EQ(vivid::get_control(back->capture, "brightness", brightness), 0);
   EXPECT_EQ(brightness, 200) << "controls are applied again after a reconnect";
-  std::printf("note: unbind detected in %.0f ms; frames again %.0f ms after rebind; outage %.2f s\n", detect_ms,
-              back_ms, static_cast<double>(src->stats().outage_ns) / 1e9);
+  std::printf(
+      "note: unbind detected in %.0f ms; frames again %.0f ms after rebind; outage %.2f s\n",
+      detect_ms, back_ms, static_cast<double>(src->stats().outage_ns) / 1e9);
 }
 
 TEST_F(VividReconnect, DisconnectThenModuleReload) {
@@ -145,8 +148,10 @@ TEST_F(VividReconnect, DisconnectThenModuleReload) {
   int64_t brightness = -1;
   ASSERT_EQ(vivid::get_control(vivid::find_nodes()->capture, "brightness", brightness), 0);
   EXPECT_EQ(brightness, 60);
-  std::printf("note: disconnect detected in %.0f ms; frames %.0f ms after the reload; %llu reopen attempts\n",
-              detect_ms, back_ms, static_cast<unsigned long long>(src->stats().reconnect_attempts));
+  std::printf(
+      "note: disconnect detected in %.0f ms; frames %.0f ms after the reload; %llu reopen "
+      "attempts\n",
+      detect_ms, back_ms, static_cast<unsigned long long>(src->stats().reconnect_attempts));
 }
 
 }  // namespace

@@ -24,14 +24,17 @@ class VividStream : public ::testing::Test {
     ASSERT_EQ(vivid::select_input(nodes.capture, 0), 0);
   }
   void TearDown() override {
-    if (!nodes.capture.empty()) vivid::set_control(nodes.capture, "percentage_of_dropped_buffers", 0);
+    if (!nodes.capture.empty())
+      vivid::set_control(nodes.capture, "percentage_of_dropped_buffers", 0);
   }
-  V4l2Config config(double fps = 25) { return vivid::capture_config(nodes, PixelFormat::kYuyv, 320, 180, fps); }
+  V4l2Config config(double fps = 25) {
+    return vivid::capture_config(nodes, PixelFormat::kYuyv, 320, 180, fps);
+  }
 
   // Every buffer taken from the device is counted once; with the gaps they cover the sequence.
   static uint64_t accounted(const SourceStats& s) {
-    return s.delivered + s.skipped_stale + s.warmup_discarded + s.flagged_error + s.empty + s.short_frames +
-           s.bad_mjpeg + s.dropped;
+    return s.delivered + s.skipped_stale + s.warmup_discarded + s.flagged_error + s.empty +
+           s.short_frames + s.bad_mjpeg + s.dropped;
   }
   vivid::Nodes nodes;
 };
@@ -51,7 +54,8 @@ TEST_F(VividStream, NewestFrameUnderASlowConsumer) {
     if (i > 0) {
       // The newest frame: at most about one frame period old, never a backlog of older ones.
       EXPECT_LT(age_ms, 2.5 * period_ns / 1e6) << "frame " << i << " is " << age_ms << " ms old";
-      EXPECT_GT(f->sequence, last_sequence + 1) << "a slow consumer must not see consecutive frames";
+      EXPECT_GT(f->sequence, last_sequence + 1)
+          << "a slow consumer must not see consecutive frames";
     }
     skipped_total += f->skipped_before;
     last_sequence = f->sequence;
@@ -59,10 +63,13 @@ TEST_F(VividStream, NewestFrameUnderASlowConsumer) {
     (*src)->release();
   }
   const SourceStats& s = (*src)->stats();
-  std::printf("note: slow consumer: %llu delivered, %llu stale skipped, %llu dropped by the device (all buffers "
-              "full), last sequence %llu\n",
-              static_cast<unsigned long long>(s.delivered), static_cast<unsigned long long>(s.skipped_stale),
-              static_cast<unsigned long long>(s.dropped), static_cast<unsigned long long>(last_sequence));
+  std::printf(
+      "note: slow consumer: %llu delivered, %llu stale skipped, %llu dropped by the device (all "
+      "buffers "
+      "full), last sequence %llu\n",
+      static_cast<unsigned long long>(s.delivered),
+      static_cast<unsigned long long>(s.skipped_stale), static_cast<unsigned long long>(s.dropped),
+      static_cast<unsigned long long>(last_sequence));
   EXPECT_EQ(s.skipped_stale, skipped_total);
   EXPECT_GT(s.skipped_stale, static_cast<uint64_t>(kFrames));  // 3 buffers ready each time
   EXPECT_EQ(accounted(s), last_sequence + 1);
@@ -105,8 +112,9 @@ TEST_F(VividStream, SequenceWrapIsNotAGap) {
     (*src)->release();
   }
   const SourceStats& s = (*src)->stats();
-  std::printf("note: through the wrap: %d frames, sequence 0..%llu, %llu dropped, %llu resets\n", frames,
-              static_cast<unsigned long long>(last), static_cast<unsigned long long>(s.dropped),
+  std::printf("note: through the wrap: %d frames, sequence 0..%llu, %llu dropped, %llu resets\n",
+              frames, static_cast<unsigned long long>(last),
+              static_cast<unsigned long long>(s.dropped),
               static_cast<unsigned long long>(s.sequence_resets));
   EXPECT_GE(last, 160u);
   EXPECT_EQ(s.sequence_resets, 0u);
@@ -146,9 +154,10 @@ TEST_F(VividStream, DroppedFramesAreSequenceGaps) {
     (*src)->release();
   }
   const SourceStats& s = (*src)->stats();
-  std::printf("note: 50%% dropped by the driver: %llu delivered, %llu dropped over sequence 0..%llu\n",
-              static_cast<unsigned long long>(s.delivered), static_cast<unsigned long long>(s.dropped),
-              static_cast<unsigned long long>(last));
+  std::printf(
+      "note: 50%% dropped by the driver: %llu delivered, %llu dropped over sequence 0..%llu\n",
+      static_cast<unsigned long long>(s.delivered), static_cast<unsigned long long>(s.dropped),
+      static_cast<unsigned long long>(last));
   EXPECT_GT(s.dropped, last / 4);
   EXPECT_LT(s.dropped, last * 3 / 4);
   EXPECT_EQ(accounted(s), last + 1);
@@ -165,7 +174,8 @@ TEST_F(VividStream, TimeoutThenStallThenRecovery) {
   ASSERT_EQ(vivid::set_control(nodes.capture, "percentage_of_dropped_buffers", 100), 0);
   auto t0 = std::chrono::steady_clock::now();
   auto f = (*src)->next(200);
-  double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_FALSE(f.ok());
   EXPECT_EQ(f.error().code(), ErrorCode::kCaptureTimeout) << f.error().message();
   EXPECT_LT(ms, 260);
@@ -191,9 +201,10 @@ TEST_F(VividStream, TimeoutThenStallThenRecovery) {
   ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_TRUE(recovered);
   const SourceStats& s = (*src)->stats();
-  std::printf("note: recovered %.0f ms after frames resumed: %llu timeouts, %llu stalls, %llu reconnects\n", ms,
-              static_cast<unsigned long long>(s.timeouts), static_cast<unsigned long long>(s.stalls),
-              static_cast<unsigned long long>(s.reconnects));
+  std::printf(
+      "note: recovered %.0f ms after frames resumed: %llu timeouts, %llu stalls, %llu reconnects\n",
+      ms, static_cast<unsigned long long>(s.timeouts), static_cast<unsigned long long>(s.stalls),
+      static_cast<unsigned long long>(s.reconnects));
   EXPECT_GE(s.timeouts, 1u);
   EXPECT_GE(s.reconnects, 1u);
   EXPECT_TRUE(s.connected);
@@ -217,7 +228,8 @@ TEST_F(VividStream, NoHeapAllocationPerFrame) {
   const size_t allocations = testing::stop_counting_allocations();
   EXPECT_EQ(delivered, kFrames);
   EXPECT_EQ(allocations, 0u) << "next()/release() allocated over " << kFrames << " frames";
-  std::printf("note: %d frames, %zu heap allocations in next()/release()\n", delivered, allocations);
+  std::printf("note: %d frames, %zu heap allocations in next()/release()\n", delivered,
+              allocations);
 }
 
 }  // namespace

@@ -58,8 +58,10 @@ int ext_ctrl(const std::string& dev, const char* key, int64_t& value, bool set) 
   if (id != 0) {
     v4l2_ext_control c{};
     c.id = id;
-    if (type == V4L2_CTRL_TYPE_INTEGER64) c.value64 = value;
-    else c.value = static_cast<int32_t>(value);
+    if (type == V4L2_CTRL_TYPE_INTEGER64)
+      c.value64 = value;
+    else
+      c.value = static_cast<int32_t>(value);
     v4l2_ext_controls cs{};
     cs.which = V4L2_CTRL_WHICH_CUR_VAL;
     cs.count = 1;
@@ -80,7 +82,9 @@ std::optional<Nodes> find_nodes() {
 }
 
 std::string absent_reason() {
-  return find_nodes() ? "" : "vivid is not loaded (these tests run in the emulated board: tools/setup/run_tests.sh board)";
+  return find_nodes() ? ""
+                      : "vivid is not loaded (these tests run in the emulated board: "
+                        "tools/setup/run_tests.sh board)";
 }
 
 bool in_rig() {
@@ -104,8 +108,8 @@ int select_input(const std::string& dev, int input) {
   return err;
 }
 
-V4l2Config capture_config(const Nodes& nodes, image::PixelFormat format, int32_t width, int32_t height,
-                          double fps) {
+V4l2Config capture_config(const Nodes& nodes, image::PixelFormat format, int32_t width,
+                          int32_t height, double fps) {
   V4l2Config c;
   c.label = "vivid";
   c.device.path = nodes.capture;

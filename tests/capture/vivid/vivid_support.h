@@ -34,8 +34,8 @@ int select_input(const std::string& dev, int input);
 
 // A config for vivid's capture node: by path (vivid has no USB identity), OSD text off so frames
 // hold only the test pattern, short watchdog and backoff so faults resolve fast under TCG.
-V4l2Config capture_config(const Nodes& nodes, image::PixelFormat format, int32_t width, int32_t height,
-                          double fps);
+V4l2Config capture_config(const Nodes& nodes, image::PixelFormat format, int32_t width,
+                          int32_t height, double fps);
 
 // Monotonic now, for frame ages.
 int64_t now_ns();

@@ -60,27 +60,33 @@ class Session final : public CameraSession {
     if (!manager_) return err;
     const auto cameras = manager_->cameras();
     if (cameras.empty()) {
-      return Error::make(ErrorCode::kCaptureNoDevice,
-                         "%s: libcamera %s found no camera (its pipeline handlers matched no device; "
-                         "UVC cameras are for the V4L2 source)", label, lc::CameraManager::version().c_str());
+      return Error::make(
+          ErrorCode::kCaptureNoDevice,
+          "%s: libcamera %s found no camera (its pipeline handlers matched no device; "
+          "UVC cameras are for the V4L2 source)",
+          label, lc::CameraManager::version().c_str());
     }
     if (c.camera_id.empty()) {
       if (cameras.size() > 1) {
-        return Error::make(ErrorCode::kInvalidArgument, "%s: libcamera found %zu cameras; set camera_id "
-                           "(first: %s)", label, cameras.size(), cameras.front()->id().c_str());
+        return Error::make(ErrorCode::kInvalidArgument,
+                           "%s: libcamera found %zu cameras; set camera_id "
+                           "(first: %s)",
+                           label, cameras.size(), cameras.front()->id().c_str());
       }
       camera_ = cameras.front();
     } else {
       camera_ = manager_->get(c.camera_id);
       if (!camera_) {
-        return Error::make(ErrorCode::kCaptureNoDevice, "%s: libcamera has no camera '%s' (first present: %s)",
-                           label, c.camera_id.c_str(), cameras.front()->id().c_str());
+        return Error::make(ErrorCode::kCaptureNoDevice,
+                           "%s: libcamera has no camera '%s' (first present: %s)", label,
+                           c.camera_id.c_str(), cameras.front()->id().c_str());
       }
     }
     std::snprintf(camera, sizeof(camera), "%s", camera_->id().c_str());
     if (int rc = camera_->acquire(); rc != 0) {
       camera_.reset();
-      return Error::make(ErrorCode::kCapture, "%s: acquire %s: %s", label, camera, std::strerror(-rc));
+      return Error::make(ErrorCode::kCapture, "%s: acquire %s: %s", label, camera,
+                         std::strerror(-rc));
     }
     acquired_ = true;
     camera_->disconnected.connect(this, &Session::on_disconnected);
@@ -94,7 +100,8 @@ class Session final : public CameraSession {
       nominal_fps = c.fps;
     }
     if (int rc = camera_->start(&controls); rc != 0) {
-      return Error::make(ErrorCode::kCapture, "%s: start %s: %s", label, camera, std::strerror(-rc));
+      return Error::make(ErrorCode::kCapture, "%s: start %s: %s", label, camera,
+                         std::strerror(-rc));
     }
     started_ = true;
     for (auto& r : requests_) {
@@ -117,7 +124,8 @@ class Session final : public CameraSession {
   Status configure(const LibcameraConfig& c, const char* label) {
     config_ = camera_->generateConfiguration({lc::StreamRole::VideoRecording});
     if (!config_ || config_->empty()) {
-      return Error::make(ErrorCode::kCaptureFormatRefused, "%s: %s offers no video stream", label, camera);
+      return Error::make(ErrorCode::kCaptureFormatRefused, "%s: %s offers no video stream", label,
+                         camera);
     }
     lc::StreamConfiguration& s = config_->at(0);
     lc::PixelFormat want;
@@ -131,16 +139,19 @@ class Session final : public CameraSession {
     }
     if (s.pixelFormat != want) {
       return Error::make(ErrorCode::kCaptureFormatRefused, "%s: asked for %s, %s offers %s", label,
-                         image::pixel_format_name(c.format), camera, s.pixelFormat.toString().c_str());
+                         image::pixel_format_name(c.format), camera,
+                         s.pixelFormat.toString().c_str());
     }
-    if ((static_cast<int32_t>(s.size.width) != c.width || static_cast<int32_t>(s.size.height) != c.height) &&
+    if ((static_cast<int32_t>(s.size.width) != c.width ||
+         static_cast<int32_t>(s.size.height) != c.height) &&
         !c.accept_other_size) {
       return Error::make(ErrorCode::kCaptureFormatRefused,
-                         "%s: asked for %dx%d, %s set %ux%u (accept_other_size uses it)", label, c.width,
-                         c.height, camera, s.size.width, s.size.height);
+                         "%s: asked for %dx%d, %s set %ux%u (accept_other_size uses it)", label,
+                         c.width, c.height, camera, s.size.width, s.size.height);
     }
     if (int rc = camera_->configure(config_.get()); rc != 0) {
-      return Error::make(ErrorCode::kCaptureFormatRefused, "%s: configure %s: %s", label, camera, std::strerror(-rc));
+      return Error::make(ErrorCode::kCaptureFormatRefused, "%s: configure %s: %s", label, camera,
+                         std::strerror(-rc));
     }
     format = {c.format, static_cast<int32_t>(s.size.width), static_cast<int32_t>(s.size.height),
               c.format == image::PixelFormat::kMjpeg ? 0 : static_cast<int32_t>(s.stride)};
@@ -155,13 +166,15 @@ class Session final : public CameraSession {
     }
     const auto& fbs = allocator_->buffers(stream);
     if (fbs.size() < kMinBuffers || fbs.size() > kMaxCompletions) {
-      return Error::make(ErrorCode::kCaptureFormatRefused, "%s: %s gave %zu buffers", label, camera, fbs.size());
+      return Error::make(ErrorCode::kCaptureFormatRefused, "%s: %s gave %zu buffers", label, camera,
+                         fbs.size());
     }
     for (size_t i = 0; i < fbs.size(); ++i) {
       const lc::FrameBuffer::Plane& plane = fbs[i]->planes()[0];  // single-plane formats only
       void* p = ::mmap(nullptr, plane.length, PROT_READ, MAP_SHARED, plane.fd.get(), plane.offset);
       if (p == MAP_FAILED) {
-        return Error::make(ErrorCode::kCapture, "%s: mmap of buffer %zu: %s", label, i, std::strerror(errno));
+        return Error::make(ErrorCode::kCapture, "%s: mmap of buffer %zu: %s", label, i,
+                           std::strerror(errno));
       }
       maps_.emplace_back(p, plane.length);
       buffers.emplace_back(static_cast<const uint8_t*>(p), plane.length);
@@ -248,6 +261,8 @@ Result<std::vector<LibcameraCameraInfo>> list_libcamera_cameras() {
   return out;
 }
 
-std::string libcamera_version() { return libcamera::CameraManager::version(); }
+std::string libcamera_version() {
+  return libcamera::CameraManager::version();
+}
 
 }  // namespace tlvlink::capture

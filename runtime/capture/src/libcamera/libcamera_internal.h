@@ -18,7 +18,8 @@
 
 namespace tlvlink::capture::internal {
 
-inline constexpr uint32_t kMaxCompletions = 8;  // >= buffers in flight: each completes once per queue
+inline constexpr uint32_t kMaxCompletions =
+    8;  // >= buffers in flight: each completes once per queue
 
 // Completed buffers, pushed by libcamera's thread (or a test), popped by next(). Fixed storage,
 // a mutex held for a copy, an eventfd to wake a waiting next().

@@ -19,7 +19,9 @@ int64_t now_ns() {
   return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
 }
 
-const char* label_of(const LibcameraConfig& c) { return c.label.empty() ? "libcamera" : c.label.c_str(); }
+const char* label_of(const LibcameraConfig& c) {
+  return c.label.empty() ? "libcamera" : c.label.c_str();
+}
 
 Status open_session(LibcameraSource::State& s) {
   s.completions.clear();
@@ -42,7 +44,8 @@ Error begin_outage(LibcameraSource::State& s) {
   s.outage_start_ns = now_ns();
   s.backoff_ms = s.config.backoff_initial_ms;
   s.next_attempt_ns = s.outage_start_ns + s.backoff_ms * kMs;
-  return Error::make(ErrorCode::kCaptureDisconnected, "%s: camera disconnected; reconnecting", s.name);
+  return Error::make(ErrorCode::kCaptureDisconnected, "%s: camera disconnected; reconnecting",
+                     s.name);
 }
 
 // Bounded reopening while the camera is gone (same scheme as the V4L2 source).
@@ -60,15 +63,17 @@ Status reconnect(LibcameraSource::State& s, int64_t deadline) {
       }
       ++s.stats.reconnect_attempts;
       s.last_reopen_error = st.error();
-      s.backoff_ms = s.backoff_ms * 2 > s.config.backoff_max_ms ? s.config.backoff_max_ms : s.backoff_ms * 2;
+      s.backoff_ms =
+          s.backoff_ms * 2 > s.config.backoff_max_ms ? s.config.backoff_max_ms : s.backoff_ms * 2;
       s.next_attempt_ns = now + s.backoff_ms * kMs;
     }
     s.stats.outage_ns = s.closed_outage_ns + (now - s.outage_start_ns);
     if (s.next_attempt_ns > deadline) {
       timespec ts{deadline / 1000000000, deadline % 1000000000};
       ::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
-      return Error::make(ErrorCode::kCaptureDisconnected, "%s: disconnected, %llu reopen attempts failed: %s",
-                         s.name, static_cast<unsigned long long>(s.stats.reconnect_attempts),
+      return Error::make(ErrorCode::kCaptureDisconnected,
+                         "%s: disconnected, %llu reopen attempts failed: %s", s.name,
+                         static_cast<unsigned long long>(s.stats.reconnect_attempts),
                          s.last_reopen_error.message());
     }
     timespec ts{s.next_attempt_ns / 1000000000, s.next_attempt_ns % 1000000000};
@@ -80,19 +85,21 @@ Status reconnect(LibcameraSource::State& s, int64_t deadline) {
 
 Status validate_libcamera_config(const LibcameraConfig& c) {
   const char* label = label_of(c);
-  TLV_ENSURE(c.width > 0 && c.height > 0 && c.width <= 16384 && c.height <= 16384, ErrorCode::kInvalidArgument,
-             "%s: size %dx%d: width and height must be 1..16384", label, c.width, c.height);
-  TLV_ENSURE(image::pixel_format_fourcc(c.format) != 0, ErrorCode::kInvalidArgument, "%s: unknown pixel format",
-             label);
-  TLV_ENSURE(c.fps >= 0 && c.fps <= 1000, ErrorCode::kInvalidArgument, "%s: fps %.3f: must be 0..1000", label, c.fps);
+  TLV_ENSURE(c.width > 0 && c.height > 0 && c.width <= 16384 && c.height <= 16384,
+             ErrorCode::kInvalidArgument, "%s: size %dx%d: width and height must be 1..16384",
+             label, c.width, c.height);
+  TLV_ENSURE(image::pixel_format_fourcc(c.format) != 0, ErrorCode::kInvalidArgument,
+             "%s: unknown pixel format", label);
+  TLV_ENSURE(c.fps >= 0 && c.fps <= 1000, ErrorCode::kInvalidArgument,
+             "%s: fps %.3f: must be 0..1000", label, c.fps);
   TLV_ENSURE(c.buffers >= kMinBuffers && c.buffers <= kMaxBuffers, ErrorCode::kInvalidArgument,
              "%s: buffers %u: must be %u..%u", label, c.buffers, kMinBuffers, kMaxBuffers);
-  TLV_ENSURE(c.warmup_frames <= kMaxWarmupFrames, ErrorCode::kInvalidArgument, "%s: warmup_frames %u: at most %u",
-             label, c.warmup_frames, kMaxWarmupFrames);
+  TLV_ENSURE(c.warmup_frames <= kMaxWarmupFrames, ErrorCode::kInvalidArgument,
+             "%s: warmup_frames %u: at most %u", label, c.warmup_frames, kMaxWarmupFrames);
   TLV_ENSURE(c.backoff_initial_ms >= kMinBackoffMs && c.backoff_max_ms <= kMaxBackoffMs &&
                  c.backoff_initial_ms <= c.backoff_max_ms,
-             ErrorCode::kInvalidArgument, "%s: backoff %d..%d ms out of range", label, c.backoff_initial_ms,
-             c.backoff_max_ms);
+             ErrorCode::kInvalidArgument, "%s: backoff %d..%d ms out of range", label,
+             c.backoff_initial_ms, c.backoff_max_ms);
   return Status();
 }
 
@@ -109,16 +116,20 @@ Result<std::unique_ptr<LibcameraSource>> make_libcamera_source(const LibcameraCo
 Result<std::unique_ptr<LibcameraSource>> make_libcamera_source_for_test(
     const LibcameraConfig& config, std::vector<std::span<const uint8_t>> buffers) {
   TLV_ASSIGN_OR_RETURN(auto src, make_libcamera_source(config));
-  TLV_ENSURE(buffers.size() >= 1 && buffers.size() <= internal::kMaxCompletions, ErrorCode::kInvalidArgument,
-             "%zu test buffers: need 1..%u", buffers.size(), internal::kMaxCompletions);
+  TLV_ENSURE(buffers.size() >= 1 && buffers.size() <= internal::kMaxCompletions,
+             ErrorCode::kInvalidArgument, "%zu test buffers: need 1..%u", buffers.size(),
+             internal::kMaxCompletions);
   src->state_->test_mode = true;
   src->state_->test_buffers = std::move(buffers);
-  std::snprintf(src->state_->name, sizeof(src->state_->name), "%s (libcamera test buffers)", label_of(config));
+  std::snprintf(src->state_->name, sizeof(src->state_->name), "%s (libcamera test buffers)",
+                label_of(config));
   return src;
 }
 
 LibcameraSource::LibcameraSource(std::unique_ptr<State> state) : state_(std::move(state)) {}
-LibcameraSource::~LibcameraSource() { stop(); }
+LibcameraSource::~LibcameraSource() {
+  stop();
+}
 
 Status LibcameraSource::start() {
   State& s = *state_;
@@ -152,8 +163,12 @@ void LibcameraSource::release() {
   s.held = -1;
 }
 
-void LibcameraSource::inject(const LibcameraCompletion& c) { state_->completions.push(c); }
-uint64_t LibcameraSource::requeued() const { return state_->requeued.load(); }
+void LibcameraSource::inject(const LibcameraCompletion& c) {
+  state_->completions.push(c);
+}
+uint64_t LibcameraSource::requeued() const {
+  return state_->requeued.load();
+}
 
 Result<CapturedFrame> LibcameraSource::next(int32_t timeout_ms) {
   State& s = *state_;
@@ -173,8 +188,8 @@ Result<CapturedFrame> LibcameraSource::next(int32_t timeout_ms) {
       if (c.cancelled) continue;  // the camera is stopping; nothing was captured
       const std::span<const uint8_t> mem = s.buffer(c.buffer);
       if (mem.empty()) continue;  // not one of ours
-      const RawFrame raw{mem.first(c.bytesused <= mem.size() ? c.bytesused : mem.size()), c.sequence,
-                         c.timestamp_ns, c.error};
+      const RawFrame raw{mem.first(c.bytesused <= mem.size() ? c.bytesused : mem.size()),
+                         c.sequence, c.timestamp_ns, c.error};
       if (s.accounting.admit(raw, s.format) == Admission::kDeliverable) {
         if (newest >= 0) {
           ++stale;
@@ -200,14 +215,21 @@ Result<CapturedFrame> LibcameraSource::next(int32_t timeout_ms) {
     const int64_t now = now_ns();
     if (now >= deadline) {
       ++s.stats.timeouts;
-      return Error::make(ErrorCode::kCaptureTimeout, "%s: no frame within %d ms", s.name, timeout_ms);
+      return Error::make(ErrorCode::kCaptureTimeout, "%s: no frame within %d ms", s.name,
+                         timeout_ms);
     }
     s.completions.wait(static_cast<int>((deadline - now + kMs - 1) / kMs));
   }
 }
 
-const image::FrameFormat& LibcameraSource::format() const { return state_->format; }
-const SourceStats& LibcameraSource::stats() const { return state_->stats; }
-const char* LibcameraSource::name() const { return state_->name; }
+const image::FrameFormat& LibcameraSource::format() const {
+  return state_->format;
+}
+const SourceStats& LibcameraSource::stats() const {
+  return state_->stats;
+}
+const char* LibcameraSource::name() const {
+  return state_->name;
+}
 
 }  // namespace tlvlink::capture

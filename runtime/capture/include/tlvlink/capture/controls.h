@@ -3,7 +3,8 @@
 // every reconnect (a replugged camera comes back with its defaults).
 //
 //   auto controls = parse_controls("auto_exposure=1, exposure_time_absolute=180, "
-//                                  "white_balance_automatic=0, white_balance_temperature=4500, gain=0");
+//                                  "white_balance_automatic=0, white_balance_temperature=4500,
+//                                  gain=0");
 //
 // A name is resolved in this order: a number (decimal or 0x...) is the V4L2 control id; a
 // well-known name (table below, both the current and the pre-5.x kernel spellings) is its

@@ -32,10 +32,10 @@ std::string describe_selector(const DeviceSelector& selector);
 
 // One video4linux node.
 struct DeviceInfo {
-  std::string path;          // /dev/videoN (dev root + node)
-  std::string node;          // videoN
-  std::string name;          // the driver's name for it (sysfs "name", e.g. "GelSight Mini R0B ...")
-  uint16_t vendor_id = 0;    // 0 when the node has no USB device above it
+  std::string path;        // /dev/videoN (dev root + node)
+  std::string node;        // videoN
+  std::string name;        // the driver's name for it (sysfs "name", e.g. "GelSight Mini R0B ...")
+  uint16_t vendor_id = 0;  // 0 when the node has no USB device above it
   uint16_t product_id = 0;
   std::string serial;        // USB serial ("" if none)
   std::string usb_port;      // sysfs USB device, e.g. "1-1.2": where it is plugged in

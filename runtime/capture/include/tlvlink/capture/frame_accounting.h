@@ -59,7 +59,7 @@ class FrameAccounting {
   uint64_t sequence_ = 0;
   uint32_t warmup_left_ = 0;
   FrameProblem problem_ = FrameProblem::kNone;
-  uint64_t frames_ = 0;                    // buffers admitted since reset_stream()
+  uint64_t frames_ = 0;  // buffers admitted since reset_stream()
   int64_t stamps_[kFpsWindow] = {};
   uint64_t stamp_frames_[kFpsWindow] = {};  // frames_ when each stamp was taken
   int stamp_count_ = 0;

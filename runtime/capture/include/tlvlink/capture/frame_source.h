@@ -27,10 +27,11 @@
 namespace tlvlink::capture {
 
 // Limits every camera source shares (configurations outside them are refused, naming the field).
-inline constexpr uint32_t kMinBuffers = 2;        // fewer cannot stream without gaps
-inline constexpr uint32_t kMaxBuffers = 4;        // more only adds latency and memory
+inline constexpr uint32_t kMinBuffers = 2;         // fewer cannot stream without gaps
+inline constexpr uint32_t kMaxBuffers = 4;         // more only adds latency and memory
 inline constexpr uint32_t kMaxWarmupFrames = 120;  // warm-up frames discarded after an open
-inline constexpr int32_t kMinBackoffMs = 10, kMaxBackoffMs = 60000;  // reopen delays after an outage
+inline constexpr int32_t kMinBackoffMs = 10,
+                         kMaxBackoffMs = 60000;  // reopen delays after an outage
 
 // A borrowed view of one frame (see the lifetime rules above).
 struct CapturedFrame {
@@ -47,26 +48,26 @@ struct CapturedFrame {
 // delivered, skipped_stale, warmup_discarded or one of the bad-frame counters; dropped counts the
 // frames the device never handed over (sequence gaps).
 struct SourceStats {
-  uint64_t delivered = 0;          // frames returned by next()
-  uint64_t skipped_stale = 0;      // ready but older than a newer ready frame (newest-frame policy)
-  uint64_t dropped = 0;            // sequence gaps: frames lost before we could dequeue them
-  uint64_t flagged_error = 0;      // the driver marked the buffer as an error (V4L2_BUF_FLAG_ERROR)
-  uint64_t empty = 0;              // zero bytes of payload
-  uint64_t short_frames = 0;       // fewer bytes than the negotiated uncompressed frame size
-  uint64_t bad_mjpeg = 0;          // MJPEG without a start (SOI) or end (EOI) of image marker
-  uint64_t warmup_discarded = 0;   // discarded after each open (e.g. a Mini's first black frames)
-  uint64_t sequence_resets = 0;    // the driver's sequence went backwards (renormalised)
-  uint64_t timeouts = 0;           // next() calls that ended without a frame while connected
-  uint64_t stalls = 0;             // watchdog expiries: no frame for watchdog_ms, device reopened
-  uint64_t disconnects = 0;        // outages begun (device gone, ENODEV/POLLHUP, stall)
-  uint64_t reconnects = 0;         // outages ended by a successful reopen
-  uint64_t reconnect_attempts = 0; // reopen attempts that failed (the device was still absent)
-  double measured_fps = 0;         // from the buffer timestamps of the last frames dequeued
-  double nominal_fps = 0;          // the frame interval the device reported; 0 if unknown
-  bool connected = false;          // streaming now
-  bool driver_timestamps = true;   // false: the driver's timestamps are not CLOCK_MONOTONIC, so
-                                   // the time of dequeue is used instead
-  int64_t outage_ns = 0;           // time without a device since start(), the current outage included
+  uint64_t delivered = 0;         // frames returned by next()
+  uint64_t skipped_stale = 0;     // ready but older than a newer ready frame (newest-frame policy)
+  uint64_t dropped = 0;           // sequence gaps: frames lost before we could dequeue them
+  uint64_t flagged_error = 0;     // the driver marked the buffer as an error (V4L2_BUF_FLAG_ERROR)
+  uint64_t empty = 0;             // zero bytes of payload
+  uint64_t short_frames = 0;      // fewer bytes than the negotiated uncompressed frame size
+  uint64_t bad_mjpeg = 0;         // MJPEG without a start (SOI) or end (EOI) of image marker
+  uint64_t warmup_discarded = 0;  // discarded after each open (e.g. a Mini's first black frames)
+  uint64_t sequence_resets = 0;   // the driver's sequence went backwards (renormalised)
+  uint64_t timeouts = 0;          // next() calls that ended without a frame while connected
+  uint64_t stalls = 0;            // watchdog expiries: no frame for watchdog_ms, device reopened
+  uint64_t disconnects = 0;       // outages begun (device gone, ENODEV/POLLHUP, stall)
+  uint64_t reconnects = 0;        // outages ended by a successful reopen
+  uint64_t reconnect_attempts = 0;  // reopen attempts that failed (the device was still absent)
+  double measured_fps = 0;          // from the buffer timestamps of the last frames dequeued
+  double nominal_fps = 0;           // the frame interval the device reported; 0 if unknown
+  bool connected = false;           // streaming now
+  bool driver_timestamps = true;    // false: the driver's timestamps are not CLOCK_MONOTONIC, so
+                                    // the time of dequeue is used instead
+  int64_t outage_ns = 0;  // time without a device since start(), the current outage included
 };
 
 class FrameSource {

@@ -4,9 +4,9 @@
 // FrameSource interface and the same frame checks and accounting as the V4L2 source.
 //
 //   LibcameraConfig c;
-//   c.label = "pi-gel"; c.format = image::PixelFormat::kYuyv; c.width = 640; c.height = 480; c.fps = 30;
-//   auto src = make_libcamera_source(c);   // validates; opens nothing
-//   Status s = (*src)->start();             // kCaptureNoDevice: "libcamera ... found no camera"
+//   c.label = "pi-gel"; c.format = image::PixelFormat::kYuyv; c.width = 640; c.height = 480; c.fps
+//   = 30; auto src = make_libcamera_source(c);   // validates; opens nothing Status s =
+//   (*src)->start();             // kCaptureNoDevice: "libcamera ... found no camera"
 //
 // What start() does: the process-wide CameraManager (libcamera allows one per process) is started
 // once; the camera named by camera_id (or the only one) is acquired, configured with one stream
@@ -38,12 +38,13 @@ namespace tlvlink::capture {
 struct LibcameraConfig {
   std::string label;
   std::string camera_id;  // libcamera's id (list_libcamera_cameras); empty: the only camera
-  image::PixelFormat format = image::PixelFormat::kYuyv;  // kRgb24 is libcamera's BGR888 (R,G,B bytes)
+  image::PixelFormat format =
+      image::PixelFormat::kYuyv;  // kRgb24 is libcamera's BGR888 (R,G,B bytes)
   int32_t width = 0, height = 0;
-  double fps = 0;                  // 0: the camera's default frame duration
+  double fps = 0;  // 0: the camera's default frame duration
   bool accept_other_size = false;
-  uint32_t buffers = 4;            // kMinBuffers..kMaxBuffers (v4l2_source.h)
-  uint32_t warmup_frames = 0;      // <= kMaxWarmupFrames
+  uint32_t buffers = 4;        // kMinBuffers..kMaxBuffers (v4l2_source.h)
+  uint32_t warmup_frames = 0;  // <= kMaxWarmupFrames
   int32_t backoff_initial_ms = 100, backoff_max_ms = 2000;  // reopen after a disconnect
 };
 
@@ -63,12 +64,12 @@ std::string libcamera_version();
 
 // A buffer as libcamera completed it: what the source takes from a finished request.
 struct LibcameraCompletion {
-  uint32_t buffer = 0;          // index of the source's buffer
-  bool error = false;           // FrameMetadata::FrameError
-  bool cancelled = false;       // FrameMetadata::FrameCancelled (the camera is stopping): ignored
+  uint32_t buffer = 0;     // index of the source's buffer
+  bool error = false;      // FrameMetadata::FrameError
+  bool cancelled = false;  // FrameMetadata::FrameCancelled (the camera is stopping): ignored
   uint32_t sequence = 0;
-  int64_t timestamp_ns = 0;     // FrameMetadata::timestamp (CLOCK_MONOTONIC)
-  uint32_t bytesused = 0;       // of plane 0
+  int64_t timestamp_ns = 0;  // FrameMetadata::timestamp (CLOCK_MONOTONIC)
+  uint32_t bytesused = 0;    // of plane 0
 };
 
 class LibcameraSource final : public FrameSource {

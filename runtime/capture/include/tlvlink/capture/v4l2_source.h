@@ -44,12 +44,12 @@
 namespace tlvlink::capture {
 
 struct V4l2Config {
-  std::string label;                                   // "mini-left": names the source in errors
-  DeviceSelector device;                               // identity (or a path for test devices)
-  DeviceRoots roots;                                   // where to look (tests: a fake sysfs)
+  std::string label;      // "mini-left": names the source in errors
+  DeviceSelector device;  // identity (or a path for test devices)
+  DeviceRoots roots;      // where to look (tests: a fake sysfs)
   image::PixelFormat format = image::PixelFormat::kMjpeg;
-  int32_t width = 0, height = 0;                       // > 0
-  double fps = 0;                                      // 0: keep the device's frame interval
+  int32_t width = 0, height = 0;   // > 0
+  double fps = 0;                  // 0: keep the device's frame interval
   bool accept_other_size = false;  // a device that sets another size: error (false) or use it
                                    // (true; format() and every frame report the real size)
   uint32_t buffers = 4;            // mmap buffers, kMinBuffers..kMaxBuffers: 2 is the least that
@@ -57,10 +57,10 @@ struct V4l2Config {
   uint32_t warmup_frames = 0;      // good frames discarded after each open, <= kMaxWarmupFrames
   int32_t watchdog_ms = 1000;      // no frame this long while streaming = stalled device; raised to
                                    // 4 frame periods when the interval is slower (OpenCV: 10 s)
-  int32_t backoff_initial_ms = 100;   // first reopen delay after an outage begins
-  int32_t backoff_max_ms = 2000;      // the delay doubles up to this bound
-  bool wait_for_device = false;   // start() succeeds while the device is absent (an outage from
-                                  // the start); default: start() fails with kCaptureNoDevice
+  int32_t backoff_initial_ms = 100;  // first reopen delay after an outage begins
+  int32_t backoff_max_ms = 2000;     // the delay doubles up to this bound
+  bool wait_for_device = false;      // start() succeeds while the device is absent (an outage from
+                                     // the start); default: start() fails with kCaptureNoDevice
   std::vector<ControlSetting> controls;  // applied at every open, in order
 };
 
@@ -71,9 +71,9 @@ Status validate_v4l2_config(const V4l2Config& config);
 
 // A control as applied on the device (after name resolution), for reports.
 struct AppliedControl {
-  std::string key;      // as configured
-  uint32_t id = 0;      // resolved V4L2 id
-  int64_t value = 0;    // the value read back after setting it
+  std::string key;    // as configured
+  uint32_t id = 0;    // resolved V4L2 id
+  int64_t value = 0;  // the value read back after setting it
 };
 
 class V4l2Source final : public FrameSource {
