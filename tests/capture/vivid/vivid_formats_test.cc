@@ -136,7 +136,8 @@ TEST_F(VividWebcam, IntervalIsSetAfterFormatAndReadBack) {
   const double measured = (*src25)->stats().measured_fps;
   std::printf("note: 640x360 asked 25 fps: nominal %.2f, measured from timestamps %.2f\n",
               (*src25)->stats().nominal_fps, measured);
-  EXPECT_NEAR(measured, 25.0, 2.5);  // vivid paces frames by jiffies; TCG adds jitter
+  // vivid paces frames by jiffies; a loaded host stalls the emulated CPUs now and then.
+  EXPECT_NEAR(measured, 25.0, 4.0);
   (*src25)->stop();
 
   // A rate the size does not offer: the driver's nearest is reported, not the request.

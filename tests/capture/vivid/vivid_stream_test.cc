@@ -53,7 +53,8 @@ TEST_F(VividStream, NewestFrameUnderASlowConsumer) {
     const double age_ms = static_cast<double>(vivid::now_ns() - f->timestamp_ns) / 1e6;
     if (i > 0) {
       // The newest frame: at most about one frame period old, never a backlog of older ones.
-      EXPECT_LT(age_ms, 2.5 * period_ns / 1e6) << "frame " << i << " is " << age_ms << " ms old";
+      // Under 3 periods (120 ms); the oldest ready frame after 150 ms of work would be older.
+      EXPECT_LT(age_ms, 3 * period_ns / 1e6) << "frame " << i << " is " << age_ms << " ms old";
       EXPECT_GT(f->sequence, last_sequence + 1)
           << "a slow consumer must not see consecutive frames";
     }
@@ -178,7 +179,7 @@ TEST_F(VividStream, TimeoutThenStallThenRecovery) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_FALSE(f.ok());
   EXPECT_EQ(f.error().code(), ErrorCode::kCaptureTimeout) << f.error().message();
-  EXPECT_LT(ms, 260);
+  EXPECT_LT(ms, 200 + 300);  // the timeout, plus slack for a loaded host under emulation
   // Past the watchdog: the source declares a stall, closes and reopens the device.
   bool stalled = false;
   for (int i = 0; i < 20 && !stalled; ++i) {
