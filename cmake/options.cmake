@@ -2,7 +2,8 @@
 # sets these; the minimal runtime needs only XNNPACK, pthreadpool, cpuinfo and flatbuffers.
 option(TLVLINK_WITH_XNNPACK   "Build the XNNPACK executor (otherwise only the portable reference executor)" ON)
 option(TLVLINK_WITH_IMAGE     "Build image decoding and preprocessing (runtime/image; needs libturbojpeg)" ON)
-option(TLVLINK_WITH_LIBCAMERA "Build the libcamera capture backend (needs libcamera-dev)" OFF)
+option(TLVLINK_WITH_CAPTURE  "Build runtime/capture: frame sources (V4L2; kernel headers only)" ON)
+option(TLVLINK_WITH_LIBCAMERA "Build the libcamera frame source in runtime/capture (needs libcamera-dev and TLVLINK_WITH_CAPTURE)" OFF)
 option(TLVLINK_WITH_USB       "Build the USB bulk transport (needs libusb-1.0)" OFF)
 option(TLVLINK_BUILD_TRAINER  "Build the libtorch trainer (needs libtorch-dev)" OFF)
 option(TLVLINK_BUILD_HOST_TOOLS "Build the host CLI, model writer and quantizer" ON)
@@ -15,6 +16,9 @@ set(TLVLINK_SANITIZE "" CACHE STRING "Sanitizers to build with, e.g. address,und
 set(TLVLINK_BOARD "host" CACHE STRING "Board definition this build targets (see boards/)")
 
 # Options that need others.
+if(TLVLINK_WITH_CAPTURE AND NOT TLVLINK_WITH_IMAGE)
+  message(FATAL_ERROR "tlvlink: TLVLINK_WITH_CAPTURE needs TLVLINK_WITH_IMAGE (frame formats)")
+endif()
 if(TLVLINK_BUILD_HOST_TOOLS AND NOT TLVLINK_WITH_IMAGE)
   message(FATAL_ERROR "tlvlink: TLVLINK_BUILD_HOST_TOOLS needs TLVLINK_WITH_IMAGE (the tools decode and preprocess frames through runtime/image)")
 endif()

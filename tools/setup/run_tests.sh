@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
 # The README's test command: sets up a fresh Debian 12 machine and runs every test stage.
-#   tools/setup/run_tests.sh [stage ...]     stages: host minimal asan fuzz cross   (default: all)
+#   tools/setup/run_tests.sh [stage ...]     stages: host minimal asan fuzz cross board   (default: all)
 # Each stage builds into build/<preset> and runs its tests (logs in build/logs/); minimal builds the
-# README's board-only configurations into build/minimal-* (see run_minimal). The closing line
-# "tests: N passed, N failed" adds up every ctest run (a failed build or fuzz stage counts as a failure). Set TLVLINK_FUZZ_SECONDS to change the fuzzing budget.
+# README's board-only configurations into build/minimal-* (see run_minimal); board runs the
+# capture tests inside the emulated arm64 board (tools/setup/board_test.sh: QEMU virt + vivid).
+# The closing line "tests: N passed, N failed" adds up every ctest run and every rig run (a
+# failed build or fuzz stage counts as a failure). Set TLVLINK_FUZZ_SECONDS to change the
+# fuzzing budget.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 root=$(pwd)
 stages=("$@")
-[ ${#stages[@]} -eq 0 ] && stages=(host minimal asan fuzz cross)
+[ ${#stages[@]} -eq 0 ] && stages=(host minimal asan fuzz cross board)
 jobs=${TLVLINK_JOBS:-$(nproc)}
 fuzz_seconds=${TLVLINK_FUZZ_SECONDS:-60}
 
@@ -84,12 +87,19 @@ for s in "${stages[@]}"; do
     asan) build_and_test host-asan 2>&1 | tee "$log"; rc=${PIPESTATUS[0]} ;;
     fuzz) run_fuzz 2>&1 | tee "$log"; rc=${PIPESTATUS[0]} ;;
     cross) bash tools/setup/cross_test.sh all 2>&1 | tee "$log"; rc=${PIPESTATUS[0]} ;;
-    *) echo "run_tests: unknown stage '$s' (host minimal asan fuzz cross)" >&2; rc=2 ;;
+    board) bash tools/setup/board_test.sh all 2>&1 | tee "$log"; rc=${PIPESTATUS[0]} ;;
+    *) echo "run_tests: unknown stage '$s' (host minimal asan fuzz cross board)" >&2; rc=2 ;;
   esac
   stage_end "$s" "$rc"
   # ctest: "100% tests passed, 0 tests failed out of 57"
   counts=$(grep -Eo "tests passed, [0-9]+ tests failed out of [0-9]+" "$log" 2>/dev/null |
            awk '{f+=$3; t+=$8} END {print t-f, f+0}')
+  # The board rig: "rig: tests 63 passed, 0 failed, 2 skipped; ..." (skipped are not counted as passed).
+  rig_counts=$(grep -Eo "^rig: tests [0-9]+ passed, [0-9]+ failed" "$log" 2>/dev/null |
+               awk '{p+=$3; f+=$5} END {print p+0, f+0}')
+  read -r rp rf <<<"${rig_counts:-0 0}"
+  read -r cp cf <<<"${counts:-0 0}"
+  counts="$((cp + rp)) $((cf + rf))"
   read -r p f <<<"${counts:-0 0}"
   tests_passed=$((tests_passed + p)); tests_failed=$((tests_failed + f))
   if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then tests_failed=$((tests_failed + 1)); fi

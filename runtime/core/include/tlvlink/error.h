@@ -32,8 +32,16 @@ enum class ErrorCode : uint16_t {
   kInvalidArgument = 300,
   kIo,                     // file could not be opened/read/written
   kFormat,                 // a data file (npy, image) is malformed
-  // Capture / transport: reserved for the streaming components.
-  kCapture = 400,
+  // Capture (frame sources, runtime/capture): 400s.
+  kCapture = 400,          // a failed device call not covered below (ioctl/mmap errno)
+  kCaptureNoDevice,        // no device matches the selector (absent, unplugged, other serial)
+  kCaptureNotCamera,       // the node is not a video capture device (metadata/output node, not V4L2)
+  kCaptureDisconnected,    // the device went away (ENODEV, POLLHUP, watchdog); reconnecting
+  kCaptureTimeout,         // no frame within the caller's timeout
+  kCaptureFormatRefused,   // pixel format, size, interval or buffer count not what was asked
+  kCaptureBadFrame,        // flagged, empty or short frame, MJPEG without SOI/EOI
+  kCaptureControl,         // a camera control is unknown, out of range or refused
+  // Transport: reserved for the streaming components.
   kTransport = 500,
 };
 
