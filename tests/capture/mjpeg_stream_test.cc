@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "io/jpeg.h"
+#include "tlvlink/image/jpeg.h"
 #include "tlvlink/capture/frame_accounting.h"
 
 namespace tlvlink::capture {
@@ -13,7 +13,7 @@ namespace {
 
 // A GelSight-Mini-sized frame (3280x2464, what the camera sends) with smooth content.
 std::vector<uint8_t> mini_jpeg() {
-  tools::Image img;
+  image::Image img;
   img.width = 3280;
   img.height = 2464;
   img.channels = 3;
@@ -26,7 +26,7 @@ std::vector<uint8_t> mini_jpeg() {
       p[2] = static_cast<uint8_t>((x + y) & 0xFF);
     }
   }
-  auto jpeg = tools::encode_jpeg(img, 85);
+  auto jpeg = image::encode_jpeg(img, 85);
   EXPECT_TRUE(jpeg.ok());
   return jpeg.ok() ? std::move(*jpeg) : std::vector<uint8_t>();
 }
@@ -35,7 +35,7 @@ TEST(MjpegStream, RealFramePassesAndDecodes) {
   const auto j = mini_jpeg();
   ASSERT_GT(j.size(), 1000u);
   EXPECT_EQ(check_mjpeg(j), FrameProblem::kNone);
-  auto img = tools::decode_jpeg(j, "mini", 8);
+  auto img = image::decode_jpeg(j, "mini", 8);
   ASSERT_TRUE(img.ok()) << img.error().message();
   EXPECT_EQ(img->width, 410);
 }
