@@ -4,6 +4,7 @@ option(TLVLINK_WITH_XNNPACK   "Build the XNNPACK executor (otherwise only the po
 option(TLVLINK_WITH_IMAGE     "Build image decoding and preprocessing (runtime/image; needs libturbojpeg)" ON)
 option(TLVLINK_WITH_CAPTURE  "Build runtime/capture: frame sources (V4L2; kernel headers only)" ON)
 option(TLVLINK_WITH_PIPELINE "Build runtime/pipeline: contact gating, grasps, the per-frame chain (needs TLVLINK_WITH_IMAGE)" ON)
+option(TLVLINK_BUILD_DAEMON  "Build tlvlinkd, the board daemon (needs capture and pipeline; libtomlplusplus-dev headers)" ON)
 option(TLVLINK_WITH_LIBCAMERA "Build the libcamera frame source in runtime/capture (needs libcamera-dev and TLVLINK_WITH_CAPTURE)" OFF)
 option(TLVLINK_WITH_USB       "Build the USB bulk transport (needs libusb-1.0)" OFF)
 option(TLVLINK_BUILD_TRAINER  "Build the libtorch trainer (needs libtorch-dev)" OFF)
@@ -17,6 +18,9 @@ set(TLVLINK_SANITIZE "" CACHE STRING "Sanitizers to build with, e.g. address,und
 set(TLVLINK_BOARD "host" CACHE STRING "Board definition this build targets (see boards/)")
 
 # Options that need others.
+if(TLVLINK_BUILD_DAEMON AND NOT (TLVLINK_WITH_CAPTURE AND TLVLINK_WITH_PIPELINE))
+  message(FATAL_ERROR "tlvlink: TLVLINK_BUILD_DAEMON needs TLVLINK_WITH_CAPTURE and TLVLINK_WITH_PIPELINE")
+endif()
 if(TLVLINK_WITH_PIPELINE AND NOT TLVLINK_WITH_IMAGE)
   message(FATAL_ERROR "tlvlink: TLVLINK_WITH_PIPELINE needs TLVLINK_WITH_IMAGE (preprocessing)")
 endif()

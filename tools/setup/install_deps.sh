@@ -21,7 +21,7 @@ core_pkgs=(build-essential cmake ninja-build pkg-config
   libcli11-dev nlohmann-json3-dev
   libturbojpeg0-dev libpng-dev libhdf5-dev
   libonnx-dev libprotobuf-dev
-  libcamera-dev)
+  libcamera-dev libtomlplusplus-dev)
 test_pkgs=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev llvm
   python3-torch python3-onnx python3-numpy libtorch-dev)
 cross_pkgs=(g++-aarch64-linux-gnu qemu-user)

@@ -59,14 +59,14 @@ run_minimal() {
   for v in board:ON reference:OFF; do
     name=${v%%:*} xnn=${v#*:} t=$(date +%s)
     { cmake -S tests/minimal -B "build/minimal-$name" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-        -DTLVLINK_WITH_XNNPACK="$xnn" -DTLVLINK_WITH_IMAGE="$xnn" -DTLVLINK_WITH_CAPTURE="$xnn" -DTLVLINK_WITH_PIPELINE="$xnn" >/dev/null &&
+        -DTLVLINK_WITH_XNNPACK="$xnn" -DTLVLINK_WITH_IMAGE="$xnn" -DTLVLINK_WITH_CAPTURE="$xnn" -DTLVLINK_WITH_PIPELINE="$xnn" -DTLVLINK_BUILD_DAEMON="$xnn" >/dev/null &&
         cmake --build "build/minimal-$name" -j "$jobs" &&
         ctest --test-dir "build/minimal-$name" --output-on-failure --no-tests=error; } || rc=1
     echo "minimal: $name runtime (XNNPACK $xnn) $(( $(date +%s) - t ))s"
   done
   t=$(date +%s)
   { cmake -S . -B build/minimal-tests -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DTLVLINK_WERROR=ON -DTLVLINK_WITH_XNNPACK=OFF -DTLVLINK_WITH_IMAGE=OFF -DTLVLINK_WITH_CAPTURE=OFF -DTLVLINK_WITH_PIPELINE=OFF -DTLVLINK_BUILD_HOST_TOOLS=OFF \
+      -DTLVLINK_WERROR=ON -DTLVLINK_WITH_XNNPACK=OFF -DTLVLINK_WITH_IMAGE=OFF -DTLVLINK_WITH_CAPTURE=OFF -DTLVLINK_WITH_PIPELINE=OFF -DTLVLINK_BUILD_DAEMON=OFF -DTLVLINK_BUILD_HOST_TOOLS=OFF \
       -DTLVLINK_BUILD_TESTS=ON >/dev/null &&
       cmake --build build/minimal-tests -j "$jobs" &&
       ctest --test-dir build/minimal-tests -j "$jobs" --output-on-failure --no-tests=error
