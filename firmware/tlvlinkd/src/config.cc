@@ -188,6 +188,12 @@ Status read_top(TableReader& r, DaemonConfig& c) {
     for (const SensorConfig& other : c.sensors) {
       TLV_ENSURE(other.name != s.name, ErrorCode::kInvalidArgument,
                  "%s: a second sensor named '%s'", sub.where("name").c_str(), s.name.c_str());
+      TLV_ENSURE(s.source != SourceKind::kV4l2 || other.source != SourceKind::kV4l2 ||
+                     other.device != s.device,
+                 ErrorCode::kInvalidArgument,
+                 "%s: sensors '%s' and '%s' both select %s; add each camera's USB serial "
+                 "(usb:VID:PID:SERIAL)",
+                 sub.where("device").c_str(), other.name.c_str(), s.name.c_str(), s.device.c_str());
       TLV_ENSURE(s.finger < 0 || other.finger != s.finger, ErrorCode::kInvalidArgument,
                  "%s: sensors '%s' and '%s' are both finger %c", sub.where("finger").c_str(),
                  other.name.c_str(), s.name.c_str(), s.finger == 0 ? 'A' : 'B');
