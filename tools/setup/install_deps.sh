@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Installs everything tlvlink needs from Debian's packages. Idempotent; safe to rerun.
 #   install_deps.sh [core|test|cross|all]   (default: all)
-# core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries, JPEG, PNG, HDF5, ONNX
+# core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries, JPEG, PNG, HDF5, ONNX,
+#         libusb (the host side of the USB stream link, tools/listen)
 # test  : core + GoogleTest/Benchmark, clang (libFuzzer, sanitizers), Debian's torch + onnx
 #         (the ONNX import tests export their models with /usr/bin/python3), libtorch-dev
-#         (the trainer, TLVLINK_BUILD_TRAINER in the host preset)
+#         (the trainer, TLVLINK_BUILD_TRAINER in the host preset); the Python stream client's
+#         dependencies and test runner (python3-serial, python3-usb, python3-pytest: tools/python)
 # cross : aarch64 cross compiler + qemu-user (the arm64 sysroot is tools/setup/make_sysroot.sh)
 set -euo pipefail
 what=${1:-all}
@@ -16,9 +18,11 @@ core_pkgs=(build-essential cmake ninja-build pkg-config
   libflatbuffers-dev flatbuffers-compiler
   libcli11-dev nlohmann-json3-dev
   libturbojpeg0-dev libpng-dev libhdf5-dev
-  libonnx-dev libprotobuf-dev)
+  libonnx-dev libprotobuf-dev
+  libusb-1.0-0-dev)
 test_pkgs=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev llvm
-  python3-torch python3-onnx python3-numpy libtorch-dev)
+  python3-torch python3-onnx python3-numpy libtorch-dev
+  python3-serial python3-usb python3-pytest)
 cross_pkgs=(g++-aarch64-linux-gnu qemu-user)
 
 pkgs=("${core_pkgs[@]}")

@@ -32,9 +32,16 @@ enum class ErrorCode : uint16_t {
   kInvalidArgument = 300,
   kIo,                     // file could not be opened/read/written
   kFormat,                 // a data file (npy, image) is malformed
-  // Capture / transport: reserved for the streaming components.
+  // Capture: reserved for the capture components.
   kCapture = 400,
-  kTransport = 500,
+  // Stream link: transports (runtime/transport) 500-509, protocol (runtime/protocol) 510-519.
+  kTransport = 500,           // I/O on the link failed
+  kTransportUnavailable,      // device, path or USB host absent now: retry later
+  kTransportDisconnected,     // the link went away while in use (hangup, unbind, unplug)
+  kProtocolMalformed = 510,   // a frame or payload that does not decode (framing, CRC, schema)
+  kProtocolVersion,           // the peer speaks an incompatible major protocol version
+  kProtocolTooLarge,          // a message larger than the frame or buffer it must fit
+  kProtocolUnsupported,       // a command or message this side does not implement
 };
 
 // Short stable name of a code, e.g. "model.invalid_tensor".

@@ -65,6 +65,12 @@ const char* error_code_name(ErrorCode code) {
     case ErrorCode::kFormat: return "io.format";
     case ErrorCode::kCapture: return "capture";
     case ErrorCode::kTransport: return "transport";
+    case ErrorCode::kTransportUnavailable: return "transport.unavailable";
+    case ErrorCode::kTransportDisconnected: return "transport.disconnected";
+    case ErrorCode::kProtocolMalformed: return "protocol.malformed";
+    case ErrorCode::kProtocolVersion: return "protocol.version";
+    case ErrorCode::kProtocolTooLarge: return "protocol.too_large";
+    case ErrorCode::kProtocolUnsupported: return "protocol.unsupported";
   }
   return "unknown";
 }
