@@ -2,6 +2,8 @@
 
 #include <linux/videodev2.h>
 
+#include <initializer_list>
+
 namespace tlvlink::image {
 
 const char* pixel_format_name(PixelFormat format) {
