@@ -27,6 +27,21 @@ void Client::Impl::record(RecordKind kind, int64_t time_ns, std::span<const std:
   if (recorder) (void)recorder->write(kind, time_ns, data);
 }
 
+// The board's sequence: +1 per frame it sends; a jump forward is frames lost or rejected on the
+// link, a jump back a restart (or reordering). Every good frame counts, known type or not.
+void Client::Impl::track_sequence(uint32_t sequence) {
+  if (have_sequence) {
+    const uint32_t gap = sequence - (last_sequence + 1);
+    if (gap != 0 && gap < 0x80000000u) {
+      ++stats.sequence_gaps;
+      stats.frames_missing += gap;
+    } else if (gap != 0) {
+      ++stats.sequence_resets;
+    }
+  }
+  last_sequence = sequence, have_sequence = true;
+}
+
 void Client::Impl::on_bytes(std::span<const std::byte> bytes, int64_t receive_ns) {
   deframer->feed(bytes, [&](const protocol::ReceivedFrame& f) { on_frame(f, receive_ns); });
   std::lock_guard lock(mutex);
@@ -50,6 +65,9 @@ void Client::Impl::on_frame(const protocol::ReceivedFrame& f, int64_t t) {
   if (f.verdict != protocol::FrameVerdict::kOk) return;
   const char* type_name = protocol::message_type_name(f.header.type);
   std::unique_lock lock(mutex);
+  // A Hello with a new boot id restarts the board's sequence: judge gaps after looking at it.
+  const bool is_hello = f.header.type == MessageType::kHello;
+  if (!is_hello) track_sequence(f.header.sequence);
   if (type_name == nullptr || f.header.type == MessageType::kCommand) {
     ++stats.unknown_types;  // a newer board's message, or something not meant for a host: skipped
     return;
@@ -62,7 +80,7 @@ void Client::Impl::on_frame(const protocol::ReceivedFrame& f, int64_t t) {
   if (f.header.flags & protocol::kFlagDelayed) ++stats.delayed;
   Message m(f.header, f.payload, t);
   bool deliver = true;
-  if (f.header.type == MessageType::kHello) {
+  if (is_hello) {
     const uint64_t boot = m.hello().value().boot_id();
     if (have_boot_id && boot != boot_id) {
       ++stats.board_restarts;
@@ -74,18 +92,9 @@ void Client::Impl::on_frame(const protocol::ReceivedFrame& f, int64_t t) {
     }
     boot_id = boot, have_boot_id = true;
     hello = m;
+    info_due_ns = 0;  // greeted: no need to ask
+    track_sequence(f.header.sequence);
   }
-  // Sequence: +1 per frame on the board; a jump forward is frames lost on the link.
-  if (have_sequence) {
-    const uint32_t gap = f.header.sequence - (last_sequence + 1);
-    if (gap != 0 && gap < 0x80000000u) {
-      ++stats.sequence_gaps;
-      stats.frames_missing += gap;
-    } else if (gap != 0) {
-      ++stats.sequence_resets;
-    }
-  }
-  last_sequence = f.header.sequence, have_sequence = true;
   if (f.header.type == MessageType::kPong) {
     const protocol::Pong p = m.pong().value();
     if (clock.add({p.host_send_ns, p.board_receive_ns, f.header.send_ns, t})) {

@@ -48,6 +48,7 @@ struct Client::Impl {
   bool have_boot_id = false, have_sequence = false, version_reported = false;
   uint32_t last_sequence = 0;
   int64_t next_open_ns = 0, next_sync_ns = 0;
+  int64_t info_due_ns = 0;  // when to ask for a Hello if none came by itself (0: not needed)
   int backoff_ms = 100;
   int burst_syncs = 0;
   std::string down_reason;
@@ -67,6 +68,7 @@ struct Client::Impl {
   // client_frames.cc
   void on_bytes(std::span<const std::byte> bytes, int64_t receive_ns);
   void on_frame(const protocol::ReceivedFrame& frame, int64_t receive_ns);
+  void track_sequence(uint32_t sequence);  // with mutex held
   void event(LinkEvent::Kind kind, std::string text, int64_t time_ns);
   bool is_internal(uint32_t sequence) const;
   void note_internal(uint32_t sequence);

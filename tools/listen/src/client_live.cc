@@ -11,6 +11,7 @@ namespace tlvlink::listen {
 namespace {
 constexpr int kBurstSyncs = 3;        // quick TimeSyncs after a connect: a good estimate at once
 constexpr int64_t kBurstGapNs = 50'000'000;
+constexpr int64_t kInfoAfterNs = 300'000'000;
 }  // namespace
 
 using transport::monotonic_ns;
@@ -31,11 +32,9 @@ void Client::Impl::on_connected() {
   const std::string name(link->name());
   record(RecordKind::kLinkUp, now, std::as_bytes(std::span(name.data(), name.size())));
   event(LinkEvent::Kind::kConnected, name, now);
-  if (options.request_info) {
-    protocol::Command info;
-    info.kind = protocol::CommandKind::kInfo;
-    (void)queue_own(info);
-  }
+  // A board greets every new connection with a Hello; a client joining a link the board did not
+  // see go down (a reader restarted on CDC-ACM) gets none: it asks if none came by then.
+  info_due_ns = options.request_info ? now + kInfoAfterNs : 0;
   next_sync_ns = now;
   burst_syncs = options.time_sync_ms > 0 ? kBurstSyncs : 0;
 }
@@ -103,6 +102,12 @@ Status Client::Impl::pump_live(int64_t deadline) {
       }
       on_connected();
     }
+    if (info_due_ns != 0 && now >= info_due_ns) {
+      info_due_ns = 0;
+      protocol::Command info;
+      info.kind = protocol::CommandKind::kInfo;
+      (void)queue_own(info);
+    }
     if (options.time_sync_ms > 0 && now >= next_sync_ns) {
       protocol::Command sync;
       sync.kind = protocol::CommandKind::kTimeSync;
@@ -122,6 +127,7 @@ Status Client::Impl::pump_live(int64_t deadline) {
     }
     int64_t until = deadline;
     if (options.time_sync_ms > 0) until = std::min(until, next_sync_ns);
+    if (info_due_ns != 0) until = std::min(until, info_due_ns);
     const int wait_ms = static_cast<int>(std::clamp<int64_t>((until - now + 999'999) / 1'000'000, 0, 1000));
     Result<transport::Readiness> r = link->wait(want_write, wait_ms);
     if (!r.ok()) {

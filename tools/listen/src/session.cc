@@ -97,7 +97,7 @@ Result<int> run_session(const SessionOptions& o, std::FILE* out, std::FILE* log,
       std::fprintf(log, "# %s: %s\n", link_event_name(e.kind), e.text.c_str());
     }
     if (!r.ok()) {
-      std::fprintf(log, "tlvlink listen: %s\n", r.error().message());
+      std::fprintf(log, "tlvlink listen: error [%s]: %s\n", error_code_name(r.error().code()), r.error().message());
       print_stats();
       return 1;
     }

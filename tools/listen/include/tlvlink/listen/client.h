@@ -3,8 +3,9 @@
 // link (serial / CDC-ACM, USB bulk through libusb, or a recording), reconnects by itself when the
 // link goes and comes back, keeps the board's clock offset (Ping/Pong, clock.h), counts what the
 // link lost or corrupted, and hands over typed messages through a pull API (next) or callbacks
-// (run). It sends Info at every connect (so a Hello arrives even when joining a running board)
-// and TimeSync once a second; the replies to those are consumed here, the Hello is delivered.
+// (run). It sends Info when no Hello came within 300 ms of connecting (a reader that restarts on
+// a CDC-ACM link the board never saw go down) and TimeSync once a second; the replies to those
+// are consumed here, the Hello is delivered.
 //
 //   auto client = listen::Client::open("serial:/dev/ttyACM0").value();
 //   while (auto m = client->next(1000)) {                   // Result<optional<Message>>
@@ -38,7 +39,7 @@ struct ClientOptions {
   int reconnect_min_ms = 100;    // backoff doubles up to the max
   int reconnect_max_ms = 1000;
   int time_sync_ms = 1000;       // TimeSync period; 0: none (no clock offset, no latencies)
-  bool request_info = true;      // send Info at every connect
+  bool request_info = true;      // send Info when no Hello came soon after connecting
   std::string record;            // also write what arrives into this recording file
   bool realtime = false;         // replay: pace records at their recorded times
 };
