@@ -1,6 +1,6 @@
 // tlvlink_stream_check: the stream end to end over any link, in two processes (or two machines,
 // or the emulated board and its USB host side):
-//   tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] [--embedding] [--hold S]
+//   tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] [--embedding] [--hold S] [--boot-id N]
 //       a board: the Sender on LINK (make_transport: serial:PATH, pty:LINK, usb[:FFS_DIR,...])
 //       posting N fixture predictions at HZ (every 10th frame also a grasp), Stats every second,
 //       answering commands (set bad=... is refused); then holds the link S seconds and flushes.
@@ -42,6 +42,7 @@ struct Args {
   std::string mode, link, source, file;
   uint32_t frames = 100;
   double rate = 120, hold_s = 1, timeout_s = 30;
+  uint64_t boot_id = 0x5EED;
   bool embedding = false, cut = false;
 };
 
@@ -58,6 +59,7 @@ bool parse(int argc, char** argv, Args& a) {
     else if (k == "--hold") a.hold_s = std::strtod(value(), nullptr);
     else if (k == "--timeout") a.timeout_s = std::strtod(value(), nullptr);
     else if (k == "--embedding") a.embedding = true;
+    else if (k == "--boot-id") a.boot_id = std::strtoull(value(), nullptr, 0);
     else if (k == "--cut") a.cut = true;
     else if (a.mode == "record" && a.file.empty()) a.file = k;
     else return false;
@@ -71,7 +73,9 @@ int board(const Args& a) {
   Result<std::unique_ptr<transport::Sender>> s = transport::Sender::create(std::move(link.value()), {});
   if (!s.ok()) return std::fprintf(stderr, "board: %s\n", s.error().message()), 2;
   transport::Sender& sender = *s.value();
-  (void)sender.set_hello(testing::fixture_hello());
+  protocol::Hello hello = testing::fixture_hello();
+  hello.boot_id = a.boot_id;
+  (void)sender.set_hello(hello);
   (void)sender.set_command_handler([](const protocol::Command& c) -> Status {
     if (c.kind == protocol::CommandKind::kSetConfig && c.key == "bad") {
       return Error(ErrorCode::kInvalidArgument, "unknown key 'bad'");
@@ -184,7 +188,7 @@ int main(int argc, char** argv) {
   if (!parse(argc, argv, a) || (a.mode == "board" && a.link.empty()) || (a.mode == "check" && a.source.empty()) ||
       (a.mode == "record" && a.file.empty())) {
     std::fprintf(stderr,
-                 "usage: tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] [--embedding] [--hold S]\n"
+                 "usage: tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] [--embedding] [--hold S] [--boot-id N]\n"
                  "       tlvlink_stream_check check --source SOURCE [--frames N] [--timeout S]\n"
                  "       tlvlink_stream_check record FILE [--cut]\n");
     return 2;
