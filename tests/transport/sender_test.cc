@@ -253,6 +253,19 @@ TEST(Sender, StatsCarryTheLinkCountersAndItsDrops) {
   EXPECT_EQ(v.value().link().queue_capacity_bytes, rig.sender->counters().queue_capacity_bytes);
 }
 
+TEST(Sender, LinkThreadPriorityIsAppliedOrReported) {
+  SenderConfig config;
+  config.realtime_priority = 5;
+  Rig rig(true, config);
+  // Root (or CAP_SYS_NICE / RLIMIT_RTPRIO) gets it; an unprivileged run is told it did not.
+  const bool may = ::geteuid() == 0;
+  if (may) {
+    EXPECT_TRUE(rig.sender->counters().realtime);
+  }
+  rig.connect();
+  EXPECT_TRUE(rig.host.wait_for(2000, [&] { return rig.host.count(MessageType::kHello) == 1; })) << "works either way";
+}
+
 TEST(Sender, ConfigurationIsChecked) {
   SenderConfig tiny;
   tiny.queue_bytes = 1000;
@@ -260,6 +273,9 @@ TEST(Sender, ConfigurationIsChecked) {
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().code(), ErrorCode::kInvalidArgument);
   EXPECT_FALSE(Sender::create(nullptr, {}).ok());
+  SenderConfig rt;
+  rt.realtime_priority = 100;
+  EXPECT_FALSE(Sender::create(std::make_unique<PtyTransport>(PtyConfig{}), rt).ok());
 }
 
 }  // namespace

@@ -2,6 +2,9 @@
 // itself is sender_link.cc.
 #include "tlvlink/transport/sender.h"
 
+#include <pthread.h>
+#include <sched.h>
+
 #include <algorithm>
 
 #include "sender_link.h"
@@ -21,7 +24,8 @@ Result<std::unique_ptr<Sender>> Sender::create(std::unique_ptr<Transport> transp
              "sender: queue_bytes %zu cannot hold one largest message (%zu bytes)", config.queue_bytes,
              SendQueue::record_size(protocol::kMaxPayloadSize));
   TLV_ENSURE(config.reconnect_min_ms > 0 && config.reconnect_max_ms >= config.reconnect_min_ms &&
-                 config.stall_ms > 0 && config.flush_ms >= 0 && config.max_age_ms >= 0,
+                 config.stall_ms > 0 && config.flush_ms >= 0 && config.max_age_ms >= 0 &&
+                 config.realtime_priority >= 0 && config.realtime_priority <= 99,
              ErrorCode::kInvalidArgument, "sender: timing settings out of range");
   std::unique_ptr<Sender> s(new Sender(std::move(transport), config));
   s->link_ = std::make_unique<Link>(*s);
@@ -47,6 +51,13 @@ Status Sender::set_command_handler(CommandHandler handler) {
 Status Sender::start() {
   TLV_ENSURE(!started_.exchange(true), ErrorCode::kInvalidState, "sender: already started");
   thread_ = std::thread([this] { link_->run(); });
+  if (config_.realtime_priority > 0) {
+    sched_param param{};
+    param.sched_priority = config_.realtime_priority;
+    const bool applied = pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &param) == 0;
+    std::lock_guard lock(mutex_);
+    counters_.realtime = applied;
+  }
   return Status();
 }
 

@@ -51,6 +51,11 @@ struct SenderConfig {
   int reconnect_max_ms = 1000;
   int stall_ms = 1000;          // no byte accepted for this long while data waits: the link is down
   int flush_ms = 500;           // stop(): time allowed to send what is still queued
+  // SCHED_FIFO priority of the link thread only (0: inherit). On a busy board the link thread's
+  // wake-up dominates the added latency's tail (tools/listen/README.md "Figures"). Needs
+  // CAP_SYS_NICE or an RLIMIT_RTPRIO (systemd: LimitRTPRIO=); when refused the thread runs on
+  // and SenderCounters::realtime says so.
+  int realtime_priority = 0;
 };
 
 struct SenderCounters {
@@ -64,6 +69,7 @@ struct SenderCounters {
   uint64_t frames_received = 0, frames_rejected = 0;
   uint64_t commands = 0, commands_refused = 0;
   uint32_t queue_messages = 0, queue_bytes = 0, queue_capacity_bytes = 0;
+  bool realtime = false;             // the link thread got its SCHED_FIFO priority
   Error link_error;                  // why the link was last down (code kOk if never)
 };
 
