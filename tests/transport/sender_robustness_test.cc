@@ -134,7 +134,8 @@ TEST(SenderRobustness, HostReaderKilledAndRestarted) {
   TestHost first(dir / "tty");
   open_when_there(first);
   for (uint32_t i = 0; i < 100; ++i) ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
-  first.pump(30);  // reads part of the stream, then dies
+  // Reads part of the stream (the board has seen it connect: the Hello came), then dies.
+  ASSERT_TRUE(first.wait_for(5000, [&] { return first.count(MessageType::kFramePrediction) >= 20; }));
   first.close();
   for (uint32_t i = 100; i < 300; ++i) ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
   ::usleep(300'000);  // longer than the board's idle wait (100 ms): it notices the reader left

@@ -15,6 +15,8 @@ namespace tlvlink::transport {
 Sender::Sender(std::unique_ptr<Transport> transport, const SenderConfig& config)
     : config_(config), transport_(std::move(transport)), queue_(config.queue_bytes) {
   counters_.queue_capacity_bytes = static_cast<uint32_t>(queue_.capacity());
+  // Down until the link thread has opened the link and found a reader.
+  counters_.link_error = Error(ErrorCode::kTransportUnavailable, "not connected yet");
 }
 
 Result<std::unique_ptr<Sender>> Sender::create(std::unique_ptr<Transport> transport, const SenderConfig& config) {
