@@ -41,9 +41,11 @@ if(TLVLINK_WITH_LIBCAMERA)
   pkg_check_modules(LIBCAMERA IMPORTED_TARGET libcamera)
   tlvlink_require(LIBCAMERA_FOUND "libcamera" libcamera-dev)
 endif()
-if(TLVLINK_WITH_USB)
+# USB: the board's FunctionFS side needs only the kernel headers; libusb is the host side's
+# (tools/listen), built with the host tools or the tests.
+if(TLVLINK_WITH_USB AND TLVLINK_WITH_SERIAL AND (TLVLINK_BUILD_HOST_TOOLS OR TLVLINK_BUILD_TESTS))
   find_package(PkgConfig REQUIRED)
-  pkg_check_modules(LIBUSB libusb-1.0)
+  pkg_check_modules(LIBUSB IMPORTED_TARGET libusb-1.0)
   tlvlink_require(LIBUSB_FOUND "libusb-1.0" libusb-1.0-0-dev)
 endif()
 if(TLVLINK_BUILD_TRAINER)

@@ -2,10 +2,12 @@
 # Installs everything tlvlink needs from Debian's packages. Idempotent; safe to rerun.
 #   install_deps.sh [core|test|cross|rig|all]   (default: all)
 # core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries, JPEG, PNG, HDF5, ONNX,
-#         libcamera (the libcamera frame source, TLVLINK_WITH_LIBCAMERA)
+#         libcamera (the libcamera frame source, TLVLINK_WITH_LIBCAMERA), toml++ (tlvlinkd's
+#         configuration), libusb (the host side of the USB stream link, tools/listen)
 # test  : core + GoogleTest/Benchmark, clang (libFuzzer, sanitizers), Debian's torch + onnx
 #         (the ONNX import tests export their models with /usr/bin/python3), libtorch-dev
-#         (the trainer, TLVLINK_BUILD_TRAINER in the host preset)
+#         (the trainer, TLVLINK_BUILD_TRAINER in the host preset); the Python stream client's
+#         dependencies and test runner (python3-serial, python3-usb, python3-pytest: tools/python)
 # cross : aarch64 cross compiler + qemu-user (the arm64 sysroot is tools/setup/make_sysroot.sh)
 # rig   : cross + the emulated board (tools/rig): qemu-system-aarch64, kmod (depmod/modinfo for
 #         the kernel module subset), python3; the arm64 kernel and busybox are fetched by the rig
@@ -21,9 +23,10 @@ core_pkgs=(build-essential cmake ninja-build pkg-config
   libcli11-dev nlohmann-json3-dev
   libturbojpeg0-dev libpng-dev libhdf5-dev
   libonnx-dev libprotobuf-dev
-  libcamera-dev libtomlplusplus-dev)
+  libcamera-dev libtomlplusplus-dev libusb-1.0-0-dev)
 test_pkgs=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev llvm
-  python3-torch python3-onnx python3-numpy libtorch-dev)
+  python3-torch python3-onnx python3-numpy libtorch-dev
+  python3-serial python3-usb python3-pytest)
 cross_pkgs=(g++-aarch64-linux-gnu qemu-user)
 rig_pkgs=(qemu-system-arm kmod python3)
 

@@ -6,7 +6,7 @@
 # capture tests inside the emulated arm64 board (tools/setup/board_test.sh: QEMU virt + vivid).
 # The closing line "tests: N passed, N failed" adds up every ctest run and every rig run (a
 # failed build or fuzz stage counts as a failure). Set TLVLINK_FUZZ_SECONDS to change the
-# fuzzing budget.
+# fuzzing budget (shared between the fuzz targets).
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 root=$(pwd)
@@ -35,19 +35,35 @@ run_fuzz() {
   local dir=build/fuzz
   CC=clang CXX=clang++ cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DTLVLINK_BUILD_FUZZERS=ON -DTLVLINK_BUILD_TESTS=OFF -DTLVLINK_WERROR=ON >/dev/null &&
-    cmake --build "$dir" -j "$jobs" --target model_loader_fuzz make_fuzz_corpus || return 1
-  rm -rf "$dir/corpus" && mkdir -p "$dir/corpus" "$dir/artifacts"
+    cmake --build "$dir" -j "$jobs" --target model_loader_fuzz make_fuzz_corpus \
+      stream_decoder_fuzz make_stream_fuzz_corpus || return 1
+  rm -rf "$dir/corpus" "$dir/stream_corpus" && mkdir -p "$dir/corpus" "$dir/stream_corpus" "$dir/artifacts"
   "$dir/tests/fuzz/make_fuzz_corpus" "$dir/corpus" || return 1
+  "$dir/tests/fuzz/make_stream_fuzz_corpus" "$dir/stream_corpus" || return 1
+  # The budget is split: two thirds for the model loader, one third for the stream decoder.
+  local loader_seconds=$(( fuzz_seconds * 2 / 3 ))
+  local stream_seconds=$(( fuzz_seconds - loader_seconds ))
   # -max_len covers the largest seed (the 96-px fp32 reference encoder, ~670 KiB): libFuzzer
   # truncates longer seeds into invalid files. Executions stay in the millisecond range: the
   # fuzzer invokes only small models (its kMaxInvoke* caps), never the encoders.
-  "$dir/tests/fuzz/model_loader_fuzz" -max_total_time="$fuzz_seconds" -max_len=1048576 -timeout=10 \
+  "$dir/tests/fuzz/model_loader_fuzz" -max_total_time="$loader_seconds" -max_len=1048576 -timeout=10 \
     -rss_limit_mb=2048 -artifact_prefix="$dir/artifacts/" -print_final_stats=1 "$dir/corpus" \
     2>"$dir/fuzz.log"
   local rc=$?
+  echo "model_loader_fuzz (${loader_seconds}s):"
   grep -E "stat::number_of_executed_units|Done [0-9]+ runs|ERROR|SUMMARY" "$dir/fuzz.log" | head -20
   [ $rc -eq 0 ] || { tail -60 "$dir/fuzz.log"; ls "$dir/artifacts"; }
-  return $rc
+  # The stream decoder allocates nothing per frame: tight limits make a runaway allocation a
+  # finding. -max_len covers two largest wire frames.
+  "$dir/tests/fuzz/stream_decoder_fuzz" -max_total_time="$stream_seconds" -max_len=33000 -timeout=10 \
+    -rss_limit_mb=512 -malloc_limit_mb=64 -artifact_prefix="$dir/artifacts/stream-" -print_final_stats=1 \
+    "$dir/stream_corpus" 2>"$dir/stream_fuzz.log"
+  local stream_rc=$?
+  echo "stream_decoder_fuzz (${stream_seconds}s):"
+  grep -E "stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs|cov: .* ft:|ERROR|SUMMARY" \
+    "$dir/stream_fuzz.log" | tail -6
+  [ $stream_rc -eq 0 ] || { tail -60 "$dir/stream_fuzz.log"; ls "$dir/artifacts"; }
+  [ $rc -eq 0 ] && [ $stream_rc -eq 0 ]
 }
 
 # The README's minimal board builds, each configured on its own (no host-tool dependency may be

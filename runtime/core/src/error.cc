@@ -72,6 +72,12 @@ const char* error_code_name(ErrorCode code) {
     case ErrorCode::kCaptureBadFrame: return "capture.bad_frame";
     case ErrorCode::kCaptureControl: return "capture.control";
     case ErrorCode::kTransport: return "transport";
+    case ErrorCode::kTransportUnavailable: return "transport.unavailable";
+    case ErrorCode::kTransportDisconnected: return "transport.disconnected";
+    case ErrorCode::kProtocolMalformed: return "protocol.malformed";
+    case ErrorCode::kProtocolVersion: return "protocol.version";
+    case ErrorCode::kProtocolTooLarge: return "protocol.too_large";
+    case ErrorCode::kProtocolUnsupported: return "protocol.unsupported";
   }
   return "unknown";
 }

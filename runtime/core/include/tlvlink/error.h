@@ -41,8 +41,14 @@ enum class ErrorCode : uint16_t {
   kCaptureFormatRefused,   // pixel format, size, interval or buffer count not what was asked
   kCaptureBadFrame,        // flagged, empty or short frame, MJPEG without SOI/EOI
   kCaptureControl,         // a camera control is unknown, out of range or refused
-  // Transport: reserved for the streaming components.
-  kTransport = 500,
+  // Stream link: transports (runtime/transport) 500-509, protocol (runtime/protocol) 510-519.
+  kTransport = 500,           // I/O on the link failed
+  kTransportUnavailable,      // device, path or USB host absent now: retry later
+  kTransportDisconnected,     // the link went away while in use (hangup, unbind, unplug)
+  kProtocolMalformed = 510,   // a frame or payload that does not decode (framing, CRC, schema)
+  kProtocolVersion,           // the peer speaks an incompatible major protocol version
+  kProtocolTooLarge,          // a message larger than the frame or buffer it must fit
+  kProtocolUnsupported,       // a command or message this side does not implement
 };
 
 // Short stable name of a code, e.g. "model.invalid_tensor".
