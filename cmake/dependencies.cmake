@@ -31,6 +31,10 @@ if(TLVLINK_WITH_IMAGE OR TLVLINK_BUILD_HOST_TOOLS)
   find_package(PkgConfig REQUIRED)
   pkg_check_modules(TURBOJPEG IMPORTED_TARGET libturbojpeg)
   tlvlink_require(TURBOJPEG_FOUND "libturbojpeg (TurboJPEG API)" libturbojpeg0-dev)
+  # The libjpeg API of the same library (cropped, DCT-scaled decodes: runtime/image).
+  pkg_check_modules(LIBJPEG IMPORTED_TARGET libjpeg)
+  tlvlink_require(LIBJPEG_FOUND "libjpeg (libjpeg-turbo's libjpeg API)" libjpeg62-turbo-dev)
+  add_library(tlvlink::libjpeg ALIAS PkgConfig::LIBJPEG)
 endif()
 
 if(TLVLINK_WITH_LIBCAMERA)
@@ -73,6 +77,4 @@ endif()
 if(TLVLINK_BUILD_TESTS)
   find_package(GTest REQUIRED)
 endif()
-if(TLVLINK_BUILD_BENCHMARKS)
-  find_package(benchmark CONFIG REQUIRED)
-endif()
+

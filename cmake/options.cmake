@@ -13,7 +13,7 @@ option(TLVLINK_WITH_USB       "Add the USB bulk transport: the FunctionFS device
 option(TLVLINK_BUILD_TRAINER  "Build the libtorch trainer (needs libtorch-dev)" OFF)
 option(TLVLINK_BUILD_HOST_TOOLS "Build the host CLI, model writer and quantizer" ON)
 option(TLVLINK_WITH_ONNX     "Build `tlvlink convert` (ONNX import; host tools only, needs libonnx-dev, libprotobuf-dev)" ON)
-option(TLVLINK_BUILD_BENCHMARKS "Build Google Benchmark micro-benchmarks" OFF)
+option(TLVLINK_BUILD_BENCHMARKS "Build the benchmark programs that print figures (tools/bench, tools/sim/bench, tools/listen/bench; host tools only)" OFF)
 option(TLVLINK_BUILD_TESTS    "Build the GoogleTest suites" ON)
 option(TLVLINK_BUILD_FUZZERS  "Build libFuzzer targets (needs clang)" OFF)
 option(TLVLINK_WERROR         "Treat compiler warnings as errors (CI sets this)" OFF)

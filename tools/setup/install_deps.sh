@@ -23,7 +23,7 @@ core_pkgs=(build-essential cmake ninja-build pkg-config
   libcli11-dev nlohmann-json3-dev
   libturbojpeg0-dev libpng-dev libhdf5-dev
   libonnx-dev libprotobuf-dev
-  libcamera-dev libtomlplusplus-dev libusb-1.0-0-dev)
+  libjpeg62-turbo-dev libcamera-dev libtomlplusplus-dev libusb-1.0-0-dev)
 test_pkgs=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev llvm
   python3-torch python3-onnx python3-numpy libtorch-dev
   python3-serial python3-usb python3-pytest)

@@ -39,8 +39,18 @@ bool with_decompressor(std::span<const uint8_t> jpeg, Body body) {
 }  // namespace
 
 bool entropy_decode(std::span<const uint8_t> jpeg) {
+  // Skipping whole iMCU rows makes libjpeg-turbo Huffman-decode them without IDCT, upsampling or
+  // colour conversion (jpeg_read_coefficients would also store every coefficient: slower).
   return with_decompressor(jpeg, [](jpeg_decompress_struct& c) {
-    jpeg_read_coefficients(&c);
+    c.scale_num = 1;
+    c.scale_denom = 8;
+    jpeg_start_decompress(&c);
+    // Skip all but the last row, then read it: every iMCU row before it must be entropy-decoded
+    // to stay in sync (no restart markers); skipping to the very end would decode nothing.
+    std::vector<uint8_t> row(static_cast<size_t>(c.output_width) * static_cast<size_t>(c.output_components));
+    jpeg_skip_scanlines(&c, c.output_height - 1);
+    JSAMPROW r = row.data();
+    jpeg_read_scanlines(&c, &r, 1);
     jpeg_finish_decompress(&c);
   });
 }

@@ -10,7 +10,7 @@
 
 namespace tlvlink::bench {
 
-// Huffman-decodes every coefficient (jpeg_read_coefficients) without IDCT or colour conversion.
+// Huffman-decodes every coefficient, skipping IDCT, upsampling and colour conversion.
 bool entropy_decode(std::span<const uint8_t> jpeg);
 
 // Decodes at 1/scale only the region [x0, x0+w) x [y0, y0+h) of the scaled image (w, h, x0, y0
