@@ -73,3 +73,10 @@ if(TLVLINK_QEMU_AARCH64)
 else()
   message(WARNING "tlvlink: qemu-aarch64 not found (apt package qemu-user): cross-built tests cannot run here")
 endif()
+
+# pkg-config (libturbojpeg, libjpeg, libusb, libcamera): the sysroot's .pc files, with their
+# /usr paths moved into the sysroot; never the host's.
+set(ENV{PKG_CONFIG_LIBDIR}
+    "${_tlvlink_sysroot_libdir}/pkgconfig:${TLVLINK_SYSROOT}/usr/share/pkgconfig")
+set(ENV{PKG_CONFIG_SYSROOT_DIR} "${TLVLINK_SYSROOT}")
+set(ENV{PKG_CONFIG_PATH} "")
