@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs everything tlvlink needs from Debian's packages. Idempotent; safe to rerun.
-#   install_deps.sh [core|test|cross|rig|all]   (default: all)
+#   install_deps.sh [core|test|cross|rig|bench|all]   (default: all: everything but bench)
 # core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries, JPEG, PNG, HDF5, ONNX,
 #         libcamera (the libcamera frame source, TLVLINK_WITH_LIBCAMERA), toml++ (tlvlinkd's
 #         configuration), libusb (the host side of the USB stream link, tools/listen)
@@ -24,11 +24,13 @@ core_pkgs=(build-essential cmake ninja-build pkg-config
   libturbojpeg0-dev libpng-dev libhdf5-dev
   libonnx-dev libprotobuf-dev
   libjpeg62-turbo-dev libcamera-dev libtomlplusplus-dev libusb-1.0-0-dev)
-test_pkgs=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev llvm
+test_pkgs=(libgtest-dev libgmock-dev clang libclang-rt-14-dev llvm
   python3-torch python3-onnx python3-numpy libtorch-dev
   python3-serial python3-usb python3-pytest)
 cross_pkgs=(g++-aarch64-linux-gnu qemu-user)
 rig_pkgs=(qemu-system-arm kmod python3)
+# bench: the Python peer of the pipeline benchmark (OpenCV + PyTorch reading the same model).
+bench_pkgs=(python3-opencv python3-flatbuffers python3-torch python3-numpy)
 
 pkgs=("${core_pkgs[@]}")
 case "$what" in
@@ -36,8 +38,9 @@ case "$what" in
   test) pkgs+=("${test_pkgs[@]}") ;;
   cross) pkgs+=("${cross_pkgs[@]}") ;;
   rig) pkgs+=("${cross_pkgs[@]}" "${rig_pkgs[@]}") ;;
+  bench) pkgs+=("${bench_pkgs[@]}") ;;
   all) pkgs+=("${test_pkgs[@]}" "${cross_pkgs[@]}" "${rig_pkgs[@]}") ;;
-  *) echo "install_deps.sh: unknown set '$what' (core|test|cross|rig|all)" >&2; exit 2 ;;
+  *) echo "install_deps.sh: unknown set '$what' (core|test|cross|rig|bench|all)" >&2; exit 2 ;;
 esac
 
 # The arm64 sysroot (make_sysroot.sh) needs arm64 package lists: add the architecture before the
