@@ -76,5 +76,7 @@ if(TLVLINK_BUILD_HOST_TOOLS AND TLVLINK_WITH_ONNX)
 endif()
 if(TLVLINK_BUILD_TESTS)
   find_package(GTest REQUIRED)
+  # Tests parse JSON outputs (the daemon's records) also in board builds without host tools.
+  find_package(nlohmann_json CONFIG REQUIRED)
 endif()
 

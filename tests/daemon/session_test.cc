@@ -2,6 +2,7 @@
 // through capture threads, the inference thread and the JSON-lines output, on the shipped int8
 // model. Checks the output records, that grasps are reported, and that 1,000 frames in the
 // steady state allocate nothing (operator new, counted over every thread).
+#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -17,6 +18,9 @@
 #include "tlvlink/daemon/config.h"
 #include "tlvlink/daemon/session.h"
 #include "tlvlink/image/jpeg.h"
+#if defined(TLVLINK_HAVE_LISTEN)
+#include "tlvlink/listen/client.h"
+#endif
 
 namespace tlvlink::daemon {
 namespace {
@@ -124,6 +128,60 @@ TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
   EXPECT_GE(stats, 1u);
   EXPECT_EQ(summaries, 1u);
 }
+
+}  // namespace
+}  // namespace tlvlink::daemon
+
+namespace tlvlink::daemon {
+namespace {
+
+#if defined(TLVLINK_HAVE_LISTEN)
+// The daemon speaks the stream protocol: over a pty, the host's client sees the Hello with the
+// sensors and heads, every frame prediction the JSON lines record, and the grasps.
+TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
+  testing::TempDir dir;
+  const std::string jsonl = dir.path() + "/p.jsonl", link = dir.path() + "/board";
+  std::string text = config_text(jsonl, 400);
+  text.replace(text.find("output = \"jsonl:" + jsonl + "\""), 16 + jsonl.size() + 1,
+               "output = [\"jsonl:" + jsonl + "\", \"pty:" + link + "\"]");
+  auto config = parse_config(text, "test.toml");
+  ASSERT_TRUE(config.ok()) << config.error().message();
+  auto session = Session::start_with_sources(*config, sources());
+  ASSERT_TRUE(session.ok()) << session.error().message();
+  auto client = listen::Client::open("serial:" + link);
+  ASSERT_TRUE(client.ok()) << client.error().message();
+  // The host reads all the time, as a robot's controller does, also while the board stops
+  // (a pty discards what its reader has not read when the board closes it).
+  std::atomic<uint64_t> frames{0}, grasps{0};
+  std::atomic<bool> hello{false}, done{false};
+  std::thread reader([&] {
+    int quiet = 0;
+    while (!done || quiet < 5) {
+      auto m = (*client)->next(200);
+      if (!m.ok()) break;
+      if (!m.value()) {
+        ++quiet;
+        continue;
+      }
+      quiet = 0;
+      if (auto h = m.value()->hello(); h.ok()) hello = h.value().sensor_count() == 2;
+      if (m.value()->frame_prediction().ok()) ++frames;
+      if (m.value()->grasp_prediction().ok()) ++grasps;
+    }
+  });
+  while (!(*session)->limit_reached()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const SessionTotals t = (*session)->stop();
+  done = true;
+  reader.join();
+  const listen::LinkStats ls = (*client)->stats();
+  EXPECT_EQ(ls.frames.rejected(), 0u);
+  EXPECT_EQ(ls.frames_missing, 0u);
+  EXPECT_TRUE(hello);
+  EXPECT_EQ(frames, t.frames);
+  EXPECT_EQ(grasps, t.grasps + t.grasps_not_computed);
+}
+
+#endif  // TLVLINK_HAVE_LISTEN
 
 }  // namespace
 }  // namespace tlvlink::daemon

@@ -140,10 +140,26 @@ Status read_top(TableReader& r, DaemonConfig& c) {
   c.executor = executor == 0 ? "xnnpack" : "reference";
   TLV_TRY(r.integer32("threads", c.threads, 1, kMaxThreads));
   TLV_TRY(r.flag("verify_model", c.verify_model));
-  TLV_TRY(r.text("output", c.output));
-  TLV_ENSURE(c.output.rfind("jsonl:", 0) == 0 && c.output.size() > 6,
-             ErrorCode::kInvalidArgument, "%s: '%s': expected jsonl:- (stdout) or jsonl:FILE",
-             r.where("output").c_str(), c.output.c_str());
+  if (r.has("output") && !r.is_array("output")) {
+    std::string one;
+    TLV_TRY(r.text("output", one));
+    c.outputs = {one};
+  } else {
+    TLV_TRY(r.texts("output", c.outputs));
+  }
+  TLV_ENSURE(!c.outputs.empty(), ErrorCode::kInvalidArgument, "%s: at least one output",
+             r.where("output").c_str());
+  int streams = 0;
+  for (const std::string& o : c.outputs) {
+    const bool jsonl = o.rfind("jsonl:", 0) == 0 && o.size() > 6;
+    const bool stream = o.rfind("serial:", 0) == 0 || o.rfind("pty:", 0) == 0 || o.rfind("usb", 0) == 0;
+    TLV_ENSURE(jsonl || stream, ErrorCode::kInvalidArgument,
+               "%s: '%s': expected jsonl:-, jsonl:FILE, serial:PATH, pty:LINK or usb",
+               r.where("output").c_str(), o.c_str());
+    streams += stream ? 1 : 0;
+  }
+  TLV_ENSURE(streams <= 1, ErrorCode::kInvalidArgument, "%s: at most one stream link (got %d)",
+             r.where("output").c_str(), streams);
   int32_t control = 0;
   TLV_TRY(r.choice("control", {"none", "stdin"}, control));
   c.control = static_cast<ControlInput>(control);

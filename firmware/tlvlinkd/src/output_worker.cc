@@ -38,12 +38,13 @@ const char* stage_name(int32_t s) {
   return s >= 0 && s < kStages ? kNames[s] : "?";
 }
 
-OutputWorker::OutputWorker(JsonlWriter& writer, OutputQueue& queue,
+OutputWorker::OutputWorker(std::vector<OutputSink*> sinks, const OutputNames& names, OutputQueue& queue,
                            const std::vector<std::unique_ptr<CaptureWorker>>& captures,
                            const InferenceWorker& inference, std::vector<FrameRing*> rings,
                            int32_t status_interval_ms, bool status_line,
                            const std::atomic<bool>& stop)
-    : writer_(writer),
+    : sinks_(std::move(sinks)),
+      names_(names),
       queue_(queue),
       captures_(captures),
       inference_(inference),
@@ -85,9 +86,12 @@ RunTotals OutputWorker::collect(int64_t now_ns) const {
     r.drops_queue += rings_[i]->dropped();
     r.sensor_cpu_pct[i] = pct(c.cpu_ns, wall);
     r.sensor_fps[i] = c.source.measured_fps;
+    r.sensor_frames[i] = c.source.delivered;
     r.sensors = static_cast<int32_t>(i + 1);
   }
   const InferenceSnapshot inf = inference_.snapshot();
+  r.sensor_encoded = inf.counters.sensor_encoder_runs;
+  r.sensor_gated = inf.counters.sensor_gated;
   r.frames = inf.counters.frames;
   r.encoded = inf.counters.encoder_runs;
   r.gated = inf.counters.gated;
@@ -97,7 +101,8 @@ RunTotals OutputWorker::collect(int64_t now_ns) const {
   r.grasps = grasps_;
   r.grasps_not_computed = grasps_not_computed_;
   r.drops_output = queue_.dropped();
-  r.write_errors = writer_.failed_writes();
+  for (const OutputSink* sink : sinks_) r.write_errors += sink->failed();
+  r.t_ns = now_ns;
   r.process_cpu_pct = pct(process_cpu_ns() - start_cpu_ns_, wall);
   for (int32_t s = 0; s < kStages; ++s) {
     r.p50_ms[static_cast<size_t>(s)] = static_cast<double>(latency_[static_cast<size_t>(s)].percentile_ns(0.5)) * 1e-6;
@@ -110,30 +115,7 @@ RunTotals OutputWorker::collect(int64_t now_ns) const {
 
 void OutputWorker::report(int64_t now_ns, bool final) {
   const RunTotals r = collect(now_ns);
-  LineBuffer& l = writer_.scratch();
-  l.clear();
-  l.printf("{\"type\":\"%s\",\"t_ns\":%lld,\"uptime_s\":%.3f,\"frames\":%llu,\"encoded\":%llu,"
-           "\"gated\":%llu,\"grasps\":%llu,\"grasps_not_computed\":%llu,\"drops\":{\"stale\":%llu,"
-           "\"sequence_gaps\":%llu,\"queue\":%llu,\"output\":%llu,\"bad_frames\":%llu,"
-           "\"decode_errors\":%llu},\"cpu_pct\":{\"process\":%.1f,\"inference\":%.1f,\"output\":%.1f,\"sensors\":[",
-           final ? "summary" : "stats", static_cast<long long>(now_ns), r.seconds,
-           static_cast<unsigned long long>(r.frames), static_cast<unsigned long long>(r.encoded),
-           static_cast<unsigned long long>(r.gated), static_cast<unsigned long long>(r.grasps),
-           static_cast<unsigned long long>(r.grasps_not_computed),
-           static_cast<unsigned long long>(r.drops_stale), static_cast<unsigned long long>(r.drops_sequence),
-           static_cast<unsigned long long>(r.drops_queue), static_cast<unsigned long long>(r.drops_output),
-           static_cast<unsigned long long>(r.bad_frames), static_cast<unsigned long long>(r.decode_errors),
-           r.process_cpu_pct, r.inference_cpu_pct, r.output_cpu_pct);
-  for (size_t i = 0; i < static_cast<size_t>(r.sensors); ++i) l.printf("%s%.1f", i ? "," : "", r.sensor_cpu_pct[i]);
-  l.printf("]},\"fps\":[");
-  for (size_t i = 0; i < static_cast<size_t>(r.sensors); ++i) l.printf("%s%.2f", i ? "," : "", r.sensor_fps[i]);
-  l.printf("],\"latency_ms\":{");
-  for (int32_t s = 0; s < kStages; ++s) {
-    l.printf("%s\"%s\":{\"p50\":%.3f,\"p99\":%.3f,\"max\":%.3f}", s ? "," : "", stage_name(s),
-             r.p50_ms[static_cast<size_t>(s)], r.p99_ms[static_cast<size_t>(s)], r.max_ms[static_cast<size_t>(s)]);
-  }
-  l.printf("},\"peak_rss_mb\":%.1f}\n", static_cast<double>(r.peak_rss_kb) / 1024.0);
-  writer_.write_line(l);
+  for (OutputSink* sink : sinks_) sink->stats(r, final);
   if (final) final_ = r;
 }
 
@@ -144,7 +126,7 @@ void OutputWorker::status_line(int64_t now_ns) {
   for (size_t i = 0; i < static_cast<size_t>(r.sensors) && n < static_cast<int>(sizeof line); ++i) {
     const pipeline::FramePrediction& p = last_[i];
     n += std::snprintf(line + n, sizeof line - static_cast<size_t>(n), " %s %.1ffps %s",
-                       writer_.names().sensors[i].c_str(), r.sensor_fps[i],
+                       names_.sensors[i].c_str(), r.sensor_fps[i],
                        p.contact_state == static_cast<uint8_t>(pipeline::ContactState::kContact) ? "touch" : "-");
   }
   if (n < static_cast<int>(sizeof line)) {
@@ -161,7 +143,7 @@ void OutputWorker::status_line(int64_t now_ns) {
     if (!p.encoder_ran || n >= static_cast<int>(sizeof line)) continue;
     for (int32_t k = 0; k < p.head_count && n < static_cast<int>(sizeof line); ++k) {
       const pipeline::HeadProbabilities& h = p.heads[static_cast<size_t>(k)];
-      const OutputNames::Head& names = writer_.names().heads[static_cast<size_t>(h.head)];
+      const OutputNames::Head& names = names_.heads[static_cast<size_t>(h.head)];
       n += std::snprintf(line + n, sizeof line - static_cast<size_t>(n), " %s:%s", names.name.c_str(),
                          names.labels[static_cast<size_t>(h.top)].c_str());
     }
@@ -192,7 +174,7 @@ void OutputWorker::run() {
         (g->computed ? grasps_ : grasps_not_computed_) += 1;
         if (g->computed) last_grasp_p_ = g->probability;
       }
-      writer_.write(record, written);
+      for (OutputSink* sink : sinks_) sink->record(record, written);
     }
     const int64_t t = monotonic_ns();
     if (t >= next_report) {
@@ -204,6 +186,7 @@ void OutputWorker::run() {
   }
   if (status_line_) [[maybe_unused]] ssize_t w = ::write(STDERR_FILENO, "\n", 1);
   report(monotonic_ns(), true);
+  for (OutputSink* sink : sinks_) sink->close();
 }
 
 RunTotals OutputWorker::totals() const { return final_; }

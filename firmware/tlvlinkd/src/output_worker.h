@@ -17,29 +17,16 @@
 #include "inference_worker.h"
 #include "jsonl_writer.h"
 #include "output_queue.h"
+#include "output_sink.h"
+#include "run_totals.h"
 #include "tlvlink/pipeline/latency_stats.h"
 
 namespace tlvlink::daemon::internal {
 
-// Latency stages reported (FrameTimes differences).
-enum Stage : int32_t { kQueueWait = 0, kDecode, kGate, kPreprocess, kEncoder, kHeads, kWrite, kTotal, kStages };
-const char* stage_name(int32_t stage);
-
-struct RunTotals {
-  uint64_t frames = 0, encoded = 0, gated = 0, grasps = 0, grasps_not_computed = 0;
-  uint64_t drops_stale = 0, drops_sequence = 0, drops_queue = 0, drops_output = 0;
-  uint64_t bad_frames = 0, decode_errors = 0, inference_errors = 0, write_errors = 0;
-  double seconds = 0, process_cpu_pct = 0;
-  std::array<double, kStages> p50_ms{}, p99_ms{}, max_ms{};
-  int32_t sensors = 0;
-  std::array<double, pipeline::kMaxSensors> sensor_cpu_pct{}, sensor_fps{};
-  double inference_cpu_pct = 0, output_cpu_pct = 0;
-  int64_t peak_rss_kb = 0;
-};
-
 class OutputWorker {
  public:
-  OutputWorker(JsonlWriter& writer, OutputQueue& queue,
+  // Borrows the sinks, the names and the rest for its lifetime.
+  OutputWorker(std::vector<OutputSink*> sinks, const OutputNames& names, OutputQueue& queue,
                const std::vector<std::unique_ptr<CaptureWorker>>& captures,
                const InferenceWorker& inference, std::vector<FrameRing*> rings,
                int32_t status_interval_ms, bool status_line, const std::atomic<bool>& stop);
@@ -54,7 +41,8 @@ class OutputWorker {
   void status_line(int64_t now_ns);
   RunTotals collect(int64_t now_ns) const;
 
-  JsonlWriter& writer_;
+  std::vector<OutputSink*> sinks_;
+  const OutputNames& names_;
   OutputQueue& queue_;
   const std::vector<std::unique_ptr<CaptureWorker>>& captures_;
   const InferenceWorker& inference_;

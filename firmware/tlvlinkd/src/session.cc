@@ -7,8 +7,12 @@
 #include "clock.h"
 #include "commands.h"
 #include "inference_worker.h"
+#include "jsonl_sink.h"
 #include "jsonl_writer.h"
 #include "output_worker.h"
+#if defined(TLVLINK_HAVE_STREAM)
+#include "stream_sink.h"
+#endif
 #include "sources.h"
 #include "tlvlink/capture/sensor_models.h"
 #include "tlvlink/executor.h"
@@ -30,7 +34,8 @@ struct Session::Impl {
   std::vector<std::unique_ptr<internal::FrameRing>> rings;
   std::unique_ptr<internal::OutputQueue> queue;
   internal::CommandQueue commands;
-  std::unique_ptr<internal::JsonlWriter> writer;
+  internal::OutputNames names;
+  std::vector<std::unique_ptr<internal::OutputSink>> sinks;
   std::vector<std::unique_ptr<internal::CaptureWorker>> captures;
   std::unique_ptr<internal::InferenceWorker> inference;
   std::unique_ptr<internal::OutputWorker> output;
@@ -104,9 +109,24 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
   TLV_ASSIGN_OR_RETURN(s.processor, pipeline::FrameProcessor::create(*s.model, *s.executor, setups,
                                                                        config.processing));
   s.queue = std::make_unique<internal::OutputQueue>(config.output_queue);
-  TLV_ASSIGN_OR_RETURN(internal::JsonlWriter writer,
-                       internal::JsonlWriter::open(config.output.substr(6), names(config, *s.processor)));
-  s.writer = std::make_unique<internal::JsonlWriter>(std::move(writer));
+  s.names = names(config, *s.processor);
+  for (const std::string& o : config.outputs) {
+    if (o.rfind("jsonl:", 0) == 0) {
+      TLV_ASSIGN_OR_RETURN(internal::JsonlWriter writer, internal::JsonlWriter::open(o.substr(6), s.names));
+      s.sinks.push_back(std::make_unique<internal::JsonlSink>(std::move(writer)));
+      continue;
+    }
+#if defined(TLVLINK_HAVE_STREAM)
+    TLV_ASSIGN_OR_RETURN(auto stream, internal::StreamSink::open(o, config, *s.model, s.names, s.commands));
+    s.sinks.push_back(std::move(stream));
+#else
+    return Error::make(ErrorCode::kInvalidArgument,
+                       "output '%s': this tlvlinkd was built without the stream link "
+                       "(TLVLINK_WITH_SERIAL=OFF)", o.c_str());
+#endif
+  }
+  std::vector<internal::OutputSink*> sinks;
+  for (auto& sink : s.sinks) sinks.push_back(sink.get());
   std::vector<internal::FrameRing*> rings;
   for (size_t i = 0; i < config.sensors.size(); ++i) {
     const SensorConfig& c = config.sensors[i];
@@ -125,7 +145,7 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
   s.inference = std::make_unique<internal::InferenceWorker>(
       *s.processor, rings, setups, s.doorbell, *s.queue, s.commands, s.inference_stop, s.limit,
       config.max_frames);
-  s.output = std::make_unique<internal::OutputWorker>(*s.writer, *s.queue, s.captures, *s.inference,
+  s.output = std::make_unique<internal::OutputWorker>(sinks, s.names, *s.queue, s.captures, *s.inference,
                                                       rings, config.status_interval_ms,
                                                       config.status_line, s.output_stop);
   s.output_thread = std::thread([&s] { s.output->run(); });

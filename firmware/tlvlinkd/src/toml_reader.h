@@ -35,6 +35,10 @@ class TableReader {
   // One of `choices`; out gets its index.
   Status choice(const char* key, std::initializer_list<const char*> choices, int32_t& out);
   bool has(const char* key) const { return table_.contains(key); }
+  bool is_array(const char* key) const {
+    const toml::node* n = table_.get(key);
+    return n != nullptr && n->is_array();
+  }
   // Sub-tables: nullptr when absent; an error when the key is not a table.
   Result<const toml::table*> table(const char* key);
   Result<const toml::array*> array_of_tables(const char* key);

@@ -143,6 +143,7 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
   out.sequence = sequence;
   out.times = in_times;
   ++counters_.frames;
+  ++counters_.sensor_frames[static_cast<size_t>(index)];
   auto decision = s.gate.update(frame);
   if (!decision.ok()) return decision.error().with_context("sensor '%s'", s.setup.name.c_str());
   out.times.gated_ns = monotonic_ns();
@@ -162,6 +163,7 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
                                      static_cast<unsigned long long>(sequence));
     out.times.heads_ns = monotonic_ns();
     ++counters_.encoder_runs;
+    ++counters_.sensor_encoder_runs[static_cast<size_t>(index)];
     counters_.grasp_forced += (!contact && wanted) ? 1 : 0;
     embedding = embedding_;
     out.encoder_ran = true;
@@ -178,6 +180,7 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
     }
   } else {
     ++counters_.gated;
+    ++counters_.sensor_gated[static_cast<size_t>(index)];
   }
   if (tracker_ != nullptr && finger >= 0) {
     // The tracker's contact is the gate's (calibrating counts as no contact: no grasp before the

@@ -54,7 +54,9 @@ struct DaemonConfig {
   std::string executor = "xnnpack";
   int32_t threads = 1;
   bool verify_model = true;       // run the model's golden pairs before streaming
-  std::string output = "jsonl:-"; // jsonl:- (stdout) or jsonl:FILE
+  // Where records go, one or more of: jsonl:- (stdout), jsonl:FILE, and one stream link
+  // serial:PATH[,baud=N][,flow=rtscts], pty:LINK or usb[...] (runtime/transport).
+  std::vector<std::string> outputs = {"jsonl:-"};
   ControlInput control = ControlInput::kNone;
   int32_t status_interval_ms = 1000;
   bool status_line = false;       // a live status line on stderr

@@ -8,6 +8,7 @@
 // Ownership: the processor borrows the Model and the Executor (created for that model) for its
 // whole lifetime; it owns the gates, plans, heads evaluator, smoothers and tracker.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -49,6 +50,7 @@ struct ProcessorOptions {
 struct ProcessorCounters {
   uint64_t frames = 0, encoder_runs = 0, gated = 0, grasp_forced = 0;
   uint64_t grasps_computed = 0, grasps_not_computed = 0;
+  std::array<uint64_t, kMaxSensors> sensor_frames{}, sensor_encoder_runs{}, sensor_gated{};
 };
 
 class FrameProcessor {
