@@ -63,8 +63,21 @@ const char* error_code_name(ErrorCode code) {
     case ErrorCode::kInvalidArgument: return "io.invalid_argument";
     case ErrorCode::kIo: return "io.error";
     case ErrorCode::kFormat: return "io.format";
-    case ErrorCode::kCapture: return "capture";
+    case ErrorCode::kCapture: return "capture.device";
+    case ErrorCode::kCaptureNoDevice: return "capture.no_device";
+    case ErrorCode::kCaptureNotCamera: return "capture.not_camera";
+    case ErrorCode::kCaptureDisconnected: return "capture.disconnected";
+    case ErrorCode::kCaptureTimeout: return "capture.timeout";
+    case ErrorCode::kCaptureFormatRefused: return "capture.format_refused";
+    case ErrorCode::kCaptureBadFrame: return "capture.bad_frame";
+    case ErrorCode::kCaptureControl: return "capture.control";
     case ErrorCode::kTransport: return "transport";
+    case ErrorCode::kTransportUnavailable: return "transport.unavailable";
+    case ErrorCode::kTransportDisconnected: return "transport.disconnected";
+    case ErrorCode::kProtocolMalformed: return "protocol.malformed";
+    case ErrorCode::kProtocolVersion: return "protocol.version";
+    case ErrorCode::kProtocolTooLarge: return "protocol.too_large";
+    case ErrorCode::kProtocolUnsupported: return "protocol.unsupported";
   }
   return "unknown";
 }

@@ -45,9 +45,14 @@ Result<PreprocessPlan> PreprocessPlan::create(const InputSpec& spec, int32_t fra
   p.order_ = spec.channel_order;
   p.filter_ = spec.resize_filter;
   p.encoding_ = encoding;
+  p.outputs_finite_ = true;
   for (int32_t c = 0; c < spec.channels; ++c) {
     p.mean_[c] = spec.mean[static_cast<size_t>(c)];
     p.std_[c] = spec.std[static_cast<size_t>(c)];
+    // The extremes of (v / 255 - mean) / std: v = 0 and v = 255 (gray mixes stay inside).
+    for (float v : {0.0f, 255.0f}) {
+      p.outputs_finite_ = p.outputs_finite_ && std::isfinite((v / 255.0f - p.mean_[c]) / p.std_[c]);
+    }
   }
   int32_t src_w = frame_width, src_h = frame_height;
   if (spec.crop_w > 0) {

@@ -105,8 +105,11 @@ namespace {
 }  // namespace
 
 void Resampler::run(const uint8_t* src, uint8_t* dst) {
+  run_strided(src, static_cast<size_t>(src_width_) * 3, dst);
+}
+
+void Resampler::run_strided(const uint8_t* src, size_t src_stride, uint8_t* dst) {
   const size_t row = static_cast<size_t>(dst_width_) * 3;
-  const size_t src_stride = static_cast<size_t>(src_width_) * 3;
   const auto slots = static_cast<int32_t>(ring_row_.size());
   for (int32_t y = 0; y < dst_height_; ++y) {
     const auto i = static_cast<size_t>(y);

@@ -32,9 +32,23 @@ enum class ErrorCode : uint16_t {
   kInvalidArgument = 300,
   kIo,                     // file could not be opened/read/written
   kFormat,                 // a data file (npy, image) is malformed
-  // Capture / transport: reserved for the streaming components.
-  kCapture = 400,
-  kTransport = 500,
+  // Capture (frame sources, runtime/capture): 400s.
+  kCapture = 400,          // a failed device call not covered below (ioctl/mmap errno)
+  kCaptureNoDevice,        // no device matches the selector (absent, unplugged, other serial)
+  kCaptureNotCamera,       // the node is not a video capture device (metadata/output node, not V4L2)
+  kCaptureDisconnected,    // the device went away (ENODEV, POLLHUP, watchdog); reconnecting
+  kCaptureTimeout,         // no frame within the caller's timeout
+  kCaptureFormatRefused,   // pixel format, size, interval or buffer count not what was asked
+  kCaptureBadFrame,        // flagged, empty or short frame, MJPEG without SOI/EOI
+  kCaptureControl,         // a camera control is unknown, out of range or refused
+  // Stream link: transports (runtime/transport) 500-509, protocol (runtime/protocol) 510-519.
+  kTransport = 500,           // I/O on the link failed
+  kTransportUnavailable,      // device, path or USB host absent now: retry later
+  kTransportDisconnected,     // the link went away while in use (hangup, unbind, unplug)
+  kProtocolMalformed = 510,   // a frame or payload that does not decode (framing, CRC, schema)
+  kProtocolVersion,           // the peer speaks an incompatible major protocol version
+  kProtocolTooLarge,          // a message larger than the frame or buffer it must fit
+  kProtocolUnsupported,       // a command or message this side does not implement
 };
 
 // Short stable name of a code, e.g. "model.invalid_tensor".

@@ -25,6 +25,11 @@ enum class LogLevel : uint8_t { kDebug = 0, kInfo = 1, kWarning = 2, kError = 3,
 
 const char* log_level_name(LogLevel level);  // "debug", "info", "warn", "error", "off"
 
+// Whether calls at `level` are compiled in at all (TLVLINK_LOG_MIN_LEVEL).
+constexpr bool log_compiled_in(LogLevel level, int min_level = TLVLINK_LOG_MIN_LEVEL) {
+  return static_cast<int>(level) >= min_level;
+}
+
 // A named category; its level is resolved from TLVLINK_LOG_LEVELS at its first use.
 class LogCategory {
  public:
@@ -63,7 +68,7 @@ void set_log_sink(LogSink sink, void* context);
 
 #define TLV_LOG(category, level, ...)                                                   \
   do {                                                                                  \
-    if constexpr (static_cast<int>(::tlvlink::LogLevel::level) >= TLVLINK_LOG_MIN_LEVEL) { \
+    if constexpr (::tlvlink::log_compiled_in(::tlvlink::LogLevel::level)) {             \
       if ((category).enabled(::tlvlink::LogLevel::level))                               \
         ::tlvlink::log_write((category), ::tlvlink::LogLevel::level, __VA_ARGS__);      \
     }                                                                                   \

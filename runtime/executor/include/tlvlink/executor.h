@@ -45,6 +45,11 @@ class Executor {
   // Runs the graph. Float inputs containing NaN/Inf are rejected before anything runs
   // (ErrorCode::kNonFiniteValue naming the input); with check_outputs, so are float outputs.
   virtual Status invoke() = 0;
+  // The same without the input scan, for inputs finite by construction: a frame written by a
+  // preprocessing plan from uint8 pixels (image::PreprocessPlan::outputs_finite()). The camera
+  // path must not pay for a check that cannot fail there (the scan costs a few percent of a small
+  // model's invoke); user-supplied float tensors go through invoke().
+  virtual Status invoke_trusted_inputs() = 0;
 
   // Contents of any tensor after invoke(): constants always; activations only with
   // expose_all_tensors (otherwise graph inputs/outputs only). Error if not available.
@@ -59,7 +64,9 @@ Result<std::unique_ptr<Executor>> make_xnnpack_executor(const Model& model,
 Result<std::unique_ptr<Executor>> make_executor(const Model& model, ExecutorKind kind,
                                                 const ExecutorOptions& options = {});
 
-// Shared per-frame checks (cheap, no allocation). `what` names the tensor in the error.
+// Shared per-frame checks (cheap, no allocation). `what` names the tensor in the error. The scan
+// is branch-free over the exponent bits (vectorised by the compiler); only a failing tensor is
+// walked again to name the first bad element.
 Status check_finite(std::span<const float> values, std::string_view what);
 
 }  // namespace tlvlink

@@ -57,6 +57,9 @@ class PreprocessPlan {
   size_t output_values() const;  // height * width * channels
   size_t output_bytes() const;   // output_values() * 4 (float) or * 1 (int8)
   const InputEncoding& encoding() const { return encoding_; }
+  // Every value run() can write is finite: (v / 255 - mean) / std over v in [0, 255] (int8
+  // outputs always are). Checked once here, so the frame path can skip the executor's scan.
+  bool outputs_finite() const { return outputs_finite_; }
 
   // One pass over the frame; no allocation. The frame must have the planned size and channels
   // and `out` exactly output_bytes() (kShapeMismatch otherwise).
@@ -79,6 +82,7 @@ class PreprocessPlan {
   ChannelOrder order_ = ChannelOrder::kRGB;
   float mean_[4] = {}, std_[4] = {};
   InputEncoding encoding_;
+  bool outputs_finite_ = false;
   std::vector<Tap> rows_, cols_;
 };
 

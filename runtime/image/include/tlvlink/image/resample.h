@@ -6,6 +6,7 @@
 // Used to cut a sensor's view out of the camera frame (FrameDecoder) and, in reverse, by the
 // simulator to draw the camera's whole field.
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -28,6 +29,8 @@ class Resampler {
             AxisMap x_map, AxisMap y_map);
   // src: src_height rows of src_width RGB pixels; dst: dst_height rows of dst_width.
   void run(const uint8_t* src, uint8_t* dst);
+  // The same with src rows src_stride bytes apart (>= src_width * 3).
+  void run_strided(const uint8_t* src, size_t src_stride, uint8_t* dst);
 
  private:
   // Per destination index: taps first .. first + count - 1 (valid source indices) with weights
