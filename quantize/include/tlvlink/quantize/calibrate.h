@@ -1,6 +1,6 @@
 #pragma once
 // Minimal post-training int8 conversion: min/max calibration with the reference executor, then
-// a rewrite of a float model into the int8 scheme of shared/notes/quantization.md:
+// a rewrite of a float model into tlvlink's int8 scheme:
 //   - Quantize after each float graph input, Dequantize before each graph output (I/O stays fp32);
 //   - activations int8, per-tensor asymmetric, range always including 0, width floored at
 //     kMinActivationRange;
