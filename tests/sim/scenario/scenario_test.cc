@@ -156,6 +156,8 @@ TEST_F(Scenario, ScoreCountsAPerfectRunAsPerfectAndEachMistakeOnce) {
   auto m = score::score_live_run(dir_ + "/truth.jsonl", planted, {"left", "right"});
   ASSERT_TRUE(m.ok());
   EXPECT_EQ(m->missed_contact, 1);
+  EXPECT_EQ(m->missed_by_kind.at("grasp").hits, 1);  // B touches only in grasps
+  EXPECT_EQ(p->missed_by_kind.at("press").hits, 0);
   EXPECT_EQ(m->heads[0].frames.hits, m->heads[0].frames.total - 1);  // the wrong label
   EXPECT_EQ(m->heads[0].frames.total, p->heads[0].frames.total - 1);  // the missed frame
   // Wrong inputs are errors naming the file.

@@ -121,15 +121,20 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
       const auto seq = j.value("seq", int64_t{-1});
       TLV_ENSURE(seq >= 0, ErrorCode::kFormat, "frame record without a sequence");
       const TruthFrame& tf = truth.fingers[finger][static_cast<size_t>(seq % truth.frames)];
-      ++r.frames;
       const std::string gate = j.value("contact", "none");
       const bool gated_contact = gate == "contact";
       if (gate == "calibrating") {  // the gate is learning the reference: no decision yet
         ++r.calibrating;
         return {};
       }
+      ++r.frames;
       r.encoded += j.value("encoded", false) ? 1 : 0;
       if (tf.event >= 0) events_played.insert(tf.event);
+      if (tf.contact && tf.event >= 0) {
+        Ratio& k = r.missed_by_kind[truth.events[static_cast<size_t>(tf.event)].kind];
+        ++k.total;
+        k.hits += gated_contact ? 0 : 1;
+      }
       if (tf.contact) {
         ++r.truth_contact;
         if (!gated_contact) {
@@ -227,6 +232,11 @@ std::string format_score(const ScoreReport& r) {
                 r.frames > 0 ? 100.0 * (1.0 - static_cast<double>(r.encoded) / static_cast<double>(r.frames)) : 0.0,
                 static_cast<long long>(r.contact_events.hits), static_cast<long long>(r.contact_events.total));
   out += line;
+  for (const auto& [kind, m] : r.missed_by_kind) {
+    std::snprintf(line, sizeof(line), "  missed in %s scenes: %lld of %lld frames in contact (%.2f %%)\n",
+                  kind.c_str(), static_cast<long long>(m.hits), static_cast<long long>(m.total), pct(m));
+    out += line;
+  }
   for (const HeadScore& h : r.heads) {
     std::snprintf(line, sizeof(line),
                   "%-13s per frame %5.1f %% (%lld/%lld)   per event %5.1f %% (%lld/%lld; majority "
@@ -262,6 +272,8 @@ std::string format_score_json(const ScoreReport& r) {
                   {"missed_under_1n", r.missed_light}, {"false_contact", r.false_contact},
                   {"encoded", r.encoded},
                   {"events_seen", r.contact_events.hits}, {"events", r.contact_events.total}};
+  for (const auto& [kind, m] : r.missed_by_kind)
+    j["contact"]["missed_by_kind"][kind] = {{"missed", m.hits}, {"frames", m.total}};
   for (const HeadScore& h : r.heads) {
     j["heads"][h.head] = {{"frame_hits", h.frames.hits}, {"frames", h.frames.total},
                           {"event_hits", h.events.hits}, {"events", h.events.total},

@@ -43,6 +43,8 @@ struct ScoreReport {
   int64_t false_contact = 0;       // gated as contact with the gel open
   int64_t encoded = 0;             // frames the encoder ran on
   Ratio contact_events;            // events whose contact the gate saw at least once
+  // Per event kind ("grasp", "press"): frames in contact the gate missed (hits = missed).
+  std::map<std::string, Ratio> missed_by_kind;
   // Heads.
   std::vector<HeadScore> heads;
   // Grasps.
