@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   add_heads_command(app, exit_code);
   add_listen_command(app, exit_code);
   add_replay_command(app, exit_code);
+  add_score_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
