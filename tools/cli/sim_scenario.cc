@@ -37,7 +37,7 @@ int run_scenario(const ScenarioFlags& f) {
   if (!r.ok()) return report_error("sim scenario", r.error());
   std::printf(
       "scenario %s: %s, %d grasps (%d succeed) + %d presses, %.1f s = %lld frames per finger; "
-      "%lld rendered, %.1f MB in A.tlvrec + B.tlvrec; truth.jsonl; written in %.1f s\n",
+      "%lld rendered, %.1f MB in A.tlvraw + B.tlvraw; truth.jsonl; written in %.1f s\n",
       f.output_dir.c_str(), f.sensor.c_str(), f.grasps, r->grasps_succeeding, f.presses,
       r->seconds, static_cast<long long>(r->frames), static_cast<long long>(r->rendered),
       static_cast<double>(r->file_bytes) / 1e6, r->render_seconds);
@@ -51,8 +51,8 @@ void add_sim_scenario_command(CLI::App& sim, int& exit_code) {
   CLI::App* cmd = sim.add_subcommand(
       "scenario",
       "Record two simulated fingers streaming as their cameras do (Mini: MJPEG 3280x2464 at 25 "
-      "fps; DIGIT: YUYV 320x240 at 60 fps) through scripted grasps and presses: DIR/A.tlvrec, "
-      "DIR/B.tlvrec (replay them with tlvlinkd's replay source) and DIR/truth.jsonl (for "
+      "fps; DIGIT: YUYV 320x240 at 60 fps) through scripted grasps and presses: DIR/A.tlvraw, "
+      "DIR/B.tlvraw (replay them with tlvlinkd's replay source) and DIR/truth.jsonl (for "
       "`tlvlink score`)");
   cmd->add_option("-o,--output", f->output_dir, "Output directory (created)")->required();
   cmd->add_option("--sensor", f->sensor, "Sensor profile")->capture_default_str();

@@ -54,9 +54,9 @@ ScenarioReport Scenario::report_;
 TEST_F(Scenario, RecordingsHoldTheCamerasStreamAndTheTruthMatchesThem) {
   EXPECT_GT(report_.frames, 0);
   EXPECT_LT(report_.rendered, 2 * report_.frames);  // static stretches are repeats
-  EXPECT_FALSE(std::filesystem::exists(dir_ + "/.A.tlvrec.partial"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ + "/.A.tlvraw.partial"));
   for (const char* finger : {"A", "B"}) {
-    auto r = capture::RecordingReader::open(dir_ + "/" + finger + ".tlvrec");
+    auto r = capture::RecordingReader::open(dir_ + "/" + finger + ".tlvraw");
     ASSERT_TRUE(r.ok()) << r.error().message();
     const capture::RecordingSummary& s = r->summary();
     EXPECT_EQ(s.format.format.format, image::PixelFormat::kYuyv);
@@ -87,7 +87,7 @@ TEST_F(Scenario, RecordingsHoldTheCamerasStreamAndTheTruthMatchesThem) {
 
 TEST_F(Scenario, ReplayDeliversEveryRecordedFrame) {
   capture::ReplayConfig c;
-  c.path = dir_ + "/A.tlvrec";
+  c.path = dir_ + "/A.tlvraw";
   c.realtime = false;
   auto src = capture::make_replay_source(c);
   ASSERT_TRUE(src.ok() && (*src)->start().ok());
@@ -161,9 +161,9 @@ TEST_F(Scenario, ScoreCountsAPerfectRunAsPerfectAndEachMistakeOnce) {
   EXPECT_EQ(m->heads[0].frames.hits, m->heads[0].frames.total - 1);  // the wrong label
   EXPECT_EQ(m->heads[0].frames.total, p->heads[0].frames.total - 1);  // the missed frame
   // Wrong inputs are errors naming the file.
-  auto bad = score::score_live_run(dir_ + "/A.tlvrec", perfect, {"left", "right"});
+  auto bad = score::score_live_run(dir_ + "/A.tlvraw", perfect, {"left", "right"});
   ASSERT_FALSE(bad.ok());
-  EXPECT_NE(std::string(bad.error().message()).find("A.tlvrec"), std::string::npos);
+  EXPECT_NE(std::string(bad.error().message()).find("A.tlvraw"), std::string::npos);
 }
 
 }  // namespace

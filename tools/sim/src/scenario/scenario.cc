@@ -201,8 +201,8 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
   struct stat st{};
   TLV_ENSURE(::stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode), ErrorCode::kIo,
              "scenario: cannot create the directory %s", dir.c_str());
-  Staged files[3] = {{dir + "/A.tlvrec", dir + "/.A.tlvrec.partial"},
-                     {dir + "/B.tlvrec", dir + "/.B.tlvrec.partial"},
+  Staged files[3] = {{dir + "/A.tlvraw", dir + "/.A.tlvraw.partial"},
+                     {dir + "/B.tlvraw", dir + "/.B.tlvraw.partial"},
                      {dir + "/truth.jsonl", dir + "/.truth.jsonl.partial"}};
   capture::RecordingFormat format;
   format.format = {model->format, model->width, model->height,

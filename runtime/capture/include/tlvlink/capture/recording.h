@@ -2,6 +2,7 @@
 // Recorded raw streams: what a camera emitted, frame by frame, in a file a board can write and
 // replay (replay_source.h) with nothing but POSIX I/O. The byte layout is documented in
 // runtime/capture/README.md ("Recorded raw streams"); in short, all integers little-endian:
+// (files are named *.tlvraw; the stream protocol's recordings, tools/listen, are *.tlvrec)
 //
 //   file header, 64 bytes: magic "\x89TLVREC\n", version 1, header size, V4L2 fourcc, width,
 //     height, stride, nominal fps as numerator/denominator, flags, CLOCK_REALTIME of the origin,

@@ -13,7 +13,7 @@
 // Static stretches reuse a few rendered frames (repeat records: the bytes are stored once), so a
 // minute of two 8 MP MJPEG streams costs a few hundred renders and ~100 MB of disk.
 //
-// Output directory: A.tlvrec, B.tlvrec (capture/recording.h; B's frames 7 ms after A's, as two
+// Output directory: A.tlvraw, B.tlvraw (capture/recording.h; B's frames 7 ms after A's, as two
 // unsynchronised cameras are) and truth.jsonl (one "scenario" line, one "event" line per event,
 // one "frame" line per frame and finger: contact, force, event). Written under temporary names
 // and renamed at the end: an interrupted run leaves no partial scenario.
