@@ -8,6 +8,7 @@
 
 #include "cli/common.h"
 #include "cli/heads.h"
+#include "cli/trust_text.h"
 #include "cli/output_tolerance.h"
 #include "io/file.h"
 #include "io/jpeg.h"
@@ -107,15 +108,18 @@ void print_summary(const Model& model, const Executor& exec) {
       continue;
     }
     for (const HeadPrediction& p : predict_heads(m, v)) {
-      std::printf("head %-14s %-9s -> %-18s p=%.3f\n", p.head.c_str(), p.kind, p.label.c_str(),
-                  static_cast<double>(p.probability));
+      const HeadTrust* trust = head_trust_of(m, p.kind, p.head);
+      std::printf("head %-14s %-9s -> %-18s p=%.3f  [%s]\n", p.head.c_str(), p.kind,
+                  p.label.c_str(), static_cast<double>(p.probability),
+                  trust != nullptr ? trust_text(*trust, false).c_str() : "unmeasured");
     }
     if (m.grasp_head.present) {
-      std::printf("head %-14.*s %-9s -> needs %zu embeddings (%.*s); not computed from one frame\n",
+      std::printf("head %-14.*s %-9s -> needs %zu embeddings (%.*s); not computed from one frame"
+                  "  [%s]\n",
                   static_cast<int>(m.grasp_head.name.size()), m.grasp_head.name.data(), "probe",
                   m.grasp_head.weight.size() / static_cast<size_t>(m.embedding_dim),
                   static_cast<int>(m.grasp_head.feature_layout.size()),
-                  m.grasp_head.feature_layout.data());
+                  m.grasp_head.feature_layout.data(), trust_text(m.grasp_head.trust, false).c_str());
     }
     if (m.provenance.training.find("random-reference") != std::string_view::npos) {
       std::printf(
