@@ -105,6 +105,11 @@ struct GraspOracleReport {
   double success_rate = 0;      // fraction of them with is_gripping
   double majority_rate = 0;     // accuracy of always predicting the majority label
   int64_t hidden_draws = 0;     // Monte Carlo draws of (mass, COM offset, lift accel) per episode
+  // The same predictor when the friction is known only through the material class (what the
+  // frames show of it: the class's texture, not mu itself): mu is marginalised uniformly over
+  // the class's range, kOracleFrictionDraws values. Closer to what a model of the frames can
+  // reach; the exact-mu figure above is the task's ceiling.
+  double class_friction_accuracy = 0;
 };
 Result<GraspOracleReport> grasp_oracle_report(const GraspSetOptions& options, int64_t samples);
 
