@@ -26,14 +26,30 @@ if(TLVLINK_WITH_XNNPACK)
     ${XNNPACK_LIBRARY} ${PTHREADPOOL_LIBRARY} ${CPUINFO_LIBRARY} Threads::Threads)
 endif()
 
-if(TLVLINK_WITH_LIBCAMERA)
+if(TLVLINK_WITH_IMAGE OR TLVLINK_BUILD_HOST_TOOLS)
+  # JPEG: runtime/image wraps libturbojpeg for the whole project.
   find_package(PkgConfig REQUIRED)
-  pkg_check_modules(LIBCAMERA libcamera)
+  pkg_check_modules(TURBOJPEG IMPORTED_TARGET libturbojpeg)
+  tlvlink_require(TURBOJPEG_FOUND "libturbojpeg (TurboJPEG API)" libturbojpeg0-dev)
+  # The libjpeg API of the same library (cropped, DCT-scaled decodes: runtime/image).
+  pkg_check_modules(LIBJPEG IMPORTED_TARGET libjpeg)
+  tlvlink_require(LIBJPEG_FOUND "libjpeg (libjpeg-turbo's libjpeg API)" libjpeg62-turbo-dev)
+  add_library(tlvlink::libjpeg ALIAS PkgConfig::LIBJPEG)
+endif()
+
+if(TLVLINK_WITH_LIBCAMERA)
+  if(NOT TLVLINK_WITH_CAPTURE)
+    message(FATAL_ERROR "tlvlink: TLVLINK_WITH_LIBCAMERA needs TLVLINK_WITH_CAPTURE=ON (the libcamera source lives in runtime/capture)")
+  endif()
+  find_package(PkgConfig REQUIRED)
+  pkg_check_modules(LIBCAMERA IMPORTED_TARGET libcamera)
   tlvlink_require(LIBCAMERA_FOUND "libcamera" libcamera-dev)
 endif()
-if(TLVLINK_WITH_USB)
+# USB: the board's FunctionFS side needs only the kernel headers; libusb is the host side's
+# (tools/listen), built with the host tools or the tests.
+if(TLVLINK_WITH_USB AND TLVLINK_WITH_SERIAL AND (TLVLINK_BUILD_HOST_TOOLS OR TLVLINK_BUILD_TESTS))
   find_package(PkgConfig REQUIRED)
-  pkg_check_modules(LIBUSB libusb-1.0)
+  pkg_check_modules(LIBUSB IMPORTED_TARGET libusb-1.0)
   tlvlink_require(LIBUSB_FOUND "libusb-1.0" libusb-1.0-0-dev)
 endif()
 if(TLVLINK_BUILD_TRAINER)
@@ -43,10 +59,8 @@ endif()
 if(TLVLINK_BUILD_HOST_TOOLS)
   find_package(CLI11 CONFIG REQUIRED)
   find_package(nlohmann_json CONFIG REQUIRED)
-  # JPEG (tools/io/jpeg.cc) and HDF5 (the Feel dataset format, tools/datasets).
+  # HDF5 (the Feel dataset format, tools/datasets).
   find_package(PkgConfig REQUIRED)
-  pkg_check_modules(TURBOJPEG IMPORTED_TARGET libturbojpeg)
-  tlvlink_require(TURBOJPEG_FOUND "libturbojpeg (TurboJPEG API)" libturbojpeg0-dev)
   pkg_check_modules(HDF5 IMPORTED_TARGET hdf5)
   tlvlink_require(HDF5_FOUND "HDF5 C library" libhdf5-dev)
   # PNG images (tools/io/png.cc: calibration folders).
@@ -62,7 +76,7 @@ if(TLVLINK_BUILD_HOST_TOOLS AND TLVLINK_WITH_ONNX)
 endif()
 if(TLVLINK_BUILD_TESTS)
   find_package(GTest REQUIRED)
+  # Tests parse JSON outputs (the daemon's records) also in board builds without host tools.
+  find_package(nlohmann_json CONFIG REQUIRED)
 endif()
-if(TLVLINK_BUILD_BENCHMARKS)
-  find_package(benchmark CONFIG REQUIRED)
-endif()
+

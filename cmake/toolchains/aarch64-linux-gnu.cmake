@@ -62,6 +62,11 @@ set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE ONLY)
 # pkg-config, if a later option uses it, must read the sysroot's .pc files, not the host's.
 set(ENV{PKG_CONFIG_LIBDIR} "${_tlvlink_sysroot_libdir}/pkgconfig:${TLVLINK_SYSROOT}/usr/share/pkgconfig")
 set(ENV{PKG_CONFIG_SYSROOT_DIR} "${TLVLINK_SYSROOT}")
+set(ENV{PKG_CONFIG_PATH} "")
+# The sysroot's multiarch headers (libjpeg's jconfig.h lives there); the cross compiler only
+# searches its own.
+set(CMAKE_C_STANDARD_INCLUDE_DIRECTORIES "${TLVLINK_SYSROOT}/usr/include/aarch64-linux-gnu")
+set(CMAKE_CXX_STANDARD_INCLUDE_DIRECTORIES "${TLVLINK_SYSROOT}/usr/include/aarch64-linux-gnu")
 
 # Tests (ctest, gtest_discover_tests) run through qemu user mode. binfmt_misc is not assumed:
 # qemu is always called explicitly. -L serves the toolchain's ld.so and libc; LD_LIBRARY_PATH
@@ -73,3 +78,4 @@ if(TLVLINK_QEMU_AARCH64)
 else()
   message(WARNING "tlvlink: qemu-aarch64 not found (apt package qemu-user): cross-built tests cannot run here")
 endif()
+

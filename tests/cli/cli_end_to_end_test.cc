@@ -18,9 +18,10 @@
 #include <nlohmann/json.hpp>
 #include <png.h>
 
-#include "io/jpeg.h"
-#include "io/npy.h"
-#include "io/pnm.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/io/npy.h"
+#include "tlvlink/io/pnm.h"
 #include "support/cli_run.h"
 
 namespace tlvlink {

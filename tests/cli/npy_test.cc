@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "io/file.h"
-#include "io/npy.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/io/npy.h"
 
 namespace tlvlink::tools {
 namespace {

@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "io/file.h"
-#include "io/pnm.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/io/pnm.h"
 
 namespace tlvlink::tools {
 namespace {

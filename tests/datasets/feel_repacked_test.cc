@@ -75,8 +75,8 @@ TEST(FeelRepacked, RoundTripAndObjectSplit) {
   EXPECT_EQ(train[1].object_name, want.object_name);
   EXPECT_EQ(train[1].is_gripping, want.is_gripping);
   EXPECT_DOUBLE_EQ(train[1].variables.com_offset_mm, want.variables.com_offset_mm);
-  for (int f = 0; f < sim::kFingers; ++f)
-    for (int m = 0; m < sim::kMoments; ++m)
+  for (int f = 0; f < heads::kFingers; ++f)
+    for (int m = 0; m < heads::kMoments; ++m)
       EXPECT_LE(testing::image_diff(train[1].frames[f][m], want.frames[f][m]).mean,
                 kJpegMeanTolerance);
   EXPECT_TRUE(train[1].vision[0].rgb.empty());

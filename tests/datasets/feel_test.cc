@@ -80,12 +80,12 @@ TEST(FeelHdf5, RoundTripIsExact) {
     EXPECT_DOUBLE_EQ(b.variables.lift_accel_mps2, a.variables.lift_accel_mps2);
     EXPECT_EQ(b.variables.finger_in_contact[1], a.variables.finger_in_contact[1]);
     EXPECT_DOUBLE_EQ(b.states[1][2].force_n, a.states[1][2].force_n);
-    for (int f = 0; f < sim::kFingers; ++f)
-      for (int m = 0; m < sim::kMoments; ++m) {
+    for (int f = 0; f < heads::kFingers; ++f)
+      for (int m = 0; m < heads::kMoments; ++m) {
         EXPECT_EQ(b.frames[f][m].rgb, a.frames[f][m].rgb);  // deflate is lossless
         EXPECT_EQ(b.frames[f][m].width, a.frames[f][m].width);
       }
-    for (int m = 0; m < sim::kMoments; ++m) EXPECT_EQ(b.vision[m].rgb, a.vision[m].rgb);
+    for (int m = 0; m < heads::kMoments; ++m) EXPECT_EQ(b.vision[m].rgb, a.vision[m].rgb);
   }
 }
 

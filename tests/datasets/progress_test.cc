@@ -1,7 +1,7 @@
 // Progress reporter: the rate/ETA arithmetic, quiet output off a terminal or in CI, and the
 // redraw rate on a terminal.
 
-#include "io/progress.h"
+#include "tlvlink/io/progress.h"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>

@@ -80,15 +80,15 @@ sim::GraspEpisode grasp_episode(int32_t object, int32_t grasp) {
   e.variables.contact_area_mm2[1] = 20.5;
   e.variables.finger_in_contact[1] = grasp % 3 != 0;
   e.is_gripping = grasp % 2 == 0;
-  for (int f = 0; f < sim::kFingers; ++f) {
-    for (int m = 0; m < sim::kMoments; ++m) {
+  for (int f = 0; f < heads::kFingers; ++f) {
+    for (int m = 0; m < heads::kMoments; ++m) {
       e.frames[f][m] =
           smooth_image(20, 28, static_cast<uint64_t>(object * 1000 + grasp * 10 + f * 3 + m));
       e.states[f][m].force_n = m == 0 ? 0 : e.variables.grip_force_n;
       e.states[f][m].in_contact = m != 0;
     }
   }
-  for (int m = 0; m < sim::kMoments; ++m)
+  for (int m = 0; m < heads::kMoments; ++m)
     e.vision[m] = smooth_image(12, 16, static_cast<uint64_t>(object * 1000 + grasp * 10 + 500 + m));
   return e;
 }

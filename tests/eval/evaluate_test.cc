@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include "tlvlink/heads/grasp_layout.h"
+#include "tlvlink/heads/head_math.h"
+
 #include "tlvlink/eval/eval.h"
 
 namespace tlvlink {
@@ -110,7 +113,7 @@ TEST(ZeroShot, LogitsAreScaledCosine) {
   Heads h;
   const std::vector<float> e = {3, 4, 0, 0};  // |e| = 5
   std::vector<float> logits(2);
-  eval::zero_shot_logits(h.hard_prompts, 100.0f, e, logits);
+  heads::zero_shot_logits(h.hard_prompts, 100.0f, e, logits);
   EXPECT_NEAR(logits[0], 60.0f, kLogitTolerance);
   EXPECT_NEAR(logits[1], 80.0f, kLogitTolerance);
 }
@@ -177,11 +180,11 @@ TEST(Evaluate, TaskConventions) {
   EXPECT_EQ(eval::task_of_head("hard").value(), Task::kHard);
   EXPECT_EQ(eval::task_of_head("rough_smooth").value(), Task::kRough);
   EXPECT_FALSE(eval::task_of_head("colour").ok());
-  auto layout = eval::parse_grasp_layout("finger0.before, B.during");
+  auto layout = heads::parse_grasp_layout("finger0.before, B.during");
   ASSERT_TRUE(layout.ok());
-  EXPECT_EQ((*layout)[1].first, 1);
-  EXPECT_EQ((*layout)[1].second, sim::Moment::kDuring);
-  EXPECT_FALSE(eval::parse_grasp_layout("C.before").ok());
+  EXPECT_EQ((*layout)[1].finger, 1);
+  EXPECT_EQ((*layout)[1].moment, heads::Moment::kDuring);
+  EXPECT_FALSE(heads::parse_grasp_layout("C.before").ok());
   EXPECT_EQ(eval::grasp_feature_layout(eval::GraspFeatures::kBeforeAfter),
             "A.before,A.after,B.before,B.after");
 }

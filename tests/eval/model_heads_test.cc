@@ -10,7 +10,8 @@
 #include <gtest/gtest.h>
 
 #include "cli/frame_source.h"
-#include "cli/heads.h"
+#include "tlvlink/heads/evaluator.h"
+#include "tlvlink/heads/head_math.h"
 #include "support/random.h"
 #include "support/test_models.h"
 #include "tlvlink/eval/eval.h"
@@ -158,16 +159,20 @@ TEST(ModelHeads, WrittenHeadsAreAppliedByTheRuntimePathIdentically) {
   EXPECT_NE(m.provenance.training.find("heads_fit"), std::string_view::npos);
   expect_same_outputs(*original, *model);
 
-  // `tlvlink infer`'s head path gives exactly the fitted heads' logits.
+  // The runtime's head path (`tlvlink infer`, the daemon) gives exactly the fitted heads' logits.
   const eval::TouchEmbeddings& t = *set.touch;
+  auto evaluator = heads::HeadEvaluator::create(m);
+  ASSERT_TRUE(evaluator.ok()) << evaluator.error().message();
   for (size_t i = 0; i < t.size(); i += 17) {
-    const std::vector<cli::HeadPrediction> p = cli::predict_heads(m, t.row(i));
+    ASSERT_TRUE(evaluator->evaluate(t.row(i)).ok());
+    const std::span<const heads::HeadResult> p = evaluator->results();
     ASSERT_EQ(p.size(), 3u + 4u);
     for (size_t h = 0; h < 3; ++h) {
       std::vector<float> logits(heads->linear[h].bias.size());
-      eval::linear_logits(heads->linear[h].weight, heads->linear[h].bias, t.row(i), logits);
-      EXPECT_EQ(p[h].head, heads->linear[h].name);
-      EXPECT_EQ(p[h].logits, logits) << "head " << p[h].head << " row " << i;
+      heads::linear_logits(heads->linear[h].weight, heads->linear[h].bias, t.row(i), logits);
+      EXPECT_EQ(p[h].name, heads->linear[h].name);
+      EXPECT_TRUE(std::equal(logits.begin(), logits.end(), p[h].logits.begin(), p[h].logits.end()))
+          << "head " << p[h].name << " row " << i;
     }
   }
   // Scoring the stored heads reproduces the fitted probes' test results exactly.

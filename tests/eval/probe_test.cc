@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include "tlvlink/heads/grasp_layout.h"
+#include "tlvlink/heads/head_math.h"
+
 #include "support/random.h"
 #include "tlvlink/eval/probe.h"
 
@@ -54,9 +57,9 @@ double accuracy(const FittedProbe& p, const Synthetic& s) {
   std::vector<float> logits(static_cast<size_t>(p.classes));
   int64_t correct = 0;
   for (size_t i = 0; i < s.y.size(); ++i) {
-    eval::linear_logits(p.weight, p.bias, std::span<const float>(s.x).subspan(i * dim, dim),
+    heads::linear_logits(p.weight, p.bias, std::span<const float>(s.x).subspan(i * dim, dim),
                         logits);
-    correct += eval::argmax(logits) == s.y[i] ? 1 : 0;
+    correct += heads::argmax(logits) == s.y[i] ? 1 : 0;
   }
   return static_cast<double>(correct) / static_cast<double>(s.y.size());
 }
@@ -128,7 +131,7 @@ TEST(Probe, FoldedStandardisationIsExact) {
   std::vector<float> logits(kClasses);
   for (int32_t r = 0; r < kRows; ++r) {
     const std::span<const float> row = std::span<const float>(x).subspan(r * kDim, kDim);
-    eval::linear_logits(fw, fb, row, logits);
+    heads::linear_logits(fw, fb, row, logits);
     for (int32_t k = 0; k < kClasses; ++k) {
       double exact = b[static_cast<size_t>(k)], magnitude = std::fabs(static_cast<double>(fb[static_cast<size_t>(k)]));
       for (int32_t j = 0; j < kDim; ++j) {

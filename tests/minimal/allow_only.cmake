@@ -3,6 +3,7 @@
 # configure fails naming the package. pkg-config and host-tool packages (CLI11, nlohmann_json,
 # PNG, HDF5, ONNX, protobuf, torch, GTest, ...) are never on the list; XNNPACK, pthreadpool and
 # cpuinfo are plain find_library() calls, which the link-input check covers instead.
+# PkgConfig joins the list when image decoding is built (libturbojpeg is found through it).
 set(TLVLINK_ALLOWED_PACKAGES FlatBuffers Threads)
 
 function(tlvlink_allow_only method package)

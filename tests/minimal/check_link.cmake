@@ -18,7 +18,7 @@ endif()
 foreach(line IN LISTS loads)
   string(REGEX REPLACE "^LOAD " "" path "${line}")
   get_filename_component(name "${path}" NAME)
-  if(name MATCHES "\\.cc\\.o$" OR name STREQUAL "libtlvlink_runtime.a" OR name MATCHES "${lib_re}"
+  if(name MATCHES "\\.cc\\.o$" OR name MATCHES "^libtlvlink_[a-z_]+\\.a$" OR name MATCHES "${lib_re}"
      OR name MATCHES "${other_re}")
     continue()
   endif()

@@ -14,8 +14,8 @@
 
 #include <gtest/gtest.h>
 
-#include "io/file.h"
-#include "io/npy.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/io/npy.h"
 #include "support/random.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/model.h"

@@ -18,8 +18,9 @@
 
 #include <png.h>
 
-#include "io/jpeg.h"
-#include "io/pnm.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/io/pnm.h"
 #include "tlvlink/model.h"
 #include "tlvlink/quantize/model_builder.h"
 #include "tlvlink/quantize/reference_encoder.h"

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "cli/quantize_data.h"
-#include "io/file.h"
+#include "tlvlink/io/file.h"
 #include "support/test_models.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/quantize/layer_error.h"

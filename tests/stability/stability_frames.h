@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "io/image.h"
+#include "tlvlink/io/image.h"
 #include "tlvlink/error.h"
 
 namespace tlvlink::testing {

@@ -8,7 +8,7 @@
 //   - a float FullyConnected behind such a Dequantize (the shipped int8 model keeps its
 //     embedding layer fp32): the observed LSB difference d times the layer's largest row sum
 //     s * sum_i |W_ji| (the most a d-LSB input change can move one output), plus the fp32 rule;
-//   - fp32 graphs: 1e-4 of the largest output magnitude (cli/output_tolerance.h).
+//   - fp32 graphs: 1e-4 of the largest output magnitude (runtime/verify, tlvlink/verify/compare.h).
 // A float input with NaN/Inf must be an error naming the input on both executors.
 
 #include <algorithm>
@@ -22,9 +22,10 @@
 #include <gtest/gtest.h>
 
 #include "cli/frame_source.h"
-#include "cli/heads.h"
-#include "cli/output_tolerance.h"
-#include "io/preprocess.h"
+#include "tlvlink/heads/evaluator.h"
+#include "tlvlink/verify/compare.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/npy_image.h"
 #include "stability/stability_frames.h"
 #include "support/test_models.h"
 #include "tlvlink/executor.h"
@@ -36,7 +37,7 @@ namespace {
 
 using testing::as_span;
 
-constexpr double kFloatRelTolerance = 1e-4;  // cli/output_tolerance.h: summation order
+constexpr double kFloatRelTolerance = 1e-4;  // tlvlink/verify/compare.h: summation order
 constexpr int kInt8Tolerance = 1;            // rounding of half-way cases
 
 struct NamedModel {
@@ -133,10 +134,14 @@ double fc_gain_per_lsb(const Graph& g, const Executor& exec, int32_t output) {
 }
 
 void expect_heads_finite(const Metadata& meta, std::span<const float> embedding) {
-  for (const cli::HeadPrediction& p : cli::predict_heads(meta, embedding)) {
-    EXPECT_TRUE(std::isfinite(p.probability) && p.probability >= 0 && p.probability <= 1)
-        << p.head << " probability " << p.probability;
-    for (float l : p.logits) EXPECT_TRUE(std::isfinite(l)) << p.head << " logit " << l;
+  auto heads = heads::HeadEvaluator::create(meta);
+  ASSERT_TRUE(heads.ok()) << heads.error().message();
+  ASSERT_TRUE(heads->evaluate(embedding).ok());
+  for (const heads::HeadResult& r : heads->results()) {
+    for (float p : r.probabilities) {
+      EXPECT_TRUE(std::isfinite(p) && p >= 0 && p <= 1) << r.name << " probability " << p;
+    }
+    for (float l : r.logits) EXPECT_TRUE(std::isfinite(l)) << r.name << " logit " << l;
   }
 }
 
@@ -159,7 +164,7 @@ TEST(Stability, EveryModelSurvivesEveryStabilityFrameOnBothExecutors) {
     double worst_float_ratio = 0;  // max error / tolerance over the fp32 outputs
     for (const testing::NamedFrame& f : *frames) {
       SCOPED_TRACE(nm.name + " on " + f.name);
-      auto x = tools::preprocess(f.image, m.metadata().input);
+      auto x = image::preprocess(f.image, m.metadata().input);
       ASSERT_TRUE(x.ok()) << x.error().message();
       for (float v : *x) ASSERT_TRUE(std::isfinite(v));
       for (Executor* e : {ref->get(), xnn->get()}) {
@@ -186,7 +191,7 @@ TEST(Stability, EveryModelSurvivesEveryStabilityFrameOnBothExecutors) {
           worst_float_ratio = std::max(worst_float_ratio, err / tol);
           EXPECT_LE(err, tol) << "output " << o << " (FC behind a Dequantize, " << lsb << " LSB)";
         } else {
-          const cli::OutputComparison c = cli::compare_output(g, g.outputs[o], got, want);
+          const verify::OutputComparison c = verify::compare_output(g, g.outputs[o], got, want);
           if (c.tolerance > 0) worst_float_ratio = std::max(worst_float_ratio, c.max_abs_error / c.tolerance);
           EXPECT_TRUE(c.pass) << "output " << o << ": " << c.max_abs_error << " > " << c.tolerance
                               << " (" << c.rule << ")";

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "io/npy.h"
+#include "tlvlink/io/npy.h"
 #include "tlvlink/text/text_encoder.h"
 
 namespace tlvlink::text {

@@ -9,8 +9,8 @@
 #include "tlvlink/trainer/arch.h"
 #include "tlvlink/trainer/schedule.h"
 #include "tlvlink/trainer/trainer.h"
-#include "trainer/src/augment.h"
-#include "trainer/src/options_json.h"
+#include "augment.h"
+#include "options_json.h"
 
 namespace tlvlink::trainer {
 namespace {

@@ -13,7 +13,7 @@
 #include <fstream>
 #include <memory>
 
-#include "io/npy.h"
+#include "tlvlink/io/npy.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/model.h"
 #include "tlvlink/text/text_encoder.h"

@@ -7,8 +7,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "io/jpeg.h"
-#include "io/preprocess.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/npy_image.h"
 #include "tlvlink/datasets/touch100k.h"
 #include "tlvlink/sim/generate.h"
 
@@ -64,7 +66,7 @@ Result<std::vector<float>> preprocessed_frames(const std::string& data_dir, bool
     if ((j.at("split").get<std::string>() == "test") != test_split) continue;
     const std::string key = j.at("key").get<std::string>();
     TLV_ASSIGN_OR_RETURN(tools::Image image, tools::read_jpeg(data_dir + "/touch/" + key));
-    TLV_ASSIGN_OR_RETURN(std::vector<float> x, tools::preprocess(image, spec));
+    TLV_ASSIGN_OR_RETURN(std::vector<float> x, image::preprocess(image, spec));
     out.insert(out.end(), x.begin(), x.end());
     ++n;
   }

@@ -61,5 +61,7 @@ void add_train_command(CLI::App& app, int& exit_code);   // train.cc or train_un
 void add_export_command(CLI::App& app, int& exit_code);  // export.cc or train_unavailable.cc
 void add_eval_command(CLI::App& app, int& exit_code);    // eval.cc
 void add_heads_command(CLI::App& app, int& exit_code);   // heads_fit.cc (`heads fit`)
+void add_listen_command(CLI::App& app, int& exit_code);  // listen.cc or listen_unavailable.cc
+void add_replay_command(CLI::App& app, int& exit_code);  // listen.cc or listen_unavailable.cc
 
 }  // namespace tlvlink::cli

@@ -4,7 +4,7 @@
 #include <filesystem>
 
 #include "cli/common.h"
-#include "io/file.h"
+#include "tlvlink/io/file.h"
 #include "tlvlink/quantize/onnx_import.h"
 
 namespace tlvlink::cli {

@@ -5,7 +5,7 @@
 #include <memory>
 
 #include "cli/eval_flags.h"
-#include "io/file.h"
+#include "tlvlink/io/file.h"
 #include "tlvlink/eval/trust.h"
 
 namespace tlvlink::cli {

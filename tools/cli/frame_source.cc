@@ -1,6 +1,7 @@
 #include "cli/frame_source.h"
 
-#include "io/preprocess.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/npy_image.h"
 
 namespace tlvlink::cli {
 
@@ -8,7 +9,7 @@ quantize::FramePreprocessor tool_preprocessor() {
   return [](std::span<const uint8_t> rgb, int32_t height, int32_t width,
             const InputSpec& spec) -> Result<std::vector<float>> {
     tools::Image img{width, height, 3, std::vector<uint8_t>(rgb.begin(), rgb.end())};
-    return tools::preprocess(img, spec);
+    return image::preprocess(img, spec);
   };
 }
 

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "cli/common.h"
-#include "io/pnm.h"
+#include "tlvlink/io/pnm.h"
 #include "tlvlink/quantize/reference_encoder.h"
 
 namespace tlvlink::cli {

@@ -5,7 +5,7 @@
 
 #include "cli/common.h"
 #include "cli/frame_source.h"
-#include "io/file.h"
+#include "tlvlink/io/file.h"
 #include "tlvlink/quantize/reference_encoder.h"
 
 namespace tlvlink::cli {

@@ -6,8 +6,8 @@
 #include <memory>
 
 #include "cli/eval_flags.h"
-#include "io/file.h"
 #include "tlvlink/eval/trust.h"
+#include "tlvlink/io/file.h"
 
 namespace tlvlink::cli {
 namespace {

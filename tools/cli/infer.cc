@@ -7,15 +7,17 @@
 #include <cstring>
 
 #include "cli/common.h"
-#include "cli/heads.h"
 #include "cli/trust_text.h"
-#include "cli/output_tolerance.h"
-#include "io/file.h"
-#include "io/jpeg.h"
-#include "io/npy.h"
-#include "io/png.h"
-#include "io/pnm.h"
-#include "io/preprocess.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/io/npy.h"
+#include "tlvlink/io/png.h"
+#include "tlvlink/io/pnm.h"
+#include "tlvlink/heads/evaluator.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/verify/compare.h"
+#include "tlvlink/io/npy_image.h"
 
 namespace tlvlink::cli {
 namespace {
@@ -59,7 +61,7 @@ Status load_input(const std::string& path, const Model& model, std::span<std::by
   } else if (starts_with(bytes, "P6") || starts_with(bytes, "P5")) {
     TLV_ASSIGN_OR_RETURN(image, tools::parse_pnm(bytes, path));
   } else if (starts_with(bytes, "\xff\xd8\xff")) {
-    TLV_ASSIGN_OR_RETURN(image, tools::decode_jpeg(std::span<const uint8_t>(
+    TLV_ASSIGN_OR_RETURN(image, image::decode_jpeg(std::span<const uint8_t>(
                                                        reinterpret_cast<const uint8_t*>(bytes.data()),
                                                        bytes.size()),
                                                    path));
@@ -72,7 +74,7 @@ Status load_input(const std::string& path, const Model& model, std::span<std::by
   }
   TLV_ENSURE(in.dtype == DType::kFloat32, ErrorCode::kModelUnsupported,
              "model input is %s; images can only feed float inputs", dtype_name(in.dtype));
-  auto x = tools::preprocess(image, model.metadata().input);
+  auto x = image::preprocess(image, model.metadata().input);
   if (!x.ok()) return x.error().with_context("%s", path.c_str());
   TLV_ENSURE(x->size() * sizeof(float) == dst.size(), ErrorCode::kShapeMismatch,
              "%s: preprocessing gave %zu values, model input %s needs %zu", path.c_str(), x->size(),
@@ -107,11 +109,15 @@ void print_summary(const Model& model, const Executor& exec) {
         v.size() != static_cast<size_t>(m.embedding_dim)) {
       continue;
     }
-    for (const HeadPrediction& p : predict_heads(m, v)) {
-      const HeadTrust* trust = head_trust_of(m, p.kind, p.head);
-      std::printf("head %-14s %-9s -> %-18s p=%.3f  [%s]\n", p.head.c_str(), p.kind,
-                  p.label.c_str(), static_cast<double>(p.probability),
-                  trust != nullptr ? trust_text(*trust, false).c_str() : "unmeasured");
+    auto heads = heads::HeadEvaluator::create(m);
+    if (heads.ok() && heads->evaluate(v).ok()) {
+      for (const heads::HeadResult& r : heads->results()) {
+        const auto top = static_cast<size_t>(r.top);
+        std::printf("head %-14.*s %-9s -> %-18.*s p=%.3f  [%s]\n",
+                    static_cast<int>(r.name.size()), r.name.data(), heads::head_kind_name(r.kind),
+                    static_cast<int>(r.labels[top].size()), r.labels[top].data(),
+                    static_cast<double>(r.probabilities[top]), trust_text(*r.trust, false).c_str());
+      }
     }
     if (m.grasp_head.present) {
       std::printf("head %-14.*s %-9s -> needs %zu embeddings (%.*s); not computed from one frame"
@@ -129,7 +135,7 @@ void print_summary(const Model& model, const Executor& exec) {
 }
 
 // Runs the same input through the other executor and checks every output against the rule of
-// cli/output_tolerance.h (the same as `verify`); exit 1 when an output is out of tolerance.
+// runtime/verify (the same as `verify`); exit 1 when an output is out of tolerance.
 int compare_with_other_executor(const InferOptions& o, const Model& m, const Executor& first) {
   ExecutorFlags other = o.exec;
   other.executor = first.kind() == ExecutorKind::kXnnpack ? "reference" : "xnnpack";
@@ -145,7 +151,7 @@ int compare_with_other_executor(const InferOptions& o, const Model& m, const Exe
     const Tensor& t = g.tensor(g.outputs[i]);
     const std::vector<float> got = output_as_floats(t, first.output(i));
     const std::vector<float> want = output_as_floats(t, e.output(i));
-    const OutputComparison c = compare_output(g, g.outputs[i], got, want);
+    const verify::OutputComparison c = verify::compare_output(g, g.outputs[i], got, want);
     all_pass = all_pass && c.pass;
     std::printf("output %zu: %s vs %s executor: max abs difference %.4g", i,
                 executor_kind_name(first.kind()), executor_kind_name(e.kind()), c.max_abs_error);

@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
   add_export_command(app, exit_code);
   add_eval_command(app, exit_code);
   add_heads_command(app, exit_code);
+  add_listen_command(app, exit_code);
+  add_replay_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -9,8 +9,9 @@
 #include <unordered_set>
 
 #include "cli/quantize_sources.h"
-#include "io/preprocess.h"
-#include "io/progress.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/npy_image.h"
+#include "tlvlink/io/progress.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/sim/extreme.h"
 
@@ -91,7 +92,7 @@ Status render_extreme(const CalibDataOptions& o, const InputSpec& spec, CalibDat
       sim::Frame frame;
       if (Status s = (*renderer)->render(c.scene, c.options, seed, frame); !s.ok())
         return s.error().with_context("extreme %s", key.c_str());
-      auto x = tools::preprocess(tools::Image{frame.width, frame.height, 3, frame.rgb}, spec);
+      auto x = image::preprocess(tools::Image{frame.width, frame.height, 3, frame.rgb}, spec);
       if (!x.ok()) return x.error().with_context("preprocessing extreme %s", key.c_str());
       frames.push_back(std::move(x).value());
       keys.push_back(key);
@@ -189,7 +190,7 @@ Result<CalibData> load_calib_data(const CalibDataOptions& o, const InputSpec& sp
   Status read = quantize_sources::read_frames(
       out.format, o.path, wanted,
       [&](const Item& item, const tools::Image& image) -> Status {
-        auto x = tools::preprocess(image, spec);
+        auto x = image::preprocess(image, spec);
         if (!x.ok()) return x.error().with_context("preprocessing %s", item.id().c_str());
         const bool calib = sel.calibration.count(item.id()) > 0;
         (calib ? out.calibration : out.heldout).push_back(std::move(x).value());

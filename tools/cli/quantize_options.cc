@@ -1,6 +1,6 @@
 #include "cli/quantize_options.h"
 
-#include "io/progress.h"
+#include "tlvlink/io/progress.h"
 
 namespace tlvlink::cli {
 

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <map>
 
-#include "io/file.h"
+#include "tlvlink/io/file.h"
 
 namespace tlvlink::cli {
 namespace {

@@ -9,9 +9,10 @@
 #include <filesystem>
 #include <memory>
 
-#include "io/jpeg.h"
-#include "io/png.h"
-#include "io/pnm.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/io/png.h"
+#include "tlvlink/io/pnm.h"
 #include "tlvlink/datasets/feel.h"
 #include "tlvlink/datasets/touch100k.h"
 #include "tlvlink/datasets/touch_and_go.h"
@@ -118,7 +119,7 @@ Result<std::vector<Item>> list_all(CalibFormat format, const std::string& path,
       for (;;) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(e));
         if (!more) break;
-        for (int32_t f = 0; f < sim::kFingers * sim::kMoments; ++f)
+        for (int32_t f = 0; f < heads::kFingers * heads::kMoments; ++f)
           items.push_back({loader->key(), e.object_name.empty() ? loader->key() : e.object_name, f});
       }
       return items;
@@ -195,12 +196,12 @@ Status read_frames(CalibFormat format, const std::string& path,
       while (seen < wanted.size()) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(e));
         if (!more) break;
-        for (int32_t f = 0; f < sim::kFingers * sim::kMoments; ++f) {
+        for (int32_t f = 0; f < heads::kFingers * heads::kMoments; ++f) {
           const Item item{loader->key(), e.object_name, f};
           if (wanted.count(item.id()) == 0) continue;
           ++seen;
           if (on_item) on_item();
-          TLV_TRY(visit(item, to_image(e.frames[f / sim::kMoments][f % sim::kMoments])));
+          TLV_TRY(visit(item, to_image(e.frames[f / heads::kMoments][f % heads::kMoments])));
         }
       }
       load_summary = loader->report().summary();

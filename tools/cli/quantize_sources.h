@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "cli/quantize_data.h"
-#include "io/image.h"
+#include "tlvlink/io/image.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/error.h"
 

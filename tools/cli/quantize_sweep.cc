@@ -19,7 +19,7 @@
 #include "cli/quantize_options.h"
 #include "cli/quantize_plot.h"
 #include "cli/quantize_report.h"
-#include "io/file.h"
+#include "tlvlink/io/file.h"
 #include "tlvlink/quantize/bias_correction.h"
 #include "tlvlink/quantize/layer_error.h"
 #include "tlvlink/quantize/quantizer.h"

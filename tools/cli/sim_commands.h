@@ -12,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-#include "io/progress.h"
+#include "tlvlink/io/progress.h"
 #include "tlvlink/error.h"
 
 namespace tlvlink::cli {

@@ -11,8 +11,8 @@
 
 #include "cli/common.h"
 #include "cli/sim_commands.h"
-#include "io/file.h"
-#include "io/pnm.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/io/pnm.h"
 #include "tlvlink/sim/extreme.h"
 
 namespace tlvlink::cli {

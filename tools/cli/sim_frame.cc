@@ -11,9 +11,10 @@
 
 #include "cli/common.h"
 #include "cli/sim_commands.h"
-#include "io/file.h"
-#include "io/jpeg.h"
-#include "io/pnm.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/io/pnm.h"
 #include "tlvlink/sim/raw_camera.h"
 #include "tlvlink/sim/renderer.h"
 

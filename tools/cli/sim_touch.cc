@@ -6,7 +6,7 @@
 
 #include "cli/common.h"
 #include "cli/sim_commands.h"
-#include "io/progress.h"
+#include "tlvlink/io/progress.h"
 #include "tlvlink/datasets/touch100k.h"
 #include "tlvlink/datasets/touch_and_go.h"
 #include "tlvlink/sim/generate.h"

@@ -16,15 +16,4 @@ std::string trust_text(const HeadTrust& t, bool with_set) {
   return buf;
 }
 
-const HeadTrust* head_trust_of(const Metadata& m, std::string_view kind, std::string_view name) {
-  if (kind == "zero-shot") {
-    for (const ZeroShotHead& h : m.zero_shot_heads)
-      if (h.name == name) return &h.trust;
-    return nullptr;
-  }
-  for (const LinearHead& h : m.linear_heads)
-    if (h.name == name) return &h.trust;
-  return nullptr;
-}
-
 }  // namespace tlvlink::cli

@@ -2,7 +2,6 @@
 // How `tlvlink infer` and `tlvlink inspect` show a head's trust record (head_trust.h).
 
 #include <string>
-#include <string_view>
 
 #include "tlvlink/head_trust.h"
 #include "tlvlink/metadata.h"
@@ -12,9 +11,5 @@ namespace tlvlink::cli {
 // "trusted: test accuracy 82.0 % vs majority 73.4 % (n=2160; touch: DIR ...)" or
 // "unmeasured: no test accuracy recorded".
 std::string trust_text(const HeadTrust& trust, bool with_set = true);
-
-// The record of the linear ("probe") or zero-shot head named `name`; nullptr if none.
-const HeadTrust* head_trust_of(const Metadata& metadata, std::string_view kind,
-                               std::string_view name);
 
 }  // namespace tlvlink::cli

@@ -1,13 +1,10 @@
-// tlvlink verify MODEL: runs the golden I/O pairs embedded in the model and compares.
-// Tolerances: cli/output_tolerance.h.
+// tlvlink verify MODEL: runs the golden I/O pairs embedded in the model and compares
+// (runtime/verify: the rule and its tolerances).
 
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
-#include <cstring>
 
 #include "cli/common.h"
-#include "cli/output_tolerance.h"
+#include "tlvlink/verify/golden.h"
 
 namespace tlvlink::cli {
 namespace {
@@ -21,31 +18,22 @@ int run_verify(const VerifyOptions& o) {
   auto model = load_model(o.model);
   if (!model.ok()) return report_error("verify", model.error());
   const Model& m = **model;
-  const Graph& g = m.graph();
   if (m.metadata().golden.empty()) {
     return report_error("verify", Error::make(ErrorCode::kInvalidState,
                                               "%s has no golden pairs to verify", o.model.c_str()));
   }
   auto exec = create_executor(m, o.exec);
   if (!exec.ok()) return report_error("verify", exec.error());
-  Executor& e = **exec;
-  const Tensor& out = g.tensor(g.outputs[0]);
-  bool all_pass = true;
-  for (size_t i = 0; i < m.metadata().golden.size(); ++i) {
-    const GoldenPair& pair = m.metadata().golden[i];
-    std::memcpy(e.input(0).data(), pair.input.data(), pair.input.size());
-    if (Status s = e.invoke(); !s.ok())
-      return report_error("verify", s.error().with_context("golden pair %zu", i));
-    const std::vector<float> got = output_as_floats(out, e.output(0));
-    const std::vector<float> want = output_as_floats(out, pair.output);
-    const OutputComparison c = compare_output(g, g.outputs[0], got, want);
-    all_pass = all_pass && c.pass;
-    std::printf("golden pair %zu: max abs error %.4g (tolerance %.4g: %s), %s\n", i,
+  auto report = verify::verify_golden(m, **exec);
+  if (!report.ok()) return report_error("verify", report.error());
+  for (const verify::PairResult& p : report->pairs) {
+    const verify::OutputComparison& c = p.comparison;
+    std::printf("golden pair %zu: max abs error %.4g (tolerance %.4g: %s), %s\n", p.index,
                 c.max_abs_error, c.tolerance, c.rule, c.pass ? "PASS" : "FAIL");
   }
-  std::printf("verify %s with the %s executor: %s\n", o.model.c_str(), executor_kind_name(e.kind()),
-              all_pass ? "PASS" : "FAIL");
-  return all_pass ? kExitOk : kExitFailure;
+  std::printf("verify %s with the %s executor: %s\n", o.model.c_str(),
+              executor_kind_name((*exec)->kind()), report->pass ? "PASS" : "FAIL");
+  return report->pass ? kExitOk : kExitFailure;
 }
 
 }  // namespace

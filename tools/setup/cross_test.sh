@@ -73,18 +73,29 @@ test_binaries() {  # $1 preset
     sort -u | while IFS= read -r f; do [ -x "$f" ] && echo "$f"; done
 }
 
-# One line: runtime library and test binaries. Also kept in build/<preset>/sizes.txt so the
-# next run can show growth.
+# One line: the runtime's component libraries (each and their sum) and the test binaries. Also
+# kept in build/<preset>/sizes.txt so the next run can show growth.
+runtime_archives() {  # $1 preset: the component archives this configuration built
+  local c
+  for c in runtime/*/; do
+    c=$(basename "$c")
+    if [ -f "build/$1/runtime/$c/libtlvlink_$c.a" ]; then echo "build/$1/runtime/$c/libtlvlink_$c.a"; fi
+  done
+}
 size_report() {  # $1 preset
-  local dir=build/$1 lib=build/$1/runtime/libtlvlink_runtime.a line tests=() prev
-  [ -f "$lib" ] || { echo "size $1: libtlvlink_runtime.a not built"; return; }
-  local lib_bytes; lib_bytes=$(elf_bytes "$lib")
-  line="size $1 (text+data): libtlvlink_runtime.a $(human "$lib_bytes")"
-  prev=$(awk '$1 == "libtlvlink_runtime.a" {print $2}' "$dir/sizes.txt" 2>/dev/null)
-  if [ -n "$prev" ] && [ "$prev" != "$lib_bytes" ]; then
-    line+=" ($(awk -v a="$prev" -v b="$lib_bytes" 'BEGIN {printf "%+d B", b - a}') since last run)"
+  local dir=build/$1 line tests=() parts=() prev total=0
+  while IFS= read -r a; do
+    local b; b=$(elf_bytes "$a")
+    total=$((total + b))
+    parts+=("$(basename "$a" .a | sed 's/^libtlvlink_//') $(human "$b")")
+  done < <(runtime_archives "$1")
+  [ "$total" -gt 0 ] || { echo "size $1: no runtime component library built"; return; }
+  line="size $1 (text+data): runtime $(human "$total") ($(printf '%s, ' "${parts[@]}" | sed 's/, $//'))"
+  prev=$(awk '$1 == "runtime" {print $2}' "$dir/sizes.txt" 2>/dev/null)
+  if [ -n "$prev" ] && [ "$prev" != "$total" ]; then
+    line+=" ($(awk -v a="$prev" -v b="$total" 'BEGIN {printf "%+d B", b - a}') since last run)"
   fi
-  echo "libtlvlink_runtime.a $lib_bytes" >"$dir/sizes.txt.new"
+  echo "runtime $total" >"$dir/sizes.txt.new"
   while IFS= read -r t; do
     local b; b=$(elf_bytes "$t")
     tests+=("$(basename "$t") $(human "$b")")

@@ -1,11 +1,17 @@
 #!/usr/bin/env bash
 # Installs everything tlvlink needs from Debian's packages. Idempotent; safe to rerun.
-#   install_deps.sh [core|test|cross|all]   (default: all)
-# core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries, JPEG, PNG, HDF5, ONNX
+#   install_deps.sh [core|test|cross|rig|bench|all]   (default: all: everything but bench)
+# core  : compilers, cmake, XNNPACK stack, flatbuffers, CLI/JSON libraries, JPEG, PNG, HDF5, ONNX,
+#         libcamera (the libcamera frame source, TLVLINK_WITH_LIBCAMERA), toml++ (tlvlinkd's
+#         configuration), libusb (the host side of the USB stream link, tools/listen)
 # test  : core + GoogleTest/Benchmark, clang (libFuzzer, sanitizers), Debian's torch + onnx
 #         (the ONNX import tests export their models with /usr/bin/python3), libtorch-dev
-#         (the trainer, TLVLINK_BUILD_TRAINER in the host preset)
+#         (the trainer, TLVLINK_BUILD_TRAINER in the host preset); the Python stream client's
+#         dependencies and test runner (python3-serial, python3-usb, python3-pytest: tools/python)
 # cross : aarch64 cross compiler + qemu-user (the arm64 sysroot is tools/setup/make_sysroot.sh)
+# rig   : cross + the emulated board (tools/rig): qemu-system-aarch64, kmod (depmod/modinfo for
+#         the kernel module subset), python3; the arm64 kernel and busybox are fetched by the rig
+#         itself with `apt-get download` (never installed)
 set -euo pipefail
 what=${1:-all}
 export DEBIAN_FRONTEND=noninteractive
@@ -16,23 +22,30 @@ core_pkgs=(build-essential cmake ninja-build pkg-config
   libflatbuffers-dev flatbuffers-compiler
   libcli11-dev nlohmann-json3-dev
   libturbojpeg0-dev libpng-dev libhdf5-dev
-  libonnx-dev libprotobuf-dev)
-test_pkgs=(libgtest-dev libgmock-dev libbenchmark-dev clang libclang-rt-14-dev llvm
-  python3-torch python3-onnx python3-numpy libtorch-dev)
+  libonnx-dev libprotobuf-dev
+  libjpeg62-turbo-dev libcamera-dev libtomlplusplus-dev libusb-1.0-0-dev)
+test_pkgs=(libgtest-dev libgmock-dev clang libclang-rt-14-dev llvm
+  python3-torch python3-onnx python3-numpy libtorch-dev
+  python3-serial python3-usb python3-pytest)
 cross_pkgs=(g++-aarch64-linux-gnu qemu-user)
+rig_pkgs=(qemu-system-arm kmod python3)
+# bench: the Python peer of the pipeline benchmark (OpenCV + PyTorch reading the same model).
+bench_pkgs=(python3-opencv python3-flatbuffers python3-torch python3-numpy)
 
 pkgs=("${core_pkgs[@]}")
 case "$what" in
   core) ;;
   test) pkgs+=("${test_pkgs[@]}") ;;
   cross) pkgs+=("${cross_pkgs[@]}") ;;
-  all) pkgs+=("${test_pkgs[@]}" "${cross_pkgs[@]}") ;;
-  *) echo "install_deps.sh: unknown set '$what' (core|test|cross|all)" >&2; exit 2 ;;
+  rig) pkgs+=("${cross_pkgs[@]}" "${rig_pkgs[@]}") ;;
+  bench) pkgs+=("${bench_pkgs[@]}") ;;
+  all) pkgs+=("${test_pkgs[@]}" "${cross_pkgs[@]}" "${rig_pkgs[@]}") ;;
+  *) echo "install_deps.sh: unknown set '$what' (core|test|cross|rig|bench|all)" >&2; exit 2 ;;
 esac
 
 # The arm64 sysroot (make_sysroot.sh) needs arm64 package lists: add the architecture before the
 # one `apt-get update`, so a fresh machine updates once.
-if [ "$what" = cross ] || [ "$what" = all ]; then
+if [ "$what" = cross ] || [ "$what" = rig ] || [ "$what" = all ]; then
   if ! dpkg --print-foreign-architectures | grep -qx arm64; then
     $SUDO dpkg --add-architecture arm64
     need_update=1

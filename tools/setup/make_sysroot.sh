@@ -20,7 +20,8 @@ SUDO=""; [ "$(id -u)" = 0 ] || SUDO=sudo
 # Not flatbuffers-compiler-dev: its FlatcTargets.cmake names an arm64 flatc that is not here,
 # and code generation uses the host's /usr/bin/flatc anyway.
 packages=(libxnnpack-dev libxnnpack0 libpthreadpool-dev libpthreadpool0 libcpuinfo-dev libcpuinfo0
-  libflatbuffers-dev libflatbuffers2 libgtest-dev libgmock-dev libcli11-dev nlohmann-json3-dev)
+  libflatbuffers-dev libflatbuffers2 libgtest-dev libgmock-dev libcli11-dev nlohmann-json3-dev
+  libturbojpeg0-dev libturbojpeg0 libjpeg62-turbo-dev libjpeg62-turbo libtomlplusplus-dev)
 
 die() { echo "make_sysroot: $*" >&2; exit 1; }
 

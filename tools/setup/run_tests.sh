@@ -1,14 +1,17 @@
 #!/usr/bin/env bash
 # The README's test command: sets up a fresh Debian 12 machine and runs every test stage.
-#   tools/setup/run_tests.sh [stage ...]     stages: host minimal asan fuzz cross   (default: all)
+#   tools/setup/run_tests.sh [stage ...]     stages: host minimal asan fuzz cross board   (default: all)
 # Each stage builds into build/<preset> and runs its tests (logs in build/logs/); minimal builds the
-# README's board-only configurations into build/minimal-* (see run_minimal). The closing line
-# "tests: N passed, N failed" adds up every ctest run (a failed build or fuzz stage counts as a failure). Set TLVLINK_FUZZ_SECONDS to change the fuzzing budget.
+# README's board-only configurations into build/minimal-* (see run_minimal); board runs the
+# capture tests inside the emulated arm64 board (tools/setup/board_test.sh: QEMU virt + vivid).
+# The closing line "tests: N passed, N failed" adds up every ctest run and every rig run (a
+# failed build or fuzz stage counts as a failure). Set TLVLINK_FUZZ_SECONDS to change the
+# fuzzing budget (shared between the fuzz targets).
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 root=$(pwd)
 stages=("$@")
-[ ${#stages[@]} -eq 0 ] && stages=(host minimal asan fuzz cross)
+[ ${#stages[@]} -eq 0 ] && stages=(host minimal asan fuzz cross board)
 jobs=${TLVLINK_JOBS:-$(nproc)}
 fuzz_seconds=${TLVLINK_FUZZ_SECONDS:-60}
 
@@ -32,19 +35,35 @@ run_fuzz() {
   local dir=build/fuzz
   CC=clang CXX=clang++ cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DTLVLINK_BUILD_FUZZERS=ON -DTLVLINK_BUILD_TESTS=OFF -DTLVLINK_WERROR=ON >/dev/null &&
-    cmake --build "$dir" -j "$jobs" --target model_loader_fuzz make_fuzz_corpus || return 1
-  rm -rf "$dir/corpus" && mkdir -p "$dir/corpus" "$dir/artifacts"
+    cmake --build "$dir" -j "$jobs" --target model_loader_fuzz make_fuzz_corpus \
+      stream_decoder_fuzz make_stream_fuzz_corpus || return 1
+  rm -rf "$dir/corpus" "$dir/stream_corpus" && mkdir -p "$dir/corpus" "$dir/stream_corpus" "$dir/artifacts"
   "$dir/tests/fuzz/make_fuzz_corpus" "$dir/corpus" || return 1
+  "$dir/tests/fuzz/make_stream_fuzz_corpus" "$dir/stream_corpus" || return 1
+  # The budget is split: two thirds for the model loader, one third for the stream decoder.
+  local loader_seconds=$(( fuzz_seconds * 2 / 3 ))
+  local stream_seconds=$(( fuzz_seconds - loader_seconds ))
   # -max_len covers the largest seed (the 96-px fp32 reference encoder, ~670 KiB): libFuzzer
   # truncates longer seeds into invalid files. Executions stay in the millisecond range: the
   # fuzzer invokes only small models (its kMaxInvoke* caps), never the encoders.
-  "$dir/tests/fuzz/model_loader_fuzz" -max_total_time="$fuzz_seconds" -max_len=1048576 -timeout=10 \
+  "$dir/tests/fuzz/model_loader_fuzz" -max_total_time="$loader_seconds" -max_len=1048576 -timeout=10 \
     -rss_limit_mb=2048 -artifact_prefix="$dir/artifacts/" -print_final_stats=1 "$dir/corpus" \
     2>"$dir/fuzz.log"
   local rc=$?
+  echo "model_loader_fuzz (${loader_seconds}s):"
   grep -E "stat::number_of_executed_units|Done [0-9]+ runs|ERROR|SUMMARY" "$dir/fuzz.log" | head -20
   [ $rc -eq 0 ] || { tail -60 "$dir/fuzz.log"; ls "$dir/artifacts"; }
-  return $rc
+  # The stream decoder allocates nothing per frame: tight limits make a runaway allocation a
+  # finding. -max_len covers two largest wire frames.
+  "$dir/tests/fuzz/stream_decoder_fuzz" -max_total_time="$stream_seconds" -max_len=33000 -timeout=10 \
+    -rss_limit_mb=512 -malloc_limit_mb=64 -artifact_prefix="$dir/artifacts/stream-" -print_final_stats=1 \
+    "$dir/stream_corpus" 2>"$dir/stream_fuzz.log"
+  local stream_rc=$?
+  echo "stream_decoder_fuzz (${stream_seconds}s):"
+  grep -E "stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs|cov: .* ft:|ERROR|SUMMARY" \
+    "$dir/stream_fuzz.log" | tail -6
+  [ $stream_rc -eq 0 ] || { tail -60 "$dir/stream_fuzz.log"; ls "$dir/artifacts"; }
+  [ $rc -eq 0 ] && [ $stream_rc -eq 0 ]
 }
 
 # The README's minimal board builds, each configured on its own (no host-tool dependency may be
@@ -56,14 +75,14 @@ run_minimal() {
   for v in board:ON reference:OFF; do
     name=${v%%:*} xnn=${v#*:} t=$(date +%s)
     { cmake -S tests/minimal -B "build/minimal-$name" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-        -DTLVLINK_WITH_XNNPACK="$xnn" >/dev/null &&
+        -DTLVLINK_WITH_XNNPACK="$xnn" -DTLVLINK_WITH_IMAGE="$xnn" -DTLVLINK_WITH_CAPTURE="$xnn" -DTLVLINK_WITH_PIPELINE="$xnn" -DTLVLINK_BUILD_DAEMON="$xnn" >/dev/null &&
         cmake --build "build/minimal-$name" -j "$jobs" &&
         ctest --test-dir "build/minimal-$name" --output-on-failure --no-tests=error; } || rc=1
     echo "minimal: $name runtime (XNNPACK $xnn) $(( $(date +%s) - t ))s"
   done
   t=$(date +%s)
   { cmake -S . -B build/minimal-tests -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DTLVLINK_WERROR=ON -DTLVLINK_WITH_XNNPACK=OFF -DTLVLINK_BUILD_HOST_TOOLS=OFF \
+      -DTLVLINK_WERROR=ON -DTLVLINK_WITH_XNNPACK=OFF -DTLVLINK_WITH_IMAGE=OFF -DTLVLINK_WITH_CAPTURE=OFF -DTLVLINK_WITH_PIPELINE=OFF -DTLVLINK_BUILD_DAEMON=OFF -DTLVLINK_BUILD_HOST_TOOLS=OFF \
       -DTLVLINK_BUILD_TESTS=ON >/dev/null &&
       cmake --build build/minimal-tests -j "$jobs" &&
       ctest --test-dir build/minimal-tests -j "$jobs" --output-on-failure --no-tests=error
@@ -84,12 +103,19 @@ for s in "${stages[@]}"; do
     asan) build_and_test host-asan 2>&1 | tee "$log"; rc=${PIPESTATUS[0]} ;;
     fuzz) run_fuzz 2>&1 | tee "$log"; rc=${PIPESTATUS[0]} ;;
     cross) bash tools/setup/cross_test.sh all 2>&1 | tee "$log"; rc=${PIPESTATUS[0]} ;;
-    *) echo "run_tests: unknown stage '$s' (host minimal asan fuzz cross)" >&2; rc=2 ;;
+    board) bash tools/setup/board_test.sh all 2>&1 | tee "$log"; rc=${PIPESTATUS[0]} ;;
+    *) echo "run_tests: unknown stage '$s' (host minimal asan fuzz cross board)" >&2; rc=2 ;;
   esac
   stage_end "$s" "$rc"
   # ctest: "100% tests passed, 0 tests failed out of 57"
   counts=$(grep -Eo "tests passed, [0-9]+ tests failed out of [0-9]+" "$log" 2>/dev/null |
            awk '{f+=$3; t+=$8} END {print t-f, f+0}')
+  # The board rig: "rig: tests 63 passed, 0 failed, 2 skipped; ..." (skipped are not counted as passed).
+  rig_counts=$(grep -Eo "^rig: tests [0-9]+ passed, [0-9]+ failed" "$log" 2>/dev/null |
+               awk '{p+=$3; f+=$5} END {print p+0, f+0}')
+  read -r rp rf <<<"${rig_counts:-0 0}"
+  read -r cp cf <<<"${counts:-0 0}"
+  counts="$((cp + rp)) $((cf + rf))"
   read -r p f <<<"${counts:-0 0}"
   tests_passed=$((tests_passed + p)); tests_failed=$((tests_failed + f))
   if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then tests_failed=$((tests_failed + 1)); fi

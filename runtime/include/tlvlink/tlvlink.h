@@ -3,7 +3,6 @@
 #include "tlvlink/error.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/graph.h"
-#include "tlvlink/head_trust.h"
 #include "tlvlink/metadata.h"
 #include "tlvlink/model.h"
 #include "tlvlink/quant_math.h"

@@ -11,7 +11,7 @@
 #include <set>
 #include <string>
 
-#include "sim/src/gen/phrase_vocabulary.h"
+#include "gen/phrase_vocabulary.h"
 #include "support/random.h"
 #include "tlvlink/sim/describe.h"
 

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "sim/src/gen/contact_area.h"
-#include "sim/src/gen/grasp_model.h"
-#include "sim/src/gen/grasp_oracle.h"
+#include "gen/contact_area.h"
+#include "gen/grasp_model.h"
+#include "gen/grasp_oracle.h"
 #include "support/random.h"
 #include "tlvlink/sim/generate.h"
 

@@ -11,8 +11,8 @@
 #include <map>
 #include <set>
 
-#include "sim/src/gen/rng.h"
-#include "sim/src/gen/sensor_instances.h"
+#include "gen/rng.h"
+#include "gen/sensor_instances.h"
 #include "support/random.h"
 #include "tlvlink/sim/generate.h"
 

@@ -9,7 +9,7 @@
 #include <set>
 #include <string>
 
-#include "sim/src/gen/session_names.h"
+#include "gen/session_names.h"
 #include "support/random.h"
 #include "tlvlink/sim/describe.h"
 #include "tlvlink/sim/generate.h"

@@ -8,7 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "io/jpeg.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
 #include "sim/render/raw_test_util.h"
 #include "sim/render/render_test_util.h"
 #include "tlvlink/sim/extreme.h"
@@ -60,9 +61,9 @@ TEST(SimRenderRaw, EveryProfileEmitsItsRecordedSizeAndFormat) {
       EXPECT_EQ(f.bytes[f.bytes.size() - 2], 0xFF);
       EXPECT_EQ(f.bytes[f.bytes.size() - 1], 0xD9);
       // An independent decoder (tools/io) sees the camera's size.
-      auto decoded = tools::decode_jpeg(f.bytes, std::string(name), 8);
+      auto decoded = image::decode_jpeg(f.bytes, std::string(name), 8);
       ASSERT_TRUE(decoded.ok()) << decoded.error().message();
-      auto header = tools::decode_jpeg(f.bytes, std::string(name), 1);
+      auto header = image::decode_jpeg(f.bytes, std::string(name), 1);
       ASSERT_TRUE(header.ok());
       EXPECT_EQ(header->width, p.raw_width);
       EXPECT_EQ(header->height, p.raw_height);

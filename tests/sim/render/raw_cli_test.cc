@@ -6,9 +6,10 @@
 
 #include <gtest/gtest.h>
 
-#include "io/file.h"
-#include "io/jpeg.h"
-#include "io/pnm.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/io/pnm.h"
 #include "sim/render/raw_test_util.h"
 #include "support/cli_run.h"
 #include "support/temp_dir.h"

@@ -6,7 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "io/jpeg.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
 #include "render/renderer_internal.h"
 #include "sim/render/raw_test_util.h"
 #include "sim/render/render_test_util.h"
@@ -36,7 +37,7 @@ RawImage raw_image(const RawLayout& l, const std::vector<uint8_t>& bytes, int32_
     for (size_t i = 0; i < bytes.size(); i += 2) im.pixels.push_back(bytes[i]);
     return im;
   }
-  auto d = tools::decode_jpeg(bytes, "raw", scale);
+  auto d = image::decode_jpeg(bytes, "raw", scale);
   EXPECT_TRUE(d.ok()) << d.error().message();
   if (!d.ok()) return im;
   im.width = d->width;

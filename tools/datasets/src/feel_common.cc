@@ -1,6 +1,6 @@
-#include "datasets/src/feel_common.h"
+#include "feel_common.h"
 
-#include "datasets/src/images.h"
+#include "images.h"
 
 namespace tlvlink::datasets {
 
@@ -30,11 +30,11 @@ Status validate(const FeelWriterOptions& o) {
 Status check_episode(const sim::GraspEpisode& e, bool need_vision) {
   TLV_ENSURE(!e.object_name.empty(), ErrorCode::kInvalidArgument,
              "grasp episode without an object_name");
-  for (int f = 0; f < sim::kFingers; ++f)
-    for (int m = 0; m < sim::kMoments; ++m)
+  for (int f = 0; f < heads::kFingers; ++f)
+    for (int m = 0; m < heads::kMoments; ++m)
       TLV_TRY(check_image(e.frames[f][m], e.object_name + " " + gelsight_key(f, m)));
   if (need_vision)
-    for (int m = 0; m < sim::kMoments; ++m)
+    for (int m = 0; m < heads::kMoments; ++m)
       TLV_TRY(check_image(e.vision[m], e.object_name + " " + kinect_key(m)));
   return {};
 }

@@ -8,8 +8,8 @@
 namespace tlvlink::datasets {
 
 inline constexpr const char* kFeelFilePrefix = "calandra_corl2017_";
-inline constexpr const char* kMomentNames[sim::kMoments] = {"before", "during", "after"};
-inline constexpr const char* kFingerNames[sim::kFingers] = {"A", "B"};
+inline constexpr const char* kMomentNames[heads::kMoments] = {"before", "during", "after"};
+inline constexpr const char* kFingerNames[heads::kFingers] = {"A", "B"};
 
 std::string gelsight_key(int finger, int moment);  // "gelsightA_before"
 std::string kinect_key(int moment);                // "kinectA_rgb_before"

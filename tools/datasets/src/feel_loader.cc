@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "datasets/src/feel_common.h"
-#include "datasets/src/h5.h"
-#include "datasets/src/images.h"
-#include "datasets/src/line_io.h"
-#include "datasets/src/meta.h"
+#include "feel_common.h"
+#include "h5.h"
+#include "images.h"
+#include "line_io.h"
+#include "meta.h"
 
 namespace tlvlink::datasets {
 namespace {
@@ -127,8 +127,8 @@ class FeelLoader final : public GraspEpisodeLoader {
     reset_episode(out);
     out.object_name = std::move(name).value();
     out.is_gripping = gripping.value() != 0;
-    for (int f = 0; f < sim::kFingers; ++f) {
-      for (int m = 0; m < sim::kMoments; ++m) {
+    for (int f = 0; f < heads::kFingers; ++f) {
+      for (int m = 0; m < heads::kMoments; ++m) {
         sim::RgbImage& frame = out.frames[f][m];
         if (!options_.load_images) {
           frame = sim::RgbImage{};
@@ -139,7 +139,7 @@ class FeelLoader final : public GraspEpisodeLoader {
           frame = rotate_quarter_turns(frame, -options_.gelsight_quarter_turns);
       }
     }
-    for (int m = 0; m < sim::kMoments; ++m) {
+    for (int m = 0; m < heads::kMoments; ++m) {
       const bool want = options_.load_images && options_.load_vision;
       if (want && !read_image(group.get(), record, kinect_key(m), out.vision[m])) {
         if (options_.require_vision) return false;

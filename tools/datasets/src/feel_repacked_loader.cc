@@ -2,10 +2,10 @@
 
 #include <filesystem>
 
-#include "datasets/src/feel_common.h"
-#include "datasets/src/images.h"
-#include "datasets/src/line_io.h"
-#include "datasets/src/meta.h"
+#include "feel_common.h"
+#include "images.h"
+#include "line_io.h"
+#include "meta.h"
 
 namespace tlvlink::datasets {
 namespace {
@@ -91,8 +91,8 @@ class FeelRepackedLoader final : public GraspEpisodeLoader {
     reset_episode(out);
     out.object_name = name;
     out.is_gripping = gripping;
-    for (int f = 0; f < sim::kFingers; ++f) {
-      for (int m = 0; m < sim::kMoments; ++m) {
+    for (int f = 0; f < heads::kFingers; ++f) {
+      for (int m = 0; m < heads::kMoments; ++m) {
         sim::RgbImage& frame = out.frames[f][m];
         if (!options_.load_images) {
           frame = sim::RgbImage{};

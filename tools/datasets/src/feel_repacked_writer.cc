@@ -5,11 +5,11 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "datasets/src/feel_common.h"
-#include "datasets/src/images.h"
-#include "datasets/src/line_io.h"
-#include "datasets/src/meta.h"
-#include "datasets/src/provenance.h"
+#include "feel_common.h"
+#include "images.h"
+#include "line_io.h"
+#include "meta.h"
+#include "provenance.h"
 
 namespace tlvlink::datasets {
 namespace {
@@ -44,8 +44,8 @@ class FeelRepackedWriter final : public GraspDatasetWriter {
     std::snprintf(number, sizeof number, "_%06" PRId64, summary_.items);
     const std::string touch_dir = e.object_name + number;
     TLV_TRY(make_dirs(join_path(dir_, "data/" + touch_dir)));
-    for (int f = 0; f < sim::kFingers; ++f) {
-      for (int m = 0; m < sim::kMoments; ++m) {
+    for (int f = 0; f < heads::kFingers; ++f) {
+      for (int m = 0; m < heads::kMoments; ++m) {
         sim::RgbImage image = e.frames[f][m];
         if (options_.camera_jpeg_quality > 0)
           TLV_TRY(jpeg_round_trip(image, options_.camera_jpeg_quality));

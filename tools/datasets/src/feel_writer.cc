@@ -3,12 +3,12 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "datasets/src/feel_common.h"
-#include "datasets/src/h5.h"
-#include "datasets/src/images.h"
-#include "datasets/src/line_io.h"
-#include "datasets/src/meta.h"
-#include "datasets/src/provenance.h"
+#include "feel_common.h"
+#include "h5.h"
+#include "images.h"
+#include "line_io.h"
+#include "meta.h"
+#include "provenance.h"
 
 namespace tlvlink::datasets {
 namespace {
@@ -50,8 +50,8 @@ class FeelWriter final : public GraspDatasetWriter {
     TLV_TRY(h5::write_string(group.get(), "object_name", e.object_name, where + "/object_name"));
     TLV_TRY(
         h5::write_u8(group.get(), "is_gripping", e.is_gripping ? 1 : 0, where + "/is_gripping"));
-    for (int f = 0; f < sim::kFingers; ++f) {
-      for (int m = 0; m < sim::kMoments; ++m) {
+    for (int f = 0; f < heads::kFingers; ++f) {
+      for (int m = 0; m < heads::kMoments; ++m) {
         sim::RgbImage image = e.frames[f][m];
         if (options_.camera_jpeg_quality > 0)
           TLV_TRY(jpeg_round_trip(image, options_.camera_jpeg_quality));
@@ -61,7 +61,7 @@ class FeelWriter final : public GraspDatasetWriter {
                                 where + "/" + key));
       }
     }
-    for (int m = 0; m < sim::kMoments; ++m) {
+    for (int m = 0; m < heads::kMoments; ++m) {
       sim::RgbImage image = e.vision[m];
       if (options_.camera_jpeg_quality > 0)
         TLV_TRY(jpeg_round_trip(image, options_.camera_jpeg_quality));

@@ -1,9 +1,10 @@
-#include "datasets/src/h5.h"
+#include "h5.h"
 
 #include <cstring>
 #include <mutex>
 
-#include "io/jpeg.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
 
 namespace tlvlink::datasets::h5 {
 namespace {
@@ -195,12 +196,12 @@ Status read_image(hid_t loc, const char* name, sim::RgbImage& out) {
   TLV_ENSURE(H5Sget_simple_extent_ndims(space.get()) == 3, ErrorCode::kFormat,
              "'%s' is not H x W x 3", name);
   H5Sget_simple_extent_dims(space.get(), dims, nullptr);
-  TLV_ENSURE(dims[2] == 3 && dims[0] >= 1 && dims[1] >= 1 && dims[0] <= tools::kMaxJpegSide &&
-                 dims[1] <= tools::kMaxJpegSide,
+  TLV_ENSURE(dims[2] == 3 && dims[0] >= 1 && dims[1] >= 1 && dims[0] <= image::kMaxJpegSide &&
+                 dims[1] <= image::kMaxJpegSide,
              ErrorCode::kFormat,
              "'%s' has shape %llu x %llu x %llu (expected H x W x 3, sides 1..%d)", name,
              static_cast<unsigned long long>(dims[0]), static_cast<unsigned long long>(dims[1]),
-             static_cast<unsigned long long>(dims[2]), tools::kMaxJpegSide);
+             static_cast<unsigned long long>(dims[2]), image::kMaxJpegSide);
   Handle ftype(H5Dget_type(ds.get()), H5Tclose);
   TLV_ENSURE(H5Tget_class(ftype.get()) == H5T_INTEGER && H5Tget_size(ftype.get()) == 1,
              ErrorCode::kFormat, "'%s' is not uint8", name);

@@ -1,11 +1,12 @@
-#include "datasets/src/images.h"
+#include "images.h"
 
 #include <sys/stat.h>
 
 #include <utility>
 
-#include "io/file.h"
-#include "io/jpeg.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
 
 namespace tlvlink::datasets {
 namespace {
@@ -33,10 +34,10 @@ bool file_exists(const std::string& path) {
 }  // namespace
 
 Status check_image(const sim::RgbImage& image, const std::string& what) {
-  TLV_ENSURE(image.height >= 1 && image.width >= 1 && image.height <= tools::kMaxJpegSide &&
-                 image.width <= tools::kMaxJpegSide,
+  TLV_ENSURE(image.height >= 1 && image.width >= 1 && image.height <= image::kMaxJpegSide &&
+                 image.width <= image::kMaxJpegSide,
              ErrorCode::kInvalidArgument, "%s: image size %dx%d outside 1..%d", what.c_str(),
-             image.width, image.height, tools::kMaxJpegSide);
+             image.width, image.height, image::kMaxJpegSide);
   const size_t need =
       static_cast<size_t>(image.height) * static_cast<size_t>(image.width) * size_t{3};
   TLV_ENSURE(image.rgb.size() == need, ErrorCode::kInvalidArgument,
@@ -48,7 +49,7 @@ Status check_image(const sim::RgbImage& image, const std::string& what) {
 Result<int64_t> write_jpeg_image(const std::string& path, const sim::RgbImage& image,
                                  int32_t quality) {
   TLV_TRY(check_image(image, path));
-  auto encoded = tools::encode_jpeg(to_tool_image(image), quality);
+  auto encoded = image::encode_jpeg(to_tool_image(image), quality);
   if (!encoded.ok()) return encoded.error().with_context("%s", path.c_str());
   TLV_TRY(tools::write_file(path, std::as_bytes(std::span<const uint8_t>(encoded.value()))));
   return static_cast<int64_t>(encoded.value().size());
@@ -56,8 +57,8 @@ Result<int64_t> write_jpeg_image(const std::string& path, const sim::RgbImage& i
 
 Status jpeg_round_trip(sim::RgbImage& image, int32_t quality) {
   TLV_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes,
-                       tools::encode_jpeg(to_tool_image(image), quality));
-  TLV_ASSIGN_OR_RETURN(tools::Image decoded, tools::decode_jpeg(bytes, "camera JPEG stage"));
+                       image::encode_jpeg(to_tool_image(image), quality));
+  TLV_ASSIGN_OR_RETURN(tools::Image decoded, image::decode_jpeg(bytes, "camera JPEG stage"));
   take_tool_image(std::move(decoded), image);
   return {};
 }

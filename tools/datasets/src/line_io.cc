@@ -1,4 +1,4 @@
-#include "datasets/src/line_io.h"
+#include "line_io.h"
 
 #include <cerrno>
 #include <cstring>

@@ -1,4 +1,4 @@
-#include "datasets/src/meta.h"
+#include "meta.h"
 
 #include <sys/stat.h>
 
@@ -73,7 +73,7 @@ OrderedJson variables_json(const sim::GraspVariables& v) {
 void read_variables(const Json& j, sim::GraspVariables& v) {
   v.grip_force_n = j.at("grip_force_n").get<double>();
   v.friction = j.at("friction").get<double>();
-  for (int f = 0; f < sim::kFingers; ++f) {
+  for (int f = 0; f < heads::kFingers; ++f) {
     v.contact_area_mm2[f] = j.at("contact_area_mm2").at(static_cast<size_t>(f)).get<double>();
     v.finger_in_contact[f] = j.at("finger_in_contact").at(static_cast<size_t>(f)).get<bool>();
   }
@@ -120,9 +120,9 @@ OrderedJson touch_meta(const sim::TouchSample& s, const std::string& key, bool t
 
 OrderedJson grasp_meta(const sim::GraspEpisode& e, const std::string& key, bool test) {
   OrderedJson states = OrderedJson::array();
-  for (int f = 0; f < sim::kFingers; ++f) {
+  for (int f = 0; f < heads::kFingers; ++f) {
     OrderedJson finger = OrderedJson::array();
-    for (int m = 0; m < sim::kMoments; ++m) finger.push_back(contact_json(e.states[f][m]));
+    for (int m = 0; m < heads::kMoments; ++m) finger.push_back(contact_json(e.states[f][m]));
     states.push_back(std::move(finger));
   }
   return {{"key", key},
@@ -153,12 +153,12 @@ bool apply_touch_meta(const Json& meta, sim::TouchSample& out, std::string& why)
 bool apply_grasp_meta(const Json& meta, sim::GraspEpisode& out, std::string& why) {
   try {
     out.object_id = meta.at("object_id").get<int32_t>();
-    for (int f = 0; f < sim::kFingers; ++f) out.sensor_instance[f] = read_instance(meta, f);
+    for (int f = 0; f < heads::kFingers; ++f) out.sensor_instance[f] = read_instance(meta, f);
     read_material(meta.at("material"), out.material);
     read_variables(meta.at("variables"), out.variables);
     const Json& states = meta.at("states");
-    for (int f = 0; f < sim::kFingers; ++f)
-      for (int m = 0; m < sim::kMoments; ++m)
+    for (int f = 0; f < heads::kFingers; ++f)
+      for (int m = 0; m < heads::kMoments; ++m)
         read_contact(states.at(static_cast<size_t>(f)).at(static_cast<size_t>(m)),
                      out.states[f][m]);
     return true;

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "datasets/src/line_io.h"
+#include "line_io.h"
 #include "tlvlink/datasets/report.h"
 #include "tlvlink/sim/dataset.h"
 

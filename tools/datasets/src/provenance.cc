@@ -1,9 +1,9 @@
-#include "datasets/src/provenance.h"
+#include "provenance.h"
 
 #include <cmath>
 #include <string_view>
 
-#include "io/file.h"
+#include "tlvlink/io/file.h"
 
 namespace tlvlink::datasets {
 

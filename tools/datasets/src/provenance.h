@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "datasets/src/meta.h"
+#include "meta.h"
 #include "tlvlink/datasets/writer.h"
 
 namespace tlvlink::datasets {

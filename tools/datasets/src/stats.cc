@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <unordered_map>
 
-#include "datasets/src/line_io.h"
-#include "datasets/src/meta.h"
-#include "datasets/src/touch_common.h"
+#include "line_io.h"
+#include "meta.h"
+#include "touch_common.h"
 #include "tlvlink/datasets/touch100k.h"
 
 namespace tlvlink::datasets {

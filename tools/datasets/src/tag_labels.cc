@@ -2,8 +2,8 @@
 
 #include <charconv>
 
-#include "datasets/src/line_io.h"
-#include "datasets/src/touch_common.h"
+#include "line_io.h"
+#include "touch_common.h"
 #include "tlvlink/datasets/touch_and_go.h"
 
 namespace tlvlink::datasets {

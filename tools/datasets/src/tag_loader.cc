@@ -5,9 +5,9 @@
 #include <unordered_map>
 #include <vector>
 
-#include "datasets/src/images.h"
-#include "datasets/src/line_io.h"
-#include "datasets/src/meta.h"
+#include "images.h"
+#include "line_io.h"
+#include "meta.h"
 #include "tlvlink/datasets/touch_and_go.h"
 
 namespace tlvlink::datasets {

@@ -1,9 +1,9 @@
 // Touch100k loader: streams data_list.json, reading each sample's images as it goes.
 
-#include "datasets/src/images.h"
-#include "datasets/src/line_io.h"
-#include "datasets/src/meta.h"
-#include "datasets/src/touch_common.h"
+#include "images.h"
+#include "line_io.h"
+#include "meta.h"
+#include "touch_common.h"
 #include "tlvlink/datasets/touch100k.h"
 
 namespace tlvlink::datasets {

@@ -2,11 +2,11 @@
 
 #include <filesystem>
 
-#include "datasets/src/images.h"
-#include "datasets/src/line_io.h"
-#include "datasets/src/meta.h"
-#include "datasets/src/provenance.h"
-#include "datasets/src/touch_common.h"
+#include "images.h"
+#include "line_io.h"
+#include "meta.h"
+#include "provenance.h"
+#include "touch_common.h"
 #include "tlvlink/datasets/touch100k.h"
 
 namespace tlvlink::datasets {

@@ -1,9 +1,9 @@
-#include "datasets/src/touch_common.h"
+#include "touch_common.h"
 
 #include <cstdio>
 
-#include "datasets/src/images.h"
-#include "datasets/src/line_io.h"
+#include "images.h"
+#include "line_io.h"
 
 namespace tlvlink::datasets {
 

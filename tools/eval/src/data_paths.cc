@@ -1,4 +1,4 @@
-#include "eval/src/data_paths.h"
+#include "data_paths.h"
 
 #include <sys/stat.h>
 

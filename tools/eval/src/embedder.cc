@@ -2,7 +2,8 @@
 
 #include <cstring>
 
-#include "io/preprocess.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/npy_image.h"
 #include "tlvlink/eval/embeddings.h"
 #include "tlvlink/quant_math.h"
 
@@ -59,7 +60,7 @@ Status Embedder::embed(const sim::RgbImage& frame, std::span<float> out) {
              ErrorCode::kShapeMismatch, "embed: frame %dx%d holds %zu bytes", frame.width,
              frame.height, frame.rgb.size());
   tools::Image image{frame.width, frame.height, 3, frame.rgb};
-  TLV_ASSIGN_OR_RETURN(std::vector<float> x, tools::preprocess(image, model_->metadata().input));
+  TLV_ASSIGN_OR_RETURN(std::vector<float> x, image::preprocess(image, model_->metadata().input));
   std::span<std::byte> dst = exec_->input(0);
   TLV_ENSURE(x.size() * sizeof(float) == dst.size(), ErrorCode::kShapeMismatch,
              "preprocessing gave %zu values, the model input needs %zu", x.size(),
@@ -81,9 +82,9 @@ Status Embedder::embed(const sim::RgbImage& frame, std::span<float> out) {
 }
 
 std::span<const float> GraspEmbeddings::frame(size_t episode, int32_t finger,
-                                              sim::Moment moment) const {
+                                              heads::Moment moment) const {
   const size_t d = static_cast<size_t>(dim);
-  const size_t f = static_cast<size_t>(finger * sim::kMoments + static_cast<int32_t>(moment));
+  const size_t f = static_cast<size_t>(finger * heads::kMoments + static_cast<int32_t>(moment));
   return std::span<const float>(values).subspan((episode * kGraspFrames + f) * d, d);
 }
 

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tlvlink/eval/eval.h"
+#include "tlvlink/heads/head_math.h"
 #include "tlvlink/sim/generate.h"
 
 namespace tlvlink::eval {
@@ -97,9 +98,9 @@ TaskResult score_touch(const TouchEmbeddings& t, Task task, Method method, const
       tally.add(-1, 0);
       continue;
     }
-    if (h.zero_shot) zero_shot_logits(h.weight, h.scale, t.row(i), logits);
-    else linear_logits(h.weight, h.bias, t.row(i), logits);
-    tally.add(labels[i], h.classes[static_cast<size_t>(argmax(logits))]);
+    if (h.zero_shot) heads::zero_shot_logits(h.weight, h.scale, t.row(i), logits);
+    else heads::linear_logits(h.weight, h.bias, t.row(i), logits);
+    tally.add(labels[i], h.classes[static_cast<size_t>(heads::argmax(logits))]);
   }
   finish(r, tally, std::move(source));
   return r;
@@ -132,13 +133,13 @@ TaskResult score_grasp_zero_shot(const GraspEmbeddings& g, const HeadView& h, st
   for (size_t i = 0; i < g.size(); ++i) {
     if (g.is_test[i] == 0) continue;
     std::fill(mean.begin(), mean.end(), 0.0f);
-    for (int32_t f = 0; f < sim::kFingers; ++f) {
-      for (sim::Moment m : {sim::Moment::kBefore, sim::Moment::kAfter}) {
-        zero_shot_logits(h.weight, h.scale, g.frame(i, f, m), logits);
+    for (int32_t f = 0; f < heads::kFingers; ++f) {
+      for (heads::Moment m : {heads::Moment::kBefore, heads::Moment::kAfter}) {
+        heads::zero_shot_logits(h.weight, h.scale, g.frame(i, f, m), logits);
         for (size_t k = 0; k < rows; ++k) mean[k] += 0.25f * logits[k];
       }
     }
-    tally.add(g.label[i], h.classes[static_cast<size_t>(argmax(mean))]);
+    tally.add(g.label[i], h.classes[static_cast<size_t>(heads::argmax(mean))]);
   }
   finish(r, tally, std::move(source));
   return r;

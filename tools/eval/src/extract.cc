@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
-#include "eval/src/data_paths.h"
-#include "io/progress.h"
+#include "data_paths.h"
+#include "tlvlink/io/progress.h"
 #include "tlvlink/datasets/feel.h"
 #include "tlvlink/datasets/touch100k.h"
 #include "tlvlink/datasets/touch_and_go.h"
@@ -171,9 +171,9 @@ Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
       if (!more || (data.max_grasp_episodes > 0 && taken >= data.max_grasp_episodes)) break;
       out.values.resize(out.values.size() + d * kGraspFrames);
       float* base = out.values.data() + out.values.size() - d * kGraspFrames;
-      for (int32_t f = 0; f < sim::kFingers; ++f) {
-        for (int32_t m = 0; m < sim::kMoments; ++m) {
-          std::span<float> row(base + static_cast<size_t>(f * sim::kMoments + m) * d, d);
+      for (int32_t f = 0; f < heads::kFingers; ++f) {
+        for (int32_t m = 0; m < heads::kMoments; ++m) {
+          std::span<float> row(base + static_cast<size_t>(f * heads::kMoments + m) * d, d);
           if (Status st = embedder.embed(e.frames[f][m], row); !st.ok()) {
             return st.error().with_context("grasp episode '%s' finger %d moment %d",
                                            (*loader)->key().c_str(), f, m);

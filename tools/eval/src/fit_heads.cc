@@ -4,6 +4,7 @@
 #include <set>
 
 #include "tlvlink/eval/heads.h"
+#include "tlvlink/heads/grasp_layout.h"
 #include "tlvlink/quantize/calibrate.h"
 #include "tlvlink/quantize/model_copy.h"
 
@@ -56,7 +57,7 @@ Status fit_touch(const TouchEmbeddings& t, const HeadFitOptions& o, FittedHeads&
 
 Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads& out) {
   const std::string layout_text = grasp_feature_layout(o.grasp_features);
-  TLV_ASSIGN_OR_RETURN(const auto layout, parse_grasp_layout(layout_text));
+  TLV_ASSIGN_OR_RETURN(const auto layout, heads::parse_grasp_layout(layout_text));
   std::vector<float> x;
   std::vector<int32_t> y;
   std::vector<std::string> groups;

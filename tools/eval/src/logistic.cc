@@ -5,7 +5,7 @@
 #include <deque>
 #include <limits>
 
-#include "eval/src/logistic_internal.h"
+#include "logistic_internal.h"
 
 namespace tlvlink::eval {
 namespace internal {

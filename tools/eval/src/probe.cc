@@ -5,7 +5,8 @@
 #include <cstdio>
 #include <map>
 
-#include "eval/src/logistic_internal.h"
+#include "logistic_internal.h"
+#include "tlvlink/heads/head_math.h"
 #include "tlvlink/datasets/split.h"
 
 namespace tlvlink::eval {
@@ -70,8 +71,8 @@ double accuracy(const ProbeData& d, const Fit& f, std::span<const int64_t> rows)
   const auto dim = static_cast<size_t>(d.dim);
   int64_t correct = 0;
   for (int64_t r : rows) {
-    linear_logits(f.weight, f.bias, d.x.subspan(static_cast<size_t>(r) * dim, dim), logits);
-    correct += argmax(logits) == d.labels[static_cast<size_t>(r)] ? 1 : 0;
+    heads::linear_logits(f.weight, f.bias, d.x.subspan(static_cast<size_t>(r) * dim, dim), logits);
+    correct += heads::argmax(logits) == d.labels[static_cast<size_t>(r)] ? 1 : 0;
   }
   return static_cast<double>(correct) / static_cast<double>(rows.size());
 }
@@ -90,19 +91,6 @@ void record_convergence(const Fit& f, const LogisticOptions& o, FittedProbe& p) 
 
 }  // namespace
 
-void linear_logits(std::span<const float> weight, std::span<const float> bias,
-                   std::span<const float> x, std::span<float> logits) {
-  const size_t dim = x.size();
-  for (size_t k = 0; k < logits.size(); ++k) {
-    float acc = bias[k];
-    for (size_t i = 0; i < dim; ++i) acc += weight[k * dim + i] * x[i];
-    logits[k] = acc;
-  }
-}
-
-int32_t argmax(std::span<const float> v) {
-  return static_cast<int32_t>(std::max_element(v.begin(), v.end()) - v.begin());
-}
 
 Result<FittedProbe> fit_logistic(const ProbeData& d, const LogisticOptions& o) {
   TLV_TRY(validate_data(d));

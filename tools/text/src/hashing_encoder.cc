@@ -9,7 +9,7 @@
 #include <map>
 #include <vector>
 
-#include "src/vector_math.h"
+#include "vector_math.h"
 #include "tlvlink/text/text_encoder.h"
 
 namespace tlvlink::text {

@@ -7,8 +7,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "io/npy.h"
-#include "src/vector_math.h"
+#include "tlvlink/io/npy.h"
+#include "vector_math.h"
 #include "tlvlink/text/text_encoder.h"
 
 namespace tlvlink::text {

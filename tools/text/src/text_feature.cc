@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "src/vector_math.h"
+#include "vector_math.h"
 #include "tlvlink/text/text_encoder.h"
 
 namespace tlvlink::text {

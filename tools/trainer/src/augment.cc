@@ -1,6 +1,6 @@
 // Sensor-variation augmentation: per-channel gain, exposure, camera noise.
 
-#include "trainer/src/augment.h"
+#include "augment.h"
 
 #include <algorithm>
 #include <cmath>

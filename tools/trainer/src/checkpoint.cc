@@ -1,6 +1,6 @@
 // Checkpoint files: save, load, optimizer state.
 
-#include "trainer/src/checkpoint.h"
+#include "checkpoint.h"
 
 #include <torch/serialize/input-archive.h>
 #include <torch/serialize/output-archive.h>

@@ -17,8 +17,8 @@
 #include <string>
 
 #include "tlvlink/error.h"
-#include "trainer/src/net.h"
-#include "trainer/src/supervised.h"
+#include "net.h"
+#include "supervised.h"
 
 namespace tlvlink::trainer {
 

@@ -1,6 +1,6 @@
 // Loading a Touch100k-format set into the in-memory uint8 cache.
 
-#include "trainer/src/data_cache.h"
+#include "data_cache.h"
 
 #include <sys/stat.h>
 
@@ -12,9 +12,11 @@
 #include <mutex>
 #include <thread>
 
-#include "io/jpeg.h"
-#include "io/preprocess.h"
-#include "io/progress.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/npy_image.h"
+#include "tlvlink/io/progress.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/datasets/touch100k.h"
 
@@ -37,7 +39,7 @@ Status load_resized(const std::string& path, int32_t height, int32_t width, uint
   TLV_ASSIGN_OR_RETURN(tools::Image image, tools::read_jpeg(path));
   TLV_ENSURE(image.channels == 3, ErrorCode::kFormat, "%s: %d channels, expected RGB",
              path.c_str(), image.channels);
-  const tools::Image sized = tools::resize_bilinear(image, height, width);
+  const tools::Image sized = image::resize_bilinear(image, height, width);
   std::copy(sized.pixels.begin(), sized.pixels.end(), dst);
   return {};
 }

@@ -6,15 +6,17 @@
 
 #include <cstring>
 
-#include "io/file.h"
-#include "io/jpeg.h"
-#include "io/preprocess.h"
-#include "trainer/src/data_cache.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/npy_image.h"
+#include "data_cache.h"
 #include "tlvlink/model.h"
 #include "tlvlink/text/text_encoder.h"
 #include "tlvlink/trainer/trainer.h"
-#include "trainer/src/checkpoint.h"
-#include "trainer/src/export_graph.h"
+#include "checkpoint.h"
+#include "export_graph.h"
 
 namespace tlvlink::trainer {
 namespace {
@@ -133,7 +135,7 @@ Status add_golden(const ExportOptions& o, const nlohmann::ordered_json& meta, En
   for (const std::string& key : cache->keys) {
     const std::string path = dir + "/touch/" + key;
     TLV_ASSIGN_OR_RETURN(tools::Image image, tools::read_jpeg(path));
-    auto x = tools::preprocess(image, spec);
+    auto x = image::preprocess(image, spec);
     if (!x.ok()) return x.error().with_context("golden frame %s", path.c_str());
     const torch::Tensor in =
         torch::from_blob(x->data(), {1, spec.height, spec.width, 3}, torch::kFloat32)

@@ -1,6 +1,6 @@
 // Folded student graph for the .tlvm writer.
 
-#include "trainer/src/export_graph.h"
+#include "export_graph.h"
 
 #include <string>
 

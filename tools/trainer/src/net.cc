@@ -1,6 +1,6 @@
 // EncoderNet, batches and the contrastive loss.
 
-#include "trainer/src/net.h"
+#include "net.h"
 
 #include <torch/nn/functional/loss.h>
 #include <torch/nn/init.h>

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "trainer/src/options_json.h"
+#include "options_json.h"
 #include "tlvlink/trainer/arch.h"
 
 namespace tlvlink::trainer {

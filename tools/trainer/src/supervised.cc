@@ -1,6 +1,6 @@
 // Supervised heads: cross-entropy on the simulator's labels.
 
-#include "trainer/src/supervised.h"
+#include "supervised.h"
 
 #include <torch/nn/functional/loss.h>
 

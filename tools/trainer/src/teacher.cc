@@ -1,6 +1,6 @@
 // Built-in teacher pre-training and TorchScript teachers.
 
-#include "trainer/src/teacher.h"
+#include "teacher.h"
 
 #include <torch/optim/adamw.h>
 #include <torch/script.h>
@@ -8,8 +8,8 @@
 #include <chrono>
 #include <cmath>
 
-#include "trainer/src/options_json.h"
-#include "trainer/src/train_monitor.h"
+#include "options_json.h"
+#include "train_monitor.h"
 
 namespace tlvlink::trainer {
 namespace {

@@ -9,8 +9,8 @@
 #include <cstdio>
 
 #include "tlvlink/trainer/trainer.h"
-#include "trainer/src/data_cache.h"
-#include "trainer/src/net.h"
+#include "data_cache.h"
+#include "net.h"
 
 namespace tlvlink::trainer {
 

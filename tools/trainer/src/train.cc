@@ -13,12 +13,12 @@
 #include <optional>
 
 #include "tlvlink/text/text_encoder.h"
-#include "trainer/src/augment.h"
-#include "trainer/src/checkpoint.h"
-#include "trainer/src/data_cache.h"
-#include "trainer/src/options_json.h"
-#include "trainer/src/teacher.h"
-#include "trainer/src/train_monitor.h"
+#include "augment.h"
+#include "checkpoint.h"
+#include "data_cache.h"
+#include "options_json.h"
+#include "teacher.h"
+#include "train_monitor.h"
 
 namespace tlvlink::trainer {
 namespace {

@@ -1,6 +1,6 @@
-#include "trainer/src/train_monitor.h"
+#include "train_monitor.h"
 
-#include "io/progress.h"
+#include "tlvlink/io/progress.h"
 
 namespace tlvlink::trainer {
 

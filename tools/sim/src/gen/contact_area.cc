@@ -5,7 +5,7 @@
 // (clamped) height excess over its four neighbours -- grid independent, as in the renderer.
 // delta is found by bisection.
 
-#include "sim/src/gen/contact_area.h"
+#include "gen/contact_area.h"
 
 #include <algorithm>
 #include <cmath>

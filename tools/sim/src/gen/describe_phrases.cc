@@ -4,9 +4,9 @@
 #include <array>
 #include <cmath>
 
-#include "sim/src/gen/phrase_data.h"
-#include "sim/src/gen/phrase_vocabulary.h"
-#include "sim/src/gen/rng.h"
+#include "gen/phrase_data.h"
+#include "gen/phrase_vocabulary.h"
+#include "gen/rng.h"
 #include "tlvlink/sim/describe.h"
 
 namespace tlvlink::sim {

@@ -8,7 +8,7 @@
 #include <functional>
 #include <string>
 
-#include "sim/src/gen/rng.h"
+#include "gen/rng.h"
 #include "tlvlink/sim/describe.h"
 
 namespace tlvlink::sim {

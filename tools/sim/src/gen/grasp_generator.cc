@@ -11,10 +11,10 @@
 #include <cmath>
 #include <numbers>
 
-#include "sim/src/gen/grasp_model.h"
-#include "sim/src/gen/grasp_profile.h"
-#include "sim/src/gen/sensor_instances.h"
-#include "sim/src/gen/session_names.h"
+#include "gen/grasp_model.h"
+#include "gen/grasp_profile.h"
+#include "gen/sensor_instances.h"
+#include "gen/session_names.h"
 #include "tlvlink/sim/generate.h"
 #include "tlvlink/sim/vision.h"
 

@@ -1,7 +1,7 @@
 // Grasp objects are everyday graspable things (Feel's objects): the TAG classes one can pick up,
 // with a rounded, cylindrical or flat face under the fingers.
 
-#include "sim/src/gen/grasp_model.h"
+#include "gen/grasp_model.h"
 
 #include <algorithm>
 #include <cmath>

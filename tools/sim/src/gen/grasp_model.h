@@ -5,8 +5,8 @@
 
 #include <cstdint>
 
-#include "sim/src/gen/contact_area.h"
-#include "sim/src/gen/rng.h"
+#include "gen/contact_area.h"
+#include "gen/rng.h"
 #include "tlvlink/sim/dataset.h"
 #include "tlvlink/sim/scene.h"
 

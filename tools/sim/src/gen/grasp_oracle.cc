@@ -5,11 +5,11 @@
 // The same draws serve every episode (common random numbers), which makes the estimate smooth
 // in the visible variables.
 
-#include "sim/src/gen/grasp_oracle.h"
+#include "gen/grasp_oracle.h"
 
 #include <algorithm>
 
-#include "sim/src/gen/grasp_model.h"
+#include "gen/grasp_model.h"
 
 namespace tlvlink::sim::internal {
 

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/src/gen/contact_area.h"
+#include "gen/contact_area.h"
 #include "tlvlink/sim/generate.h"
 
 namespace tlvlink::sim::internal {

@@ -1,11 +1,11 @@
 // The public oracle entry points: look the sensor up, then run the Monte Carlo of
 // grasp_oracle.cc on its gel.
 
-#include "sim/src/gen/grasp_profile.h"
+#include "gen/grasp_profile.h"
 
 #include <algorithm>
 
-#include "sim/src/gen/grasp_oracle.h"
+#include "gen/grasp_oracle.h"
 #include "tlvlink/sim/generate.h"
 
 namespace tlvlink::sim {

@@ -2,7 +2,7 @@
 // The contact-area model of a sensor profile (the grasp variables and the oracle use the gel of
 // the sensor the episodes are rendered with).
 
-#include "sim/src/gen/contact_area.h"
+#include "gen/contact_area.h"
 #include "tlvlink/sim/sensor.h"
 
 namespace tlvlink::sim::internal {

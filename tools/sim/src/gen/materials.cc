@@ -10,7 +10,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/src/gen/rng.h"
+#include "gen/rng.h"
 #include "tlvlink/sim/materials.h"
 
 namespace tlvlink::sim {

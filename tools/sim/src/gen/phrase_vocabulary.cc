@@ -1,7 +1,7 @@
 // The rule language is tiny on purpose (a conjunction of key=values tokens per alternative) so
 // that every phrase's physics is readable in one line of phrase-rules.tsv.
 
-#include "sim/src/gen/phrase_vocabulary.h"
+#include "gen/phrase_vocabulary.h"
 
 #include <charconv>
 #include <map>

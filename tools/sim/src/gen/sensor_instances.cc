@@ -1,6 +1,6 @@
-#include "sim/src/gen/sensor_instances.h"
+#include "gen/sensor_instances.h"
 
-#include "sim/src/gen/rng.h"
+#include "gen/rng.h"
 #include "tlvlink/sim/generate.h"
 
 namespace tlvlink::sim {

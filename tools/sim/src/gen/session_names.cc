@@ -1,9 +1,9 @@
-#include "sim/src/gen/session_names.h"
+#include "gen/session_names.h"
 
 #include <cinttypes>
 #include <cstdio>
 
-#include "sim/src/gen/rng.h"
+#include "gen/rng.h"
 #include "tlvlink/sim/materials.h"
 
 namespace tlvlink::sim::internal {

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "sim/src/gen/rng.h"
-#include "sim/src/gen/sensor_instances.h"
-#include "sim/src/gen/session_names.h"
+#include "gen/rng.h"
+#include "gen/sensor_instances.h"
+#include "gen/session_names.h"
 #include "tlvlink/sim/describe.h"
 #include "tlvlink/sim/generate.h"
 #include "tlvlink/sim/vision.h"

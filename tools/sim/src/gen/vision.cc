@@ -7,8 +7,8 @@
 #include <numbers>
 #include <vector>
 
-#include "sim/src/gen/rng.h"
-#include "sim/src/gen/vision_patterns.h"
+#include "gen/rng.h"
+#include "gen/vision_patterns.h"
 
 namespace tlvlink::sim {
 namespace {

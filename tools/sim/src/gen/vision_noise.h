@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "sim/src/gen/rng.h"
+#include "gen/rng.h"
 
 namespace tlvlink::sim::internal {
 

@@ -2,13 +2,13 @@
 // periodic layouts). Frequencies are in cycles per image side at zoom 1, picked by eye so
 // that a 240x320 image shows a recognisable surface.
 
-#include "sim/src/gen/vision_patterns.h"
+#include "gen/vision_patterns.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "sim/src/gen/vision_noise.h"
+#include "gen/vision_noise.h"
 
 namespace tlvlink::sim::internal {
 namespace {

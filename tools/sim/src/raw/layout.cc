@@ -50,7 +50,18 @@ Result<RawLayout> raw_layout(const SensorProfile& p) {
 namespace internal {
 
 UprightSize upright_size(const RawLayout& l) {
-  return l.transposed ? UprightSize{l.height, l.width} : UprightSize{l.width, l.height};
+  return image::upright_size(l.width, l.height, orientation(l));
+}
+
+image::FrameFormat camera_format(const RawLayout& l) {
+  const image::PixelFormat f = l.format == RawFormat::kMjpeg  ? image::PixelFormat::kMjpeg
+                               : l.format == RawFormat::kYuyv ? image::PixelFormat::kYuyv
+                                                              : image::PixelFormat::kRgb24;
+  return {f, l.width, l.height, 0};
+}
+
+image::Orientation orientation(const RawLayout& l) {
+  return l.transposed ? image::Orientation::kTransposed : image::Orientation::kUpright;
 }
 
 Periphery raw_periphery(const RawLayout& l, const SensorProfile& p) {
@@ -66,10 +77,6 @@ AxisMap raw_from_render(double crop, int32_t raw_len, int32_t processed_len, int
   // (r - crop raw_len) * processed_len / ((1 - 2 crop) raw_len), shifted by pad into the render.
   const double scale = processed_len / ((1 - 2 * crop) * raw_len);
   return {pad - crop * raw_len * scale, scale};
-}
-
-AxisMap processed_from_raw(double crop, int32_t decoded_len, int32_t processed_len) {
-  return {crop * decoded_len, (1 - 2 * crop) * decoded_len / processed_len};
 }
 
 }  // namespace internal

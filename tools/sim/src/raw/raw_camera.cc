@@ -3,10 +3,10 @@
 #include <cstring>
 
 #include "raw/layout.h"
-#include "raw/mjpeg.h"
-#include "raw/pixel_formats.h"
-#include "raw/resample.h"
 #include "render/renderer_internal.h"
+#include "tlvlink/image/convert.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/image/resample.h"
 #include "tlvlink/sim/raw_camera.h"
 
 namespace tlvlink::sim {
@@ -39,9 +39,11 @@ class RawCameraImpl final : public RawCamera {
   std::unique_ptr<Renderer> renderer_, wide_;
   ContactScene wide_scene_;
   Frame wide_frame_;
-  Resampler resampler_;
+  image::Resampler resampler_;
   std::vector<uint8_t> upright_, oriented_;
-  MjpegEncoder jpeg_;
+  image::JpegEncoder jpeg_;
+  int32_t jpeg_quality_ = 90;
+  size_t jpeg_max_bytes_ = 0;
 };
 
 Status RawCameraImpl::init(const SensorProfile& profile, uint64_t sensor_seed,
@@ -66,7 +68,13 @@ Status RawCameraImpl::init(const SensorProfile& profile, uint64_t sensor_seed,
     upright_.assign(upright_bytes, 0);
   }
   if (layout_.format == RawFormat::kMjpeg) {
-    TLV_TRY(jpeg_.init(layout_.width, layout_.height, options.jpeg_quality));
+    TLV_ENSURE(options.jpeg_quality >= 1 && options.jpeg_quality <= 100,
+               ErrorCode::kInvalidArgument, "raw MJPEG quality %d outside [1, 100]",
+               options.jpeg_quality);
+    jpeg_quality_ = options.jpeg_quality;
+    TLV_ASSIGN_OR_RETURN(jpeg_max_bytes_,
+                         image::JpegEncoder::max_bytes(layout_.width, layout_.height,
+                                                       image::JpegEncoder::Subsampling::k422));
     if (layout_.transposed) oriented_.assign(upright_bytes, 0);
   }
   return {};
@@ -124,31 +132,29 @@ void RawCameraImpl::pad_height_map(const ContactScene& scene) {
 }
 
 Status RawCameraImpl::encode(const uint8_t* upright, RawFrame& out) {
-  switch (layout_.format) {
-    case RawFormat::kRgb:
-      out.bytes.resize(layout_.frame_bytes);
-      upright_to_raw_rgb(upright, layout_, out.bytes.data());
-      return {};
-    case RawFormat::kYuyv:
-      out.bytes.resize(layout_.frame_bytes);
-      upright_to_yuyv(upright, layout_, out.bytes.data());
-      return {};
-    case RawFormat::kMjpeg: {
-      const uint8_t* rgb = upright;
-      if (layout_.transposed) {
-        upright_to_raw_rgb(upright, layout_, oriented_.data());
-        rgb = oriented_.data();
-      }
-      TLV_ASSIGN_OR_RETURN(std::span<const uint8_t> jpeg, jpeg_.encode(rgb));
-      // Reserve the worst case once (address space; pages are touched as bytes are written):
-      // a later, larger frame never reallocates.
-      if (out.bytes.capacity() < jpeg_.max_bytes()) out.bytes.reserve(jpeg_.max_bytes());
-      out.bytes.assign(jpeg.begin(), jpeg.end());
-      return {};
-    }
+  const UprightSize up = upright_size_;
+  const std::span<const uint8_t> upright_rgb(
+      upright, static_cast<size_t>(up.width) * static_cast<size_t>(up.height) * 3);
+  if (layout_.format != RawFormat::kMjpeg) {
+    out.bytes.resize(layout_.frame_bytes);
+    return image::upright_rgb_to_camera(upright_rgb, camera_format(layout_), orientation(layout_),
+                                        out.bytes);
   }
-  return Error::make(ErrorCode::kInvalidArgument, "raw format %d",
-                     static_cast<int>(layout_.format));
+  const uint8_t* rgb = upright;
+  if (layout_.transposed) {
+    const image::FrameFormat oriented{image::PixelFormat::kRgb24, layout_.width, layout_.height, 0};
+    TLV_TRY(image::upright_rgb_to_camera(upright_rgb, oriented, orientation(layout_), oriented_));
+    rgb = oriented_.data();
+  }
+  TLV_ASSIGN_OR_RETURN(
+      std::span<const uint8_t> jpeg,
+      jpeg_.encode({rgb, layout_.width, layout_.height, 3, 0}, jpeg_quality_,
+                   image::JpegEncoder::Subsampling::k422));
+  // Reserve the worst case once (address space; pages are touched as bytes are written): a
+  // later, larger frame never reallocates.
+  if (out.bytes.capacity() < jpeg_max_bytes_) out.bytes.reserve(jpeg_max_bytes_);
+  out.bytes.assign(jpeg.begin(), jpeg.end());
+  return {};
 }
 
 Status RawCameraImpl::render(const ContactScene& scene, const RenderOptions& options,

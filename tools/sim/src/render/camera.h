@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "io/image.h"
+#include "tlvlink/io/image.h"
 #include "render/sensor_tables.h"
 #include "render/spreading.h"
 #include "tlvlink/error.h"

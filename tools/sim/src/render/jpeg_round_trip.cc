@@ -2,7 +2,8 @@
 // rest of the renderer so a board build can swap or drop it.
 #include <cstring>
 
-#include "io/jpeg.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
 #include "render/camera.h"
 
 namespace tlvlink::sim::internal {
@@ -14,9 +15,9 @@ Status jpeg_round_trip(std::vector<uint8_t>& rgb, int32_t width, int32_t height,
   scratch.channels = 3;
   scratch.pixels.assign(rgb.begin(), rgb.end());
   for (int32_t pass = 0; pass < passes; ++pass) {
-    auto bytes = tools::encode_jpeg(scratch, quality);
+    auto bytes = image::encode_jpeg(scratch, quality);
     if (!bytes.ok()) return bytes.error().with_context("simulated JPEG (quality %d)", quality);
-    auto decoded = tools::decode_jpeg(bytes.value(), "simulated frame");
+    auto decoded = image::decode_jpeg(bytes.value(), "simulated frame");
     if (!decoded.ok()) return decoded.error().with_context("simulated JPEG (quality %d)", quality);
     TLV_ENSURE(decoded->width == width && decoded->height == height && decoded->channels == 3,
                ErrorCode::kFormat, "simulated JPEG: decoded %dx%dx%d, expected %dx%dx3",

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-#include "io/image.h"
+#include "tlvlink/io/image.h"
 #include "render/blur.h"
 #include "render/camera.h"
 #include "render/contact.h"

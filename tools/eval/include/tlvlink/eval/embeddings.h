@@ -106,7 +106,7 @@ struct TouchEmbeddings {
 };
 
 // Grasp episodes: six embeddings each, [finger A, B] x [before, during, after].
-inline constexpr int32_t kGraspFrames = sim::kFingers * sim::kMoments;
+inline constexpr int32_t kGraspFrames = heads::kFingers * heads::kMoments;
 struct GraspEmbeddings {
   int32_t dim = 0;
   std::vector<float> values;         // [size(), kGraspFrames, dim], frame = finger * 3 + moment
@@ -121,7 +121,7 @@ struct GraspEmbeddings {
   std::optional<std::string> generator_json;
 
   size_t size() const { return is_test.size(); }
-  std::span<const float> frame(size_t episode, int32_t finger, sim::Moment moment) const;
+  std::span<const float> frame(size_t episode, int32_t finger, heads::Moment moment) const;
 };
 
 struct EmbeddingSet {

@@ -2,11 +2,8 @@
 // Task heads fitted on runtime embeddings, zero-shot heads from a text encoder, and writing them
 // into a copy of a model ("same graph, new metadata").
 //
-// Head semantics (what the runtime and `tlvlink infer` apply, tools/cli/heads.cc):
-//   linear head    logits = W e + b on the RAW embedding e
-//   zero-shot      logits = scale * M (e / |e|)   (prompt rows are unit length)
-//   grasp head     p(gripping) = sigmoid(w . f + b), f = the embeddings named by feature_layout
-//                  concatenated in that order, e.g. "A.before,A.during,B.before,B.during"
+// Head semantics and arithmetic are the runtime's (runtime/heads, tlvlink/heads/head_math.h):
+// evaluation scores exactly what the board computes.
 
 #include <cstddef>
 #include <cstdint>
@@ -36,18 +33,11 @@ const char* grasp_features_name(GraspFeatures f);  // "before-during" / "before-
 Result<GraspFeatures> parse_grasp_features(std::string_view name);
 std::string grasp_feature_layout(GraspFeatures f);
 
-// A feature_layout string as (finger, moment) pairs. Fingers "A"/"B" or "finger0"/"finger1";
-// moments "before"/"during"/"after". Errors name the bad token.
-Result<std::vector<std::pair<int32_t, sim::Moment>>> parse_grasp_layout(std::string_view layout);
-
-// p(gripping) logit of a grasp head on one episode: w . concat(frames per layout) + b.
+// p(gripping) logit of a grasp head on one episode: w . concat(frames per layout) + b
+// (heads::grasp_logit on the episode's embeddings).
 Result<float> grasp_head_logit(std::span<const float> weight, float bias,
                                std::string_view feature_layout, const GraspEmbeddings& set,
                                size_t episode);
-
-// Zero-shot logits exactly as the runtime computes them (float, tools/cli/heads.cc order).
-void zero_shot_logits(std::span<const float> prompt_matrix, float logit_scale,
-                      std::span<const float> embedding, std::span<float> logits);
 
 // Text encoder for zero-shot heads a model does not carry.
 struct TextOptions {

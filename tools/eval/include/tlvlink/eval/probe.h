@@ -82,10 +82,7 @@ void fold_standardisation(const Standardisation& s, std::span<const double> w_st
                           std::span<const double> b_std, int32_t classes,
                           std::vector<float>& weight, std::vector<float>& bias);
 
-// logits = W x + b with float accumulation in the order of tools/cli/heads.cc (the runtime path).
-void linear_logits(std::span<const float> weight, std::span<const float> bias,
-                   std::span<const float> x, std::span<float> logits);
-// Index of the largest value (first on ties).
-int32_t argmax(std::span<const float> values);
+// Logits and argmax are the runtime's: heads::linear_logits, heads::argmax
+// (tlvlink/heads/head_math.h).
 
 }  // namespace tlvlink::eval

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "tlvlink/error.h"
+#include "tlvlink/heads/grasp_layout.h"
 #include "tlvlink/sim/materials.h"
 #include "tlvlink/sim/renderer.h"
 
@@ -40,9 +41,11 @@ struct TouchSample {
   std::vector<std::string> phrases; // phrase-level description (phrase_desc = join ", ")
 };
 
-enum class Moment : uint8_t { kBefore = 0, kDuring = 1, kAfter = 2 };
-inline constexpr int32_t kFingers = 2;   // gelsightA, gelsightB
-inline constexpr int32_t kMoments = 3;
+// The fingers and moments of a grasp are the heads' (runtime/heads): a real Feel episode and a
+// simulated one are read by the same grasp head.
+using heads::kFingers;
+using heads::Moment;
+using heads::kMoments;
 
 // The variables of one grasp. Visible ones can be estimated from before+during frames;
 // hidden ones (mass, centre-of-mass offset, lift acceleration) cannot.
@@ -69,7 +72,7 @@ struct GraspEpisode {
   MaterialSample material;
   GraspVariables variables;
   bool is_gripping = false;         // label: still held after the lift
-  RgbImage frames[kFingers][kMoments];   // [finger][Moment]
+  RgbImage frames[kFingers][kMoments];   // [finger][heads::Moment]
   ContactState states[kFingers][kMoments];
   RgbImage vision[kMoments];        // kinectA_rgb_{before,during,after} stand-in
 };

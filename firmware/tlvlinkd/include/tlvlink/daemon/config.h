@@ -1,0 +1,78 @@
+#pragma once
+// tlvlinkd's configuration (TOML): the model, the sensors and their sources, contact gating,
+// grasps, smoothing, output and threads. Loading validates everything before the daemon touches
+// a device: an unknown key, a wrong type or a value out of range is an error naming the file,
+// line and key. Annotated example: firmware/tlvlinkd/tlvlinkd.toml.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tlvlink/capture/controls.h"
+#include "tlvlink/capture/sensor_models.h"
+#include "tlvlink/error.h"
+#include "tlvlink/image/frame_decoder.h"
+#include "tlvlink/pipeline/frame_processor.h"
+
+namespace tlvlink::daemon {
+
+enum class SourceKind : uint8_t { kV4l2, kLibcamera, kReplay, kSim };
+const char* source_kind_name(SourceKind kind);  // "v4l2", "libcamera", "replay", "sim"
+
+struct SensorConfig {
+  std::string name;               // "left": names the sensor in outputs and errors
+  std::string sensor_model;       // "gelsight-mini", "digit", ... (capture/sensor_models.h)
+  int32_t finger = -1;            // 0 = A, 1 = B, -1 = not part of a grasp
+  SourceKind source = SourceKind::kV4l2;
+  std::string device;             // v4l2: "usb:VID:PID[:SERIAL]" or a path; libcamera: camera
+                                  // id; replay: the recording; sim: unused
+  // The camera format (defaults from the sensor model) and the view of the processed frame.
+  image::FrameFormat format;
+  double fps = 0;
+  image::SensorView view;
+  uint32_t buffers = 4, warmup_frames = 0;
+  int32_t watchdog_ms = 1000;
+  bool accept_other_size = false;
+  bool wait_for_device = true;    // a camera absent at start is an outage, not an exit
+  std::vector<capture::ControlSetting> controls;
+  bool realtime = true, loop = false;  // replay
+};
+
+struct SimConfig {  // source = "sim" (host builds with the simulator)
+  std::string scenario = "demo";
+  int32_t grasps = 4;
+  uint64_t seed = 1;
+  std::string cache_dir;  // empty: $XDG_CACHE_HOME/tlvlink/sim or ~/.cache/tlvlink/sim
+  bool loop = false;
+};
+
+enum class ControlInput : uint8_t { kNone, kStdin };
+
+struct DaemonConfig {
+  std::string path;               // the file it came from
+  std::string model;
+  std::string executor = "xnnpack";
+  int32_t threads = 1;
+  bool verify_model = true;       // run the model's golden pairs before streaming
+  // Where records go, one or more of: jsonl:- (stdout), jsonl:FILE, and one stream link
+  // serial:PATH[,baud=N][,flow=rtscts], pty:LINK or usb[...] (runtime/transport).
+  std::vector<std::string> outputs = {"jsonl:-"};
+  ControlInput control = ControlInput::kNone;
+  int32_t status_interval_ms = 1000;
+  bool status_line = false;       // a live status line on stderr
+  int32_t queue_frames = 2;       // decoded frames waiting per sensor (older ones dropped)
+  int32_t output_queue = 256;     // records waiting for the output (older ones dropped)
+  int64_t run_for_ms = 0;         // 0: until SIGTERM/SIGINT; > 0: stop after this long
+  int64_t max_frames = 0;         // 0: no limit; > 0: stop after this many frames in all
+  pipeline::ProcessorOptions processing;
+  SimConfig sim;
+  std::vector<SensorConfig> sensors;
+};
+
+// Limits (exceeding one is an error naming the key).
+inline constexpr int32_t kMaxQueueFrames = 16, kMaxOutputQueue = 4096, kMaxThreads = 64;
+
+Result<DaemonConfig> load_config(const std::string& path);
+Result<DaemonConfig> parse_config(std::string_view toml, const std::string& name);
+
+}  // namespace tlvlink::daemon

@@ -1,0 +1,40 @@
+#pragma once
+#ifndef TLVLINK_DAEMON_PRIVATE
+#error "commands.h is internal to firmware/tlvlinkd"
+#endif
+// Commands from the controller (stdin lines today; the stream link later) to the inference
+// thread, which owns the pipeline: a small fixed queue, never blocking the sender.
+
+#include <array>
+#include <cstdint>
+#include <mutex>
+#include <string_view>
+
+namespace tlvlink::daemon::internal {
+
+enum class CommandKind : uint8_t { kRezero, kClosed, kLifting };
+
+struct Command {
+  CommandKind kind = CommandKind::kRezero;
+  int64_t t_ns = 0;     // when it was given (CLOCK_MONOTONIC)
+  int32_t sensor = -1;  // rezero: -1 = all
+};
+
+// "rezero [SENSOR_INDEX]", "closed", "lifting" (a trailing newline is fine). False: not a command.
+bool parse_command(std::string_view line, int64_t now_ns, Command& out);
+
+class CommandQueue {
+ public:
+  static constexpr size_t kCapacity = 32;
+  bool push(const Command& c);  // false when full (the command is dropped and counted)
+  bool pop(Command& out);
+  uint64_t dropped() const;
+
+ private:
+  mutable std::mutex mutex_;
+  std::array<Command, kCapacity> ring_{};
+  size_t head_ = 0, count_ = 0;
+  uint64_t dropped_ = 0;
+};
+
+}  // namespace tlvlink::daemon::internal

@@ -1,0 +1,60 @@
+#pragma once
+#ifndef TLVLINK_DAEMON_PRIVATE
+#error "frame_ring.h is internal to firmware/tlvlinkd"
+#endif
+// Decoded frames of one sensor on their way from its capture thread to the inference thread: a
+// fixed set of slots (allocated at start), never blocking the producer. When every slot holds a
+// frame not yet taken, the oldest waiting one is recycled and counted as dropped: the capture
+// thread keeps up with the camera whatever the consumer does.
+
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <vector>
+
+#include "tlvlink/pipeline/predictions.h"
+
+namespace tlvlink::daemon::internal {
+
+struct DecodedFrame {
+  std::vector<uint8_t> rgb;  // the processed frame, view.width * view.height * 3
+  uint64_t sequence = 0;
+  pipeline::FrameTimes times;
+};
+
+// Wakes the inference thread when any sensor publishes (one for all rings).
+struct Doorbell {
+  std::mutex mutex;
+  std::condition_variable cv;
+  uint64_t rings = 0;  // publishes since the consumer last looked
+};
+
+class FrameRing {
+ public:
+  // `waiting` frames may wait; two more slots are being written and read.
+  FrameRing(int32_t waiting, size_t frame_bytes, Doorbell& doorbell);
+
+  // Producer: a slot to write into (never blocks; may recycle the oldest waiting frame).
+  DecodedFrame* acquire();
+  void publish(DecodedFrame* frame);  // the slot from acquire(), now filled
+  void discard(DecodedFrame* frame);  // the slot from acquire(), not filled (decode failed)
+
+  // Consumer: the oldest waiting frame, or nullptr; give it back with recycle().
+  DecodedFrame* take();
+  void recycle(DecodedFrame* frame);
+  // Capture time of the oldest waiting frame, or INT64_MAX when none (to merge sensors in time).
+  int64_t oldest_capture_ns();
+
+  uint64_t dropped() const;  // frames recycled before the consumer took them
+
+ private:
+  enum class State : uint8_t { kFree, kWriting, kWaiting, kReading };
+  mutable std::mutex mutex_;
+  std::vector<DecodedFrame> slots_;
+  std::vector<State> state_;
+  std::vector<uint64_t> order_;  // publish order of waiting slots
+  uint64_t published_ = 0, dropped_ = 0;
+  Doorbell& doorbell_;
+};
+
+}  // namespace tlvlink::daemon::internal

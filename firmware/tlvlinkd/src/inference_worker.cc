@@ -1,0 +1,123 @@
+#include "inference_worker.h"
+
+#include <chrono>
+#include <climits>
+#include <cstdio>
+
+#include "clock.h"
+#include "tlvlink/log.h"
+
+namespace tlvlink::daemon::internal {
+namespace {
+
+TLV_LOG_CATEGORY(kLogInference, "inference");
+constexpr int32_t kWaitMs = 50;  // wake at least this often: stop flag, grasp timeouts
+
+}  // namespace
+
+InferenceWorker::InferenceWorker(pipeline::FrameProcessor& processor,
+                                 std::vector<FrameRing*> rings,
+                                 std::vector<pipeline::SensorSetup> setups, Doorbell& doorbell,
+                                 OutputQueue& output, CommandQueue& commands,
+                                 const std::atomic<bool>& stop, std::atomic<bool>& limit_hit,
+                                 int64_t max_frames)
+    : processor_(processor),
+      rings_(std::move(rings)),
+      setups_(std::move(setups)),
+      doorbell_(doorbell),
+      output_(output),
+      commands_(commands),
+      stop_(stop),
+      limit_hit_(limit_hit),
+      max_frames_(max_frames) {}
+
+void InferenceWorker::apply(const Command& c) {
+  switch (c.kind) {
+    case CommandKind::kRezero: processor_.rezero(c.sensor); break;
+    case CommandKind::kClosed: processor_.mark_closed(c.t_ns); break;
+    case CommandKind::kLifting: processor_.mark_lifting(c.t_ns); break;
+  }
+}
+
+void InferenceWorker::drain_grasps() {
+  pipeline::GraspPrediction g;
+  while (processor_.take_grasp(g)) output_.push(g);
+}
+
+bool InferenceWorker::process_one() {
+  size_t best = rings_.size();
+  int64_t best_t = INT64_MAX;
+  for (size_t i = 0; i < rings_.size(); ++i) {
+    const int64_t t = rings_[i]->oldest_capture_ns();
+    if (t < best_t) {
+      best_t = t;
+      best = i;
+    }
+  }
+  if (best == rings_.size()) return false;
+  DecodedFrame* f = rings_[best]->take();
+  if (f == nullptr) return false;
+  // The processed frame's geometry is the ring's; the processor checks it against its plan.
+  const pipeline::SensorSetup& s = setups_[best];
+  const Status st = processor_.process(static_cast<int32_t>(best), f->sequence,
+                                       {f->rgb.data(), s.width, s.height, s.channels, 0},
+                                       f->times, record_);
+  rings_[best]->recycle(f);
+  if (!st.ok()) {
+    errors_.fetch_add(1);
+    EventRecord e;
+    e.t_ns = monotonic_ns();
+    e.sensor = static_cast<int32_t>(best);
+    e.error = true;
+    std::snprintf(e.text.data(), e.text.size(), "%s", st.error().message());
+    TLV_LOG(kLogInference, kError, "%s", e.text.data());
+    output_.push(e);
+    return true;
+  }
+  output_.push(record_);
+  drain_grasps();
+  return true;
+}
+
+void InferenceWorker::run() {
+  cpu_clock_ = this_thread_cpu_clock();
+  for (;;) {
+    {
+      std::unique_lock lock(doorbell_.mutex);
+      doorbell_.cv.wait_for(lock, std::chrono::milliseconds(kWaitMs),
+                            [&] { return doorbell_.rings > 0 || stop_.load(); });
+      doorbell_.rings = 0;
+    }
+    Command c;
+    while (commands_.pop(c)) apply(c);
+    while (process_one()) {
+      if (max_frames_ > 0 && static_cast<int64_t>(processor_.counters().frames) >= max_frames_) {
+        limit_hit_ = true;
+      }
+    }
+    processor_.tick(monotonic_ns());
+    drain_grasps();
+    {
+      std::lock_guard lock(mutex_);
+      counters_ = processor_.counters();
+    }
+    // Stop only once the capture threads have stopped and every decoded frame is processed.
+    if (stop_.load()) break;
+  }
+  final_cpu_ns_ = thread_cpu_ns(cpu_clock_.load());
+}
+
+InferenceSnapshot InferenceWorker::snapshot() const {
+  InferenceSnapshot s;
+  {
+    std::lock_guard lock(mutex_);
+    s.counters = counters_;
+  }
+  s.errors = errors_.load();
+  const clockid_t clock = cpu_clock_.load();
+  const int64_t final_cpu = final_cpu_ns_.load();
+  s.cpu_ns = final_cpu >= 0 ? final_cpu : clock == -1 ? 0 : thread_cpu_ns(clock);
+  return s;
+}
+
+}  // namespace tlvlink::daemon::internal

@@ -1,0 +1,61 @@
+#pragma once
+#ifndef TLVLINK_DAEMON_PRIVATE
+#error "jsonl_writer.h is internal to firmware/tlvlinkd"
+#endif
+// The daemon's output as JSON lines (until the stream protocol carries it): one object per frame
+// prediction, grasp prediction, event and stats report, each written with one write(2). Names
+// (sensors, heads, labels) are resolved once at start. Schema: firmware/tlvlinkd/README.md.
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "line_buffer.h"
+#include "output_queue.h"
+#include "tlvlink/error.h"
+
+namespace tlvlink::daemon::internal {
+
+struct OutputNames {
+  std::vector<std::string> sensors;
+  struct Head {
+    std::string name, kind;
+    std::vector<std::string> labels;
+  };
+  std::vector<Head> heads;  // in FramePrediction::heads[].head index order (all per-frame heads)
+  std::string grasp_head;
+};
+
+class JsonlWriter {
+ public:
+  // "-" is stdout; otherwise the file is created or appended to.
+  static Result<JsonlWriter> open(const std::string& target, OutputNames names);
+  JsonlWriter() = default;
+  JsonlWriter(JsonlWriter&& other) noexcept;
+  JsonlWriter& operator=(JsonlWriter&&) = delete;
+  JsonlWriter(const JsonlWriter&) = delete;
+  ~JsonlWriter();
+
+  // Each writes one line; a failed write (disk full, closed pipe) is counted, not fatal.
+  void write(const OutputRecord& record, int64_t written_ns);
+  void write_line(const LineBuffer& line);
+  LineBuffer& scratch() { return line_; }
+  const OutputNames& names() const { return names_; }
+
+  uint64_t lines() const { return lines_; }
+  uint64_t failed_writes() const { return failed_; }
+
+ private:
+  void frame(const pipeline::FramePrediction& p, int64_t written_ns);
+  void grasp(const pipeline::GraspPrediction& g);
+  void event(const EventRecord& e);
+
+  int fd_ = -1;
+  bool owns_fd_ = false;
+  OutputNames names_;
+  LineBuffer line_;
+  uint64_t lines_ = 0, failed_ = 0;
+};
+
+}  // namespace tlvlink::daemon::internal

@@ -1,0 +1,192 @@
+#include "tlvlink/daemon/session.h"
+
+#include <cstdio>
+#include <thread>
+
+#include "capture_worker.h"
+#include "clock.h"
+#include "commands.h"
+#include "inference_worker.h"
+#include "jsonl_sink.h"
+#include "jsonl_writer.h"
+#include "output_worker.h"
+#if defined(TLVLINK_HAVE_STREAM)
+#include "stream_sink.h"
+#endif
+#include "sources.h"
+#include "tlvlink/capture/sensor_models.h"
+#include "tlvlink/executor.h"
+#include "tlvlink/log.h"
+#include "tlvlink/model.h"
+#include "tlvlink/pipeline/frame_processor.h"
+#include "tlvlink/verify/golden.h"
+
+namespace tlvlink::daemon {
+
+TLV_LOG_CATEGORY(kLogDaemon, "daemon");
+
+struct Session::Impl {
+  DaemonConfig config;
+  std::unique_ptr<Model> model;
+  std::unique_ptr<Executor> executor;
+  std::unique_ptr<pipeline::FrameProcessor> processor;
+  internal::Doorbell doorbell;
+  std::vector<std::unique_ptr<internal::FrameRing>> rings;
+  std::unique_ptr<internal::OutputQueue> queue;
+  internal::CommandQueue commands;
+  internal::OutputNames names;
+  std::vector<std::unique_ptr<internal::OutputSink>> sinks;
+  std::vector<std::unique_ptr<internal::CaptureWorker>> captures;
+  std::unique_ptr<internal::InferenceWorker> inference;
+  std::unique_ptr<internal::OutputWorker> output;
+  std::atomic<bool> capture_stop{false}, inference_stop{false}, output_stop{false};
+  std::atomic<bool> limit{false};
+  std::vector<std::thread> capture_threads;
+  std::thread inference_thread, output_thread;
+  bool stopped = false;
+  SessionTotals totals;
+};
+
+namespace {
+
+Result<std::unique_ptr<Executor>> make(const Model& m, const DaemonConfig& c) {
+  TLV_ASSIGN_OR_RETURN(const ExecutorKind kind, parse_executor_kind(c.executor));
+  ExecutorOptions o;
+  o.threads = c.threads;
+  return make_executor(m, kind, o);
+}
+
+internal::OutputNames names(const DaemonConfig& c, const pipeline::FrameProcessor& p) {
+  internal::OutputNames n;
+  for (const SensorConfig& s : c.sensors) n.sensors.push_back(s.name);
+  for (const heads::HeadResult& r : p.heads().results()) {
+    internal::OutputNames::Head h;
+    h.name = std::string(r.name);
+    h.kind = heads::head_kind_name(r.kind);
+    for (std::string_view l : r.labels) h.labels.emplace_back(l);
+    n.heads.push_back(std::move(h));
+  }
+  n.grasp_head = std::string(p.heads().grasp_name());
+  return n;
+}
+
+}  // namespace
+
+Session::Session(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Session::~Session() { stop(); }
+
+Result<std::unique_ptr<Session>> Session::start(const DaemonConfig& config) {
+  TLV_ASSIGN_OR_RETURN(auto sources, internal::make_sources(config));
+  return start_with_sources(config, std::move(sources));
+}
+
+Result<std::unique_ptr<Session>> Session::start_with_sources(
+    const DaemonConfig& config, std::vector<std::unique_ptr<capture::FrameSource>> sources) {
+  TLV_ENSURE(sources.size() == config.sensors.size(), ErrorCode::kInvalidArgument,
+             "%zu sources for %zu sensors", sources.size(), config.sensors.size());
+  auto impl = std::make_unique<Impl>();
+  Impl& s = *impl;
+  s.config = config;
+  auto model = Model::load_file(config.model.c_str());
+  if (!model.ok()) return model.error().with_context("model %s", config.model.c_str());
+  s.model = std::move(model).value();
+  TLV_ASSIGN_OR_RETURN(s.executor, make(*s.model, config));
+  if (config.verify_model) {
+    // The start-up self-test: the model's golden pairs on this board's executor.
+    auto report = verify::verify_golden(*s.model, *s.executor);
+    if (!report.ok()) return report.error().with_context("verifying %s", config.model.c_str());
+    TLV_ENSURE(report->pass, ErrorCode::kModelChecksum,
+               "%s: golden pairs do not match on the %s executor (max error %.4g > %.4g)",
+               config.model.c_str(), executor_kind_name(s.executor->kind()),
+               report->pairs.back().comparison.max_abs_error,
+               report->pairs.back().comparison.tolerance);
+  }
+  std::vector<pipeline::SensorSetup> setups;
+  for (const SensorConfig& c : config.sensors) {
+    setups.push_back({c.name, c.view.width, c.view.height, 3, c.finger});
+  }
+  TLV_ASSIGN_OR_RETURN(s.processor, pipeline::FrameProcessor::create(*s.model, *s.executor, setups,
+                                                                       config.processing));
+  s.queue = std::make_unique<internal::OutputQueue>(config.output_queue);
+  s.names = names(config, *s.processor);
+  for (const std::string& o : config.outputs) {
+    if (o.rfind("jsonl:", 0) == 0) {
+      TLV_ASSIGN_OR_RETURN(internal::JsonlWriter writer, internal::JsonlWriter::open(o.substr(6), s.names));
+      s.sinks.push_back(std::make_unique<internal::JsonlSink>(std::move(writer)));
+      continue;
+    }
+#if defined(TLVLINK_HAVE_STREAM)
+    TLV_ASSIGN_OR_RETURN(auto stream, internal::StreamSink::open(o, config, *s.model, s.names, s.commands));
+    s.sinks.push_back(std::move(stream));
+#else
+    return Error::make(ErrorCode::kInvalidArgument,
+                       "output '%s': this tlvlinkd was built without the stream link "
+                       "(TLVLINK_WITH_SERIAL=OFF)", o.c_str());
+#endif
+  }
+  std::vector<internal::OutputSink*> sinks;
+  for (auto& sink : s.sinks) sinks.push_back(sink.get());
+  std::vector<internal::FrameRing*> rings;
+  for (size_t i = 0; i < config.sensors.size(); ++i) {
+    const SensorConfig& c = config.sensors[i];
+    // The decoder for what the source negotiated (it may differ from the configured size when
+    // accept_other_size is set).
+    const image::FrameFormat& format = sources[i]->stats().connected ? sources[i]->format() : c.format;
+    auto decoder = image::FrameDecoder::create(format, c.view);
+    if (!decoder.ok()) return decoder.error().with_context("sensor '%s'", c.name.c_str());
+    s.rings.push_back(std::make_unique<internal::FrameRing>(
+        config.queue_frames, decoder->output_bytes(), s.doorbell));
+    rings.push_back(s.rings.back().get());
+    s.captures.push_back(std::make_unique<internal::CaptureWorker>(
+        static_cast<int32_t>(i), c.name, std::move(sources[i]), std::move(decoder).value(),
+        *s.rings.back(), *s.queue, s.capture_stop));
+  }
+  s.inference = std::make_unique<internal::InferenceWorker>(
+      *s.processor, rings, setups, s.doorbell, *s.queue, s.commands, s.inference_stop, s.limit,
+      config.max_frames);
+  s.output = std::make_unique<internal::OutputWorker>(sinks, s.names, *s.queue, s.captures, *s.inference,
+                                                      rings, config.status_interval_ms,
+                                                      config.status_line, s.output_stop);
+  s.output_thread = std::thread([&s] { s.output->run(); });
+  s.inference_thread = std::thread([&s] { s.inference->run(); });
+  for (auto& c : s.captures) s.capture_threads.emplace_back([w = c.get()] { w->run(); });
+  TLV_LOG(kLogDaemon, kInfo, "streaming %zu sensor(s) into %s (%s executor, %d thread(s))",
+          config.sensors.size(), config.model.c_str(), executor_kind_name(s.executor->kind()),
+          config.threads);
+  return std::unique_ptr<Session>(new Session(std::move(impl)));
+}
+
+bool Session::limit_reached() const { return impl_->limit.load(); }
+
+uint64_t Session::frames_processed() const { return impl_->inference->snapshot().counters.frames; }
+
+bool Session::command(std::string_view line) {
+  internal::Command c;
+  if (!internal::parse_command(line, internal::monotonic_ns(), c)) return false;
+  return impl_->commands.push(c);
+}
+
+SessionTotals Session::stop() {
+  Impl& s = *impl_;
+  if (s.stopped) return s.totals;
+  s.stopped = true;
+  // Capture first; then every frame already decoded is processed; then every record written.
+  s.capture_stop = true;
+  for (std::thread& t : s.capture_threads) t.join();
+  s.inference_stop = true;
+  s.inference_thread.join();
+  s.output_stop = true;
+  s.queue->close();
+  s.output_thread.join();
+  s.output->print_summary(stderr);
+  const internal::RunTotals r = s.output->totals();
+  s.totals = {r.frames,       r.encoded,       r.gated,          r.grasps,
+              r.grasps_not_computed, r.drops_stale, r.drops_sequence, r.drops_queue,
+              r.drops_output, r.bad_frames,    r.decode_errors,  r.inference_errors,
+              r.write_errors, r.seconds,       r.p50_ms[internal::kTotal],
+              r.p99_ms[internal::kTotal],      r.peak_rss_kb};
+  return s.totals;
+}
+
+}  // namespace tlvlink::daemon

@@ -1,0 +1,235 @@
+// The V4L2 source's frame loop: newest-frame delivery, the dequeue watchdog and outages with
+// bounded reconnection. Nothing here allocates while the device streams.
+#include "tlvlink/capture/v4l2_source.h"
+
+#include <linux/videodev2.h>
+#include <poll.h>
+
+#include <cstring>
+
+#include "v4l2_internal.h"
+
+namespace tlvlink::capture {
+
+using internal::monotonic_ns;
+using internal::xioctl;
+
+namespace {
+
+constexpr int64_t kMs = 1000000;
+
+int64_t timestamp_of(const v4l2_buffer& b, SourceStats& stats, int64_t dequeued_ns) {
+  if ((b.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC) {
+    return static_cast<int64_t>(b.timestamp.tv_sec) * 1000000000 +
+           static_cast<int64_t>(b.timestamp.tv_usec) * 1000;
+  }
+  stats.driver_timestamps = false;  // unknown or copied clock: the dequeue time is the best bound
+  return dequeued_ns;
+}
+
+// Ends the stream and begins an outage; the returned error is what next() reports.
+Error begin_outage(V4l2Source::State& s, const char* why, int err) {
+  internal::close_device(s);
+  const int64_t now = monotonic_ns();
+  ++s.stats.disconnects;
+  s.outage_start_ns = now;
+  s.backoff_ms = s.config.backoff_initial_ms;
+  s.next_attempt_ns = now + s.backoff_ms * kMs;
+  return Error::make(ErrorCode::kCaptureDisconnected, "%s: %s%s%s; reconnecting", s.name, why,
+                     err ? ": " : "", err ? std::strerror(err) : "");
+}
+
+void end_outage(V4l2Source::State& s, int64_t now) {
+  s.closed_outage_ns += now - s.outage_start_ns;
+  s.stats.outage_ns = s.closed_outage_ns;
+}
+
+// While disconnected: reopen attempts with doubling backoff until deadline_ns. Ok once streaming.
+Status reconnect(V4l2Source::State& s, int64_t deadline_ns) {
+  for (;;) {
+    int64_t now = monotonic_ns();
+    s.stats.outage_ns = s.closed_outage_ns + (now - s.outage_start_ns);
+    if (now >= s.next_attempt_ns) {
+      Status st = internal::open_device(s);
+      now = monotonic_ns();
+      if (st.ok()) {
+        end_outage(s, now);
+        ++s.stats.reconnects;
+        return Status();
+      }
+      ++s.stats.reconnect_attempts;
+      s.last_reopen_error = st.error();
+      s.backoff_ms =
+          s.backoff_ms * 2 > s.config.backoff_max_ms ? s.config.backoff_max_ms : s.backoff_ms * 2;
+      s.next_attempt_ns = now + s.backoff_ms * kMs;
+    }
+    if (s.next_attempt_ns > deadline_ns) {
+      internal::sleep_until_ns(deadline_ns);
+      now = monotonic_ns();
+      s.stats.outage_ns = s.closed_outage_ns + (now - s.outage_start_ns);
+      const char* reason = s.last_reopen_error.code() == ErrorCode::kOk
+                               ? "not reopened yet"
+                               : s.last_reopen_error.message();
+      return Error::make(
+          ErrorCode::kCaptureDisconnected,
+          "%s: disconnected for %lld ms, %llu reopen attempts failed, next in %lld ms: %s", s.name,
+          static_cast<long long>((now - s.outage_start_ns) / kMs),
+          static_cast<unsigned long long>(s.stats.reconnect_attempts),
+          static_cast<long long>((s.next_attempt_ns - now) / kMs), reason);
+    }
+    internal::sleep_until_ns(s.next_attempt_ns);
+  }
+}
+
+bool requeue(V4l2Source::State& s, uint32_t index, int& err) {
+  v4l2_buffer b{};
+  b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  b.memory = V4L2_MEMORY_MMAP;
+  b.index = index;
+  err = xioctl(s.fd, VIDIOC_QBUF, &b);
+  return err == 0;
+}
+
+}  // namespace
+
+V4l2Source::V4l2Source(std::unique_ptr<State> state) : state_(std::move(state)) {}
+V4l2Source::~V4l2Source() {
+  stop();
+}
+
+Status V4l2Source::start() {
+  State& s = *state_;
+  if (s.started) return Status();
+  s.stats = SourceStats();
+  s.closed_outage_ns = 0;
+  s.last_reopen_error = Error();
+  Status st = internal::open_device(s);
+  if (!st.ok()) {
+    if (!s.config.wait_for_device || st.error().code() != ErrorCode::kCaptureNoDevice) return st;
+    // Absent at start and allowed to be: an outage from the start, first attempt right away.
+    const int64_t now = monotonic_ns();
+    s.outage_start_ns = now;
+    s.backoff_ms = s.config.backoff_initial_ms;
+    s.next_attempt_ns = now;
+    s.last_reopen_error = st.error();
+  }
+  s.started = true;
+  return Status();
+}
+
+void V4l2Source::stop() {
+  State& s = *state_;
+  if (!s.started) return;
+  if (!s.stats.connected) end_outage(s, monotonic_ns());
+  internal::close_device(s);
+  s.started = false;
+}
+
+void V4l2Source::release() {
+  State& s = *state_;
+  if (s.held < 0 || s.fd < 0) return;
+  int err = 0;
+  if (!requeue(s, static_cast<uint32_t>(s.held), err)) s.pending_errno = err;
+  s.held = -1;
+}
+
+Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
+  State& s = *state_;
+  if (!s.started) return Error::make(ErrorCode::kInvalidState, "%s: next() before start()", s.name);
+  release();
+  const int64_t deadline = monotonic_ns() + (timeout_ms > 0 ? timeout_ms : 0) * kMs;
+  if (s.pending_errno != 0) return begin_outage(s, "VIDIOC_QBUF failed", s.pending_errno);
+  if (!s.stats.connected) TLV_TRY(reconnect(s, deadline));
+
+  for (;;) {
+    // Drain everything ready; keep the newest good frame, give the others back at once.
+    int newest = -1;
+    uint32_t stale = 0;
+    CapturedFrame frame;
+    for (;;) {
+      v4l2_buffer b{};
+      b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+      b.memory = V4L2_MEMORY_MMAP;
+      const int err = xioctl(s.fd, VIDIOC_DQBUF, &b);
+      if (err == EAGAIN) break;
+      if (err != 0 || b.index >= s.buffer_count) {
+        return begin_outage(s, "VIDIOC_DQBUF failed", err ? err : EINVAL);
+      }
+      const int64_t now = monotonic_ns();
+      s.last_frame_ns = now;
+      const internal::MappedBuffer& m = s.buffers[b.index];
+      RawFrame raw{{m.data, b.bytesused <= m.length ? b.bytesused : m.length},
+                   b.sequence,
+                   timestamp_of(b, s.stats, now),
+                   (b.flags & V4L2_BUF_FLAG_ERROR) != 0};
+      int qerr = 0;
+      if (s.accounting.admit(raw, s.format) == Admission::kDeliverable) {
+        if (newest >= 0) {
+          ++stale;
+          if (!requeue(s, static_cast<uint32_t>(newest), qerr))
+            return begin_outage(s, "VIDIOC_QBUF failed", qerr);
+        }
+        newest = static_cast<int>(b.index);
+        frame.bytes = raw.bytes;
+        frame.sequence = s.accounting.sequence();
+        frame.timestamp_ns = raw.timestamp_ns;
+      } else if (!requeue(s, b.index, qerr)) {
+        return begin_outage(s, "VIDIOC_QBUF failed", qerr);
+      }
+    }
+    if (newest >= 0) {
+      s.accounting.count_stale(stale);
+      s.accounting.count_delivered();
+      s.held = newest;
+      frame.format = s.format;
+      frame.skipped_before = stale;
+      return frame;
+    }
+
+    const int64_t now = monotonic_ns();
+    const int64_t watchdog_at = s.last_frame_ns + static_cast<int64_t>(s.watchdog_ms) * kMs;
+    if (now >= watchdog_at) {
+      ++s.stats.stalls;
+      return begin_outage(s, "no frame within the watchdog (device stalled)", 0);
+    }
+    if (now >= deadline) {
+      ++s.stats.timeouts;
+      return Error::make(ErrorCode::kCaptureTimeout, "%s: no frame within %d ms", s.name,
+                         timeout_ms);
+    }
+    const int64_t until = deadline < watchdog_at ? deadline : watchdog_at;
+    pollfd p{s.fd, POLLIN, 0};
+    const int rc = ::poll(&p, 1, static_cast<int>((until - now + kMs - 1) / kMs));
+    if (rc < 0 && errno != EINTR) return begin_outage(s, "poll failed", errno);
+    if (rc > 0 && (p.revents & (POLLERR | POLLHUP | POLLNVAL)) && !(p.revents & POLLIN)) {
+      // An unregistered node (unplugged) polls POLLERR|POLLHUP; so does a queue in error state
+      // or one that stopped streaming. All our buffers are queued here, so none of it passes.
+      return begin_outage(
+          s, (p.revents & POLLHUP) ? "POLLHUP (device gone)" : "POLLERR (stream failed)", 0);
+    }
+  }
+}
+
+const image::FrameFormat& V4l2Source::format() const {
+  return state_->format;
+}
+const SourceStats& V4l2Source::stats() const {
+  return state_->stats;
+}
+const char* V4l2Source::name() const {
+  return state_->name;
+}
+const DeviceInfo& V4l2Source::device() const {
+  return state_->device;
+}
+const std::vector<AppliedControl>& V4l2Source::applied_controls() const {
+  return state_->applied;
+}
+uint32_t V4l2Source::buffer_count() const {
+  return state_->buffer_count;
+}
+size_t V4l2Source::buffer_bytes() const {
+  return state_->buffers[0].length;
+}
+
+}  // namespace tlvlink::capture

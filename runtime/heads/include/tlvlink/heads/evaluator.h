@@ -1,0 +1,73 @@
+#pragma once
+// A model's stored heads evaluated on its embeddings, allocation-free per frame: the per-frame
+// heads (linear probes and zero-shot prompt matrices) on one embedding, and the grasp head on the
+// embeddings of both fingers that its layout names.
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "tlvlink/error.h"
+#include "tlvlink/heads/grasp_layout.h"
+#include "tlvlink/metadata.h"
+
+namespace tlvlink::heads {
+
+enum class HeadKind : uint8_t { kProbe = 0, kZeroShot = 1 };
+const char* head_kind_name(HeadKind kind);  // "probe", "zero-shot"
+
+// One per-frame head's result; spans point into the evaluator (valid until the next evaluate)
+// and names/labels into the model (valid while the Model lives).
+struct HeadResult {
+  std::string_view name;
+  HeadKind kind = HeadKind::kProbe;
+  std::span<const std::string_view> labels;
+  std::span<const float> logits, probabilities;
+  int32_t top = 0;  // argmax
+  // The head's trust record in the model (never null; `present` false when unmeasured):
+  // head_trust.h decides from it whether the head is shown by default.
+  const HeadTrust* trust = nullptr;
+};
+
+// Whether a per-frame head is reported when none are named (the daemon's default output): a
+// probe head that its trust record does not mark untrusted (head_trust.h). Heads without a
+// record (older model files) are reported; zero-shot heads only when named.
+bool reported_by_default(const HeadResult& result);
+
+class HeadEvaluator {
+ public:
+  HeadEvaluator() = default;
+  HeadEvaluator(const HeadEvaluator&) = delete;  // results_ point into scratch_
+  HeadEvaluator& operator=(const HeadEvaluator&) = delete;
+  HeadEvaluator(HeadEvaluator&&) = default;  // a moved vector keeps its buffer
+  HeadEvaluator& operator=(HeadEvaluator&&) = default;
+
+  // Borrows `metadata` (the Model's) for the evaluator's lifetime. Allocates every buffer.
+  // Checks each head's shapes against the embedding dimension (kModelInvalidMetadata).
+  static Result<HeadEvaluator> create(const Metadata& metadata);
+
+  int32_t embedding_dim() const { return dim_; }
+
+  // The per-frame heads on one embedding (embedding_dim values). No allocation.
+  Status evaluate(std::span<const float> embedding);
+  std::span<const HeadResult> results() const { return results_; }
+
+  // The grasp head, if the model has one: the features its layout names, in layout order.
+  bool has_grasp() const { return !grasp_layout_.empty(); }
+  std::string_view grasp_name() const;
+  const HeadTrust& grasp_trust() const { return metadata_->grasp_head.trust; }
+  std::span<const GraspFeature> grasp_layout() const { return grasp_layout_; }
+  // p(success) from one embedding per layout entry (each embedding_dim values). No allocation.
+  Result<float> grasp_probability(std::span<const std::span<const float>> features) const;
+
+ private:
+  const Metadata* metadata_ = nullptr;
+  int32_t dim_ = 0;
+  std::vector<HeadResult> results_;
+  std::vector<float> scratch_;  // logits then probabilities of every head, back to back
+  std::vector<size_t> offsets_;  // where each head's logits start in scratch_
+  std::vector<GraspFeature> grasp_layout_;
+};
+
+}  // namespace tlvlink::heads

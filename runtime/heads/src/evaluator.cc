@@ -1,0 +1,110 @@
+#include "tlvlink/heads/evaluator.h"
+
+#include "tlvlink/head_trust.h"
+#include "tlvlink/heads/head_math.h"
+
+namespace tlvlink::heads {
+
+const char* head_kind_name(HeadKind kind) {
+  return kind == HeadKind::kZeroShot ? "zero-shot" : "probe";
+}
+
+bool reported_by_default(const HeadResult& result) {
+  return result.kind == HeadKind::kProbe &&
+         (result.trust == nullptr ||
+          assess_head(*result.trust).level != HeadTrustLevel::kUntrusted);
+}
+
+Result<HeadEvaluator> HeadEvaluator::create(const Metadata& m) {
+  TLV_ENSURE(m.embedding_dim > 0, ErrorCode::kModelInvalidMetadata,
+             "the model declares no embedding dimension: it has no heads to evaluate");
+  HeadEvaluator h;
+  h.metadata_ = &m;
+  h.dim_ = m.embedding_dim;
+  const auto dim = static_cast<size_t>(m.embedding_dim);
+  size_t values = 0;
+  for (const LinearHead& l : m.linear_heads) {
+    TLV_ENSURE(!l.labels.empty() && l.weight.size() == l.labels.size() * dim &&
+                   l.bias.size() == l.labels.size(),
+               ErrorCode::kModelInvalidMetadata,
+               "head '%.*s': %zu labels, %zu weights, %zu biases for embedding dim %zu",
+               static_cast<int>(l.name.size()), l.name.data(), l.labels.size(), l.weight.size(),
+               l.bias.size(), dim);
+    values += 2 * l.labels.size();
+  }
+  for (const ZeroShotHead& z : m.zero_shot_heads) {
+    TLV_ENSURE(!z.class_names.empty() && z.prompt_matrix.size() == z.class_names.size() * dim,
+               ErrorCode::kModelInvalidMetadata,
+               "zero-shot head '%.*s': %zu classes, %zu prompt values for embedding dim %zu",
+               static_cast<int>(z.name.size()), z.name.data(), z.class_names.size(),
+               z.prompt_matrix.size(), dim);
+    values += 2 * z.class_names.size();
+  }
+  h.scratch_.assign(values, 0.0f);
+  size_t at = 0;
+  const auto add = [&](std::string_view name, HeadKind kind,
+                       std::span<const std::string_view> labels, const HeadTrust& trust) {
+    HeadResult r;
+    r.name = name;
+    r.kind = kind;
+    r.labels = labels;
+    r.trust = &trust;
+    h.offsets_.push_back(at);
+    r.logits = std::span<const float>(h.scratch_).subspan(at, labels.size());
+    r.probabilities = std::span<const float>(h.scratch_).subspan(at + labels.size(), labels.size());
+    at += 2 * labels.size();
+    h.results_.push_back(r);
+  };
+  for (const LinearHead& l : m.linear_heads) add(l.name, HeadKind::kProbe, l.labels, l.trust);
+  for (const ZeroShotHead& z : m.zero_shot_heads) add(z.name, HeadKind::kZeroShot, z.class_names, z.trust);
+  if (m.grasp_head.present) {
+    TLV_ASSIGN_OR_RETURN(h.grasp_layout_, parse_grasp_layout(m.grasp_head.feature_layout));
+    TLV_ENSURE(m.grasp_head.weight.size() == h.grasp_layout_.size() * dim,
+               ErrorCode::kModelInvalidMetadata,
+               "grasp head has %zu weights; layout '%.*s' with embedding dim %zu needs %zu",
+               m.grasp_head.weight.size(), static_cast<int>(m.grasp_head.feature_layout.size()),
+               m.grasp_head.feature_layout.data(), dim, h.grasp_layout_.size() * dim);
+  }
+  return h;
+}
+
+Status HeadEvaluator::evaluate(std::span<const float> e) {
+  TLV_ENSURE(e.size() == static_cast<size_t>(dim_), ErrorCode::kShapeMismatch,
+             "embedding has %zu values, the heads read %d", e.size(), dim_);
+  const size_t linear = metadata_->linear_heads.size();
+  for (size_t i = 0; i < results_.size(); ++i) {
+    HeadResult& r = results_[i];
+    const size_t n = r.labels.size();
+    const std::span<float> l(scratch_.data() + offsets_[i], n);
+    const std::span<float> p(scratch_.data() + offsets_[i] + n, n);
+    if (i < linear) {
+      const LinearHead& h = metadata_->linear_heads[i];
+      linear_logits(h.weight, h.bias, e, l);
+    } else {
+      const ZeroShotHead& z = metadata_->zero_shot_heads[i - linear];
+      zero_shot_logits(z.prompt_matrix, z.logit_scale, e, l);
+    }
+    r.top = softmax(l, p);
+  }
+  return {};
+}
+
+std::string_view HeadEvaluator::grasp_name() const {
+  return has_grasp() ? metadata_->grasp_head.name : std::string_view();
+}
+
+Result<float> HeadEvaluator::grasp_probability(
+    std::span<const std::span<const float>> features) const {
+  TLV_ENSURE(has_grasp(), ErrorCode::kInvalidState, "the model has no grasp head");
+  TLV_ENSURE(features.size() == grasp_layout_.size(), ErrorCode::kShapeMismatch,
+             "grasp head reads %zu embeddings (%.*s), got %zu", grasp_layout_.size(),
+             static_cast<int>(metadata_->grasp_head.feature_layout.size()),
+             metadata_->grasp_head.feature_layout.data(), features.size());
+  for (const std::span<const float> f : features) {
+    TLV_ENSURE(f.size() == static_cast<size_t>(dim_), ErrorCode::kShapeMismatch,
+               "grasp feature of %zu values, the head reads %d per embedding", f.size(), dim_);
+  }
+  return sigmoid(grasp_logit(metadata_->grasp_head.weight, metadata_->grasp_head.bias, features));
+}
+
+}  // namespace tlvlink::heads

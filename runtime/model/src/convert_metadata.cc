@@ -1,0 +1,184 @@
+// Metadata: input spec against graph input 0, heads against the embedding, golden pairs.
+
+#include <cmath>
+
+#include "model_internal.h"
+
+namespace tlvlink::model_internal {
+namespace {
+
+std::string_view view(const flatbuffers::String* s) {
+  return s == nullptr ? std::string_view() : std::string_view(s->c_str(), s->size());
+}
+
+std::span<const float> floats(const flatbuffers::Vector<float>* v) {
+  return v == nullptr ? std::span<const float>() : std::span<const float>(v->data(), v->size());
+}
+
+Status check_finite_values(std::span<const float> values, const char* what, std::string_view name) {
+  for (size_t i = 0; i < values.size(); ++i) {
+    TLV_ENSURE(std::isfinite(values[i]), ErrorCode::kModelInvalidMetadata,
+               "%s '%.*s' value %zu is not finite", what, static_cast<int>(name.size()),
+               name.data(), i);
+  }
+  return {};
+}
+
+std::vector<std::string_view> strings(const flatbuffers::Vector<flatbuffers::Offset<flatbuffers::String>>* v) {
+  std::vector<std::string_view> out;
+  if (v == nullptr) return out;
+  out.reserve(v->size());
+  for (uint32_t i = 0; i < v->size(); ++i) out.push_back(view(v->Get(i)));
+  return out;
+}
+
+Status convert_input_spec(const fb::InputSpec* in, const Graph& graph, InputSpec& out) {
+  if (in == nullptr) return {};
+  out.height = in->height();
+  out.width = in->width();
+  out.channels = in->channels();
+  out.crop_x = in->crop_x(); out.crop_y = in->crop_y();
+  out.crop_w = in->crop_w(); out.crop_h = in->crop_h();
+  out.background_subtraction = in->background_subtraction();
+  const int order = static_cast<int>(in->channel_order());
+  const int filter = static_cast<int>(in->resize_filter());
+  TLV_ENSURE(order >= 0 && order <= 2 && filter >= 0 && filter <= 2, ErrorCode::kModelInvalidMetadata,
+             "input spec has unknown channel order %d or resize filter %d", order, filter);
+  out.channel_order = static_cast<ChannelOrder>(order);
+  out.resize_filter = static_cast<ResizeFilter>(filter);
+  TLV_ENSURE(out.height >= 1 && out.width >= 1 && (out.channels == 1 || out.channels == 3),
+             ErrorCode::kModelInvalidMetadata, "input spec %dx%dx%d: need positive size, 1 or 3 channels",
+             out.height, out.width, out.channels);
+  TLV_ENSURE(out.crop_x >= 0 && out.crop_y >= 0 && out.crop_w >= 0 && out.crop_h >= 0 &&
+             (out.crop_w == 0) == (out.crop_h == 0), ErrorCode::kModelInvalidMetadata,
+             "input spec crop %d,%d %dx%d is invalid", out.crop_x, out.crop_y, out.crop_w, out.crop_h);
+  out.mean = floats(in->mean());
+  out.std = floats(in->std());
+  const auto channels = static_cast<size_t>(out.channels);
+  TLV_ENSURE(out.mean.size() == channels && out.std.size() == channels, ErrorCode::kModelInvalidMetadata,
+             "input spec has %zu means and %zu stds for %d channels", out.mean.size(),
+             out.std.size(), out.channels);
+  for (size_t c = 0; c < channels; ++c) {
+    TLV_ENSURE(std::isfinite(out.mean[c]) && std::isfinite(out.std[c]) && out.std[c] > 0.0f,
+               ErrorCode::kModelInvalidMetadata, "input spec channel %zu mean %g std %g invalid", c,
+               static_cast<double>(out.mean[c]), static_cast<double>(out.std[c]));
+  }
+  const Shape& s = graph.tensor(graph.inputs[0]).shape;
+  TLV_ENSURE(s.rank == 4 && s[1] == out.height && s[2] == out.width && s[3] == out.channels,
+             ErrorCode::kModelInvalidMetadata,
+             "input spec %dx%dx%d does not match graph input 0 %s", out.height, out.width,
+             out.channels, shape_label(s).text);
+  return {};
+}
+
+// Trust record of a head: fractions must be finite and in [0, 1], at least one item scored.
+Status convert_trust(const fb::HeadTrust* t, const char* what, std::string_view name,
+                     HeadTrust& out) {
+  if (t == nullptr) return {};
+  out = {true, t->accuracy(), t->majority(), t->n(), view(t->test_set())};
+  const bool fractions = std::isfinite(out.accuracy) && std::isfinite(out.majority) &&
+                         out.accuracy >= 0.0f && out.accuracy <= 1.0f && out.majority >= 0.0f &&
+                         out.majority <= 1.0f;
+  TLV_ENSURE(fractions && out.n >= 1, ErrorCode::kModelInvalidMetadata,
+             "%s '%.*s' trust record: accuracy %g and majority %g must be in [0, 1], n %lld >= 1",
+             what, static_cast<int>(name.size()), name.data(), static_cast<double>(out.accuracy),
+             static_cast<double>(out.majority), static_cast<long long>(out.n));
+  return {};
+}
+
+Status convert_heads(const fb::Metadata& m, Metadata& out) {
+  const auto dim = static_cast<size_t>(out.embedding_dim);
+  if (m.linear_heads() != nullptr) {
+    for (uint32_t i = 0; i < m.linear_heads()->size(); ++i) {
+      const fb::LinearHead* h = m.linear_heads()->Get(i);
+      LinearHead head{view(h->name()), strings(h->labels()), floats(h->weight()),
+                      floats(h->bias()), {}};
+      const size_t n = head.labels.size();
+      TLV_ENSURE(n >= 1 && dim >= 1 && head.weight.size() == n * dim && head.bias.size() == n,
+                 ErrorCode::kModelInvalidMetadata,
+                 "linear head '%.*s': %zu labels need %zu weights and %zu biases (embedding %zu), "
+                 "has %zu and %zu", static_cast<int>(head.name.size()), head.name.data(), n,
+                 n * dim, n, dim, head.weight.size(), head.bias.size());
+      TLV_TRY(check_finite_values(head.weight, "linear head", head.name));
+      TLV_TRY(check_finite_values(head.bias, "linear head", head.name));
+      TLV_TRY(convert_trust(h->trust(), "linear head", head.name, head.trust));
+      out.linear_heads.push_back(std::move(head));
+    }
+  }
+  if (m.zero_shot_heads() != nullptr) {
+    for (uint32_t i = 0; i < m.zero_shot_heads()->size(); ++i) {
+      const fb::ZeroShotHead* h = m.zero_shot_heads()->Get(i);
+      ZeroShotHead head{view(h->name()), strings(h->class_names()), view(h->prompt_template()),
+                        floats(h->prompt_matrix()), h->logit_scale(), {}};
+      const size_t n = head.class_names.size();
+      TLV_ENSURE(n >= 1 && dim >= 1 && head.prompt_matrix.size() == n * dim &&
+                 std::isfinite(head.logit_scale) && head.logit_scale > 0,
+                 ErrorCode::kModelInvalidMetadata,
+                 "zero-shot head '%.*s': %zu classes need a %zux%zu prompt matrix (has %zu values) "
+                 "and a positive logit scale", static_cast<int>(head.name.size()), head.name.data(),
+                 n, n, dim, head.prompt_matrix.size());
+      TLV_TRY(check_finite_values(head.prompt_matrix, "zero-shot head", head.name));
+      TLV_TRY(convert_trust(h->trust(), "zero-shot head", head.name, head.trust));
+      out.zero_shot_heads.push_back(std::move(head));
+    }
+  }
+  if (const fb::GraspHead* g = m.grasp_head(); g != nullptr) {
+    GraspHead& head = out.grasp_head;
+    head = {true, view(g->name()), view(g->feature_layout()), floats(g->weight()), g->bias(), {}};
+    TLV_ENSURE(dim >= 1 && !head.weight.empty() && head.weight.size() % dim == 0 &&
+               std::isfinite(head.bias), ErrorCode::kModelInvalidMetadata,
+               "grasp head has %zu weights, not a multiple of the embedding dimension %zu",
+               head.weight.size(), dim);
+    TLV_TRY(check_finite_values(head.weight, "grasp head", head.name));
+    TLV_TRY(convert_trust(g->trust(), "grasp head", head.name, head.trust));
+  }
+  return {};
+}
+
+Status convert_golden(const fb::Metadata& m, Buffers buffers, const Graph& graph, Metadata& out) {
+  if (m.golden() == nullptr) return {};
+  const size_t in_bytes = graph.tensor(graph.inputs[0]).bytes();
+  const size_t out_bytes = graph.tensor(graph.outputs[0]).bytes();
+  for (uint32_t i = 0; i < m.golden()->size(); ++i) {
+    const fb::GoldenPair* g = m.golden()->Get(i);
+    TLV_ENSURE(g->input() < buffers.size() && g->output() < buffers.size(),
+               ErrorCode::kModelInvalidMetadata, "golden pair %u refers to buffers %u/%u of %zu", i,
+               g->input(), g->output(), buffers.size());
+    GoldenPair pair{buffers[g->input()], buffers[g->output()]};
+    TLV_ENSURE(pair.input.size() == in_bytes && pair.output.size() == out_bytes,
+               ErrorCode::kModelInvalidMetadata,
+               "golden pair %u has %zu/%zu bytes, graph input 0 / output 0 need %zu/%zu", i,
+               pair.input.size(), pair.output.size(), in_bytes, out_bytes);
+    out.golden.push_back(pair);
+  }
+  return {};
+}
+
+}  // namespace
+
+Status convert_metadata(const fb::Metadata* m, Buffers buffers, const Graph& graph, Metadata& out) {
+  TLV_ENSURE(m != nullptr, ErrorCode::kModelInvalidMetadata, "model has no metadata");
+  out.name = view(m->name());
+  TLV_TRY(convert_input_spec(m->input(), graph, out.input));
+  out.embedding_dim = m->embedding_dim();
+  out.embedding_output = m->embedding_output();
+  TLV_ENSURE(out.embedding_output >= 0 && static_cast<size_t>(out.embedding_output) < graph.outputs.size(),
+             ErrorCode::kModelInvalidMetadata, "embedding output %d, the graph has %zu outputs",
+             out.embedding_output, graph.outputs.size());
+  if (out.embedding_dim != 0) {
+    const Shape& s = graph.tensor(graph.outputs[static_cast<size_t>(out.embedding_output)]).shape;
+    TLV_ENSURE(out.embedding_dim > 0 && s.elements() / static_cast<size_t>(s[0]) ==
+                                            static_cast<size_t>(out.embedding_dim),
+               ErrorCode::kModelInvalidMetadata,
+               "embedding dimension %d does not match graph output %s", out.embedding_dim,
+               shape_label(s).text);
+  }
+  TLV_TRY(convert_heads(*m, out));
+  if (const fb::Provenance* p = m->provenance(); p != nullptr) {
+    out.provenance = {view(p->producer()), view(p->created_utc()), view(p->training()),
+                      view(p->quantization()), p->content_checksum()};
+  }
+  return convert_golden(*m, buffers, graph, out);
+}
+
+}  // namespace tlvlink::model_internal

@@ -1,0 +1,210 @@
+// Model::load: size limits -> aligned copy -> identifier -> flatbuffers Verifier -> version ->
+// tensors -> operators -> topology -> per-op semantics -> no dead operator -> metadata ->
+// checksum.
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <vector>
+
+#include "model_internal.h"
+#include "tlvlink/model.h"
+
+namespace tlvlink {
+
+using model_internal::Buffers;
+
+void Model::AlignedFree::operator()(std::byte* p) const { std::free(p); }
+
+namespace {
+
+constexpr size_t kAlignment = 16;  // constant data is used in place by the kernels
+
+// Activations are int8 per-tensor (quantization.md): the reference kernels read scale[0] and an
+// XNNPACK qint8 value has one scale, so a per-channel activation would run with wrong numbers on
+// one executor and be refused by the other. Only Conv2D / FullyConnected weights and bias may be
+// per-channel. Checked here, for every operand of every operator before its family validator
+// reads scale[0], rather than op by op (Conv2D / FC once let a per-channel input through).
+Status check_activation_quantization(const Graph& graph, size_t op_index) {
+  const Operator& op = graph.operators[op_index];
+  const bool has_weights = op.type == OpType::kConv2D || op.type == OpType::kFullyConnected;
+  const size_t activation_inputs = has_weights ? 1 : op.input_count;
+  for (size_t k = 0; k <= activation_inputs; ++k) {
+    const int32_t t = k < activation_inputs ? op.inputs[k] : op.output;
+    if (t == kNoTensor) continue;
+    const QuantParams& q = graph.tensor(t).quant;
+    TLV_ENSURE(!q.per_channel(), ErrorCode::kModelInvalidOperator,
+               "%s: %s %s is quantized per-channel (%zu scales along axis %d); activations "
+               "must be quantized per-tensor",
+               model_internal::op_label(graph, op_index).text,
+               k < activation_inputs ? "input" : "output",
+               model_internal::tensor_label(graph, t).text, q.scale.size(), q.axis);
+  }
+  return {};
+}
+
+// Every operator's result is read by a later operator or is a graph output. Neither the
+// converter nor the quantizer writes a dead operator (one is a sign of a damaged file); it would
+// cost time every frame, and XNNPACK (2022) drops the unread value but keeps the node writing
+// it, then asserts when creating the runtime (found by the loader fuzzer). Checked after the
+// per-operator validators, so a malformed operator still gets its own error.
+Status check_outputs_used(const Graph& graph) {
+  std::vector<bool> used(graph.tensors.size(), false);
+  for (int32_t t : graph.outputs) used[static_cast<size_t>(t)] = true;
+  for (const Operator& op : graph.operators) {
+    for (size_t k = 0; k < op.input_count; ++k) {
+      if (op.inputs[k] != kNoTensor) used[static_cast<size_t>(op.inputs[k])] = true;
+    }
+  }
+  for (size_t i = 0; i < graph.operators.size(); ++i) {
+    const int32_t out = graph.operators[i].output;
+    TLV_ENSURE(used[static_cast<size_t>(out)], ErrorCode::kModelInvalidOperator,
+               "%s writes %s, which no operator reads and which is not a graph output",
+               model_internal::op_label(graph, i).text,
+               model_internal::tensor_label(graph, out).text);
+  }
+  return {};
+}
+
+Status validate_operators(const Graph& graph) {
+  for (size_t i = 0; i < graph.operators.size(); ++i) {
+    TLV_TRY(check_activation_quantization(graph, i));
+    switch (graph.operators[i].type) {
+      case OpType::kConv2D:
+      case OpType::kFullyConnected:
+        TLV_TRY(model_internal::validate_conv_fc(graph, i));
+        break;
+      case OpType::kAdd:
+      case OpType::kMul:
+      case OpType::kClamp:
+      case OpType::kSigmoid:
+      case OpType::kQuantize:
+      case OpType::kDequantize:
+        TLV_TRY(model_internal::validate_elementwise(graph, i));
+        break;
+      default:
+        TLV_TRY(model_internal::validate_shaping(graph, i));
+        break;
+    }
+  }
+  // Inputs that some operator reads were checked with that operator (whose name is the better
+  // clue); this catches the ones none reads.
+  for (int32_t t : graph.inputs) {
+    const QuantParams& q = graph.tensor(t).quant;
+    TLV_ENSURE(!q.per_channel(), ErrorCode::kModelInvalidTensor,
+               "graph input %s is quantized per-channel (%zu scales along axis %d); activations "
+               "must be quantized per-tensor",
+               model_internal::tensor_label(graph, t).text, q.scale.size(), q.axis);
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
+                                           const LoadOptions& options) {
+  TLV_ENSURE(bytes.size() >= 8, ErrorCode::kModelMalformed,
+             "model file is %zu bytes: too short to be a tlvlink model", bytes.size());
+  TLV_ENSURE(bytes.size() <= kMaxModelBytes, ErrorCode::kModelMalformed,
+             "model file is %zu bytes, over the %zu-byte limit", bytes.size(), kMaxModelBytes);
+
+  std::unique_ptr<Model> model(new (std::nothrow) Model());
+  TLV_ENSURE(model != nullptr, ErrorCode::kOutOfMemory, "allocating the model");
+  const size_t padded = (bytes.size() + kAlignment - 1) / kAlignment * kAlignment;
+  model->data_.reset(static_cast<std::byte*>(std::aligned_alloc(kAlignment, padded)));
+  TLV_ENSURE(model->data_ != nullptr, ErrorCode::kOutOfMemory, "allocating %zu bytes for the model",
+             padded);
+  std::memcpy(model->data_.get(), bytes.data(), bytes.size());
+  std::memset(model->data_.get() + bytes.size(), 0, padded - bytes.size());
+  model->size_ = bytes.size();
+  const auto* raw = reinterpret_cast<const uint8_t*>(model->data_.get());
+
+  if (!fb::ModelBufferHasIdentifier(raw)) {
+    char id[5] = {};
+    for (int i = 0; i < 4; ++i) {
+      const char c = static_cast<char>(raw[4 + i]);
+      id[i] = (c >= 32 && c < 127) ? c : '?';
+    }
+    return Error::make(ErrorCode::kModelMalformed,
+                       "not a tlvlink model: file identifier is '%s', expected '%s'", id,
+                       fb::ModelIdentifier());
+  }
+  flatbuffers::Verifier verifier(raw, model->size_, /*max_depth=*/64,
+                                 /*max_tables=*/4 * (kMaxTensors + kMaxOperators));
+  TLV_ENSURE(fb::VerifyModelBuffer(verifier), ErrorCode::kModelMalformed,
+             "flatbuffers verification failed: the file is truncated or corrupt "
+             "(a table or vector points outside the %zu-byte file)", model->size_);
+
+  const fb::Model* root = fb::GetModel(raw);
+  model->schema_version_ = root->schema_version();
+  TLV_ENSURE(root->schema_version() == kSchemaVersion, ErrorCode::kModelVersion,
+             "model schema version %u, this runtime reads version %u", root->schema_version(),
+             kSchemaVersion);
+  TLV_ENSURE(root->graph() != nullptr, ErrorCode::kModelMalformed, "model has no graph");
+
+  // Buffer 0 is the empty "no data" buffer; every other buffer must be 16-byte aligned.
+  std::vector<std::span<const std::byte>> buffers;
+  if (root->buffers() != nullptr) {
+    buffers.reserve(root->buffers()->size());
+    for (flatbuffers::uoffset_t i = 0; i < root->buffers()->size(); ++i) {
+      const fb::Buffer* b = root->buffers()->Get(i);
+      if (b == nullptr || b->data() == nullptr || b->data()->size() == 0) {
+        buffers.emplace_back();
+        continue;
+      }
+      const auto* p = reinterpret_cast<const std::byte*>(b->data()->data());
+      TLV_ENSURE(reinterpret_cast<uintptr_t>(p) % kAlignment == 0, ErrorCode::kModelMalformed,
+                 "buffer %u is not %zu-byte aligned", i, kAlignment);
+      buffers.emplace_back(p, b->data()->size());
+    }
+  }
+  TLV_ENSURE(buffers.empty() || buffers[0].empty(), ErrorCode::kModelMalformed,
+             "buffer 0 must be empty (it means 'no data'), it holds %zu bytes", buffers[0].size());
+
+  const Buffers buffer_view(buffers);
+  Graph& graph = model->graph_;
+  TLV_TRY(model_internal::convert_tensors(*root->graph(), buffer_view, graph));
+  TLV_TRY(model_internal::convert_operators(*root->graph(), graph));
+  TLV_TRY(model_internal::validate_topology(*root->graph(), graph));
+  TLV_TRY(validate_operators(graph));
+  TLV_TRY(check_outputs_used(graph));
+  TLV_TRY(model_internal::convert_metadata(root->metadata(), buffer_view, graph, model->metadata_));
+
+  if (options.verify_checksum) {
+    const uint64_t expected = model->metadata_.provenance.content_checksum;
+    const uint64_t actual = content_checksum(buffer_view);
+    TLV_ENSURE(expected == actual, ErrorCode::kModelChecksum,
+               "constant data checksum is %016llx, the file records %016llx: weights were "
+               "modified or corrupted after the model was written",
+               static_cast<unsigned long long>(actual), static_cast<unsigned long long>(expected));
+  }
+  return model;
+}
+
+Result<std::unique_ptr<Model>> Model::load_file(const char* path, const LoadOptions& options) {
+  std::FILE* f = std::fopen(path, "rb");
+  TLV_ENSURE(f != nullptr, ErrorCode::kIo, "cannot open model file '%s': %s", path,
+             std::strerror(errno));
+  std::vector<std::byte> bytes;
+  std::byte chunk[1 << 16];
+  size_t n = 0;
+  bool too_big = false;
+  while ((n = std::fread(chunk, 1, sizeof(chunk), f)) > 0) {
+    if (bytes.size() + n > kMaxModelBytes) {
+      too_big = true;
+      break;
+    }
+    bytes.insert(bytes.end(), chunk, chunk + n);
+  }
+  const bool read_error = std::ferror(f) != 0;
+  std::fclose(f);
+  TLV_ENSURE(!read_error, ErrorCode::kIo, "error reading model file '%s'", path);
+  TLV_ENSURE(!too_big, ErrorCode::kModelMalformed, "model file '%s' exceeds the %zu-byte limit",
+             path, kMaxModelBytes);
+  auto result = load(bytes, options);
+  if (!result.ok()) return result.error().with_context("%s", path);
+  return result;
+}
+
+}  // namespace tlvlink

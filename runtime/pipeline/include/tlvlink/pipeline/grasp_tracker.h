@@ -1,0 +1,113 @@
+#pragma once
+// One grasp prediction per grasp, from both fingers' embeddings at the moments the model's grasp
+// head reads ("A.before,A.during,B.before,B.during"). Pure logic: frames and commands go in, a
+// decision per grasp comes out; the caller runs the encoder and the grasp head.
+//
+// Phases, per grasp:
+//   start    detected: both fingers touch, their contact onsets within onset_window
+//            commanded: the controller's "closed" mark
+//   before   each finger's first frame at or after start + settle
+//   during   each finger's first frame at or after (the later "before" frame + during_delay)
+//            detected, or (the controller's "lifting" mark + during_delay) commanded
+//   after    each finger's first frame at or after the later "during" frame + during_delay
+// Each finger's frames carry their own timestamps (two cameras are not synchronised): the two
+// frames of one moment must lie within pair_tolerance of each other, or the grasp is "not
+// computed" with the reason. So is a grasp whose finger stops sending frames (frame_timeout), a
+// finger that lets go before its frames were taken (detected), or a grasp superseded by a new
+// "closed" mark. Never a made-up value.
+//
+// The tracker stores the embeddings it needs (wants() tells the caller which frames must be
+// encoded even when contact gating would skip them). Made once; no allocation per frame.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "tlvlink/error.h"
+#include "tlvlink/heads/grasp_layout.h"
+#include "tlvlink/pipeline/predictions.h"
+
+namespace tlvlink::pipeline {
+
+struct GraspOptions {
+  enum class Mode : uint8_t { kDetected = 0, kCommanded = 1 };
+  Mode mode = Mode::kDetected;
+  int64_t onset_window_ns = 500'000'000;   // detected: both onsets within this make a grasp
+  int64_t settle_ns = 300'000'000;         // start -> "before"
+  int64_t during_delay_ns = 600'000'000;   // "before" (detected) or "lifting" (commanded) -> "during"
+  // The fingers' frames of one moment must lie this close. Each finger takes its first frame at
+  // or after the moment, so two unsynchronised cameras are up to one frame period apart: the
+  // default covers a 25 fps sensor (40 ms) plus jitter; a dropped frame exceeds it.
+  int64_t pair_tolerance_ns = 50'000'000;
+  int64_t frame_timeout_ns = 500'000'000;  // a finger silent this long past a moment: not computed
+};
+Status validate(const GraspOptions& options);
+const char* grasp_mode_name(GraspOptions::Mode mode);  // "detected", "commanded"
+
+class GraspTracker {
+ public:
+  static Result<GraspTracker> create(std::span<const heads::GraspFeature> layout,
+                                     int32_t embedding_dim, const GraspOptions& options);
+
+  // True when this finger's frame at t_ns will be taken for a moment: encode it.
+  bool wants(int32_t finger, int64_t t_ns) const;
+
+  // Every frame of both fingers, each finger's in time order. `embedding` is empty when the
+  // encoder did not run; `contact` is the contact gate's decision.
+  void on_frame(int32_t finger, uint64_t sequence, int64_t t_ns, bool contact,
+                std::span<const float> embedding);
+  // Time passes without frames (a camera gone): times out moments that are waiting.
+  void tick(int64_t now_ns);
+
+  // The controller's marks (commanded mode; ignored in detected mode, which returns false).
+  bool mark_closed(int64_t t_ns);
+  bool mark_lifting(int64_t t_ns);
+
+  // The oldest finished grasp: its record (computed = false with the reason, or true: ready for
+  // the grasp head, probability not yet set) and, when computed, its features in layout order
+  // (spans into the tracker, valid until the next take_finished). False when none is waiting.
+  // Up to kMaxFinished grasps wait; older ones beyond that are dropped and counted.
+  bool take_finished(GraspPrediction& out, std::span<const float> (&features)[kMaxGraspFeatures]);
+  static constexpr int32_t kMaxFinished = 4;
+  uint64_t finished_dropped() const { return finished_dropped_; }
+
+  uint64_t grasps_started() const { return next_id_ - 1; }
+
+ private:
+  enum class Phase : uint8_t { kIdle, kWaiting, kFinished };
+  struct Slot {
+    bool taken = false;
+    uint64_t sequence = 0;
+    int64_t t_ns = 0;
+  };
+
+  void start(int64_t t_ns);
+  void finish(bool computed, int64_t now_ns);
+  [[gnu::format(printf, 3, 4)]] void fail(int64_t now_ns, const char* reason_format, ...);
+  int64_t target(heads::Moment moment) const;  // -1 while unknown
+  bool needed(int32_t finger, heads::Moment moment) const;
+  void check_complete(int64_t now_ns);
+  void reset_grasp();
+
+  std::vector<heads::GraspFeature> layout_;
+  int32_t dim_ = 0;
+  GraspOptions options_;
+  std::vector<float> embeddings_;  // [finger][moment][dim]
+  Slot slots_[heads::kFingers][heads::kMoments];
+  bool contact_[heads::kFingers] = {false, false};
+  int64_t onset_[heads::kFingers] = {-1, -1};
+  int64_t last_frame_[heads::kFingers] = {-1, -1};
+  Phase phase_ = Phase::kIdle;
+  bool lifting_marked_ = false;
+  int64_t start_ns_ = 0, lifting_ns_ = 0;
+  uint64_t next_id_ = 1;
+  std::array<char, kMaxReason> reason_{};  // the failure fail() is about to record
+  // Finished grasps waiting to be taken: a ring of records and their features.
+  std::array<GraspPrediction, kMaxFinished> finished_{};
+  std::vector<float> finished_features_;  // [kMaxFinished][layout][dim]
+  int32_t finished_head_ = 0, finished_count_ = 0;
+  uint64_t finished_dropped_ = 0;
+};
+
+}  // namespace tlvlink::pipeline

@@ -1,0 +1,273 @@
+#include "tlvlink/pipeline/grasp_tracker.h"
+
+#include <algorithm>
+#include <cstdarg>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+
+namespace tlvlink::pipeline {
+namespace {
+
+using heads::Moment;
+
+constexpr char finger_letter(int32_t f) { return f == 0 ? 'A' : 'B'; }
+constexpr size_t index(Moment m) { return static_cast<size_t>(m); }
+
+}  // namespace
+
+Status validate(const GraspOptions& o) {
+  constexpr int64_t kMax = 60'000'000'000;  // a minute: anything longer is a unit mistake
+  for (const auto& [name, v] :
+       {std::pair{"grasp.onset_window_ms", o.onset_window_ns}, {"grasp.settle_ms", o.settle_ns},
+        {"grasp.during_delay_ms", o.during_delay_ns},
+        {"grasp.pair_tolerance_ms", o.pair_tolerance_ns},
+        {"grasp.frame_timeout_ms", o.frame_timeout_ns}}) {
+    TLV_ENSURE(v >= 0 && v <= kMax, ErrorCode::kInvalidArgument, "%s = %lld ms outside [0, 60000]",
+               name, static_cast<long long>(v / 1'000'000));
+  }
+  TLV_ENSURE(o.frame_timeout_ns > 0, ErrorCode::kInvalidArgument,
+             "grasp.frame_timeout_ms must be > 0");
+  return {};
+}
+
+const char* grasp_mode_name(GraspOptions::Mode m) {
+  return m == GraspOptions::Mode::kCommanded ? "commanded" : "detected";
+}
+
+Result<GraspTracker> GraspTracker::create(std::span<const heads::GraspFeature> layout,
+                                          int32_t dim, const GraspOptions& options) {
+  TLV_TRY(validate(options));
+  TLV_ENSURE(!layout.empty() && layout.size() <= static_cast<size_t>(kMaxGraspFeatures),
+             ErrorCode::kModelUnsupported, "grasp layout of %zu features (1..%d supported)",
+             layout.size(), kMaxGraspFeatures);
+  TLV_ENSURE(dim > 0, ErrorCode::kInvalidArgument, "grasp tracker: embedding dim %d", dim);
+  GraspTracker t;
+  t.layout_.assign(layout.begin(), layout.end());
+  for (const heads::GraspFeature& f : t.layout_) {
+    TLV_ENSURE(f.finger >= 0 && f.finger < heads::kFingers, ErrorCode::kModelUnsupported,
+               "grasp layout names finger %d", f.finger);
+  }
+  t.dim_ = dim;
+  t.options_ = options;
+  const size_t d = static_cast<size_t>(dim);
+  t.embeddings_.assign(static_cast<size_t>(heads::kFingers * heads::kMoments) * d, 0.0f);
+  t.finished_features_.assign(static_cast<size_t>(kMaxFinished) * t.layout_.size() * d, 0.0f);
+  return t;
+}
+
+bool GraspTracker::needed(int32_t finger, Moment moment) const {
+  return std::any_of(layout_.begin(), layout_.end(), [&](const heads::GraspFeature& f) {
+    return f.finger == finger && f.moment == moment;
+  });
+}
+
+// The time a moment's frames are taken from; -1 while it depends on what has not happened yet.
+int64_t GraspTracker::target(Moment m) const {
+  if (phase_ != Phase::kWaiting) return -1;
+  const int64_t before = start_ns_ + options_.settle_ns;
+  // The later of the fingers' frames taken for moment `prev` (the earlier target when none is
+  // needed), or -1 while one is still missing.
+  const auto later_of = [&](Moment prev, int64_t fallback) -> int64_t {
+    int64_t latest = -1;
+    bool any = false;
+    for (int32_t f = 0; f < heads::kFingers; ++f) {
+      if (!needed(f, prev)) continue;
+      any = true;
+      const Slot& s = slots_[f][index(prev)];
+      if (!s.taken) return -1;
+      latest = std::max(latest, s.t_ns);
+    }
+    return any ? latest : fallback;
+  };
+  switch (m) {
+    case Moment::kBefore: return before;
+    case Moment::kDuring: {
+      if (options_.mode == GraspOptions::Mode::kCommanded) {
+        if (!lifting_marked_) return -1;
+        // The lift cannot be sampled before the hold: wait for "before" too.
+        if (later_of(Moment::kBefore, before) < 0) return -1;
+        return lifting_ns_ + options_.during_delay_ns;
+      }
+      const int64_t b = later_of(Moment::kBefore, before);
+      return b < 0 ? -1 : b + options_.during_delay_ns;
+    }
+    case Moment::kAfter: {
+      const int64_t d = later_of(Moment::kDuring, -1);
+      return d < 0 ? -1 : d + options_.during_delay_ns;
+    }
+  }
+  return -1;
+}
+
+bool GraspTracker::wants(int32_t finger, int64_t t_ns) const {
+  if (phase_ != Phase::kWaiting || finger < 0 || finger >= heads::kFingers) return false;
+  for (Moment m : {Moment::kBefore, Moment::kDuring, Moment::kAfter}) {
+    if (!needed(finger, m) || slots_[finger][index(m)].taken) continue;
+    const int64_t at = target(m);
+    return at >= 0 && t_ns >= at;  // moments are taken in order: only the first open one counts
+  }
+  return false;
+}
+
+void GraspTracker::reset_grasp() {
+  for (auto& finger : slots_)
+    for (Slot& s : finger) s = Slot{};
+  lifting_marked_ = false;
+}
+
+void GraspTracker::start(int64_t t_ns) {
+  reset_grasp();
+  phase_ = Phase::kWaiting;
+  start_ns_ = t_ns;
+}
+
+void GraspTracker::finish(bool computed, int64_t now_ns) {
+  if (finished_count_ == kMaxFinished) {  // the oldest waiting record gives way
+    finished_head_ = (finished_head_ + 1) % kMaxFinished;
+    --finished_count_;
+    ++finished_dropped_;
+  }
+  const int32_t at = (finished_head_ + finished_count_) % kMaxFinished;
+  ++finished_count_;
+  GraspPrediction& r = finished_[static_cast<size_t>(at)];
+  r = GraspPrediction{};
+  r.grasp_id = next_id_ - 1;
+  r.computed = computed;
+  r.started_ns = start_ns_;
+  r.decided_ns = now_ns;
+  if (!computed) std::memcpy(r.reason.data(), reason_.data(), r.reason.size());
+  r.frame_count = static_cast<int32_t>(layout_.size());
+  const size_t d = static_cast<size_t>(dim_);
+  float* features = finished_features_.data() + static_cast<size_t>(at) * layout_.size() * d;
+  for (size_t k = 0; k < layout_.size(); ++k) {
+    const heads::GraspFeature& f = layout_[k];
+    const Slot& s = slots_[f.finger][index(f.moment)];
+    r.frames[k] = {f.finger, static_cast<uint8_t>(f.moment), s.sequence, s.t_ns};
+    if (computed) {
+      const float* e = embeddings_.data() +
+                       (static_cast<size_t>(f.finger) * heads::kMoments + index(f.moment)) * d;
+      std::memcpy(features + k * d, e, d * sizeof(float));
+    }
+  }
+  phase_ = Phase::kFinished;
+}
+
+void GraspTracker::fail(int64_t now_ns, const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(reason_.data(), reason_.size(), format, args);
+  va_end(args);
+  finish(false, now_ns);
+}
+
+void GraspTracker::check_complete(int64_t now_ns) {
+  if (phase_ != Phase::kWaiting) return;
+  bool all = true;
+  for (const heads::GraspFeature& f : layout_) {
+    const Slot& s = slots_[f.finger][index(f.moment)];
+    if (s.taken) continue;
+    all = false;
+    const int64_t at = target(f.moment);
+    if (at >= 0 && now_ns - at > options_.frame_timeout_ns && last_frame_[f.finger] < at) {
+      fail(now_ns, "finger %c sent no frame within %lld ms of its '%s' moment",
+           finger_letter(f.finger), static_cast<long long>(options_.frame_timeout_ns / 1'000'000),
+           heads::moment_name(f.moment));
+      return;
+    }
+  }
+  for (Moment m : {Moment::kBefore, Moment::kDuring, Moment::kAfter}) {
+    const Slot& a = slots_[0][index(m)];
+    const Slot& b = slots_[1][index(m)];
+    if (!a.taken || !b.taken || !needed(0, m) || !needed(1, m)) continue;
+    const int64_t apart = std::llabs(a.t_ns - b.t_ns);
+    if (apart > options_.pair_tolerance_ns) {
+      fail(now_ns, "the fingers' '%s' frames are %.1f ms apart (tolerance %.1f ms)",
+           heads::moment_name(m), static_cast<double>(apart) * 1e-6,
+           static_cast<double>(options_.pair_tolerance_ns) * 1e-6);
+      return;
+    }
+  }
+  if (all) finish(true, now_ns);
+}
+
+void GraspTracker::on_frame(int32_t finger, uint64_t sequence, int64_t t_ns, bool contact,
+                            std::span<const float> embedding) {
+  if (finger < 0 || finger >= heads::kFingers) return;
+  last_frame_[finger] = t_ns;
+  if (contact && !contact_[finger]) onset_[finger] = t_ns;
+  if (!contact) onset_[finger] = -1;
+  contact_[finger] = contact;
+  const bool detected = options_.mode == GraspOptions::Mode::kDetected;
+  if (phase_ == Phase::kFinished) {
+    // Detected: a new grasp needs both fingers to let go first. Commanded: the next mark.
+    if (!detected || (!contact_[0] && !contact_[1])) phase_ = Phase::kIdle;
+    return;
+  }
+  if (phase_ == Phase::kIdle) {
+    if (detected && contact_[0] && contact_[1] &&
+        std::llabs(onset_[0] - onset_[1]) <= options_.onset_window_ns) {
+      ++next_id_;
+      start(std::max(onset_[0], onset_[1]));
+    }
+    if (phase_ != Phase::kWaiting) return;
+  }
+  for (Moment m : {Moment::kBefore, Moment::kDuring, Moment::kAfter}) {
+    if (!needed(finger, m)) continue;
+    Slot& s = slots_[finger][index(m)];
+    if (s.taken) continue;
+    if (detected && !contact) {
+      fail(t_ns, "finger %c let go before its '%s' frame", finger_letter(finger),
+           heads::moment_name(m));
+      return;
+    }
+    const int64_t at = target(m);
+    if (at < 0 || t_ns < at) break;  // moments are taken in order, one per frame
+    if (embedding.size() != static_cast<size_t>(dim_)) {
+      fail(t_ns, "finger %c frame %llu (its '%s' frame) was not encoded", finger_letter(finger),
+           static_cast<unsigned long long>(sequence), heads::moment_name(m));
+      return;
+    }
+    std::memcpy(embeddings_.data() + (static_cast<size_t>(finger) * heads::kMoments + index(m)) *
+                                         static_cast<size_t>(dim_),
+                embedding.data(), embedding.size() * sizeof(float));
+    s = {true, sequence, t_ns};
+    break;
+  }
+  check_complete(t_ns);
+}
+
+void GraspTracker::tick(int64_t now_ns) { check_complete(now_ns); }
+
+bool GraspTracker::mark_closed(int64_t t_ns) {
+  if (options_.mode != GraspOptions::Mode::kCommanded) return false;
+  if (phase_ == Phase::kWaiting) fail(t_ns, "superseded by a new 'closed' mark");
+  ++next_id_;
+  start(t_ns);
+  return true;
+}
+
+bool GraspTracker::mark_lifting(int64_t t_ns) {
+  if (options_.mode != GraspOptions::Mode::kCommanded || phase_ != Phase::kWaiting) return false;
+  lifting_marked_ = true;
+  lifting_ns_ = t_ns;
+  return true;
+}
+
+bool GraspTracker::take_finished(GraspPrediction& out,
+                                 std::span<const float> (&features)[kMaxGraspFeatures]) {
+  if (finished_count_ == 0) return false;
+  const int32_t at = finished_head_;
+  finished_head_ = (finished_head_ + 1) % kMaxFinished;
+  --finished_count_;
+  out = finished_[static_cast<size_t>(at)];
+  const size_t d = static_cast<size_t>(dim_);
+  const float* base = finished_features_.data() + static_cast<size_t>(at) * layout_.size() * d;
+  for (size_t k = 0; k < static_cast<size_t>(kMaxGraspFeatures); ++k) {
+    features[k] = out.computed && k < layout_.size() ? std::span<const float>(base + k * d, d)
+                                                     : std::span<const float>();
+  }
+  return true;
+}
+
+}  // namespace tlvlink::pipeline

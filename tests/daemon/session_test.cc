@@ -1,0 +1,187 @@
+// A whole daemon session in-process: two fingers' MJPEG frames (pressed and released in turns)
+// through capture threads, the inference thread and the JSON-lines output, on the shipped int8
+// model. Checks the output records, that grasps are reported, and that 1,000 frames in the
+// steady state allocate nothing (operator new, counted over every thread).
+#include <atomic>
+#include <cmath>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "daemon/memory_source.h"
+#include "support/alloc_counter.h"
+#include "support/temp_dir.h"
+#include "tlvlink/daemon/config.h"
+#include "tlvlink/daemon/session.h"
+#include "tlvlink/image/jpeg.h"
+#if defined(TLVLINK_HAVE_LISTEN)
+#include "tlvlink/listen/client.h"
+#endif
+
+namespace tlvlink::daemon {
+namespace {
+
+constexpr int32_t kW = 640, kH = 480;
+constexpr double kFps = 100;  // paced fast so the test takes seconds
+
+std::vector<uint8_t> gel_jpeg(bool pressed, int32_t seed) {
+  std::vector<uint8_t> rgb(static_cast<size_t>(kW * kH * 3));
+  for (int32_t y = 0; y < kH; ++y)
+    for (int32_t x = 0; x < kW; ++x) {
+      const double dx = (x - kW / 2.0) / 60, dy = (y - kH / 2.0) / 60;
+      const double press = pressed ? 50 * std::exp(-(dx * dx + dy * dy)) : 0;
+      const int noise = ((x * 7 + y * 13 + seed * 31) % 5) - 2;
+      uint8_t* p = &rgb[static_cast<size_t>((y * kW + x) * 3)];
+      p[0] = static_cast<uint8_t>(90 + x / 8 + press * dx + noise);
+      p[1] = static_cast<uint8_t>(110 + y / 8 + press + noise);
+      p[2] = static_cast<uint8_t>(130 - press * dy + noise);
+    }
+  image::JpegEncoder enc;
+  auto j = enc.encode({rgb.data(), kW, kH, 3, 0}, 85, image::JpegEncoder::Subsampling::k422);
+  EXPECT_TRUE(j.ok());
+  return {j->begin(), j->end()};
+}
+
+// 40 idle frames, 80 pressed, 40 idle: a grasp at 100 fps with the timing below.
+std::vector<std::vector<uint8_t>> cycle() {
+  std::vector<std::vector<uint8_t>> idle = {gel_jpeg(false, 1), gel_jpeg(false, 2)};
+  std::vector<std::vector<uint8_t>> pressed = {gel_jpeg(true, 3), gel_jpeg(true, 4)};
+  std::vector<std::vector<uint8_t>> out;
+  for (int i = 0; i < 160; ++i) out.push_back((i >= 40 && i < 120) ? pressed[i % 2] : idle[i % 2]);
+  return out;
+}
+
+std::string config_text(const std::string& output, int64_t max_frames) {
+  return "model = \"" TLVLINK_SOURCE_DIR "/firmware/models/touch-tiny-int8.tlvm\"\n"
+         "output = \"jsonl:" + output + "\"\n"
+         "max_frames = " + std::to_string(max_frames) + "\n"
+         "status_interval_ms = 200\n"
+         "queue_frames = 4\n"
+         "[contact]\nreference_frames = 10\n"
+         "[grasp]\nsettle_ms = 100\nduring_delay_ms = 200\npair_tolerance_ms = 20\n"
+         "[[sensor]]\nname = \"left\"\nmodel = \"gelsight-mini\"\nfinger = \"A\"\n"
+         "source = \"replay\"\ndevice = \"memory\"\nwidth = 640\nheight = 480\n"
+         "[[sensor]]\nname = \"right\"\nmodel = \"gelsight-mini\"\nfinger = \"B\"\n"
+         "source = \"replay\"\ndevice = \"memory\"\nwidth = 640\nheight = 480\n";
+}
+
+std::vector<std::unique_ptr<capture::FrameSource>> sources() {
+  const image::FrameFormat f{image::PixelFormat::kMjpeg, kW, kH, 0};
+  std::vector<std::unique_ptr<capture::FrameSource>> s;
+  s.push_back(std::make_unique<testing::MemorySource>("left", f, cycle(), kFps));
+  s.push_back(std::make_unique<testing::MemorySource>("right", f, cycle(), kFps, 3'000'000));
+  for (auto& src : s) EXPECT_TRUE(src->start().ok());
+  return s;
+}
+
+TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
+  testing::TempDir dir;
+  const std::string out = dir.path() + "/predictions.jsonl";
+  constexpr int64_t kWarmup = 200, kCounted = 1000;
+  auto config = parse_config(config_text(out, kWarmup + kCounted), "test.toml");
+  ASSERT_TRUE(config.ok()) << config.error().message();
+  auto session = Session::start_with_sources(*config, sources());
+  ASSERT_TRUE(session.ok()) << session.error().message();
+  while ((*session)->frames_processed() < static_cast<uint64_t>(kWarmup))
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  testing::start_counting_allocations();
+  while (!(*session)->limit_reached()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  const size_t allocations = testing::stop_counting_allocations();
+  const SessionTotals t = (*session)->stop();
+  EXPECT_EQ(allocations, 0u) << "heap allocations while " << kCounted << " frames went through";
+  EXPECT_GE(t.frames, static_cast<uint64_t>(kWarmup + kCounted));
+  EXPECT_GT(t.encoded, 0u);
+  EXPECT_GT(t.gated, 0u) << "idle frames must skip the encoder";
+  EXPECT_GE(t.grasps + t.grasps_not_computed, 1u);
+  EXPECT_EQ(t.decode_errors, 0u);
+  EXPECT_EQ(t.inference_errors, 0u);
+  // Every line is JSON; frame records match the totals; heads are named with labels.
+  std::ifstream in(out);
+  std::string line;
+  uint64_t frames = 0, grasps = 0, stats = 0, summaries = 0;
+  while (std::getline(in, line)) {
+    const auto j = nlohmann::json::parse(line);
+    const std::string type = j.at("type");
+    if (type == "frame") {
+      ++frames;
+      if (j.at("encoded")) {
+        EXPECT_TRUE(j.at("heads").contains("material")) << line;
+        const double p = j.at("heads").at("hard_soft").at("p");
+        EXPECT_TRUE(p >= 0.5 && p <= 1.0) << line;
+      }
+      EXPECT_GE(j.at("ms").at("total").get<double>(), 0.0);
+    } else if (type == "grasp") {
+      ++grasps;
+      EXPECT_EQ(j.at("frames").size(), 4u);
+    } else if (type == "stats") {
+      ++stats;
+    } else if (type == "summary") {
+      ++summaries;
+    }
+  }
+  EXPECT_EQ(frames, t.frames);
+  EXPECT_EQ(grasps, t.grasps + t.grasps_not_computed);
+  EXPECT_GE(stats, 1u);
+  EXPECT_EQ(summaries, 1u);
+}
+
+}  // namespace
+}  // namespace tlvlink::daemon
+
+namespace tlvlink::daemon {
+namespace {
+
+#if defined(TLVLINK_HAVE_LISTEN)
+// The daemon speaks the stream protocol: over a pty, the host's client sees the Hello with the
+// sensors and heads, every frame prediction the JSON lines record, and the grasps.
+TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
+  testing::TempDir dir;
+  const std::string jsonl = dir.path() + "/p.jsonl", link = dir.path() + "/board";
+  std::string text = config_text(jsonl, 400);
+  text.replace(text.find("output = \"jsonl:" + jsonl + "\""), 16 + jsonl.size() + 1,
+               "output = [\"jsonl:" + jsonl + "\", \"pty:" + link + "\"]");
+  auto config = parse_config(text, "test.toml");
+  ASSERT_TRUE(config.ok()) << config.error().message();
+  auto session = Session::start_with_sources(*config, sources());
+  ASSERT_TRUE(session.ok()) << session.error().message();
+  auto client = listen::Client::open("serial:" + link);
+  ASSERT_TRUE(client.ok()) << client.error().message();
+  // The host reads all the time, as a robot's controller does, also while the board stops
+  // (a pty discards what its reader has not read when the board closes it).
+  std::atomic<uint64_t> frames{0}, grasps{0};
+  std::atomic<bool> hello{false}, done{false};
+  std::thread reader([&] {
+    int quiet = 0;
+    while (!done || quiet < 5) {
+      auto m = (*client)->next(200);
+      if (!m.ok()) break;
+      if (!m.value()) {
+        ++quiet;
+        continue;
+      }
+      quiet = 0;
+      if (auto h = m.value()->hello(); h.ok()) hello = h.value().sensor_count() == 2;
+      if (m.value()->frame_prediction().ok()) ++frames;
+      if (m.value()->grasp_prediction().ok()) ++grasps;
+    }
+  });
+  while (!(*session)->limit_reached()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const SessionTotals t = (*session)->stop();
+  done = true;
+  reader.join();
+  const listen::LinkStats ls = (*client)->stats();
+  EXPECT_EQ(ls.frames.rejected(), 0u);
+  EXPECT_EQ(ls.frames_missing, 0u);
+  EXPECT_TRUE(hello);
+  EXPECT_EQ(frames, t.frames);
+  EXPECT_EQ(grasps, t.grasps + t.grasps_not_computed);
+}
+
+#endif  // TLVLINK_HAVE_LISTEN
+
+}  // namespace
+}  // namespace tlvlink::daemon

@@ -1,0 +1,122 @@
+// `tlvlink listen` and `tlvlink replay` end to end, against a board process
+// (tlvlink_stream_check board) on a pty: JSON lines, a live session and the replay of its
+// recording print the same lines, commands and exit codes, an absent device, bad input.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "support/cli_run.h"
+#include "support/temp_dir.h"
+
+extern char** environ;
+
+namespace tlvlink::testing {
+namespace {
+
+// A board process for the duration of a test (killed by its pid at the end).
+class BoardProcess {
+ public:
+  BoardProcess(const std::string& link, int frames, double rate, double hold_s) {
+    const std::string f = std::to_string(frames), r = std::to_string(rate), h = std::to_string(hold_s);
+    const char* argv[] = {TLVLINK_STREAM_CHECK, "board", "--link", link.c_str(), "--frames", f.c_str(), "--rate",
+                          r.c_str(), "--hold", h.c_str(), nullptr};
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+    EXPECT_EQ(posix_spawn(&pid_, argv[0], &actions, nullptr, const_cast<char**>(argv), environ), 0);
+    posix_spawn_file_actions_destroy(&actions);
+    const std::string path = link.substr(4);  // "pty:PATH"
+    for (int i = 0; i < 300 && ::access(path.c_str(), F_OK) != 0; ++i) ::usleep(10'000);
+  }
+  ~BoardProcess() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGTERM);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+
+ private:
+  pid_t pid_ = -1;
+};
+
+std::vector<nlohmann::json> json_lines(const std::string& out, bool messages_only = true) {
+  std::vector<nlohmann::json> lines;
+  std::istringstream in(out);
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] != '{') continue;
+    nlohmann::json j = nlohmann::json::parse(line);
+    if (messages_only && j["type"] == "link_stats") continue;
+    lines.push_back(std::move(j));
+  }
+  return lines;
+}
+
+TEST(CliListen, LiveJsonAndItsRecordingReplayTheSame) {
+  TempDir dir("listen");
+  BoardProcess board("pty:" + dir / "tty", 200, 400, 2);
+  const CliRun live = run_tlvlink("listen --serial " + dir / "tty" + " --json --count 200 --record " + dir / "rec",
+                                  Stderr::kDropped);
+  ASSERT_RUN(live, 0);
+  const auto live_lines = json_lines(live.out);
+  size_t predictions = 0;
+  for (const auto& j : live_lines) predictions += j["type"] == "frame_prediction";
+  EXPECT_EQ(predictions, 200u);
+  EXPECT_EQ(live_lines.front()["type"], "hello");
+  EXPECT_EQ(live_lines.front()["schema_matches"], true);
+  const CliRun replay = run_tlvlink("replay " + dir / "rec" + " --json", Stderr::kDropped);
+  ASSERT_RUN(replay, 0);
+  const auto replay_lines = json_lines(replay.out);
+  // The live session stopped after its 200th prediction; the replay sees everything recorded:
+  // at least as many messages, and the first ones identical, timestamps and clock included.
+  ASSERT_GE(replay_lines.size(), live_lines.size());
+  for (size_t i = 0; i < live_lines.size(); ++i) ASSERT_EQ(replay_lines[i], live_lines[i]) << "message " << i;
+  const auto stats = json_lines(replay.out, false).back();
+  ASSERT_EQ(stats["type"], "link_stats");
+  EXPECT_EQ(stats["stats"]["rejected"]["crc"], 0);
+}
+
+TEST(CliListen, TextLinesNameHeadsAndLabels) {
+  TempDir dir("listen");
+  BoardProcess board("pty:" + dir / "tty", 20, 200, 1);
+  const CliRun live = run_tlvlink("listen --serial " + dir / "tty" + " --count 20");
+  ASSERT_RUN(live, 0);
+  EXPECT_NE(live.out.find("hello  test-board (host-x86_64, firmware 0.1.0-test)"), std::string::npos) << live.out;
+  EXPECT_NE(live.out.find("material="), std::string::npos) << live.out;
+  EXPECT_NE(live.out.find("hardness="), std::string::npos);
+  EXPECT_NE(live.out.find("# connected: serial:"), std::string::npos) << "events go to stderr";
+  EXPECT_NE(live.out.find("send->receive: p50"), std::string::npos) << "statistics at the end";
+}
+
+TEST(CliListen, CommandsAndTheirExitCodes) {
+  TempDir dir("listen");
+  BoardProcess board("pty:" + dir / "tty", 1, 1, 30);
+  const CliRun ok = run_tlvlink("listen --serial " + dir / "tty" +
+                                " -c start -c 'closed 3' -c ping -c info --exit-after-replies");
+  EXPECT_RUN(ok, 0);
+  EXPECT_NE(ok.out.find("ack    #"), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("pong   #"), std::string::npos) << ok.out;
+  const CliRun refused = run_tlvlink("listen --serial " + dir / "tty" + " -c 'set bad=1' --exit-after-replies");
+  EXPECT_RUN(refused, 1);
+  EXPECT_NE(refused.out.find("set_config: unknown key 'bad'"), std::string::npos) << refused.out;
+}
+
+TEST(CliListen, AbsentDeviceAndBadInput) {
+  const CliRun absent = run_tlvlink("listen --serial /dev/tlvlink-absent --no-reconnect");
+  EXPECT_RUN(absent, 1);
+  EXPECT_NE(absent.out.find("transport.unavailable"), std::string::npos) << absent.out;
+  EXPECT_RUN(run_tlvlink("listen --serial /dev/x -c 'launch rockets'"), 2);
+  EXPECT_RUN(run_tlvlink("listen"), 2);
+  const CliRun notrec = run_tlvlink("replay /etc/hostname");
+  EXPECT_RUN(notrec, 1);
+  EXPECT_NE(notrec.out.find("not a tlvlink recording"), std::string::npos) << notrec.out;
+}
+
+}  // namespace
+}  // namespace tlvlink::testing

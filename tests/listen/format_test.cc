@@ -1,0 +1,84 @@
+// The JSON and text lines of every message type of the fixture recording: keys, names from the
+// Hello, NaN as null, unknown enum values as numbers, host-clock times once the clock is known.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "fixture_recording.h"
+#include "support/temp_dir.h"
+#include "tlvlink/listen/client.h"
+#include "tlvlink/listen/format.h"
+
+namespace tlvlink::listen {
+namespace {
+
+struct Printed {
+  std::vector<nlohmann::json> json;
+  std::vector<std::string> text;
+};
+
+Printed print_fixture() {
+  testing::TempDir dir("fmt");
+  EXPECT_TRUE(write_fixture_recording(dir / "f", false).ok());
+  auto c = Client::open("replay:" + dir / "f").value();
+  Printed p;
+  std::optional<Message> hello;
+  while (!c->ended()) {
+    auto m = c->next(100);
+    if (!m.ok() || !m.value()) continue;
+    if (m.value()->type() == protocol::MessageType::kHello) hello = *m.value();
+    const FormatContext context{hello ? &*hello : nullptr};
+    p.json.push_back(nlohmann::json::parse(json_line(*m.value(), context)));
+    p.text.push_back(text_line(*m.value(), context));
+  }
+  return p;
+}
+
+TEST(Format, JsonOfEveryMessageType) {
+  const Printed p = print_fixture();
+  ASSERT_EQ(p.json.size(), 13u);
+  const auto& hello = p.json[0];
+  EXPECT_EQ(hello["type"], "hello");
+  EXPECT_EQ(hello["boot_id"], "0000000000005eed");
+  EXPECT_EQ(hello["heads"][0]["labels"][1], "metal");
+  EXPECT_EQ(hello["sensors"][1]["name"], "right");
+  const auto& frame = p.json[1];
+  EXPECT_EQ(frame["type"], "frame_prediction");
+  EXPECT_EQ(frame["sensor_name"], "left");
+  EXPECT_EQ(frame["heads"][0]["name"], "material");
+  EXPECT_TRUE(frame["heads"][0].contains("top_label"));
+  EXPECT_EQ(frame["embedding"].size(), 32u);
+  EXPECT_EQ(frame["capture_host_ns"].get<int64_t>(), frame["capture_ns"].get<int64_t>() - 5'000'000'000)
+      << "board times on the host clock once the offset is known";
+  EXPECT_FALSE(p.json[2].contains("embedding"));
+  EXPECT_EQ(p.json[3]["status"], "computed");
+  EXPECT_EQ(p.json[3]["probability"], 0.8125);
+  EXPECT_EQ(p.json[4]["status"], "not_computed");
+  EXPECT_TRUE(p.json[4]["probability"].is_null()) << "never a made-up value";
+  EXPECT_EQ(p.json[4]["reason"], "missing_finger");
+  const auto& stats = p.json[5];
+  EXPECT_EQ(stats["drops"][2]["cause"], 42) << "a cause this build does not know stays a number";
+  EXPECT_EQ(stats["cpu_percent"], 37.5);
+  EXPECT_EQ(p.json[6]["name"], "capture");
+  EXPECT_EQ(p.json[7]["type"], "pong");
+  // (t4 - t1) - (t3 - t2): received 200 us after the ping, 10 us spent on the board.
+  EXPECT_EQ(p.json[7]["round_trip_ns"], 200'000 - 10'000) << p.json[7];
+  EXPECT_EQ(p.json[8]["kind"], "set_config");
+  EXPECT_EQ(p.json[10]["delayed"], true);
+  EXPECT_FALSE(p.json[12].contains("send_host_ns")) << "after the board restarted, until a new Pong";
+}
+
+TEST(Format, TextLines) {
+  const Printed p = print_fixture();
+  EXPECT_EQ(p.text[0].rfind("hello  test-board (host-x86_64, firmware 0.1.0-test) model fixture, 2 sensors, 2 heads", 0), 0u) << p.text[0];
+  EXPECT_NE(p.text[1].find("material="), std::string::npos) << p.text[1];
+  EXPECT_NE(p.text[1].find("embedding[32]"), std::string::npos);
+  EXPECT_NE(p.text[3].find("grasp  #1 success p=0.812"), std::string::npos) << p.text[3];
+  EXPECT_NE(p.text[4].find("not computed: missing_finger: sensor 1 sent no frame"), std::string::npos) << p.text[4];
+  EXPECT_NE(p.text[5].find("42=7"), std::string::npos) << p.text[5];
+  EXPECT_NE(p.text[8].find("nack   #3 set_config: unknown key 'treads'"), std::string::npos) << p.text[8];
+  EXPECT_NE(p.text[10].find("[delayed]"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tlvlink::listen

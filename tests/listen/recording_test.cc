@@ -1,0 +1,116 @@
+// Recordings: the fixture recording replays into exactly the messages, rejections, events and
+// clock the fixture describes; a live session and the replay of its recording print identical
+// JSON lines (checked in cli_listen_test); a recording cut short ends cleanly; other files are
+// refused.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "fixture_recording.h"
+#include "support/temp_dir.h"
+#include "tlvlink/listen/client.h"
+#include "tlvlink/listen/recording.h"
+
+namespace tlvlink::listen {
+namespace {
+
+using protocol::MessageType;
+
+std::vector<Message> replay_all(Client& c) {
+  std::vector<Message> got;
+  while (!c.ended()) {
+    Result<std::optional<Message>> m = c.next(100);
+    EXPECT_TRUE(m.ok());
+    if (m.ok() && m.value()) got.push_back(std::move(*m.value()));
+  }
+  return got;
+}
+
+TEST(Recording, FixtureReplaysIntoWhatItDescribes) {
+  testing::TempDir dir("rec");
+  ASSERT_TRUE(write_fixture_recording(dir / "f.tlvrec", false).ok());
+  auto c = Client::open("replay:" + dir / "f.tlvrec");
+  ASSERT_TRUE(c.ok()) << c.error().message();
+  const std::vector<Message> got = replay_all(*c.value());
+  std::vector<MessageType> types;
+  for (const Message& m : got) types.push_back(m.type());
+  const std::vector<MessageType> want = {
+      MessageType::kHello, MessageType::kFramePrediction, MessageType::kFramePrediction,
+      MessageType::kGraspPrediction, MessageType::kGraspPrediction, MessageType::kStats, MessageType::kError,
+      MessageType::kPong, MessageType::kNack, MessageType::kFramePrediction, MessageType::kFramePrediction,
+      MessageType::kHello, MessageType::kFramePrediction};
+  EXPECT_EQ(types, want) << "the consumed Ack (Info) and Pong (TimeSync) are not delivered";
+  const LinkStats s = c.value()->stats();
+  EXPECT_EQ(s.unknown_types, 1u);
+  EXPECT_EQ(s.frames.version, 1u);
+  EXPECT_EQ(s.frames.crc + s.frames.cobs + s.frames.truncated, 2u) << "garbage and the corrupted frame";
+  // The corrupted frame's sequence number is missing, then 3 numbers the fixture skips.
+  EXPECT_EQ(s.sequence_gaps, 2u);
+  EXPECT_EQ(s.frames_missing, 4u);
+  EXPECT_EQ(s.board_restarts, 1u);
+  EXPECT_EQ(s.delayed, 1u);
+  EXPECT_EQ(s.connects, 2u);
+  EXPECT_EQ(s.disconnects, 1u);
+  // The TimeSync exchange gave the board's +5 s offset exactly (symmetric 50 us legs).
+  EXPECT_TRUE(got[1].clock().valid);
+  EXPECT_EQ(got[1].clock().offset_ns, 5'000'000'000);
+  EXPECT_FALSE(got.back().clock().valid) << "the board restarted: its clock is re-estimated";
+  // The newer minor version's prediction decodes; its unknown fields are skipped.
+  auto future = got[9].frame_prediction();
+  ASSERT_TRUE(future.ok());
+  EXPECT_EQ(future.value().frame_sequence(), 77u);
+  EXPECT_TRUE(got[10].delayed());
+  std::vector<LinkEvent::Kind> events;
+  for (const LinkEvent& e : c.value()->take_events()) events.push_back(e.kind);
+  EXPECT_EQ(events, (std::vector<LinkEvent::Kind>{LinkEvent::Kind::kConnected, LinkEvent::Kind::kVersionMismatch,
+                                                  LinkEvent::Kind::kDisconnected, LinkEvent::Kind::kConnected,
+                                                  LinkEvent::Kind::kBoardRestarted, LinkEvent::Kind::kEndOfRecording}));
+}
+
+TEST(Recording, CutShortEndsAtTheLastWholeRecord) {
+  testing::TempDir dir("rec");
+  ASSERT_TRUE(write_fixture_recording(dir / "cut.tlvrec", true).ok());
+  auto c = Client::open("replay:" + dir / "cut.tlvrec");
+  ASSERT_TRUE(c.ok());
+  EXPECT_EQ(replay_all(*c.value()).size(), 13u);
+  const auto events = c.value()->take_events();
+  ASSERT_FALSE(events.empty());
+  EXPECT_NE(events.back().text.find("cut short"), std::string::npos) << events.back().text;
+}
+
+TEST(Recording, WriterAndReaderRoundTrip) {
+  testing::TempDir dir("rec");
+  {
+    auto w = RecordingWriter::create(dir / "r");
+    ASSERT_TRUE(w.ok());
+    const std::byte data[3] = {std::byte{1}, std::byte{0}, std::byte{2}};
+    ASSERT_TRUE(w.value()->write(RecordKind::kReceived, 42, data).ok());
+    ASSERT_TRUE(w.value()->write(RecordKind::kLinkDown, 43, {}).ok());
+  }
+  auto r = RecordingReader::open(dir / "r");
+  ASSERT_TRUE(r.ok());
+  EXPECT_GT(r.value()->start_wall_ns(), 1'600'000'000'000'000'000);
+  Record rec;
+  ASSERT_TRUE(r.value()->next(rec).value());
+  EXPECT_EQ(rec.kind, RecordKind::kReceived);
+  EXPECT_EQ(rec.time_ns, 42);
+  EXPECT_EQ(rec.data.size(), 3u);
+  ASSERT_TRUE(r.value()->next(rec).value());
+  EXPECT_EQ(rec.kind, RecordKind::kLinkDown);
+  EXPECT_FALSE(r.value()->next(rec).value());
+  EXPECT_FALSE(r.value()->truncated());
+}
+
+TEST(Recording, OtherFilesAreRefused) {
+  testing::TempDir dir("rec");
+  std::FILE* f = std::fopen((dir / "not").c_str(), "wb");
+  std::fputs("hello, not a recording at all, honestly", f);
+  std::fclose(f);
+  auto r = RecordingReader::open(dir / "not");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().code(), ErrorCode::kFormat);
+  EXPECT_NE(std::string(r.error().message()).find("not a tlvlink recording"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace tlvlink::listen

@@ -1,0 +1,121 @@
+// Contact gating on synthetic gel frames: calibration, onset on a small imprint, hysteresis on
+// release, drift following while idle, re-zero, errors, and no allocation per frame.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "support/alloc_counter.h"
+#include "support/random.h"
+#include "tlvlink/pipeline/contact_gate.h"
+
+namespace tlvlink::pipeline {
+namespace {
+
+constexpr int32_t kW = 320, kH = 240;
+constexpr float kNoiseDn = 2.0f;  // camera noise sigma of the synthetic frames
+
+// A lit gel (smooth gradient) with noise, optionally a round imprint of `depth_dn` at (cx, cy).
+std::vector<uint8_t> gel(testing::Rng& rng, float offset = 0, float depth_dn = 0, int cx = 160,
+                         int cy = 120, int radius = 12) {
+  std::vector<uint8_t> px(static_cast<size_t>(kW * kH * 3));
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const float d2 = static_cast<float>((x - cx) * (x - cx) + (y - cy) * (y - cy));
+      const float imprint = d2 < static_cast<float>(radius * radius) ? depth_dn : 0.0f;
+      for (int c = 0; c < 3; ++c) {
+        const float v = 100.0f + 0.2f * static_cast<float>(x) + 30.0f * static_cast<float>(c) +
+                        offset + imprint + rng.normal(0, kNoiseDn);
+        px[static_cast<size_t>((y * kW + x) * 3 + c)] = static_cast<uint8_t>(std::clamp(v, 0.0f, 255.0f));
+      }
+    }
+  return px;
+}
+
+image::ImageView view(const std::vector<uint8_t>& px) { return {px.data(), kW, kH, 3, 0}; }
+
+ContactGate calibrated(testing::Rng& rng, const ContactGateOptions& o = {}) {
+  auto g = ContactGate::create(kW, kH, 3, o);
+  EXPECT_TRUE(g.ok());
+  for (int i = 0; i < o.reference_frames; ++i) {
+    auto d = g->update(view(gel(rng)));
+    EXPECT_TRUE(d.ok());
+    if (i + 1 < o.reference_frames) {
+      EXPECT_EQ(d->state, ContactState::kCalibrating);
+    }
+  }
+  EXPECT_EQ(g->state(), ContactState::kNoContact);
+  return std::move(g).value();
+}
+
+TEST(ContactGate, CalibratesOnNoiseAndSeesASmallImprint) {
+  testing::Rng rng(1);
+  ContactGate g = calibrated(rng);
+  // Block means of 10x10 pixels: noise sigma ~ 2 / 10 = 0.2 DN (plus the 8-bit rounding).
+  EXPECT_GT(g.noise_sigma_dn(), 0.05f);
+  EXPECT_LT(g.noise_sigma_dn(), 0.5f);
+  EXPECT_FLOAT_EQ(g.threshold_dn(), std::max(4.0f, 8 * g.noise_sigma_dn()));
+  for (int i = 0; i < 50; ++i) {
+    auto d = g.update(view(gel(rng)));
+    ASSERT_TRUE(d.ok());
+    EXPECT_EQ(d->state, ContactState::kNoContact) << "false contact on noise, frame " << i;
+  }
+  // A 12-px (0.8 mm on a Mini) imprint 10 DN deep starts contact on its first frame.
+  auto d = g.update(view(gel(rng, 0, 10)));
+  ASSERT_TRUE(d.ok());
+  EXPECT_EQ(d->state, ContactState::kContact);
+  EXPECT_TRUE(d->onset);
+}
+
+TEST(ContactGate, ReleaseNeedsConsecutiveQuietFramesAndDriftIsFollowedOnlyWhileIdle) {
+  testing::Rng rng(2);
+  ContactGateOptions o;
+  o.release_frames = 3;
+  ContactGate g = calibrated(rng, o);
+  ASSERT_TRUE(g.update(view(gel(rng, 0, 30))).value().onset);
+  // Two quiet frames, a touch again, then three quiet frames: released on the last.
+  EXPECT_EQ(g.update(view(gel(rng))).value().state, ContactState::kContact);
+  EXPECT_EQ(g.update(view(gel(rng))).value().state, ContactState::kContact);
+  EXPECT_EQ(g.update(view(gel(rng, 0, 30))).value().state, ContactState::kContact);
+  for (int i = 0; i < 2; ++i) EXPECT_EQ(g.update(view(gel(rng))).value().state, ContactState::kContact);
+  auto released = g.update(view(gel(rng)));
+  EXPECT_TRUE(released->release);
+  EXPECT_EQ(released->state, ContactState::kNoContact);
+  // Slow drift (0.05 DN per frame, 6 DN in all) is followed: no contact.
+  for (int i = 1; i <= 120; ++i) {
+    auto d = g.update(view(gel(rng, 0.05f * static_cast<float>(i))));
+    ASSERT_EQ(d->state, ContactState::kNoContact) << "drift frame " << i << " score " << d->score_dn;
+  }
+  // A step of the same size is contact.
+  EXPECT_EQ(g.update(view(gel(rng, 6.0f + 12.0f))).value().state, ContactState::kContact);
+}
+
+TEST(ContactGate, RezeroRecalibratesAndErrorsNameTheProblem) {
+  testing::Rng rng(3);
+  ContactGate g = calibrated(rng);
+  g.rezero();
+  EXPECT_EQ(g.update(view(gel(rng, 40))).value().state, ContactState::kCalibrating);
+  std::vector<uint8_t> small(10 * 10 * 3);
+  auto bad = g.update({small.data(), 10, 10, 3, 0});
+  ASSERT_FALSE(bad.ok());
+  EXPECT_STREQ(bad.error().message(), "contact gate: frame 10x10x3, expected 320x240x3");
+  ContactGateOptions o;
+  o.reference_frames = 0;
+  EXPECT_EQ(ContactGate::create(kW, kH, 3, o).error().code(), ErrorCode::kInvalidArgument);
+  o = {};
+  o.drift_rate = 1;
+  EXPECT_NE(std::string(ContactGate::create(kW, kH, 3, o).error().message()).find("drift_rate"),
+            std::string::npos);
+}
+
+TEST(ContactGate, UpdateAllocatesNothing) {
+  testing::Rng rng(4);
+  ContactGate g = calibrated(rng);
+  const auto a = gel(rng), b = gel(rng, 0, 30);
+  testing::start_counting_allocations();
+  for (int i = 0; i < 20; ++i) ASSERT_TRUE(g.update(view(i % 2 ? a : b)).ok());
+  EXPECT_EQ(testing::stop_counting_allocations(), 0u);
+}
+
+}  // namespace
+}  // namespace tlvlink::pipeline

@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# Runs the capture tests inside the emulated arm64 board: Debian's arm64 kernel under
+# qemu-system-aarch64 (virt machine, TCG) with vivid loaded (tools/rig). First the rig's own
+# tests (tools/rig/test_riglib.py, tools/rig/selftest.sh: ports, share, USB gadget, vivid), then
+# the capture test programs cross-built for the board presets (generic-a76 / rpi4-a72; only
+# those targets, in the cross stage's build trees), one boot per CPU, with boot, test and build
+# times.
+#   board_test.sh [a76|a72|all]        (default: all)
+# Environment: TLVLINK_JOBS (build jobs, default 2: the machine is shared); PYTHON (default
+# /usr/bin/python3: the rig needs only its standard library).
+# Logs: build/logs/board-<preset>-{configure,build}.log; the guest's console: build/rig/<preset>/.
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+
+which=${1:-all}
+jobs=${TLVLINK_JOBS:-2}
+case "$which" in
+  a76) presets=(generic-a76) ;;
+  a72) presets=(rpi4-a72) ;;
+  all) presets=(generic-a76 rpi4-a72) ;;
+  *) echo "board_test.sh: unknown target '$which' (a76|a72|all)" >&2; exit 2 ;;
+esac
+programs=(tests/capture/capture_vivid_test tests/capture/capture_unit_test runtime/capture/capture_probe)
+py=${PYTHON:-/usr/bin/python3}
+
+now() { date +%s.%N; }
+secs() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.1f", b - a}'; }
+mkdir -p build/logs
+
+t0=$(now)
+bash tools/setup/install_deps.sh rig || { echo "board_test: install_deps.sh rig failed" >&2; exit 1; }
+bash tools/setup/make_sysroot.sh || { echo "board_test: make_sysroot.sh failed" >&2; exit 1; }
+"$py" tools/rig/rig.py prepare >/dev/null || { echo "board_test: rig.py prepare failed" >&2; exit 1; }
+echo "board_test: packages, sysroot, kernel + busybox cache $(secs "$t0" "$(now)")s"
+
+failed=0
+summary=()
+t0=$(now)
+if "$py" tools/rig/test_riglib.py >build/logs/board-riglib.log 2>&1 &&
+   PYTHON=$py bash tools/rig/selftest.sh >build/logs/board-selftest.log 2>&1; then
+  summary+=("rig self-test: $(grep -E '^rig: tests ' build/logs/board-selftest.log | tail -1 | sed 's/^rig: //') ($(secs "$t0" "$(now)")s)")
+else
+  cat build/logs/board-riglib.log build/logs/board-selftest.log | tail -60
+  summary+=("rig self-test: FAILED (logs: build/logs/board-riglib.log, build/logs/board-selftest.log)")
+  failed=1
+fi
+grep -E "^rig: tests " build/logs/board-selftest.log | tail -1
+for preset in "${presets[@]}"; do
+  cpu=$(sed -n 's/.*"TLVLINK_QEMU_CPU": "\([^"]*\)".*/\1/p' "boards/$preset.json")
+  log=build/logs/board-$preset
+  t0=$(now)
+  targets=()
+  for p in "${programs[@]}"; do targets+=("$(basename "$p")"); done
+  if ! { cmake --preset "$preset" >"$log-configure.log" 2>&1 &&
+         cmake --build --preset "$preset" -j "$jobs" --target "${targets[@]}" >"$log-build.log" 2>&1; }; then
+    grep -E "error:|FAILED:|CMake Error" "$log-configure.log" "$log-build.log" | cut -c1-300 | head -30
+    summary+=("$preset: BUILD FAILED (logs: $log-*.log)")
+    failed=1
+    continue
+  fi
+  t_build=$(secs "$t0" "$(now)")
+  args=()
+  for p in "${programs[@]}"; do args+=(--program "build/$preset/$p"); done
+  echo "=== $preset: rig -cpu $cpu (build ${t_build}s)"
+  t0=$(now)
+  "$py" tools/rig/rig.py run --cpu "$cpu" --script tests/capture/rig/capture_rig.sh "${args[@]}" \
+    --env TLVLINK_RIG=1 --out "build/rig/$preset" | tee "$log-rig.log"
+  rc=${PIPESTATUS[0]}
+  t_rig=$(secs "$t0" "$(now)")
+  line=$(grep -E "^rig: tests " "$log-rig.log" | tail -1)
+  boot=$(grep -Eo "boot to init [0-9.]+s" "$log-rig.log" | tail -1)
+  if [ "$rc" -eq 0 ]; then summary+=("$preset (-cpu $cpu): build ${t_build}s, rig ${t_rig}s, $boot; ${line#rig: }")
+  else summary+=("$preset (-cpu $cpu): RIG FAILED in ${t_rig}s; ${line#rig: }"); failed=1; fi
+done
+
+echo
+echo "board_test summary (-j$jobs):"
+printf '  %s\n' "${summary[@]}"
+if [ $failed -eq 0 ]; then echo "board_test: PASS"; else echo "board_test: FAIL"; fi
+exit $failed
