@@ -8,6 +8,7 @@
 #include "model/tiny_models.h"
 #include "support/test_models.h"
 #include "tlvlink/head_trust.h"
+#include "tlvlink/heads/evaluator.h"
 
 namespace tlvlink::testing {
 namespace {
@@ -88,6 +89,31 @@ TEST(HeadTrust, RuleNeedsTwoPointsAndTwoStandardErrorsOverTheMajority) {
   EXPECT_NEAR(a.margin, 0.11, 1e-6);
   EXPECT_NEAR(a.required, 0.10, 1e-9);
   EXPECT_STREQ(head_trust_level_name(HeadTrustLevel::kTrusted), "trusted");
+}
+
+TEST(HeadTrust, DefaultOutputLeavesOutUntrustedHeadsOnly) {
+  // The daemon's default heads (heads::reported_by_default): probe heads unless measured and
+  // not better than the majority class; zero-shot heads never by default.
+  struct Case {
+    quantize::HeadTrustSpec trust;
+    bool probe_reported;
+  };
+  for (const Case& c : {Case{record(0.82f, 0.734f, 2160), true},
+                        Case{record(0.74f, 0.734f, 2160), false}, Case{{}, true}}) {
+    auto model = load_model(with_heads(c.trust).build());
+    ASSERT_NE(model, nullptr);
+    auto heads = heads::HeadEvaluator::create(model->metadata());
+    ASSERT_TRUE(heads.ok()) << heads.error().message();
+    ASSERT_EQ(heads->results().size(), 2u);
+    const heads::HeadResult& probe = heads->results()[0];
+    const heads::HeadResult& zero_shot = heads->results()[1];
+    ASSERT_NE(probe.trust, nullptr);
+    EXPECT_EQ(probe.trust->present, c.trust.present);
+    EXPECT_EQ(heads::reported_by_default(probe), c.probe_reported)
+        << "accuracy " << c.trust.accuracy << " majority " << c.trust.majority;
+    EXPECT_FALSE(heads::reported_by_default(zero_shot));
+    EXPECT_EQ(&heads->grasp_trust(), &model->metadata().grasp_head.trust);
+  }
 }
 
 }  // namespace
