@@ -31,7 +31,9 @@ Result<eval::EvalReport> evaluate_one(const std::string& path, const eval::EvalD
   return std::move(report).value();
 }
 
-// A reference model's linear-probe row (e.g. a supervised upper bound) on the same data.
+// A reference model's row (e.g. a supervised upper bound) on the same data: its own heads when
+// it has them (fitted like the evaluated model's, e.g. by `heads fit` on the same heads' set),
+// else linear probes fitted on this data's training split.
 Result<eval::BoundRow> bound_row(const std::string& spec, const eval::EvalData& data,
                                  eval::EvalOptions o) {
   const size_t eq = spec.find('=');
@@ -40,14 +42,17 @@ Result<eval::BoundRow> bound_row(const std::string& spec, const eval::EvalData& 
   eval::BoundRow b;
   b.label = spec.substr(0, eq);
   b.model_path = spec.substr(eq + 1);
-  o.model_heads = false;
+  o.model_heads = true;
   o.zero_shot = eval::ZeroShotSource::kModel;
   o.oracle_samples = 0;
   o.touch_oracles = false;
   TLV_ASSIGN_OR_RETURN(eval::EvalReport r, evaluate_one(b.model_path, data, o));
   b.model_name = r.model_name;
   for (eval::Task t : eval::kAllTasks) {
-    if (const eval::TaskResult* p = r.find(t, eval::Method::kProbe)) b.results.push_back(*p);
+    const eval::TaskResult* heads = r.find(t, eval::Method::kModelHeads);
+    const eval::TaskResult* probe = r.find(t, eval::Method::kProbe);
+    if (heads != nullptr && heads->available) b.results.push_back(*heads);
+    else if (probe != nullptr) b.results.push_back(*probe);
   }
   return b;
 }
@@ -112,9 +117,9 @@ void add_eval_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--compare", c->compare,
                   "A second model evaluated on the same data, side by side (e.g. fp32 vs int8)");
   cmd->add_option("--bound", c->bounds,
-                  "LABEL=MODEL.tlvm: a reference model (e.g. a supervised upper bound) whose "
-                  "linear probes are fitted and scored on the same data, printed as a row "
-                  "'bound: LABEL' (repeatable)");
+                  "LABEL=MODEL.tlvm: a reference model (e.g. a supervised upper bound) scored on "
+                  "the same data with its own heads (else linear probes fitted on this data), "
+                  "printed as a row 'bound: LABEL' (repeatable)");
   cmd->add_option("--record", c->record,
                   "Write a copy of MODEL whose heads record the measured test accuracy, the "
                   "majority-class rate and the set (runtime: head_trust.h); zero-shot heads that "

@@ -190,9 +190,11 @@ std::string format_table(std::span<const EvalReport* const> reports, bool paper_
     for (const std::string& n : r.notes)
       out += fmt("note%s: %s\n", label_of(r, i, reports.size()).c_str(), n.c_str());
     for (const BoundRow& b : r.bounds)
-      out += fmt("bound%s '%s': %s '%s' (linear probes fitted on its embeddings of the same "
-                 "training split)\n", label_of(r, i, reports.size()).c_str(), b.label.c_str(),
-                 b.model_path.c_str(), b.model_name.c_str());
+      out += fmt("bound%s '%s': %s '%s' (%s)\n", label_of(r, i, reports.size()).c_str(),
+                 b.label.c_str(), b.model_path.c_str(), b.model_name.c_str(),
+                 !b.results.empty() && b.results[0].method == Method::kModelHeads
+                     ? "its own heads"
+                     : "linear probes fitted on this training split");
     if (!r.touch_oracles.empty())
       out += fmt("oracles%s: hidden = from the simulator's recorded variables (hard/soft and "
                  "rough/smooth are functions of them); one frame = %d-NN on force, contact area, "

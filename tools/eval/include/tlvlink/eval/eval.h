@@ -79,12 +79,12 @@ struct GraspOracle {
 };
 
 // A reference model's accuracy beside the evaluated one (`tlvlink eval --bound LABEL=MODEL`):
-// e.g. the supervised upper bounds. Its linear probes are fitted and scored exactly like the
-// evaluated model's (the "linear probe" row), on the same data.
+// e.g. the supervised upper bounds. Scored like the evaluated model's own heads when it has
+// heads (fit both on the same heads' set), else by linear probes fitted on this data.
 struct BoundRow {
   std::string label;            // "supervised tiny (same size)"
   std::string model_path, model_name;
-  std::vector<TaskResult> results;  // Method::kProbe, one per task (kAllTasks order)
+  std::vector<TaskResult> results;  // Method::kModelHeads or kProbe, one per task
 
   const TaskResult* find(Task task) const;
 };
