@@ -25,7 +25,7 @@ noise_multiple = 6.5
 [grasp]
 mode = "commanded"
 settle_ms = 0
-during_delay_ms = 250
+after_delay_ms = 250
 
 [[sensor]]
 name = "left"
@@ -60,7 +60,7 @@ TEST(DaemonConfig, AFullFileParses) {
   EXPECT_EQ(c->processing.contact.reference_frames, 30);
   EXPECT_FLOAT_EQ(c->processing.contact.noise_multiple, 6.5f);
   EXPECT_EQ(c->processing.grasp_options.mode, pipeline::GraspOptions::Mode::kCommanded);
-  EXPECT_EQ(c->processing.grasp_options.during_delay_ns, 250'000'000);
+  EXPECT_EQ(c->processing.grasp_options.after_delay_ns, 250'000'000);
   ASSERT_EQ(c->sensors.size(), 2u);
   const SensorConfig& l = c->sensors[0];
   EXPECT_EQ(l.format.format, image::PixelFormat::kMjpeg);  // the Mini's only mode

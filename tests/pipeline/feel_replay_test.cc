@@ -58,7 +58,6 @@ TEST(PipelineFeelReplay, GraspPredictionsAreTheGraspHeadOnTheEpisodesFrames) {
   ProcessorOptions po;
   po.grasp_options.mode = GraspOptions::Mode::kCommanded;
   po.grasp_options.settle_ns = 100 * kMs;
-  po.grasp_options.during_delay_ns = 100 * kMs;
   po.contact.reference_frames = 5;
   sim::GraspEpisode ep;
   ASSERT_TRUE((*gen)->generate(0, ep).ok());
@@ -67,7 +66,6 @@ TEST(PipelineFeelReplay, GraspPredictionsAreTheGraspHeadOnTheEpisodesFrames) {
   auto p = FrameProcessor::create(m, **exec, sensors, po);
   ASSERT_TRUE(p.ok()) << p.error().message();
   ASSERT_TRUE((*p)->tracks_grasps());
-  const sim::RgbImage idle{h, w, std::vector<uint8_t>(static_cast<size_t>(w * h * 3), 128)};
   auto heads = heads::HeadEvaluator::create(m.metadata());
   ASSERT_TRUE(heads.ok());
   uint64_t seq = 0;
@@ -75,7 +73,9 @@ TEST(PipelineFeelReplay, GraspPredictionsAreTheGraspHeadOnTheEpisodesFrames) {
   int computed = 0;
   for (int64_t i = 0; i < (*gen)->size(); ++i) {
     ASSERT_TRUE((*gen)->generate(i, ep).ok());
-    // 10 idle frames, "closed", 10 frames of the before moment, "lifting", 10 of the during one.
+    // The episode as the robot lives it: 10 frames of the open gel (the episode's "before"
+    // frames), "closed", 10 frames holding the resting object ("during"), "lifting", 10 frames
+    // of the lift ("after").
     const auto feed = [&](int frames, const sim::RgbImage* per_finger[2]) {
       for (int k = 0; k < frames; ++k, t += kPeriod, ++seq) {
         for (int32_t f = 0; f < 2; ++f) {
@@ -86,14 +86,14 @@ TEST(PipelineFeelReplay, GraspPredictionsAreTheGraspHeadOnTheEpisodesFrames) {
         }
       }
     };
-    const sim::RgbImage* idle2[2] = {&idle, &idle};
     const sim::RgbImage* before[2] = {&ep.frames[0][0], &ep.frames[1][0]};
     const sim::RgbImage* during[2] = {&ep.frames[0][1], &ep.frames[1][1]};
-    feed(10, idle2);
-    ASSERT_TRUE((*p)->mark_closed(t));
+    const sim::RgbImage* after[2] = {&ep.frames[0][2], &ep.frames[1][2]};
     feed(10, before);
-    ASSERT_TRUE((*p)->mark_lifting(t));
+    ASSERT_TRUE((*p)->mark_closed(t));
     feed(10, during);
+    ASSERT_TRUE((*p)->mark_lifting(t));
+    feed(10, after);
     GraspPrediction g;
     ASSERT_TRUE((*p)->take_grasp(g)) << "episode " << i;
     ASSERT_TRUE(g.computed) << "episode " << i << ": " << g.reason.data();

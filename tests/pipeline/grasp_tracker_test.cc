@@ -30,8 +30,10 @@ struct Stream {
   GraspTracker tracker;
   std::vector<GraspPrediction> done;
   std::vector<std::vector<float>> features;  // of the last computed grasp, layout order
+  int encoded[2] = {0, 0};
 
   // Both fingers' frame k at k * period (finger B 7 ms later), in contact when `contact(k)`.
+  // Every frame is encoded, or only those the tracker wants.
   template <typename Contact>
   void run(uint64_t from, uint64_t to, Contact contact, int64_t b_offset = 7 * kMs,
            bool encode_only_when_wanted = false) {
@@ -39,7 +41,8 @@ struct Stream {
       for (int32_t f = 0; f < 2; ++f) {
         const int64_t t = static_cast<int64_t>(k) * kPeriod + (f == 1 ? b_offset : 0);
         const bool c = contact(f, k);
-        const bool encode = encode_only_when_wanted ? tracker.wants(f, t) : c;
+        const bool encode = encode_only_when_wanted ? tracker.wants(f, t) : true;
+        encoded[f] += encode ? 1 : 0;
         const std::vector<float> e = emb(f, k);
         tracker.on_frame(f, k, t, c, encode ? std::span<const float>(e) : std::span<const float>());
         drain();
@@ -63,10 +66,12 @@ struct Stream {
 Stream make(GraspOptions o = {}) {
   auto t = GraspTracker::create(kLayout, kDim, o);
   EXPECT_TRUE(t.ok()) << t.error().message();
-  return Stream{std::move(t).value(), {}, {}};
+  return Stream{std::move(t).value(), {}, {}, {0, 0}};
 }
 
-TEST(GraspTracker, DetectedGraspTakesTheFirstFramesAfterSettleAndDelay) {
+const auto kAlways = [](int32_t, uint64_t) { return true; };
+
+TEST(GraspTracker, DetectedGraspTakesTheOpenGelBeforeAndTheSettledGripDuring) {
   Stream s = make();
   // Contact on both fingers from frame 10 to 60 (0.4 s .. 2.4 s).
   s.run(0, 80, [](int32_t, uint64_t k) { return k >= 10 && k < 60; });
@@ -74,20 +79,22 @@ TEST(GraspTracker, DetectedGraspTakesTheFirstFramesAfterSettleAndDelay) {
   const GraspPrediction& p = s.done[0];
   EXPECT_TRUE(p.computed) << p.reason.data();
   EXPECT_EQ(p.grasp_id, 1u);
-  // Start = the later onset (B at 400 + 7 ms); before = first frames >= 707 ms: A frame 18 (720),
-  // B frame 18 (727); during = first >= 727 + 600 ms: A frame 34 (1360), B frame 33 (1327): one
-  // frame period apart at most, as two unsynchronised cameras are.
+  // Start = the later onset (B at 400 + 7 ms). before = each finger's last open-gel frame: 9
+  // (360 / 367 ms). during = first frames >= 407 + 300 ms: A frame 18 (720), B frame 18 (727).
   EXPECT_EQ(p.started_ns, 407 * kMs);
   ASSERT_EQ(p.frame_count, 4);
-  EXPECT_EQ(p.frames[0].sequence, 18u);
-  EXPECT_EQ(p.frames[1].sequence, 34u);
-  EXPECT_EQ(p.frames[2].sequence, 18u);
-  EXPECT_EQ(p.frames[3].sequence, 33u);
-  EXPECT_EQ(p.frames[3].capture_ns, 33 * kPeriod + 7 * kMs);
+  EXPECT_EQ(p.frames[0].sequence, 9u);
+  EXPECT_EQ(p.frames[1].sequence, 18u);
+  EXPECT_EQ(p.frames[2].sequence, 9u);
+  EXPECT_EQ(p.frames[3].sequence, 18u);
+  EXPECT_EQ(p.frames[3].capture_ns, 18 * kPeriod + 7 * kMs);
   ASSERT_EQ(s.features.size(), 4u);
-  EXPECT_EQ(s.features[0], emb(0, 18));
-  EXPECT_EQ(s.features[3], emb(1, 33));
+  EXPECT_EQ(s.features[0], emb(0, 9));
+  EXPECT_EQ(s.features[1], emb(0, 18));
+  EXPECT_EQ(s.features[3], emb(1, 18));
   EXPECT_EQ(s.tracker.grasps_started(), 1u);
+  // The prediction exists before the lift could have started: at the "during" frame.
+  EXPECT_EQ(p.decided_ns, 18 * kPeriod + 7 * kMs);
 }
 
 TEST(GraspTracker, OneFingerOrSkewedOnsetsAreNotAGrasp) {
@@ -101,12 +108,12 @@ TEST(GraspTracker, OneFingerOrSkewedOnsetsAreNotAGrasp) {
 TEST(GraspTracker, ReasonsAGraspIsNotComputed) {
   {  // finger B lets go before its "during" frame
     Stream s = make();
-    s.run(0, 80, [](int32_t f, uint64_t k) { return k >= 10 && (f == 0 || k < 25); });
+    s.run(0, 80, [](int32_t f, uint64_t k) { return k >= 10 && (f == 0 || k < 15); });
     ASSERT_EQ(s.done.size(), 1u);
     EXPECT_FALSE(s.done[0].computed);
     EXPECT_STREQ(s.done[0].reason.data(), "finger B let go before its 'during' frame");
   }
-  {  // B's camera drops frames 18 and 19: its first 'before' frame is 80 ms after A's
+  {  // B's camera drops frames 18 and 19: its first 'during' frame is 87 ms after A's
     Stream s = make();
     for (uint64_t k = 0; k < 80; ++k) {
       for (int32_t f = 0; f < 2; ++f) {
@@ -120,12 +127,12 @@ TEST(GraspTracker, ReasonsAGraspIsNotComputed) {
     ASSERT_EQ(s.done.size(), 1u);
     EXPECT_FALSE(s.done[0].computed);
     EXPECT_STREQ(s.done[0].reason.data(),
-                 "the fingers' 'before' frames are 87.0 ms apart (tolerance 50.0 ms)");
+                 "the fingers' 'during' frames are 87.0 ms apart (tolerance 50.0 ms)");
   }
-  {  // B's camera goes silent after frame 20: timed out by tick()
+  {  // B's camera goes silent after frame 15: timed out by tick()
     Stream s = make();
-    s.run(0, 21, [](int32_t, uint64_t k) { return k >= 10; });
-    for (uint64_t k = 21; k < 80; ++k) {
+    s.run(0, 16, [](int32_t, uint64_t k) { return k >= 10; });
+    for (uint64_t k = 16; k < 80; ++k) {
       const std::vector<float> e = emb(0, k);
       s.tracker.on_frame(0, k, static_cast<int64_t>(k) * kPeriod, true, e);
       s.tracker.tick(static_cast<int64_t>(k) * kPeriod);
@@ -136,9 +143,42 @@ TEST(GraspTracker, ReasonsAGraspIsNotComputed) {
   }
   {  // the caller did not encode a frame the tracker wanted
     Stream s = make();
-    s.run(0, 40, [](int32_t f, uint64_t k) { return k >= 10 && !(f == 1 && k == 18); });
-    ASSERT_FALSE(s.done.empty());
-    EXPECT_FALSE(s.done[0].computed);
+    for (uint64_t k = 0; k < 40; ++k) {
+      for (int32_t f = 0; f < 2; ++f) {
+        const std::vector<float> e = emb(f, k);
+        const bool skip = f == 1 && k == 18;
+        s.tracker.on_frame(f, k, static_cast<int64_t>(k) * kPeriod + (f == 1 ? 7 * kMs : 0),
+                           k >= 10, skip ? std::span<const float>() : std::span<const float>(e));
+        s.drain();
+      }
+    }
+    ASSERT_EQ(s.done.size(), 1u);
+    EXPECT_STREQ(s.done[0].reason.data(), "finger B frame 18 (its 'during' frame) was not encoded");
+  }
+  {  // the fingers touch from their first frame: no open gel was ever seen
+    Stream s = make();
+    s.run(0, 40, kAlways);
+    ASSERT_EQ(s.done.size(), 1u);
+    EXPECT_STREQ(s.done[0].reason.data(),
+                 "finger A has no frame of its open gel before the grasp (its 'before' moment)");
+  }
+  {  // the only open-gel frames encoded are too old to stand for "before"
+    GraspOptions o;
+    o.idle_refresh_ns = 100 * kMs;
+    o.before_max_age_ns = 200 * kMs;
+    Stream s = make(o);
+    for (uint64_t k = 0; k < 40; ++k) {
+      for (int32_t f = 0; f < 2; ++f) {
+        const std::vector<float> e = emb(f, k);
+        const bool encode = k == 0 || k >= 10;
+        s.tracker.on_frame(f, k, static_cast<int64_t>(k) * kPeriod + (f == 1 ? 7 * kMs : 0),
+                           k >= 10, encode ? std::span<const float>(e) : std::span<const float>());
+        s.drain();
+      }
+    }
+    ASSERT_EQ(s.done.size(), 1u);
+    EXPECT_STREQ(s.done[0].reason.data(),
+                 "finger A's last open-gel frame is 0.4 s old (before_max_age 0.2 s)");
   }
 }
 
@@ -147,27 +187,30 @@ TEST(GraspTracker, WantsMakesTheCallerEncodeExactlyTheFramesTaken) {
   s.run(0, 80, [](int32_t, uint64_t k) { return k >= 10 && k < 60; }, 7 * kMs, true);
   ASSERT_EQ(s.done.size(), 1u);
   EXPECT_TRUE(s.done[0].computed) << s.done[0].reason.data();
+  // Per finger: the open gel at frame 0 (refreshed every 500 ms: none due before contact at
+  // 400 ms), "during" at 18, and after both let go (frame 60) the open gel again at 61 and 74.
+  EXPECT_EQ(s.done[0].frames[0].sequence, 0u);
+  EXPECT_EQ(s.encoded[0], 4);
+  EXPECT_EQ(s.encoded[1], 4);
 }
 
 TEST(GraspTracker, CommandedModeUsesTheControllersMarks) {
   GraspOptions o;
   o.mode = GraspOptions::Mode::kCommanded;
-  o.settle_ns = 0;
-  o.during_delay_ns = 100 * kMs;
+  o.settle_ns = 100 * kMs;
   Stream s = make(o);
   s.run(0, 5, [](int32_t, uint64_t) { return false; });
-  EXPECT_TRUE(s.tracker.mark_closed(210 * kMs));  // before: frames 6 (240 / 247 ms)
-  s.run(5, 12, [](int32_t, uint64_t k) { return k >= 5; });
-  EXPECT_TRUE(s.tracker.mark_lifting(460 * kMs));  // during: >= 560 ms: frame 14
-  s.run(12, 30, [](int32_t, uint64_t k) { return k >= 5; });
+  EXPECT_TRUE(s.tracker.mark_closed(210 * kMs));  // before: the open gel of frame 4
+  EXPECT_TRUE(s.tracker.mark_lifting(260 * kMs));  // the lift comes before the grip settled
+  s.run(5, 12, kAlways);
   ASSERT_EQ(s.done.size(), 1u);
   ASSERT_TRUE(s.done[0].computed) << s.done[0].reason.data();
-  EXPECT_EQ(s.done[0].frames[0].sequence, 6u);
-  EXPECT_EQ(s.done[0].frames[1].sequence, 14u);
-  // A new "closed" before the lift supersedes the grasp in progress.
+  EXPECT_EQ(s.done[0].frames[0].sequence, 4u);
+  EXPECT_EQ(s.done[0].frames[1].sequence, 7u);  // during: at the lift (280 ms), not 310 ms
+  // A new "closed" before the grip settled supersedes the grasp in progress.
   EXPECT_TRUE(s.tracker.mark_closed(1300 * kMs));
-  s.run(30, 40, [](int32_t, uint64_t) { return true; });
-  EXPECT_TRUE(s.tracker.mark_closed(1700 * kMs));
+  s.run(30, 33, kAlways);
+  EXPECT_TRUE(s.tracker.mark_closed(1330 * kMs));
   s.drain();
   ASSERT_EQ(s.done.size(), 2u);
   EXPECT_STREQ(s.done[1].reason.data(), "superseded by a new 'closed' mark");

@@ -48,7 +48,9 @@ Status read_grasp(TableReader& r, pipeline::ProcessorOptions& p) {
   };
   TLV_TRY(ms("onset_window_ms", g.onset_window_ns));
   TLV_TRY(ms("settle_ms", g.settle_ns));
-  TLV_TRY(ms("during_delay_ms", g.during_delay_ns));
+  TLV_TRY(ms("after_delay_ms", g.after_delay_ns));
+  TLV_TRY(ms("idle_refresh_ms", g.idle_refresh_ns));
+  TLV_TRY(ms("before_max_age_ms", g.before_max_age_ns));
   TLV_TRY(ms("pair_tolerance_ms", g.pair_tolerance_ns));
   TLV_TRY(ms("frame_timeout_ms", g.frame_timeout_ns));
   TLV_ENSURE(g.frame_timeout_ns > 0, ErrorCode::kInvalidArgument,

@@ -77,7 +77,7 @@ void JsonlWriter::frame(const pipeline::FramePrediction& p, int64_t written_ns) 
                  ms_between(t.inferred_ns, t.heads_ns));
   }
   line_.printf(",\"total\":%.3f}", ms_between(t.capture_ns, written_ns));
-  if (p.encoder_ran) {
+  if (p.head_count > 0) {  // in contact (an open-gel frame encoded for a grasp has none)
     line_.printf(",\"heads\":{");
     for (int32_t k = 0; k < p.head_count; ++k) {
       const pipeline::HeadProbabilities& h = p.heads[static_cast<size_t>(k)];

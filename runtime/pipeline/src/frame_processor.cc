@@ -167,6 +167,10 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
     counters_.grasp_forced += (!contact && wanted) ? 1 : 0;
     embedding = embedding_;
     out.encoder_ran = true;
+  }
+  // Predictions are reported in contact only: a frame encoded for the grasp tracker's open-gel
+  // "before" moment says nothing about a material.
+  if (run && (contact || !options_.contact_gating)) {
     out.head_count = static_cast<int32_t>(reported_.size());
     const auto results = heads_.results();
     for (size_t k = 0; k < reported_.size(); ++k) {
@@ -178,7 +182,8 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
       s.smoothers[k].add(r.probabilities, in_times.capture_ns, smoothed);
       h.top = static_cast<int16_t>(std::max_element(smoothed.begin(), smoothed.end()) - smoothed.begin());
     }
-  } else {
+  }
+  if (!run) {
     ++counters_.gated;
     ++counters_.sensor_gated[static_cast<size_t>(index)];
   }

@@ -20,7 +20,9 @@ Status validate(const GraspOptions& o) {
   constexpr int64_t kMax = 60'000'000'000;  // a minute: anything longer is a unit mistake
   for (const auto& [name, v] :
        {std::pair{"grasp.onset_window_ms", o.onset_window_ns}, {"grasp.settle_ms", o.settle_ns},
-        {"grasp.during_delay_ms", o.during_delay_ns},
+        {"grasp.after_delay_ms", o.after_delay_ns},
+        {"grasp.idle_refresh_ms", o.idle_refresh_ns},
+        {"grasp.before_max_age_ms", o.before_max_age_ns},
         {"grasp.pair_tolerance_ms", o.pair_tolerance_ns},
         {"grasp.frame_timeout_ms", o.frame_timeout_ns}}) {
     TLV_ENSURE(v >= 0 && v <= kMax, ErrorCode::kInvalidArgument, "%s = %lld ms outside [0, 60000]",
@@ -28,6 +30,11 @@ Status validate(const GraspOptions& o) {
   }
   TLV_ENSURE(o.frame_timeout_ns > 0, ErrorCode::kInvalidArgument,
              "grasp.frame_timeout_ms must be > 0");
+  TLV_ENSURE(o.idle_refresh_ns < o.before_max_age_ns, ErrorCode::kInvalidArgument,
+             "grasp.idle_refresh_ms (%lld) must be below grasp.before_max_age_ms (%lld): an "
+             "open-gel frame must exist that is young enough",
+             static_cast<long long>(o.idle_refresh_ns / 1'000'000),
+             static_cast<long long>(o.before_max_age_ns / 1'000'000));
   return {};
 }
 
@@ -52,6 +59,7 @@ Result<GraspTracker> GraspTracker::create(std::span<const heads::GraspFeature> l
   t.options_ = options;
   const size_t d = static_cast<size_t>(dim);
   t.embeddings_.assign(static_cast<size_t>(heads::kFingers * heads::kMoments) * d, 0.0f);
+  t.idle_.assign(static_cast<size_t>(heads::kFingers) * d, 0.0f);
   t.finished_features_.assign(static_cast<size_t>(kMaxFinished) * t.layout_.size() * d, 0.0f);
   return t;
 }
@@ -63,46 +71,44 @@ bool GraspTracker::needed(int32_t finger, Moment moment) const {
 }
 
 // The time a moment's frames are taken from; -1 while it depends on what has not happened yet.
+// ("before" is taken at the start from the open-gel frames, never waited for.)
 int64_t GraspTracker::target(Moment m) const {
   if (phase_ != Phase::kWaiting) return -1;
-  const int64_t before = start_ns_ + options_.settle_ns;
-  // The later of the fingers' frames taken for moment `prev` (the earlier target when none is
-  // needed), or -1 while one is still missing.
-  const auto later_of = [&](Moment prev, int64_t fallback) -> int64_t {
-    int64_t latest = -1;
-    bool any = false;
-    for (int32_t f = 0; f < heads::kFingers; ++f) {
-      if (!needed(f, prev)) continue;
-      any = true;
-      const Slot& s = slots_[f][index(prev)];
-      if (!s.taken) return -1;
-      latest = std::max(latest, s.t_ns);
-    }
-    return any ? latest : fallback;
-  };
+  const bool commanded = options_.mode == GraspOptions::Mode::kCommanded;
   switch (m) {
-    case Moment::kBefore: return before;
+    case Moment::kBefore: return -1;
     case Moment::kDuring: {
-      if (options_.mode == GraspOptions::Mode::kCommanded) {
-        if (!lifting_marked_) return -1;
-        // The lift cannot be sampled before the hold: wait for "before" too.
-        if (later_of(Moment::kBefore, before) < 0) return -1;
-        return lifting_ns_ + options_.during_delay_ns;
-      }
-      const int64_t b = later_of(Moment::kBefore, before);
-      return b < 0 ? -1 : b + options_.during_delay_ns;
+      const int64_t settled = start_ns_ + options_.settle_ns;
+      return commanded && lifting_marked_ ? std::min(settled, lifting_ns_) : settled;
     }
     case Moment::kAfter: {
-      const int64_t d = later_of(Moment::kDuring, -1);
-      return d < 0 ? -1 : d + options_.during_delay_ns;
+      if (commanded) return lifting_marked_ ? lifting_ns_ + options_.after_delay_ns : -1;
+      // The later of the fingers' "during" frames (the "during" target when none is needed).
+      int64_t latest = -1;
+      bool any = false;
+      for (int32_t f = 0; f < heads::kFingers; ++f) {
+        if (!needed(f, Moment::kDuring)) continue;
+        any = true;
+        const Slot& s = slots_[f][index(Moment::kDuring)];
+        if (!s.taken) return -1;
+        latest = std::max(latest, s.t_ns);
+      }
+      return (any ? latest : target(Moment::kDuring)) + options_.after_delay_ns;
     }
   }
   return -1;
 }
 
 bool GraspTracker::wants(int32_t finger, int64_t t_ns) const {
-  if (phase_ != Phase::kWaiting || finger < 0 || finger >= heads::kFingers) return false;
-  for (Moment m : {Moment::kBefore, Moment::kDuring, Moment::kAfter}) {
+  if (finger < 0 || finger >= heads::kFingers) return false;
+  if (phase_ != Phase::kWaiting) {
+    // Idle: keep an open-gel frame for the next grasp's "before" (the caller encodes it only
+    // when the gate sees no contact; on_frame takes it only then).
+    if (!needed(finger, Moment::kBefore) || contact_[finger]) return false;
+    const Slot& idle = idle_slots_[finger];
+    return !idle.taken || t_ns - idle.t_ns >= options_.idle_refresh_ns;
+  }
+  for (Moment m : {Moment::kDuring, Moment::kAfter}) {
     if (!needed(finger, m) || slots_[finger][index(m)].taken) continue;
     const int64_t at = target(m);
     return at >= 0 && t_ns >= at;  // moments are taken in order: only the first open one counts
@@ -120,6 +126,26 @@ void GraspTracker::start(int64_t t_ns) {
   reset_grasp();
   phase_ = Phase::kWaiting;
   start_ns_ = t_ns;
+  const size_t d = static_cast<size_t>(dim_);
+  for (int32_t f = 0; f < heads::kFingers; ++f) {
+    if (!needed(f, Moment::kBefore)) continue;
+    const Slot& idle = idle_slots_[f];
+    if (!idle.taken || idle.t_ns > t_ns) {
+      fail(t_ns, "finger %c has no frame of its open gel before the grasp (its 'before' moment)",
+           finger_letter(f));
+      return;
+    }
+    if (t_ns - idle.t_ns > options_.before_max_age_ns) {
+      fail(t_ns, "finger %c's last open-gel frame is %.1f s old (before_max_age %.1f s)",
+           finger_letter(f), static_cast<double>(t_ns - idle.t_ns) * 1e-9,
+           static_cast<double>(options_.before_max_age_ns) * 1e-9);
+      return;
+    }
+    std::memcpy(embeddings_.data() + (static_cast<size_t>(f) * heads::kMoments +
+                                      index(Moment::kBefore)) * d,
+                idle_.data() + static_cast<size_t>(f) * d, d * sizeof(float));
+    slots_[f][index(Moment::kBefore)] = idle;
+  }
 }
 
 void GraspTracker::finish(bool computed, int64_t now_ns) {
@@ -176,7 +202,7 @@ void GraspTracker::check_complete(int64_t now_ns) {
       return;
     }
   }
-  for (Moment m : {Moment::kBefore, Moment::kDuring, Moment::kAfter}) {
+  for (Moment m : {Moment::kDuring, Moment::kAfter}) {  // "before": an open gel, any time
     const Slot& a = slots_[0][index(m)];
     const Slot& b = slots_[1][index(m)];
     if (!a.taken || !b.taken || !needed(0, m) || !needed(1, m)) continue;
@@ -194,10 +220,15 @@ void GraspTracker::check_complete(int64_t now_ns) {
 void GraspTracker::on_frame(int32_t finger, uint64_t sequence, int64_t t_ns, bool contact,
                             std::span<const float> embedding) {
   if (finger < 0 || finger >= heads::kFingers) return;
+  const size_t d = static_cast<size_t>(dim_);
   last_frame_[finger] = t_ns;
   if (contact && !contact_[finger]) onset_[finger] = t_ns;
   if (!contact) onset_[finger] = -1;
   contact_[finger] = contact;
+  if (!contact && phase_ != Phase::kWaiting && embedding.size() == d) {
+    std::memcpy(idle_.data() + static_cast<size_t>(finger) * d, embedding.data(), d * sizeof(float));
+    idle_slots_[finger] = {true, sequence, t_ns};
+  }
   const bool detected = options_.mode == GraspOptions::Mode::kDetected;
   if (phase_ == Phase::kFinished) {
     // Detected: a new grasp needs both fingers to let go first. Commanded: the next mark.
@@ -212,7 +243,7 @@ void GraspTracker::on_frame(int32_t finger, uint64_t sequence, int64_t t_ns, boo
     }
     if (phase_ != Phase::kWaiting) return;
   }
-  for (Moment m : {Moment::kBefore, Moment::kDuring, Moment::kAfter}) {
+  for (Moment m : {Moment::kDuring, Moment::kAfter}) {
     if (!needed(finger, m)) continue;
     Slot& s = slots_[finger][index(m)];
     if (s.taken) continue;
@@ -223,14 +254,13 @@ void GraspTracker::on_frame(int32_t finger, uint64_t sequence, int64_t t_ns, boo
     }
     const int64_t at = target(m);
     if (at < 0 || t_ns < at) break;  // moments are taken in order, one per frame
-    if (embedding.size() != static_cast<size_t>(dim_)) {
+    if (embedding.size() != d) {
       fail(t_ns, "finger %c frame %llu (its '%s' frame) was not encoded", finger_letter(finger),
            static_cast<unsigned long long>(sequence), heads::moment_name(m));
       return;
     }
-    std::memcpy(embeddings_.data() + (static_cast<size_t>(finger) * heads::kMoments + index(m)) *
-                                         static_cast<size_t>(dim_),
-                embedding.data(), embedding.size() * sizeof(float));
+    std::memcpy(embeddings_.data() + (static_cast<size_t>(finger) * heads::kMoments + index(m)) * d,
+                embedding.data(), d * sizeof(float));
     s = {true, sequence, t_ns};
     break;
   }
@@ -248,7 +278,9 @@ bool GraspTracker::mark_closed(int64_t t_ns) {
 }
 
 bool GraspTracker::mark_lifting(int64_t t_ns) {
-  if (options_.mode != GraspOptions::Mode::kCommanded || phase_ != Phase::kWaiting) return false;
+  if (options_.mode != GraspOptions::Mode::kCommanded) return false;
+  // A grasp already decided at "during" (the usual case) has no use for the lift.
+  if (phase_ != Phase::kWaiting) return true;
   lifting_marked_ = true;
   lifting_ns_ = t_ns;
   return true;

@@ -3,18 +3,27 @@
 // head reads ("A.before,A.during,B.before,B.during"). Pure logic: frames and commands go in, a
 // decision per grasp comes out; the caller runs the encoder and the grasp head.
 //
-// Phases, per grasp:
+// The moments mean what they mean in the Feel data the grasp head was trained on (and in the
+// simulator's episodes): "before" the fingers are open, "during" they hold the object still
+// resting on the table, "after" the object has been lifted. So a grasp is predicted before the
+// lift, when the robot can still decide not to lift.
+//
+// Per grasp:
 //   start    detected: both fingers touch, their contact onsets within onset_window
 //            commanded: the controller's "closed" mark
-//   before   each finger's first frame at or after start + settle
-//   during   each finger's first frame at or after (the later "before" frame + during_delay)
-//            detected, or (the controller's "lifting" mark + during_delay) commanded
-//   after    each finger's first frame at or after the later "during" frame + during_delay
+//   before   each finger's latest frame without contact before the start (the tracker keeps
+//            one encoded open-gel frame per finger, refreshed every idle_refresh while idle, no
+//            older than before_max_age at the start)
+//   during   each finger's first frame at or after start + settle (commanded: or at the
+//            "lifting" mark if that comes first: the object no longer rests after it)
+//   after    each finger's first frame at or after the later "during" frame + after_delay
+//            detected, or the "lifting" mark + after_delay commanded
 // Each finger's frames carry their own timestamps (two cameras are not synchronised): the two
-// frames of one moment must lie within pair_tolerance of each other, or the grasp is "not
-// computed" with the reason. So is a grasp whose finger stops sending frames (frame_timeout), a
-// finger that lets go before its frames were taken (detected), or a grasp superseded by a new
-// "closed" mark. Never a made-up value.
+// frames of the "during" and "after" moments must lie within pair_tolerance of each other, or
+// the grasp is "not computed" with the reason ("before" frames show an open gel and need not be
+// simultaneous). So is a grasp whose finger stops sending frames (frame_timeout), a finger that
+// lets go before its frames were taken (detected), a finger with no open-gel frame to stand for
+// "before", or a grasp superseded by a new "closed" mark. Never a made-up value.
 //
 // The tracker stores the embeddings it needs (wants() tells the caller which frames must be
 // encoded even when contact gating would skip them). Made once; no allocation per frame.
@@ -34,8 +43,10 @@ struct GraspOptions {
   enum class Mode : uint8_t { kDetected = 0, kCommanded = 1 };
   Mode mode = Mode::kDetected;
   int64_t onset_window_ns = 500'000'000;   // detected: both onsets within this make a grasp
-  int64_t settle_ns = 300'000'000;         // start -> "before"
-  int64_t during_delay_ns = 600'000'000;   // "before" (detected) or "lifting" (commanded) -> "during"
+  int64_t settle_ns = 300'000'000;         // start -> "during" (the grip has settled)
+  int64_t after_delay_ns = 600'000'000;    // "during" (detected) or "lifting" (commanded) -> "after"
+  int64_t idle_refresh_ns = 500'000'000;   // while idle, encode one open-gel frame this often
+  int64_t before_max_age_ns = 10'000'000'000;  // an older open-gel frame cannot stand for "before"
   // The fingers' frames of one moment must lie this close. Each finger takes its first frame at
   // or after the moment, so two unsynchronised cameras are up to one frame period apart: the
   // default covers a 25 fps sensor (40 ms) plus jitter; a dropped frame exceeds it.
@@ -96,6 +107,9 @@ class GraspTracker {
   std::vector<float> embeddings_;  // [finger][moment][dim]
   Slot slots_[heads::kFingers][heads::kMoments];
   bool contact_[heads::kFingers] = {false, false};
+  // Each finger's latest encoded open-gel frame (the candidate "before"), stored in idle_.
+  Slot idle_slots_[heads::kFingers];
+  std::vector<float> idle_;  // [finger][dim]
   int64_t onset_[heads::kFingers] = {-1, -1};
   int64_t last_frame_[heads::kFingers] = {-1, -1};
   Phase phase_ = Phase::kIdle;
