@@ -173,6 +173,8 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
   // (a pty discards what its reader has not read when the board closes it).
   std::atomic<uint64_t> frames{0}, grasps{0};
   std::atomic<bool> hello{false}, done{false};
+  // Heads whose Hello entry carries the model's trust record (accuracy and majority rate).
+  std::atomic<int> heads_with_trust{0}, heads_in_hello{0};
   std::thread reader([&] {
     int quiet = 0;
     while (!done || quiet < 5) {
@@ -183,7 +185,16 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
         continue;
       }
       quiet = 0;
-      if (auto h = m.value()->hello(); h.ok()) hello = h.value().sensor_count() == 2;
+      if (auto h = m.value()->hello(); h.ok()) {
+        hello = h.value().sensor_count() == 2;
+        heads_in_hello = static_cast<int>(h.value().head_count());
+        int recorded = 0;
+        for (size_t i = 0; i < h.value().head_count(); ++i) {
+          const protocol::HeadInfoView head = h.value().head(i);
+          if (std::isfinite(head.accuracy()) && std::isfinite(head.majority_rate())) ++recorded;
+        }
+        heads_with_trust = recorded;
+      }
       if (m.value()->frame_prediction().ok()) ++frames;
       if (m.value()->grasp_prediction().ok()) ++grasps;
     }
@@ -196,6 +207,9 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
   EXPECT_EQ(ls.frames.rejected(), 0u);
   EXPECT_EQ(ls.frames_missing, 0u);
   EXPECT_TRUE(hello);
+  // The shipped model records every head's test accuracy; the Hello passes them on.
+  EXPECT_GT(heads_in_hello.load(), 0);
+  EXPECT_EQ(heads_with_trust.load(), heads_in_hello.load());
   EXPECT_EQ(frames, t.frames);
   EXPECT_EQ(grasps, t.grasps + t.grasps_not_computed);
 }
