@@ -1,6 +1,6 @@
 #pragma once
 // Trust records written into a model from an evaluation (the model file's HeadTrust, read back
-// by runtime/include/tlvlink/head_trust.h): each head gets the test accuracy its cell of the
+// by runtime/heads/include/tlvlink/head_trust.h): each head gets the test accuracy its cell of the
 // report measured ("model's heads" for linear and grasp heads, "zero-shot" for zero-shot heads),
 // the test split's majority-class rate and a description of the set. `tlvlink heads fit` and
 // `tlvlink eval --record` write them.
