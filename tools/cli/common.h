@@ -62,6 +62,8 @@ void add_export_command(CLI::App& app, int& exit_code);  // export.cc or train_u
 void add_eval_command(CLI::App& app, int& exit_code);    // eval.cc
 void add_heads_command(CLI::App& app, int& exit_code);   // heads_fit.cc (`heads fit`)
 void add_listen_command(CLI::App& app, int& exit_code);  // listen.cc or listen_unavailable.cc
+void add_score_command(CLI::App& app, int& exit_code);   // score.cc
+void add_record_command(CLI::App& app, int& exit_code);  // record.cc (with runtime/capture)
 void add_replay_command(CLI::App& app, int& exit_code);  // listen.cc or listen_unavailable.cc
 
 }  // namespace tlvlink::cli

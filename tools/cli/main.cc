@@ -26,6 +26,10 @@ int main(int argc, char** argv) {
   add_heads_command(app, exit_code);
   add_listen_command(app, exit_code);
   add_replay_command(app, exit_code);
+  add_score_command(app, exit_code);
+#if defined(TLVLINK_HAVE_SIM_SCENARIO)
+  add_record_command(app, exit_code);
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -33,6 +33,9 @@ void add_sim_command(CLI::App& app, int& exit_code) {
   add_sim_feel_command(*sim, exit_code);
   add_sim_frame_command(*sim, exit_code);
   add_sim_extreme_command(*sim, exit_code);
+#if defined(TLVLINK_HAVE_SIM_SCENARIO)
+  add_sim_scenario_command(*sim, exit_code);
+#endif
   add_sim_stats_command(*sim, exit_code);
   // --stats is a command of its own: combining it with a subcommand is a usage error.
   for (CLI::App* sub : sim->get_subcommands([](CLI::App*) { return true; })) sub->excludes(stats);

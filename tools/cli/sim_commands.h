@@ -21,6 +21,7 @@ void add_sim_touch_commands(CLI::App& sim, int& exit_code);  // touch100k, tag
 void add_sim_feel_command(CLI::App& sim, int& exit_code);
 void add_sim_frame_command(CLI::App& sim, int& exit_code);
 void add_sim_extreme_command(CLI::App& sim, int& exit_code);
+void add_sim_scenario_command(CLI::App& sim, int& exit_code);  // needs runtime/capture
 void add_sim_stats_command(CLI::App& sim, int& exit_code);
 // `tlvlink sim stats DIR` and `tlvlink sim --stats DIR`.
 int run_sim_stats(const std::string& dir, int top_n, bool check_files, bool json);

@@ -1,11 +1,17 @@
+#!/usr/bin/env bash
 # The README's main command: sets up a fresh Debian 12 machine and runs the main job on the
 # embedded default, printing what it did.
 #   tools/setup/run_demo.sh
-# The embedded default is the shipped touch encoder (firmware/models/touch-tiny-{fp32,int8}.tlvm:
-# TLV-Link-trained on simulator data, int8 by `tlvlink quantize`; tools/setup/make_default_models.sh
-# reproduces both). Frames come from the simulated GelSight Mini (tools/sim) as JPEG, like the
-# camera's, and go through the real runtime: preprocessing, the XNNPACK executor (checked against
-# the reference executor) and the model's heads. Outputs go to build/demo/out/.
+# The main job is the board's pipeline, run on this host: tlvlinkd (firmware/tlvlinkd) with two
+# simulated GelSight Mini fingers on a gripper, streaming what the camera streams (MJPEG
+# 3280x2464 at 25 fps, replayed at that pace from a scenario the simulator records once) through
+# scripted grasps and presses: decode, contact gating, preprocessing, the shipped int8 encoder on
+# XNNPACK, the heads and one grasp prediction per grasp, with a live status line, a summary
+# (frames, drops, latency per stage, CPU, RSS) and the live predictions scored against the
+# simulator's ground truth. The embedded default is the shipped touch encoder
+# (firmware/models/touch-tiny-{fp32,int8}.tlvm: TLV-Link-trained on simulator data, int8 by
+# `tlvlink quantize`; tools/setup/make_default_models.sh reproduces both). Outputs go to
+# build/demo/out/.
 # Environment: TLVLINK_JOBS (build jobs, default nproc).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -18,19 +24,20 @@ int8=$models/touch-tiny-int8.tlvm
 
 step() { echo; echo "== $*"; }
 
-step "1/7 Debian packages (tools/setup/install_deps.sh core)"
+step "1/6 Debian packages (tools/setup/install_deps.sh core)"
 bash tools/setup/install_deps.sh core
 
-step "2/7 build the runtime and the tlvlink CLI into $build (no tests)"
+step "2/6 build tlvlinkd and the tlvlink CLI into $build (no tests)"
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DTLVLINK_BUILD_TESTS=OFF \
   -DTLVLINK_BUILD_BENCHMARKS=OFF >/dev/null
-cmake --build "$build" -j "$jobs" --target tlvlink >"$build/build.log" 2>&1 ||
+cmake --build "$build" -j "$jobs" --target tlvlink tlvlinkd >"$build/build.log" 2>&1 ||
   { tail -40 "$build/build.log"; echo "run_demo: build failed (full log: $build/build.log)" >&2; exit 1; }
 tail -1 "$build/build.log"
 tlvlink=$build/tools/cli/tlvlink
+tlvlinkd=$build/firmware/tlvlinkd/tlvlinkd
 mkdir -p "$out"
 
-step "3/7 the shipped models: inspect the int8 one (totals), verify the golden pairs stored in both"
+step "3/6 the shipped models: inspect the int8 one (totals), verify the golden pairs stored in both"
 "$tlvlink" inspect "$int8" | grep -iE "^(model|input|embedding|total|producer|checksum|heads)" || true
 for m in "$fp32" "$int8"; do
   for e in xnnpack reference; do
@@ -39,41 +46,50 @@ for m in "$fp32" "$int8"; do
   done
 done
 
-step "4/7 simulated GelSight Mini: press two objects, run each frame through the int8 model"
-# A hard, rough object (stone-like: 70 GPa, 150 um RMS texture) and a soft, smooth one
-# (rubber-like: 100 kPa, 0.5 um). One frame cannot say whether a grasp will hold, so the grasp
-# head is skipped here and scored over episodes in step 6.
-"$tlvlink" sim frame -o "$out/hard_rough.jpg" --modulus 7e10 --sq-um 150 --correlation-length 1 \
-  --force 8 --radius 8 --seed 11
-"$tlvlink" sim frame -o "$out/soft_smooth.jpg" --modulus 1e5 --sq-um 0.5 --force 8 --radius 8 --seed 12
-for name in hard_rough soft_smooth; do
-  echo "-- $name.jpg (truth: ${name/_/, })"
-  "$tlvlink" infer "$int8" --input "$out/$name.jpg" --threads 1 | grep -E "^head|invoke" | sed 's/^/   /'
-done
+step "4/6 record the scenario: two simulated Minis, 6 grasps + 4 presses (tlvlink sim scenario)"
+# Rendered once (~15-30 s; ~220 MB of MJPEG in build/demo/out/scenario), reused while its options
+# are unchanged.
+scenario=$out/scenario
+scenario_args=(--sensor gelsight-mini --grasps 6 --presses 4 --seed 2026)
+if [ ! -f "$scenario/truth.jsonl" ] || [ "$(cat "$scenario/args" 2>/dev/null)" != "${scenario_args[*]}" ]; then
+  "$tlvlink" sim scenario -o "$scenario" "${scenario_args[@]}"
+  echo "${scenario_args[*]}" >"$scenario/args"
+else
+  echo "   reusing $scenario (${scenario_args[*]})"
+fi
 
-step "5/7 XNNPACK against the reference executor on the same frame (the tolerances tlvlink verify uses)"
-"$tlvlink" infer "$int8" --input "$out/hard_rough.jpg" -o "$out/hard_rough.npy" --compare-executors |
-  grep -E "^output|LSB" | sed 's/^/   /'
+step "5/6 tlvlinkd: both fingers live at 25 fps through the int8 model (status line, then summary)"
+cat >"$out/tlvlinkd.toml" <<TOML
+# Written by tools/setup/run_demo.sh: firmware/tlvlinkd/tlvlinkd.toml explains every key.
+model = "$PWD/$int8"
+output = "jsonl:$PWD/$out/predictions.jsonl"
+status_line = true
+[grasp]
+mode = "detected"
+[[sensor]]
+name = "left"
+model = "gelsight-mini"
+finger = "A"
+source = "replay"
+device = "$PWD/$scenario/A.tlvraw"
+[[sensor]]
+name = "right"
+model = "gelsight-mini"
+finger = "B"
+source = "replay"
+device = "$PWD/$scenario/B.tlvraw"
+TOML
+rm -f "$out/predictions.jsonl"
+"$tlvlinkd" --config "$out/tlvlinkd.toml"
+echo "   predictions: $out/predictions.jsonl ($(wc -l <"$out/predictions.jsonl") JSON lines;"
+echo "   schema in firmware/tlvlinkd/README.md)"
 
-step "6/7 accuracy on unseen simulated data: fp32 vs int8 (heads fitted on the training split)"
-# A fresh set (new seed: new objects and sessions) in both formats the heads read.
-rm -rf "$out/touch" "$out/feel"
-"$tlvlink" sim touch100k -o "$out/touch" --sessions 150 --frames-per-session 4 --seed 4242 \
-  --threads 2 >/dev/null
-"$tlvlink" sim feel -o "$out/feel" --objects 40 --grasps-per-object 6 --repacked --seed 4243 \
-  --vision-height 60 --vision-width 80 >/dev/null
-"$tlvlink" eval "$fp32" --compare "$int8" --touch "$out/touch" --grasp "$out/feel" -q --no-paper \
-  --oracle-samples 0 | sed 's/^/   /'
-
-step "7/7 benchmark (XNNPACK, 300 runs, medians): fp32 vs int8, 1 and 2 threads"
-for m in "$fp32" "$int8"; do
-  for t in 1 2; do
-    "$tlvlink" bench "$m" --threads $t --runs 300 | grep -iE "median|rss" |
-      sed "s/^/   [$(basename "$m" .tlvm), $t thread(s)] /"
-  done
-done
+step "6/6 the live predictions against the simulator's ground truth (tlvlink score)"
+"$tlvlink" score --truth "$scenario/truth.jsonl" --predictions "$out/predictions.jsonl" \
+  --fingers left,right | sed 's/^/   /'
 
 echo
-echo "run_demo: done. Frames and outputs are in $out/."
-echo "The model is trained on simulated frames only: read its accuracies in step 6 as what the"
-echo "simulator supports (firmware/models/README.md), not as real-sensor performance."
+echo "run_demo: done. Outputs are in $out/."
+echo "The model is trained on simulated frames only: read its accuracies as what the simulator"
+echo "supports (firmware/models/README.md), not as real-sensor performance. The same daemon runs"
+echo "on a board with cameras: firmware/tlvlinkd/README.md."

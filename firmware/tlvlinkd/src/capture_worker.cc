@@ -56,6 +56,11 @@ void CaptureWorker::run() {
   cpu_clock_ = this_thread_cpu_clock();
   while (!stop_.load(std::memory_order_relaxed)) {
     auto frame = source_->next(kPollMs);
+    if (!frame.ok() && frame.error().code() == ErrorCode::kCaptureEndOfStream) {
+      event(false, "%s", frame.error().message());  // a replay without loop: nothing more comes
+      ended_.store(true);
+      break;
+    }
     if (!frame.ok()) {
       handle_error(frame.error());
     } else {

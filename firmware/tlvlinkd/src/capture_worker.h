@@ -32,7 +32,8 @@ class CaptureWorker {
   CaptureWorker(int32_t index, std::string name, std::unique_ptr<capture::FrameSource> source,
                 image::FrameDecoder decoder, FrameRing& ring, OutputQueue& events,
                 const std::atomic<bool>& stop);
-  void run();  // the thread body; returns when stop is set (the source is stopped)
+  void run();  // the thread body; returns when stop is set or a replay ended (the source is stopped)
+  bool ended() const { return ended_.load(); }  // a replay played its last frame
 
   CaptureSnapshot snapshot() const;
   const std::string& name() const { return name_; }
@@ -51,6 +52,7 @@ class CaptureWorker {
   bool in_outage_ = false;
   int64_t last_decode_event_ns_ = 0;
   std::atomic<clockid_t> cpu_clock_{-1};
+  std::atomic<bool> ended_{false};
   std::atomic<int64_t> final_cpu_ns_{-1};  // set when run() returns (a dead thread has no clock)  // set by run()
   mutable std::mutex mutex_;
   CaptureSnapshot snapshot_;

@@ -58,17 +58,6 @@ Status read_grasp(TableReader& r, pipeline::ProcessorOptions& p) {
   return r.finish();
 }
 
-Status read_sim(TableReader& r, SimConfig& s) {
-  TLV_TRY(r.text("scenario", s.scenario));
-  TLV_TRY(r.integer32("grasps", s.grasps, 1, 1000));
-  int64_t seed = static_cast<int64_t>(s.seed);
-  TLV_TRY(r.integer("seed", seed, 0, INT64_MAX));
-  s.seed = static_cast<uint64_t>(seed);
-  TLV_TRY(r.text("cache_dir", s.cache_dir));
-  TLV_TRY(r.flag("loop", s.loop));
-  return r.finish();
-}
-
 Status read_sensor(TableReader& r, SensorConfig& s) {
   TLV_TRY(r.text("name", s.name));
   TLV_ENSURE(!s.name.empty(), ErrorCode::kInvalidArgument, "%s: required (e.g. \"left\")",
@@ -90,7 +79,7 @@ Status read_sensor(TableReader& r, SensorConfig& s) {
   TLV_TRY(r.choice("finger", {"A", "B", "none"}, finger));
   s.finger = finger == 2 ? -1 : finger;
   int32_t source = 0;
-  TLV_TRY(r.choice("source", {"v4l2", "libcamera", "replay", "sim"}, source));
+  TLV_TRY(r.choice("source", {"v4l2", "libcamera", "replay"}, source));
   s.source = static_cast<SourceKind>(source);
   TLV_TRY(r.text("device", s.device));
   if ((s.source == SourceKind::kV4l2 || s.source == SourceKind::kReplay) && s.device.empty()) {
@@ -130,6 +119,7 @@ Status read_sensor(TableReader& r, SensorConfig& s) {
   TLV_TRY(r.integer32("jpeg_scale", s.view.jpeg_scale_denominator, 0, 8));
   TLV_TRY(r.flag("realtime", s.realtime));
   TLV_TRY(r.flag("loop", s.loop));
+  TLV_TRY(r.flag("verify", s.verify));
   return r.finish();
 }
 
@@ -187,12 +177,6 @@ Status read_top(TableReader& r, DaemonConfig& c) {
     TableReader sub(**t, r.file(), "grasp");
     TLV_TRY(read_grasp(sub, c.processing));
   }
-  if (auto t = r.table("sim"); !t.ok()) {
-    return t.error();
-  } else if (*t != nullptr) {
-    TableReader sub(**t, r.file(), "sim");
-    TLV_TRY(read_sim(sub, c.sim));
-  }
   TLV_ASSIGN_OR_RETURN(const toml::array* sensors, r.array_of_tables("sensor"));
   TLV_ENSURE(sensors != nullptr && !sensors->empty(), ErrorCode::kInvalidArgument,
              "%s: at least one [[sensor]] is required", r.where("sensor").c_str());
@@ -228,7 +212,6 @@ const char* source_kind_name(SourceKind k) {
     case SourceKind::kV4l2: return "v4l2";
     case SourceKind::kLibcamera: return "libcamera";
     case SourceKind::kReplay: return "replay";
-    case SourceKind::kSim: return "sim";
   }
   return "?";
 }

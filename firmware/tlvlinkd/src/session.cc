@@ -165,7 +165,13 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
   return std::unique_ptr<Session>(new Session(std::move(impl)));
 }
 
-bool Session::limit_reached() const { return impl_->limit.load(); }
+bool Session::limit_reached() const {
+  if (impl_->limit.load()) return true;
+  // Every source is a replay that played its last frame: the session has nothing more to do.
+  for (const auto& c : impl_->captures)
+    if (!c->ended()) return false;
+  return !impl_->captures.empty();
+}
 
 uint64_t Session::frames_processed() const { return impl_->inference->snapshot().counters.frames; }
 

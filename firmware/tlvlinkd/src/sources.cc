@@ -1,5 +1,6 @@
 #include "sources.h"
 
+#include "tlvlink/capture/replay_source.h"
 #include "tlvlink/capture/v4l2_source.h"
 #if defined(TLVLINK_HAVE_LIBCAMERA)
 #include "tlvlink/capture/libcamera_source.h"
@@ -48,6 +49,32 @@ Result<std::unique_ptr<capture::FrameSource>> libcamera(const SensorConfig& s) {
 #endif
 }
 
+Result<std::unique_ptr<capture::FrameSource>> replay(const SensorConfig& s) {
+  capture::ReplayConfig c;
+  c.label = s.name;
+  c.path = s.device;
+  c.realtime = s.realtime;
+  c.loop = s.loop;
+  c.verify = s.verify;
+  c.warmup_frames = s.warmup_frames;
+  return capture::make_replay_source(c);
+}
+
+// The recording must hold what the sensor's configuration says the camera streams: a replay is
+// checked like a camera that ignored the requested format.
+Status check_replay_format(const SensorConfig& s, const capture::FrameSource& src) {
+  const image::FrameFormat& got = src.format();
+  TLV_ENSURE(got.format == s.format.format && ((got.width == s.format.width &&
+                                                got.height == s.format.height) ||
+                                               s.accept_other_size),
+             ErrorCode::kCaptureFormatRefused,
+             "sensor '%s': recording %s holds %s %dx%d, the sensor is configured for %s %dx%d",
+             s.name.c_str(), s.device.c_str(), image::pixel_format_name(got.format), got.width,
+             got.height, image::pixel_format_name(s.format.format), s.format.width,
+             s.format.height);
+  return {};
+}
+
 }  // namespace
 
 Result<std::vector<std::unique_ptr<capture::FrameSource>>> make_sources(const DaemonConfig& config) {
@@ -56,15 +83,12 @@ Result<std::vector<std::unique_ptr<capture::FrameSource>>> make_sources(const Da
     Result<std::unique_ptr<capture::FrameSource>> src =
         s.source == SourceKind::kV4l2        ? v4l2(s)
         : s.source == SourceKind::kLibcamera ? libcamera(s)
-                                             : Error::make(ErrorCode::kInvalidArgument,
-                                                           "sensor '%s': source '%s' is not built "
-                                                           "into this tlvlinkd",
-                                                           s.name.c_str(),
-                                                           source_kind_name(s.source));
+                                             : replay(s);
     if (!src.ok()) return src.error();
     if (Status st = (*src)->start(); !st.ok()) {
       return st.error().with_context("sensor '%s'", s.name.c_str());
     }
+    if (s.source == SourceKind::kReplay) TLV_TRY(check_replay_format(s, **src));
     out.push_back(std::move(src).value());
   }
   return out;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "clock.h"
 #include "tlvlink/capture/frame_accounting.h"
 #include "tlvlink/capture/v4l2_source.h"
 
@@ -22,8 +23,6 @@ struct MappedBuffer {
   size_t length = 0;
 };
 
-int64_t monotonic_ns();
-void sleep_until_ns(int64_t when_ns);  // CLOCK_MONOTONIC; returns early on a signal
 // ioctl() retried on EINTR; 0 or the errno.
 int xioctl(int fd, unsigned long request, void* arg);
 

@@ -71,6 +71,7 @@ const char* error_code_name(ErrorCode code) {
     case ErrorCode::kCaptureFormatRefused: return "capture.format_refused";
     case ErrorCode::kCaptureBadFrame: return "capture.bad_frame";
     case ErrorCode::kCaptureControl: return "capture.control";
+    case ErrorCode::kCaptureEndOfStream: return "capture.end_of_stream";
     case ErrorCode::kTransport: return "transport";
     case ErrorCode::kTransportUnavailable: return "transport.unavailable";
     case ErrorCode::kTransportDisconnected: return "transport.disconnected";

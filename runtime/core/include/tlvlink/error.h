@@ -41,6 +41,7 @@ enum class ErrorCode : uint16_t {
   kCaptureFormatRefused,   // pixel format, size, interval or buffer count not what was asked
   kCaptureBadFrame,        // flagged, empty or short frame, MJPEG without SOI/EOI
   kCaptureControl,         // a camera control is unknown, out of range or refused
+  kCaptureEndOfStream,     // a replayed source played its last frame (no loop): no more frames
   // Stream link: transports (runtime/transport) 500-509, protocol (runtime/protocol) 510-519.
   kTransport = 500,           // I/O on the link failed
   kTransportUnavailable,      // device, path or USB host absent now: retry later

@@ -81,6 +81,14 @@ class GraspGenerator final : public GraspEpisodeGenerator {
   }
 
   Status generate(int64_t index, GraspEpisode& out) override {
+    return generate_impl(index, out, nullptr);
+  }
+  Status generate(int64_t index, GraspEpisode& out, GraspScenes& scenes) override {
+    return generate_impl(index, out, &scenes);
+  }
+
+ private:
+  Status generate_impl(int64_t index, GraspEpisode& out, GraspScenes* scenes) {
     TLV_ENSURE(index >= 0 && index < size(), ErrorCode::kInvalidArgument,
                "grasp set: episode %lld is outside 0..%lld", static_cast<long long>(index),
                static_cast<long long>(size() - 1));
@@ -130,11 +138,17 @@ class GraspGenerator final : public GraspEpisodeGenerator {
                       out.is_gripping, slip_mm, after.loading);
       }
       TLV_TRY(render_into(*renderer, after, render, noise(Moment::kAfter), out, f, Moment::kAfter));
+      if (scenes != nullptr) {
+        scenes->open[f] = open;
+        scenes->during[f] = during;
+        scenes->after[f] = after;
+        scenes->render = render;
+        scenes->sensor_seed[f] = sensor_instance_seed(seed, out.sensor_instance[f]);
+      }
     }
     return render_vision(object, index, out);
   }
 
- private:
   ContactScene base_scene(const internal::GraspObject& object, const internal::GraspSetup& setup,
                           int32_t f) const {
     ContactScene s;

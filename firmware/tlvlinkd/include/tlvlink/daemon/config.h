@@ -16,8 +16,10 @@
 
 namespace tlvlink::daemon {
 
-enum class SourceKind : uint8_t { kV4l2, kLibcamera, kReplay, kSim };
-const char* source_kind_name(SourceKind kind);  // "v4l2", "libcamera", "replay", "sim"
+// replay: a recorded raw stream (capture/recording.h), e.g. a simulated finger written by
+// `tlvlink sim scenario`, played at the camera's pace.
+enum class SourceKind : uint8_t { kV4l2, kLibcamera, kReplay };
+const char* source_kind_name(SourceKind kind);  // "v4l2", "libcamera", "replay"
 
 struct SensorConfig {
   std::string name;               // "left": names the sensor in outputs and errors
@@ -25,7 +27,7 @@ struct SensorConfig {
   int32_t finger = -1;            // 0 = A, 1 = B, -1 = not part of a grasp
   SourceKind source = SourceKind::kV4l2;
   std::string device;             // v4l2: "usb:VID:PID[:SERIAL]" or a path; libcamera: camera
-                                  // id; replay: the recording; sim: unused
+                                  // id; replay: the recording
   // The camera format (defaults from the sensor model) and the view of the processed frame.
   image::FrameFormat format;
   double fps = 0;
@@ -35,15 +37,7 @@ struct SensorConfig {
   bool accept_other_size = false;
   bool wait_for_device = true;    // a camera absent at start is an outage, not an exit
   std::vector<capture::ControlSetting> controls;
-  bool realtime = true, loop = false;  // replay
-};
-
-struct SimConfig {  // source = "sim" (host builds with the simulator)
-  std::string scenario = "demo";
-  int32_t grasps = 4;
-  uint64_t seed = 1;
-  std::string cache_dir;  // empty: $XDG_CACHE_HOME/tlvlink/sim or ~/.cache/tlvlink/sim
-  bool loop = false;
+  bool realtime = true, loop = false, verify = true;  // replay (verify: frame CRC-32s)
 };
 
 enum class ControlInput : uint8_t { kNone, kStdin };
@@ -65,7 +59,6 @@ struct DaemonConfig {
   int64_t run_for_ms = 0;         // 0: until SIGTERM/SIGINT; > 0: stop after this long
   int64_t max_frames = 0;         // 0: no limit; > 0: stop after this many frames in all
   pipeline::ProcessorOptions processing;
-  SimConfig sim;
   std::vector<SensorConfig> sensors;
 };
 

@@ -35,7 +35,8 @@ class Session {
       const DaemonConfig& config, std::vector<std::unique_ptr<capture::FrameSource>> sources);
   ~Session();
 
-  // True once max_frames were processed (the caller then stops the session).
+  // True once max_frames were processed, or every source is a replay that ended (the caller
+  // then stops the session).
   bool limit_reached() const;
   uint64_t frames_processed() const;
   // A controller command line ("rezero [N]", "closed", "lifting"); false when not a command.

@@ -1,14 +1,10 @@
 #pragma once
-// CRC-32 as zlib, Ethernet and pw_hdlc compute it (reflected polynomial 0xEDB88320, initial
-// value and final XOR 0xFFFFFFFF): crc32("123456789") == 0xCBF43926.
+// The stream's CRC-32 is the project's one (runtime/core: zlib's, 0xCBF43926 for "123456789").
 
-#include <cstddef>
-#include <cstdint>
-#include <span>
+#include "tlvlink/crc32.h"
 
 namespace tlvlink::protocol {
 
-// `crc` continues an earlier call: crc32(b, crc32(a)) == crc32(a followed by b).
-uint32_t crc32(std::span<const std::byte> data, uint32_t crc = 0);
+using tlvlink::crc32;
 
 }  // namespace tlvlink::protocol

@@ -69,12 +69,23 @@ struct GraspSetOptions {
   int32_t sensor_instances = 1;
 };
 
+// What one episode's frames are rendered from, per finger: a live scenario animates the grasp
+// between these scenes (open gel -> closed on the resting object -> lifted) on each finger's own
+// sensor (Renderer or RawCamera seeded with sensor_seed).
+struct GraspScenes {
+  ContactScene open[kFingers], during[kFingers], after[kFingers];
+  RenderOptions render;
+  uint64_t sensor_seed[kFingers] = {0, 0};
+};
+
 class GraspEpisodeGenerator {
  public:
   static Result<std::unique_ptr<GraspEpisodeGenerator>> create(const GraspSetOptions& options);
   virtual ~GraspEpisodeGenerator() = default;
   virtual int64_t size() const = 0;  // objects * grasps_per_object
   virtual Status generate(int64_t index, GraspEpisode& out) = 0;
+  // The same episode and the scenes its frames were rendered from.
+  virtual Status generate(int64_t index, GraspEpisode& out, GraspScenes& scenes) = 0;
 };
 
 // The friction-limit rule (gelsight-sim.md, GRASP EPISODE). Per finger, at the lift:

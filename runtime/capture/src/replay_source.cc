@@ -1,0 +1,164 @@
+#include "tlvlink/capture/replay_source.h"
+
+#include <algorithm>
+#include <optional>
+#include <vector>
+
+#include "clock.h"
+#include "tlvlink/capture/frame_accounting.h"
+#include "tlvlink/capture/recording.h"
+
+namespace tlvlink::capture {
+namespace {
+
+using internal::monotonic_ns;
+
+class ReplaySource final : public FrameSource {
+ public:
+  explicit ReplaySource(ReplayConfig c) : config_(std::move(c)), accounting_(stats_) {
+    if (config_.label.empty()) config_.label = config_.path;
+  }
+
+  Status start() override {
+    stop();
+    auto reader = RecordingReader::open(config_.path);
+    if (!reader.ok()) return reader.error().with_context("replay '%s'", config_.label.c_str());
+    reader_.emplace(std::move(reader).value());
+    const RecordingSummary& s = reader_->summary();
+    TLV_ENSURE(s.frames > 0, ErrorCode::kFormat, "replay '%s': recording %s holds no frame",
+               config_.label.c_str(), config_.path.c_str());
+    format_ = s.format.format;
+    buffer_.assign(s.max_frame_bytes, 0);
+    stats_ = SourceStats{};
+    stats_.nominal_fps = s.format.nominal_fps();
+    stats_.connected = true;
+    accounting_.reset_stream(config_.warmup_frames);
+    // One loop lasts the recording's span plus one frame period, so the first frame of the next
+    // pass keeps the pace.
+    const double fps = stats_.nominal_fps > 0 ? stats_.nominal_fps : 25.0;
+    loop_span_ns_ = s.last_offset_ns - s.first_offset_ns + static_cast<int64_t>(1e9 / fps);
+    loop_sequences_ = s.last_sequence - s.first_sequence + 1;
+    passes_ = 0;
+    next_record_ = reader_->first_record();
+    start_ns_ = monotonic_ns();
+    return {};
+  }
+
+  Result<CapturedFrame> next(int32_t timeout_ms) override {
+    TLV_ENSURE(reader_.has_value(), ErrorCode::kInvalidState, "replay '%s': not started",
+               config_.label.c_str());
+    const int64_t deadline = monotonic_ns() + static_cast<int64_t>(std::max(timeout_ms, 0)) *
+                                                  internal::kNsPerMs;
+    for (;;) {
+      RecordInfo info;
+      TLV_ASSIGN_OR_RETURN(bool have, peek(info));
+      if (!have) {
+        return Error::make(ErrorCode::kCaptureEndOfStream, "replay '%s': end of %s (%llu frames)",
+                           config_.label.c_str(), config_.path.c_str(),
+                           static_cast<unsigned long long>(reader_->summary().frames));
+      }
+      int64_t stamp = monotonic_ns();
+      uint32_t stale = 0;
+      if (config_.realtime) {
+        const int64_t due = due_ns(info);
+        if (due > stamp) {
+          if (due > deadline) {
+            internal::sleep_until_ns(deadline);
+            ++stats_.timeouts;
+            return Error::make(ErrorCode::kCaptureTimeout, "replay '%s': no frame within %d ms",
+                               config_.label.c_str(), timeout_ms);
+          }
+          internal::sleep_until_ns(due);
+        }
+        // Newest-frame policy: frames that became due while the consumer was busy are skipped.
+        for (;;) {
+          RecordInfo newer;
+          const uint64_t saved = next_record_;
+          const uint32_t saved_passes = passes_;
+          next_record_ = info.next;
+          TLV_ASSIGN_OR_RETURN(const bool more, peek(newer));
+          if (!more || due_ns(newer) > monotonic_ns()) {
+            next_record_ = saved;
+            passes_ = saved_passes;
+            break;
+          }
+          info = newer;
+          ++stale;
+        }
+        stamp = due_ns(info);
+      }
+      next_record_ = info.next;
+      Status read = reader_->read_frame(info, buffer_, config_.verify);
+      RawFrame raw;
+      raw.bytes = std::span<const uint8_t>(buffer_.data(), read.ok() ? info.bytes : 0);
+      raw.sequence = info.sequence + passes_ * loop_sequences_;
+      raw.timestamp_ns = stamp;
+      raw.error_flag = (info.flags & kRecordErrorFlag) != 0 || !read.ok();
+      if (!read.ok() && read.error().code() != ErrorCode::kCaptureBadFrame) return read.error();
+      const Admission a = accounting_.admit(raw, format_);
+      if (a != Admission::kDeliverable) continue;
+      accounting_.count_stale(stale);
+      accounting_.count_delivered();
+      CapturedFrame f;
+      f.bytes = raw.bytes;
+      f.format = format_;
+      f.sequence = accounting_.sequence();
+      f.timestamp_ns = stamp;
+      f.skipped_before = stale;
+      return f;
+    }
+  }
+
+  void release() override {}
+
+  void stop() override {
+    reader_.reset();
+    stats_.connected = false;
+  }
+
+  const image::FrameFormat& format() const override { return format_; }
+  const SourceStats& stats() const override { return stats_; }
+  const char* name() const override { return config_.label.c_str(); }
+
+ private:
+  // The record at next_record_, wrapping to the first one when looping. False at the end.
+  Result<bool> peek(RecordInfo& info) {
+    TLV_ASSIGN_OR_RETURN(bool have, reader_->record_at(next_record_, info));
+    if (have || !config_.loop) return have;
+    ++passes_;
+    next_record_ = reader_->first_record();
+    return reader_->record_at(next_record_, info);
+  }
+
+  int64_t due_ns(const RecordInfo& info) const {
+    // Offsets count from the recording's origin, shared by fingers recorded together: a second
+    // camera's phase (its first frame at +7 ms) survives the replay.
+    return start_ns_ + info.offset_ns +
+           static_cast<int64_t>(passes_) * loop_span_ns_;
+  }
+
+  ReplayConfig config_;
+  SourceStats stats_;
+  FrameAccounting accounting_;
+  std::optional<RecordingReader> reader_;
+  image::FrameFormat format_;
+  std::vector<uint8_t> buffer_;
+  uint64_t next_record_ = 0;
+  uint32_t passes_ = 0;
+  uint32_t loop_sequences_ = 0;
+  int64_t loop_span_ns_ = 0;
+  int64_t start_ns_ = 0;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<FrameSource>> make_replay_source(const ReplayConfig& config) {
+  TLV_ENSURE(!config.path.empty(), ErrorCode::kInvalidArgument, "replay '%s': no recording path",
+             config.label.c_str());
+  TLV_ENSURE(config.warmup_frames <= kMaxWarmupFrames, ErrorCode::kInvalidArgument,
+             "replay '%s': warmup_frames = %u is over %u", config.label.c_str(),
+             config.warmup_frames, kMaxWarmupFrames);
+  return std::unique_ptr<FrameSource>(new ReplaySource(config));
+}
+
+}  // namespace tlvlink::capture

@@ -1,0 +1,212 @@
+// Recorded raw streams: what the writer stores the reader gives back byte for byte; damaged files
+// are errors naming the offset or skipped-and-counted frames; replay paces, skips stale frames,
+// loops and ends like a camera would.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "tlvlink/capture/recording.h"
+#include "tlvlink/capture/replay_source.h"
+
+namespace tlvlink::capture {
+namespace {
+
+constexpr int64_t kMs = 1'000'000;
+constexpr int32_t kW = 16, kH = 8;  // YUYV: 256 bytes a frame
+
+std::string temp_path(const char* name) {
+  return (std::filesystem::temp_directory_path() /
+          (std::string("tlvlink_replay_") + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
+std::vector<uint8_t> frame_bytes(int k) {
+  std::vector<uint8_t> b(static_cast<size_t>(kW * kH * 2));
+  for (size_t i = 0; i < b.size(); ++i) b[i] = static_cast<uint8_t>(k * 7 + static_cast<int>(i));
+  return b;
+}
+
+RecordingFormat yuyv_format() {
+  RecordingFormat f;
+  f.format = {image::PixelFormat::kYuyv, kW, kH, kW * 2};
+  f.fps_numerator = 25;
+  return f;
+}
+
+// Frames 0..n-1 at 40 ms; frame 3 repeats frame 1's bytes.
+std::string write_recording(const char* name, int n) {
+  const std::string path = temp_path(name);
+  std::remove(path.c_str());
+  WriterOptions o;
+  o.origin_ns = 1000 * kMs;
+  auto w = RecordingWriter::create(path, yuyv_format(), o);
+  EXPECT_TRUE(w.ok()) << w.error().message();
+  RecordedBytes one{};
+  for (int k = 0; k < n; ++k) {
+    const int64_t t = 1000 * kMs + k * 40 * kMs;
+    if (k == 3) {
+      EXPECT_TRUE(w->append_repeat(one, t, static_cast<uint32_t>(k)).ok());
+      continue;
+    }
+    auto r = w->append(frame_bytes(k), t, static_cast<uint32_t>(k));
+    EXPECT_TRUE(r.ok()) << r.error().message();
+    if (k == 1) one = *r;
+  }
+  EXPECT_TRUE(w->close().ok());
+  return path;
+}
+
+std::vector<uint8_t> expected(int k) { return frame_bytes(k == 3 ? 1 : k); }
+
+TEST(Recording, ReaderGivesBackWhatTheWriterStored) {
+  const std::string path = write_recording("roundtrip", 6);
+  auto r = RecordingReader::open(path);
+  ASSERT_TRUE(r.ok()) << r.error().message();
+  const RecordingSummary& s = r->summary();
+  EXPECT_EQ(s.frames, 6u);
+  EXPECT_EQ(s.repeats, 1u);
+  EXPECT_EQ(s.format.format.format, image::PixelFormat::kYuyv);
+  EXPECT_EQ(s.format.format.width, kW);
+  EXPECT_EQ(s.format.nominal_fps(), 25.0);
+  EXPECT_EQ(s.last_offset_ns, 200 * kMs);
+  EXPECT_EQ(s.truncated_records, 0u);
+  std::vector<uint8_t> buf(s.max_frame_bytes);
+  uint64_t at = r->first_record();
+  for (int k = 0; k < 6; ++k) {
+    RecordInfo info;
+    auto have = r->record_at(at, info);
+    ASSERT_TRUE(have.ok() && *have) << k;
+    EXPECT_EQ(info.sequence, static_cast<uint32_t>(k));
+    EXPECT_EQ(info.offset_ns, k * 40 * kMs);
+    ASSERT_TRUE(r->read_frame(info, buf, true).ok());
+    EXPECT_EQ(std::vector<uint8_t>(buf.begin(), buf.begin() + info.bytes), expected(k)) << k;
+    at = info.next;
+  }
+  RecordInfo end;
+  auto after_last = r->record_at(at, end);
+  ASSERT_TRUE(after_last.ok());
+  EXPECT_FALSE(*after_last);
+  std::remove(path.c_str());
+}
+
+TEST(Recording, TruncatedTailIsIgnoredAndCountedCorruptionNamesTheOffset) {
+  const std::string path = write_recording("damaged", 5);
+  const auto size = std::filesystem::file_size(path);
+  std::filesystem::resize_file(path, size - 100);  // a writer died inside the last record
+  {
+    auto r = RecordingReader::open(path);
+    ASSERT_TRUE(r.ok()) << r.error().message();
+    EXPECT_EQ(r->summary().frames, 4u);
+    EXPECT_EQ(r->summary().truncated_records, 1u);
+  }
+  {  // a flipped byte in the second record's header
+    const int fd = ::open(path.c_str(), O_RDWR);
+    const uint64_t second = kRecordingHeaderBytes + kRecordHeaderBytes + kW * kH * 2;
+    const uint8_t x = 0x5A;
+    ASSERT_EQ(::pwrite(fd, &x, 1, static_cast<off_t>(second + 10)), 1);
+    ::close(fd);
+    auto r = RecordingReader::open(path);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().code(), ErrorCode::kFormat);
+    EXPECT_NE(std::string(r.error().message()).find("record 1 at offset " + std::to_string(second)),
+              std::string::npos)
+        << r.error().message();
+  }
+  {  // not a recording at all
+    const std::string other = temp_path("not_a_recording");
+    FILE* f = std::fopen(other.c_str(), "wb");
+    std::fputs("just some text that is long enough to fill a sixty-four byte header, surely", f);
+    std::fclose(f);
+    auto r = RecordingReader::open(other);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(std::string(r.error().message()).find("not a tlvlink recording"), std::string::npos);
+    std::remove(other.c_str());
+  }
+  std::remove(path.c_str());
+}
+
+TEST(Replay, DeliversEveryFrameThenEndsOrLoops) {
+  const std::string path = write_recording("replay", 5);
+  ReplayConfig c;
+  c.path = path;
+  c.realtime = false;
+  auto src = make_replay_source(c);
+  ASSERT_TRUE(src.ok());
+  ASSERT_TRUE((*src)->start().ok());
+  for (int k = 0; k < 5; ++k) {
+    auto f = (*src)->next(100);
+    ASSERT_TRUE(f.ok()) << f.error().message();
+    EXPECT_EQ(f->sequence, static_cast<uint64_t>(k));
+    EXPECT_EQ(std::vector<uint8_t>(f->bytes.begin(), f->bytes.end()), expected(k));
+  }
+  auto end = (*src)->next(100);
+  ASSERT_FALSE(end.ok());
+  EXPECT_EQ(end.error().code(), ErrorCode::kCaptureEndOfStream);
+  EXPECT_EQ((*src)->stats().delivered, 5u);
+
+  c.loop = true;
+  auto looped = make_replay_source(c);
+  ASSERT_TRUE((*looped)->start().ok());
+  for (int k = 0; k < 12; ++k) {
+    auto f = (*looped)->next(100);
+    ASSERT_TRUE(f.ok()) << f.error().message();
+    EXPECT_EQ(f->sequence, static_cast<uint64_t>(k));  // sequences continue across passes
+    EXPECT_EQ(std::vector<uint8_t>(f->bytes.begin(), f->bytes.end()), expected(k % 5));
+  }
+  EXPECT_EQ((*looped)->stats().dropped, 0u);
+  std::remove(path.c_str());
+}
+
+TEST(Replay, CorruptFrameIsCountedAndSkipped) {
+  const std::string path = write_recording("corrupt_frame", 5);
+  const int fd = ::open(path.c_str(), O_RDWR);
+  const uint64_t third_bytes = kRecordingHeaderBytes + 3 * kRecordHeaderBytes + 2 * kW * kH * 2;
+  const uint8_t x = 0xFF;
+  ASSERT_EQ(::pwrite(fd, &x, 1, static_cast<off_t>(third_bytes + 5)), 1);  // frame 2's data
+  ::close(fd);
+  ReplayConfig c;
+  c.path = path;
+  c.realtime = false;
+  auto src = make_replay_source(c);
+  ASSERT_TRUE((*src)->start().ok());
+  std::vector<uint64_t> seqs;
+  for (;;) {
+    auto f = (*src)->next(100);
+    if (!f.ok()) break;
+    seqs.push_back(f->sequence);
+  }
+  EXPECT_EQ(seqs, (std::vector<uint64_t>{0, 1, 3, 4}));
+  EXPECT_EQ((*src)->stats().flagged_error, 1u);
+  std::remove(path.c_str());
+}
+
+TEST(Replay, RealtimeKeepsTheCamerasPaceAndSkipsStaleFrames) {
+  const std::string path = write_recording("realtime", 10);  // 10 frames over 360 ms
+  ReplayConfig c;
+  c.path = path;
+  auto src = make_replay_source(c);
+  ASSERT_TRUE((*src)->start().ok());
+  auto first = (*src)->next(1000);
+  ASSERT_TRUE(first.ok());
+  // A consumer busy for 130 ms: frames 1 and 2 became due meanwhile and are skipped for 3.
+  ::usleep(130'000);
+  auto f = (*src)->next(1000);
+  ASSERT_TRUE(f.ok());
+  EXPECT_EQ(f->sequence, 3u);
+  EXPECT_EQ(f->skipped_before, 2u);
+  EXPECT_EQ(f->timestamp_ns - first->timestamp_ns, 120 * kMs);  // the recorded spacing
+  // A timeout shorter than the next frame's due time returns without a frame.
+  auto none = (*src)->next(1);
+  EXPECT_TRUE(!none.ok() && none.error().code() == ErrorCode::kCaptureTimeout);
+  EXPECT_EQ((*src)->stats().skipped_stale, 2u);
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace tlvlink::capture

@@ -1,0 +1,69 @@
+#pragma once
+// Scores a live run: tlvlinkd's JSON-lines output against the ground truth of the scenario it
+// played (`tlvlink sim scenario`: truth.jsonl). Frames are matched by sensor and sequence
+// number (a looped replay's sequences continue: they are taken modulo the scenario's length).
+//
+//   contact gating   per frame: the gate's decision against the renderer's contact (a missed
+//                    contact is worse than a wasted inference), and the encoder runs it saved
+//   per-frame heads  in contact, each head's label against the event's material labels: per
+//                    frame, and per event at its last predicted frame (the smoothed answer)
+//   grasps           each grasp record matched to the scripted grasp its "during" frame falls
+//                    in: computed or not (with the reason), success predicted against the label
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "tlvlink/error.h"
+
+namespace tlvlink::score {
+
+struct Ratio {
+  int64_t hits = 0, total = 0;
+  double rate() const { return total > 0 ? static_cast<double>(hits) / static_cast<double>(total) : 0.0; }
+};
+
+struct HeadScore {
+  std::string head;    // "material", "hard_soft", "rough_smooth"
+  Ratio frames;        // frames in contact with a prediction and a defined label
+  Ratio events;        // the last prediction of each event
+  double majority = 0;  // accuracy of always answering the events' most common label
+};
+
+struct ScoreReport {
+  int64_t truth_frames = 0;        // per finger, in the scenario
+  int64_t frames = 0;              // daemon frame records matched to the truth
+  int64_t unmatched_frames = 0;    // frame records of sensors not named in `fingers`
+  int64_t calibrating = 0;         // frames while the gate learnt its reference (not scored)
+  // Contact gating.
+  int64_t truth_contact = 0;       // matched frames the renderer shows in contact
+  int64_t missed_contact = 0;      // of those, gated as no contact (false negatives)
+  int64_t missed_light = 0;        // of the misses, under 1 N (ramp ends)
+  int64_t false_contact = 0;       // gated as contact with the gel open
+  int64_t encoded = 0;             // frames the encoder ran on
+  Ratio contact_events;            // events whose contact the gate saw at least once
+  // Per event kind ("grasp", "press"): frames in contact the gate missed (hits = missed).
+  std::map<std::string, Ratio> missed_by_kind;
+  // Heads.
+  std::vector<HeadScore> heads;
+  // Grasps.
+  int32_t truth_grasps = 0;        // scripted grasp events in the frames that were played
+  int32_t grasp_records = 0;       // grasp records in the output
+  int32_t grasps_computed = 0;     // computed, matched to a scripted grasp
+  int32_t grasps_not_computed = 0;
+  int32_t grasps_unmatched = 0;    // records whose frames fall outside any scripted grasp
+  Ratio grasp_accuracy;            // predicted success == label, over computed and matched
+  double grasp_majority = 0;       // always answering the scripted grasps' majority label
+  std::map<std::string, int32_t> not_computed_reasons;
+};
+
+// fingers: the daemon's sensor names for finger A and B (its config's [[sensor]] names).
+Result<ScoreReport> score_live_run(const std::string& truth_path,
+                                   const std::string& predictions_path,
+                                   const std::vector<std::string>& fingers);
+
+std::string format_score(const ScoreReport& report);       // the table the demo prints
+std::string format_score_json(const ScoreReport& report);  // one JSON object
+
+}  // namespace tlvlink::score

@@ -1,0 +1,290 @@
+#include "tlvlink/score/score.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+#include <set>
+
+namespace tlvlink::score {
+namespace {
+
+using nlohmann::json;
+
+struct TruthFrame {
+  bool contact = false;
+  double force_n = 0;
+  int32_t event = -1;
+};
+
+struct TruthEvent {
+  std::string kind;
+  bool has_success = false, success = false;
+  std::map<std::string, std::string> labels;  // head -> label ("" when undefined)
+};
+
+struct Truth {
+  int64_t frames = 0;
+  std::vector<TruthFrame> fingers[2];
+  std::vector<TruthEvent> events;
+};
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Reads a JSON-lines file, calling `each` per object; errors name the file and line.
+template <typename Each>
+Status read_lines(const std::string& path, Each each) {
+  std::ifstream in(path);
+  TLV_ENSURE(in.good(), ErrorCode::kIo, "cannot read %s", path.c_str());
+  std::string line;
+  for (int64_t n = 1; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    json j = json::parse(line, nullptr, false);
+    TLV_ENSURE(!j.is_discarded() && j.is_object(), ErrorCode::kFormat,
+               "%s:%lld: not a JSON object", path.c_str(), static_cast<long long>(n));
+    Status st = each(j);
+    if (!st.ok()) return st.error().with_context("%s:%lld", path.c_str(), static_cast<long long>(n));
+  }
+  return {};
+}
+
+Result<Truth> read_truth(const std::string& path) {
+  Truth t;
+  bool header = false;
+  TLV_TRY(read_lines(path, [&](const json& j) -> Status {
+    const std::string type = j.value("type", "");
+    if (type == "scenario") {
+      header = true;
+      t.frames = j.value("frames", int64_t{0});
+      TLV_ENSURE(t.frames > 0 && t.frames <= 100'000'000, ErrorCode::kFormat,
+                 "scenario line: frames = %lld", static_cast<long long>(t.frames));
+      for (auto& f : t.fingers) f.resize(static_cast<size_t>(t.frames));
+    } else if (type == "event") {
+      TruthEvent e;
+      e.kind = j.value("kind", "");
+      if (j.contains("success") && j["success"].is_boolean()) {
+        e.has_success = true;
+        e.success = j["success"].get<bool>();
+      }
+      for (const char* head : {"material", "hard_soft", "rough_smooth"}) {
+        e.labels[head] = j.contains(head) && j[head].is_string() ? lower(j[head].get<std::string>()) : "";
+      }
+      const auto id = j.value("id", int64_t{-1});
+      TLV_ENSURE(id == static_cast<int64_t>(t.events.size()), ErrorCode::kFormat,
+                 "event id %lld out of order", static_cast<long long>(id));
+      t.events.push_back(std::move(e));
+    } else if (type == "frame") {
+      TLV_ENSURE(header, ErrorCode::kFormat, "frame line before the scenario line");
+      const std::string finger = j.value("finger", "");
+      const auto seq = j.value("seq", int64_t{-1});
+      TLV_ENSURE((finger == "A" || finger == "B") && seq >= 0 && seq < t.frames,
+                 ErrorCode::kFormat, "frame line with finger '%s' seq %lld", finger.c_str(),
+                 static_cast<long long>(seq));
+      TruthFrame& f = t.fingers[finger == "A" ? 0 : 1][static_cast<size_t>(seq)];
+      f.contact = j.value("contact", false);
+      f.force_n = j.value("force_n", 0.0);
+      f.event = j.value("event", -1);
+    }
+    return {};
+  }));
+  TLV_ENSURE(header, ErrorCode::kFormat, "%s: no scenario line (not a truth.jsonl?)", path.c_str());
+  return t;
+}
+
+}  // namespace
+
+Result<ScoreReport> score_live_run(const std::string& truth_path, const std::string& predictions_path,
+                                   const std::vector<std::string>& fingers) {
+  TLV_ENSURE(fingers.size() == 2, ErrorCode::kInvalidArgument,
+             "score: two sensor names (finger A, finger B) are needed, %zu given", fingers.size());
+  TLV_ASSIGN_OR_RETURN(const Truth truth, read_truth(truth_path));
+  ScoreReport r;
+  r.truth_frames = truth.frames;
+  // Per head: frame hits; the last label per (event, finger).
+  std::map<std::string, Ratio> head_frames;
+  std::map<std::string, std::map<std::pair<int32_t, int32_t>, std::string>> last_label;
+  std::set<int32_t> events_seen_contact, events_played;
+  TLV_TRY(read_lines(predictions_path, [&](const json& j) -> Status {
+    const std::string type = j.value("type", "");
+    if (type == "frame") {
+      const std::string sensor = j.value("sensor", "");
+      const int32_t finger = sensor == fingers[0] ? 0 : sensor == fingers[1] ? 1 : -1;
+      if (finger < 0) {
+        ++r.unmatched_frames;
+        return {};
+      }
+      const auto seq = j.value("seq", int64_t{-1});
+      TLV_ENSURE(seq >= 0, ErrorCode::kFormat, "frame record without a sequence");
+      const TruthFrame& tf = truth.fingers[finger][static_cast<size_t>(seq % truth.frames)];
+      const std::string gate = j.value("contact", "none");
+      const bool gated_contact = gate == "contact";
+      if (gate == "calibrating") {  // the gate is learning the reference: no decision yet
+        ++r.calibrating;
+        return {};
+      }
+      ++r.frames;
+      r.encoded += j.value("encoded", false) ? 1 : 0;
+      if (tf.event >= 0) events_played.insert(tf.event);
+      if (tf.contact && tf.event >= 0) {
+        Ratio& k = r.missed_by_kind[truth.events[static_cast<size_t>(tf.event)].kind];
+        ++k.total;
+        k.hits += gated_contact ? 0 : 1;
+      }
+      if (tf.contact) {
+        ++r.truth_contact;
+        if (!gated_contact) {
+          ++r.missed_contact;
+          r.missed_light += tf.force_n < 1.0 ? 1 : 0;
+        } else if (tf.event >= 0) {
+          events_seen_contact.insert(tf.event);
+        }
+      } else if (gated_contact) {
+        ++r.false_contact;
+      }
+      if (tf.event < 0 || !j.contains("heads")) return {};
+      const TruthEvent& ev = truth.events[static_cast<size_t>(tf.event)];
+      for (const auto& [head, pred] : j["heads"].items()) {
+        auto want = ev.labels.find(head);
+        if (want == ev.labels.end() || want->second.empty()) continue;
+        const std::string got = lower(pred.value("label", ""));
+        Ratio& hr = head_frames[head];
+        ++hr.total;
+        hr.hits += got == want->second ? 1 : 0;
+        last_label[head][{tf.event, finger}] = got;
+      }
+    } else if (type == "grasp") {
+      ++r.grasp_records;
+      int64_t seq = -1;
+      for (const json& f : j.value("frames", json::array())) {
+        if (f.value("finger", "") == "A" && f.value("moment", "") == "during") seq = f.value("seq", int64_t{-1});
+      }
+      const bool computed = j.value("computed", false);
+      if (!computed) {
+        ++r.grasps_not_computed;
+        ++r.not_computed_reasons[j.value("reason", "?")];
+        return {};
+      }
+      const int32_t event =
+          seq >= 0 ? truth.fingers[0][static_cast<size_t>(seq % truth.frames)].event : -1;
+      if (event < 0 || !truth.events[static_cast<size_t>(event)].has_success) {
+        ++r.grasps_unmatched;
+        return {};
+      }
+      ++r.grasps_computed;
+      const bool predicted = j.value("prediction", "") == "success";
+      ++r.grasp_accuracy.total;
+      r.grasp_accuracy.hits += predicted == truth.events[static_cast<size_t>(event)].success ? 1 : 0;
+    }
+    return {};
+  }));
+  // Events in the frames that were played.
+  int32_t successes = 0;
+  for (int32_t e : events_played) {
+    const TruthEvent& ev = truth.events[static_cast<size_t>(e)];
+    ++r.contact_events.total;
+    r.contact_events.hits += events_seen_contact.count(e) > 0 ? 1 : 0;
+    if (ev.has_success) {
+      ++r.truth_grasps;
+      successes += ev.success ? 1 : 0;
+    }
+  }
+  r.grasp_majority = r.truth_grasps > 0 ? static_cast<double>(std::max(successes, r.truth_grasps - successes)) /
+                                              r.truth_grasps
+                                        : 0.0;
+  for (const auto& [head, frames] : head_frames) {
+    HeadScore h;
+    h.head = head;
+    h.frames = frames;
+    std::map<std::string, int64_t> counts;
+    for (const auto& [key, got] : last_label[head]) {
+      const std::string& want = truth.events[static_cast<size_t>(key.first)].labels.at(head);
+      ++h.events.total;
+      h.events.hits += got == want ? 1 : 0;
+      ++counts[want];
+    }
+    int64_t top = 0;
+    for (const auto& [label, n] : counts) top = std::max(top, n);
+    h.majority = h.events.total > 0 ? static_cast<double>(top) / static_cast<double>(h.events.total) : 0.0;
+    r.heads.push_back(std::move(h));
+  }
+  return r;
+}
+
+std::string format_score(const ScoreReport& r) {
+  std::string out;
+  char line[512];
+  const auto pct = [](const Ratio& x) { return 100.0 * x.rate(); };
+  std::snprintf(line, sizeof(line),
+                "frames scored: %lld (scenario: %lld per finger; %lld more while the gate calibrated)\n"
+                "contact gating: %lld frames in contact, %lld missed (%.2f %%; %lld of them under "
+                "1 N), %lld false contacts; encoder ran on %lld of %lld frames (%.1f %% saved); "
+                "events touched and seen: %lld/%lld\n",
+                static_cast<long long>(r.frames), static_cast<long long>(r.truth_frames),
+                static_cast<long long>(r.calibrating), static_cast<long long>(r.truth_contact), static_cast<long long>(r.missed_contact),
+                r.truth_contact > 0 ? 100.0 * static_cast<double>(r.missed_contact) / static_cast<double>(r.truth_contact) : 0.0,
+                static_cast<long long>(r.missed_light), static_cast<long long>(r.false_contact),
+                static_cast<long long>(r.encoded), static_cast<long long>(r.frames),
+                r.frames > 0 ? 100.0 * (1.0 - static_cast<double>(r.encoded) / static_cast<double>(r.frames)) : 0.0,
+                static_cast<long long>(r.contact_events.hits), static_cast<long long>(r.contact_events.total));
+  out += line;
+  for (const auto& [kind, m] : r.missed_by_kind) {
+    std::snprintf(line, sizeof(line), "  missed in %s scenes: %lld of %lld frames in contact (%.2f %%)\n",
+                  kind.c_str(), static_cast<long long>(m.hits), static_cast<long long>(m.total), pct(m));
+    out += line;
+  }
+  for (const HeadScore& h : r.heads) {
+    std::snprintf(line, sizeof(line),
+                  "%-13s per frame %5.1f %% (%lld/%lld)   per event %5.1f %% (%lld/%lld; majority "
+                  "%.1f %%)\n",
+                  h.head.c_str(), pct(h.frames), static_cast<long long>(h.frames.hits),
+                  static_cast<long long>(h.frames.total), pct(h.events),
+                  static_cast<long long>(h.events.hits), static_cast<long long>(h.events.total),
+                  100.0 * h.majority);
+    out += line;
+  }
+  std::snprintf(line, sizeof(line),
+                "grasps: %d scripted, %d records: %d computed (%d matched to no grasp), %d not "
+                "computed; success predicted right %lld/%lld (%.1f %%; majority %.1f %%)\n",
+                r.truth_grasps, r.grasp_records, r.grasps_computed + r.grasps_unmatched,
+                r.grasps_unmatched, r.grasps_not_computed,
+                static_cast<long long>(r.grasp_accuracy.hits),
+                static_cast<long long>(r.grasp_accuracy.total), pct(r.grasp_accuracy),
+                100.0 * r.grasp_majority);
+  out += line;
+  for (const auto& [reason, n] : r.not_computed_reasons) {
+    std::snprintf(line, sizeof(line), "  not computed x%d: %s\n", n, reason.c_str());
+    out += line;
+  }
+  return out;
+}
+
+std::string format_score_json(const ScoreReport& r) {
+  json j;
+  j["frames"] = r.frames;
+  j["calibrating"] = r.calibrating;
+  j["truth_frames"] = r.truth_frames;
+  j["contact"] = {{"truth_contact", r.truth_contact}, {"missed", r.missed_contact},
+                  {"missed_under_1n", r.missed_light}, {"false_contact", r.false_contact},
+                  {"encoded", r.encoded},
+                  {"events_seen", r.contact_events.hits}, {"events", r.contact_events.total}};
+  for (const auto& [kind, m] : r.missed_by_kind)
+    j["contact"]["missed_by_kind"][kind] = {{"missed", m.hits}, {"frames", m.total}};
+  for (const HeadScore& h : r.heads) {
+    j["heads"][h.head] = {{"frame_hits", h.frames.hits}, {"frames", h.frames.total},
+                          {"event_hits", h.events.hits}, {"events", h.events.total},
+                          {"majority", h.majority}};
+  }
+  j["grasps"] = {{"scripted", r.truth_grasps}, {"records", r.grasp_records},
+                 {"computed", r.grasps_computed}, {"unmatched", r.grasps_unmatched},
+                 {"not_computed", r.grasps_not_computed}, {"hits", r.grasp_accuracy.hits},
+                 {"scored", r.grasp_accuracy.total}, {"majority", r.grasp_majority},
+                 {"reasons", r.not_computed_reasons}};
+  return j.dump();
+}
+
+}  // namespace tlvlink::score
