@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "cli/eval_flags.h"
+#include "tlvlink/eval/trust.h"
 #include "tlvlink/io/file.h"
 
 namespace tlvlink::cli {
@@ -15,6 +16,7 @@ struct HeadsFitCommand {
   std::string model, output;
   EvalFlags flags;
   bool no_zero_shot = false;
+  bool keep_untrusted_zero_shot = false;
 };
 
 int run_heads_fit(const HeadsFitCommand& c) {
@@ -42,16 +44,26 @@ int run_heads_fit(const HeadsFitCommand& c) {
   if (!data->grasp_dir.empty()) wo.provenance_note += " --grasp " + data->grasp_dir;
   auto bytes = eval::model_with_heads(**model, *heads, wo);
   if (!bytes.ok()) return report_error(command, bytes.error());
-  if (Status s = tools::write_file(c.output, *bytes); !s.ok()) return report_error(command, s.error());
-  // Score what was written, as the device applies it (the model's heads on the test split).
+  // Score what was written, as the device applies it (the model's heads on the test split),
+  // and record it in the heads (trust.h) before the file is written.
   auto written = Model::load(*bytes);
   if (!written.ok()) return report_error(command, written.error());
   eval::EvalOptions score = *options;
   score.fit_probes = false;
   score.model_heads = true;
   score.oracle_samples = 0;
+  score.touch_oracles = false;
   auto report = eval::evaluate_embeddings((*written)->metadata(), *set, score);
   if (!report.ok()) return report_error(command, report.error());
+  report->touch_dir = data->touch_dir;
+  report->grasp_dir = data->grasp_dir;
+  eval::TrustRecordOptions ro;
+  ro.drop_untrusted_zero_shot = !c.keep_untrusted_zero_shot;
+  std::vector<std::string> trust_lines;
+  auto recorded = eval::model_with_trust(**written, *report, ro, &trust_lines);
+  if (!recorded.ok()) return report_error(command, recorded.error());
+  *bytes = std::move(recorded).value();
+  if (Status s = tools::write_file(c.output, *bytes); !s.ok()) return report_error(command, s.error());
   std::printf("wrote %s (%zu bytes): %zu linear heads%s\n", c.output.c_str(), bytes->size(),
               heads->linear.size(), heads->grasp ? " + grasp head" : "");
   for (const auto& [task, p] : heads->probes) {
@@ -63,6 +75,8 @@ int run_heads_fit(const HeadsFitCommand& c) {
     }
     std::printf("%s%s\n", p.note.empty() ? "" : "  ", p.note.c_str());
   }
+  std::printf("trust (recorded in the heads; runtime rule: head_trust.h):\n");
+  for (const std::string& l : trust_lines) std::printf("  %s\n", l.c_str());
   return kExitOk;
 }
 
@@ -81,6 +95,9 @@ void add_heads_command(CLI::App& app, int& exit_code) {
   c->flags.add_to(*cmd);
   cmd->add_flag("--no-zero-shot", c->no_zero_shot,
                 "Do not add zero-shot heads for tasks the model has none for");
+  cmd->add_flag("--keep-untrusted-zero-shot", c->keep_untrusted_zero_shot,
+                "Keep zero-shot heads that do not beat the majority class on the test split "
+                "(default: left out)");
   cmd->footer(kExitCodeFooter);
   cmd->callback([c, &exit_code] { exit_code = run_heads_fit(*c); });
 }

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "cli/common.h"
+#include "cli/trust_text.h"
 
 namespace tlvlink::cli {
 namespace {
@@ -45,19 +46,19 @@ void print_metadata(const Model& model) {
     std::string labels;
     for (size_t i = 0; i < h.labels.size(); ++i)
       labels += (i ? ", " : "") + std::string(h.labels[i]);
-    std::printf("linear head  %.*s (%zu): %s\n", static_cast<int>(h.name.size()), h.name.data(),
-                h.labels.size(), labels.c_str());
+    std::printf("linear head  %.*s (%zu): %s\n             %s\n", static_cast<int>(h.name.size()),
+                h.name.data(), h.labels.size(), labels.c_str(), trust_text(h.trust).c_str());
   }
   for (const ZeroShotHead& h : m.zero_shot_heads) {
-    std::printf("zero-shot    %.*s (%zu classes, logit scale %g)\n",
+    std::printf("zero-shot    %.*s (%zu classes, logit scale %g)\n             %s\n",
                 static_cast<int>(h.name.size()), h.name.data(), h.class_names.size(),
-                static_cast<double>(h.logit_scale));
+                static_cast<double>(h.logit_scale), trust_text(h.trust).c_str());
   }
   if (m.grasp_head.present) {
-    std::printf("grasp head   %.*s: %zu weights, layout %.*s\n",
+    std::printf("grasp head   %.*s: %zu weights, layout %.*s\n             %s\n",
                 static_cast<int>(m.grasp_head.name.size()), m.grasp_head.name.data(),
                 m.grasp_head.weight.size(), static_cast<int>(m.grasp_head.feature_layout.size()),
-                m.grasp_head.feature_layout.data());
+                m.grasp_head.feature_layout.data(), trust_text(m.grasp_head.trust).c_str());
   }
   std::printf("golden pairs %zu\n", m.golden.size());
 }

@@ -25,6 +25,7 @@ struct ContactState {
   double press_mm = 0;              // total approach delta
   double max_gel_indentation_mm = 0;
   double kappa = 0;                 // compliance split: share of the approach taken by the gel
+  double texture_kappa = 0;         // the same for the object's texture, at its own scale
   double contact_area_mm2 = 0;
   double contact_radius_mm = 0;     // a = sqrt(area / pi)
   double stick_radius_mm = 0;       // c (Cattaneo-Mindlin), 0 in gross slip
