@@ -17,6 +17,8 @@
 #include "support/temp_dir.h"
 #include "tlvlink/daemon/config.h"
 #include "tlvlink/daemon/session.h"
+#include "tlvlink/heads/evaluator.h"
+#include "tlvlink/model.h"
 #include "tlvlink/image/jpeg.h"
 #if defined(TLVLINK_HAVE_LISTEN)
 #include "tlvlink/listen/client.h"
@@ -26,6 +28,7 @@ namespace tlvlink::daemon {
 namespace {
 
 constexpr int32_t kW = 640, kH = 480;
+constexpr const char* kModel = TLVLINK_SOURCE_DIR "/firmware/models/touch-tiny-int8.tlvm";
 constexpr double kFps = 100;  // paced fast so the test takes seconds
 
 std::vector<uint8_t> gel_jpeg(bool pressed, int32_t seed) {
@@ -56,7 +59,7 @@ std::vector<std::vector<uint8_t>> cycle() {
 }
 
 std::string config_text(const std::string& output, int64_t max_frames) {
-  return "model = \"" TLVLINK_SOURCE_DIR "/firmware/models/touch-tiny-int8.tlvm\"\n"
+  return std::string("model = \"") + kModel + "\"\n"
          "output = \"jsonl:" + output + "\"\n"
          "max_frames = " + std::to_string(max_frames) + "\n"
          "status_interval_ms = 200\n"
@@ -100,6 +103,16 @@ TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
   EXPECT_EQ(t.decode_errors, 0u);
   EXPECT_EQ(t.inference_errors, 0u);
   // Every line is JSON; frame records match the totals; heads are named with labels.
+  std::vector<std::string> default_heads;
+  {
+    auto model = Model::load_file(kModel);
+    ASSERT_TRUE(model.ok()) << model.error().message();
+    auto heads = heads::HeadEvaluator::create((*model)->metadata());
+    ASSERT_TRUE(heads.ok());
+    for (const heads::HeadResult& r : heads->results())
+      if (heads::reported_by_default(r)) default_heads.emplace_back(r.name);
+  }
+  ASSERT_FALSE(default_heads.empty());
   std::ifstream in(out);
   std::string line;
   uint64_t frames = 0, grasps = 0, stats = 0, summaries = 0;
@@ -111,9 +124,13 @@ TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
       // Predictions in contact only (an open-gel frame may be encoded for a grasp's "before").
       EXPECT_EQ(j.contains("heads"), j.at("encoded") && j.at("contact") != "none") << line;
       if (j.contains("heads")) {
-        EXPECT_TRUE(j.at("heads").contains("material")) << line;
-        const double p = j.at("heads").at("hard_soft").at("p");
-        EXPECT_TRUE(p >= 0.5 && p <= 1.0) << line;
+        // The default output: the model's probe heads except those its trust records mark
+        // untrusted (the shipped model's hard_soft head does not beat its majority class).
+        EXPECT_EQ(j.at("heads").size(), default_heads.size()) << line;
+        for (const std::string& name : default_heads) {
+          const double p = j.at("heads").at(name).at("p");
+          EXPECT_TRUE(p > 0.0 && p <= 1.0) << name << ": " << line;
+        }
       }
       EXPECT_GE(j.at("ms").at("total").get<double>(), 0.0);
     } else if (type == "grasp") {
@@ -156,6 +173,8 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
   // (a pty discards what its reader has not read when the board closes it).
   std::atomic<uint64_t> frames{0}, grasps{0};
   std::atomic<bool> hello{false}, done{false};
+  // Heads whose Hello entry carries the model's trust record (accuracy and majority rate).
+  std::atomic<int> heads_with_trust{0}, heads_in_hello{0};
   std::thread reader([&] {
     int quiet = 0;
     while (!done || quiet < 5) {
@@ -166,7 +185,16 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
         continue;
       }
       quiet = 0;
-      if (auto h = m.value()->hello(); h.ok()) hello = h.value().sensor_count() == 2;
+      if (auto h = m.value()->hello(); h.ok()) {
+        hello = h.value().sensor_count() == 2;
+        heads_in_hello = static_cast<int>(h.value().head_count());
+        int recorded = 0;
+        for (size_t i = 0; i < h.value().head_count(); ++i) {
+          const protocol::HeadInfoView head = h.value().head(i);
+          if (std::isfinite(head.accuracy()) && std::isfinite(head.majority_rate())) ++recorded;
+        }
+        heads_with_trust = recorded;
+      }
       if (m.value()->frame_prediction().ok()) ++frames;
       if (m.value()->grasp_prediction().ok()) ++grasps;
     }
@@ -179,6 +207,9 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
   EXPECT_EQ(ls.frames.rejected(), 0u);
   EXPECT_EQ(ls.frames_missing, 0u);
   EXPECT_TRUE(hello);
+  // The shipped model records every head's test accuracy; the Hello passes them on.
+  EXPECT_GT(heads_in_hello.load(), 0);
+  EXPECT_EQ(heads_with_trust.load(), heads_in_hello.load());
   EXPECT_EQ(frames, t.frames);
   EXPECT_EQ(grasps, t.grasps + t.grasps_not_computed);
 }

@@ -127,15 +127,25 @@ TEST_F(EvalCli, HeadsFitWritesAModelThatRunsIdenticallyAndBeatsChance) {
   // Same graph: the embedded golden pairs still verify.
   EXPECT_RUN(tlvlink("verify " + out), 0);
   // The stored heads score exactly what the freshly fitted probes score (same embeddings,
-  // deterministic fit), and the zero-shot heads now come from the model.
+  // deterministic fit). The zero-shot heads the fit kept (those beating their test set's
+  // majority class; the others are printed as "removed") now come from the model.
   const json j = eval_json(out + kTouch + kGrasp);
   const json& r = j.at("reports")[0];
+  int from_model = 0;
   for (const char* task : {"material", "hard_soft", "rough_smooth", "grasp"}) {
     EXPECT_EQ(find(r, task, "probe")->at("correct"), find(r, task, "model-heads")->at("correct"))
         << task;
-    EXPECT_NE(find(r, task, "zero-shot")->at("source").get<std::string>().find("model zero-shot"),
-              std::string::npos);
+    const std::string source = find(r, task, "zero-shot")->at("source").get<std::string>();
+    if (source.find("model zero-shot") != std::string::npos) ++from_model;
   }
+  const std::regex zero_shot_line(R"(zero-shot head '[^']+': [^\n]*)");
+  int kept = 0, listed = 0;
+  for (auto it = std::sregex_iterator(fit.out.begin(), fit.out.end(), zero_shot_line);
+       it != std::sregex_iterator(); ++it, ++listed) {
+    if (it->str().find("removed") == std::string::npos) ++kept;
+  }
+  EXPECT_EQ(listed, 4) << fit.out;
+  EXPECT_EQ(from_model, kept) << fit.out;
 }
 
 TEST_F(EvalCli, CompareFp32AndInt8) {

@@ -9,6 +9,7 @@
 #include "tlvlink/trainer/arch.h"
 #include "tlvlink/trainer/schedule.h"
 #include "tlvlink/trainer/trainer.h"
+#include "augment.h"
 #include "options_json.h"
 
 namespace tlvlink::trainer {
@@ -106,6 +107,25 @@ TEST(Arch, CostsWithinTheBrief) {
   std::printf("%s\n%s\n", describe_arch(*small).c_str(), describe_arch(*tiny).c_str());
 }
 
+TEST(Arch, FullResolutionAndLargerFamilies) {
+  // tiny-hr takes the 240x320 frame unresized within the daemon budget (README "Architectures");
+  // large and large-hr are the bigger supervised references, not edge students.
+  auto hr = make_arch("tiny-hr", 240, 320, 128);
+  auto large_hr = make_arch("large-hr", 240, 320, 128);
+  auto large = make_arch("large", 96, 128, 128);
+  ASSERT_TRUE(hr.ok() && large_hr.ok() && large.ok());
+  const ArchStats h = arch_stats(*hr), lh = arch_stats(*large_hr), l = arch_stats(*large);
+  EXPECT_GT(h.macs, 30'000'000u);
+  EXPECT_LT(h.macs, 40'000'000u);
+  EXPECT_EQ(h.final_height, 4);  // six stride-2 stages: 240 -> 4, 320 -> 5
+  EXPECT_EQ(h.final_width, 5);
+  EXPECT_EQ(hr->layers[0].out_channels, 8);
+  EXPECT_GT(lh.macs, 5 * h.macs);
+  EXPECT_GT(lh.params, 5 * h.params);
+  EXPECT_GT(l.macs, 100'000'000u);
+  EXPECT_NE(arch_names().find("tiny-hr"), std::string::npos);
+}
+
 TEST(Arch, RejectsBadRequests) {
   EXPECT_EQ(make_arch("huge", 96, 128, 128).error().code(), ErrorCode::kInvalidArgument);
   EXPECT_FALSE(make_arch("small", 16, 128, 128).ok());
@@ -134,8 +154,31 @@ TEST(Options, ValidationNamesTheSetting) {
   EXPECT_FALSE(validate(bad).ok());
 }
 
+TEST(Options, ObjectiveAndAugmentation) {
+  TrainOptions o;
+  o.data_dir = "/tmp/x";
+  o.output = "/tmp/x.ckpt";
+  o.objective = Objective::kSupervised;
+  EXPECT_FALSE(validate(o).ok()) << "supervised with a curriculum";
+  o.beta.schedule = BetaSchedule::kNone;
+  EXPECT_TRUE(validate(o).ok());
+  o.objective = Objective::kTlvLinkSupervised;
+  o.supervised_weight = 0;
+  EXPECT_NE(std::string(validate(o).error().message()).find("supervised weight"),
+            std::string::npos);
+  o.supervised_weight = 1;
+  o.augment.noise_dn = 60;
+  EXPECT_NE(std::string(validate(o).error().message()).find("augmentation"), std::string::npos);
+  for (Objective obj : {Objective::kTlvLink, Objective::kSupervised, Objective::kTlvLinkSupervised})
+    EXPECT_EQ(parse_objective(objective_name(obj)).value(), obj);
+  EXPECT_FALSE(parse_objective("contrastive").ok());
+}
+
 TEST(Options, RoundTripThroughJson) {
   TrainOptions o;
+  o.objective = Objective::kTlvLinkSupervised;
+  o.supervised_weight = 0.25;
+  o.augment = {0.1, 0.05, 3};
   o.arch = "tiny";
   o.beta.schedule = BetaSchedule::kExponential;
   o.beta.beta1 = 0.7;
@@ -148,6 +191,33 @@ TEST(Options, RoundTripThroughJson) {
   EXPECT_EQ(back.beta.beta1, 0.7);
   EXPECT_EQ(back.lr.lr, 3e-4);
   EXPECT_EQ(back.seed, 42u);
+  EXPECT_EQ(back.objective, Objective::kTlvLinkSupervised);
+  EXPECT_EQ(back.supervised_weight, 0.25);
+  EXPECT_EQ(back.augment.gain_sigma, 0.1);
+  EXPECT_EQ(back.augment.noise_dn, 3);
+  // A checkpoint written before the objective existed trained TLV-Link without augmentation.
+  nlohmann::ordered_json old = options_to_json(o);
+  old.erase("objective");
+  old.erase("supervised_weight");
+  old.erase("augment");
+  ASSERT_TRUE(options_from_json(old, back).ok());
+  EXPECT_EQ(back.objective, Objective::kTlvLink);
+  EXPECT_FALSE(back.augment.enabled());
+}
+
+TEST(Augment, SeededCameraLikeFrames) {
+  std::vector<uint8_t> frame(8 * 8 * 3);
+  for (size_t i = 0; i < frame.size(); ++i) frame[i] = static_cast<uint8_t>(40 + (i * 7) % 150);
+  std::vector<uint8_t> a(frame.size()), b(frame.size()), c(frame.size());
+  const AugmentOptions o{0.1, 0.05, 3};
+  augment_frame(frame.data(), a.data(), 8, 8, o, augment_seed(1, 10, 3));
+  augment_frame(frame.data(), b.data(), 8, 8, o, augment_seed(1, 10, 3));
+  augment_frame(frame.data(), c.data(), 8, 8, o, augment_seed(1, 11, 3));
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, c);
+  EXPECT_NE(a, frame);
+  augment_frame(frame.data(), a.data(), 8, 8, {}, 7);
+  EXPECT_EQ(a, frame) << "disabled augmentation copies";
 }
 
 TEST(DataOrder, SeededPermutations) {

@@ -15,6 +15,7 @@ struct HeadsFitCommand {
   std::string model, output;
   EvalFlags flags;
   bool no_zero_shot = false;
+  bool keep_untrusted_zero_shot = false;
 };
 
 int run_heads_fit(const HeadsFitCommand& c) {
@@ -29,6 +30,7 @@ int run_heads_fit(const HeadsFitCommand& c) {
   job.data = std::move(data).value();
   job.options = std::move(options).value();
   job.add_missing_zero_shot = !c.no_zero_shot;
+  job.keep_untrusted_zero_shot = c.keep_untrusted_zero_shot;
   job.on_note = [](const std::string& note) { std::fprintf(stderr, "note: %s\n", note.c_str()); };
   auto r = eval::fit_heads_into_file(job);
   if (!r.ok()) return report_error(command, r.error());
@@ -43,6 +45,8 @@ int run_heads_fit(const HeadsFitCommand& c) {
     }
     std::printf("%s%s\n", p.note.empty() ? "" : "  ", p.note.c_str());
   }
+  std::printf("trust (recorded in the heads; runtime rule: head_trust.h):\n");
+  for (const std::string& l : r->trust_lines) std::printf("  %s\n", l.c_str());
   return kExitOk;
 }
 
@@ -61,6 +65,9 @@ void add_heads_command(CLI::App& app, int& exit_code) {
   c->flags.add_to(*cmd);
   cmd->add_flag("--no-zero-shot", c->no_zero_shot,
                 "Do not add zero-shot heads for tasks the model has none for");
+  cmd->add_flag("--keep-untrusted-zero-shot", c->keep_untrusted_zero_shot,
+                "Keep zero-shot heads that do not beat the majority class on the test split "
+                "(default: left out)");
   cmd->footer(kExitCodeFooter);
   cmd->callback([c, &exit_code] { exit_code = run_heads_fit(*c); });
 }

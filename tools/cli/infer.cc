@@ -9,6 +9,7 @@
 #include "common.h"
 #include "tlvlink/bench/timing.h"
 #include "tlvlink/heads/evaluator.h"
+#include "tlvlink/inspect/trust_text.h"
 #include "tlvlink/io/format.h"
 #include "tlvlink/io/model_input.h"
 #include "tlvlink/io/npy.h"
@@ -40,18 +41,21 @@ void print_heads(const Metadata& m, std::span<const float> embedding) {
   if (heads.ok() && heads->evaluate(embedding).ok()) {
     for (const heads::HeadResult& r : heads->results()) {
       const auto top = static_cast<size_t>(r.top);
-      std::printf("head %-14.*s %-9s -> %-18.*s p=%.3f\n", static_cast<int>(r.name.size()),
+      std::printf("head %-14.*s %-9s -> %-18.*s p=%.3f  [%s]\n", static_cast<int>(r.name.size()),
                   r.name.data(), heads::head_kind_name(r.kind),
                   static_cast<int>(r.labels[top].size()), r.labels[top].data(),
-                  static_cast<double>(r.probabilities[top]));
+                  static_cast<double>(r.probabilities[top]),
+                  inspect::trust_text(*r.trust, false).c_str());
     }
   }
   if (m.grasp_head.present) {
-    std::printf("head %-14.*s %-9s -> needs %zu embeddings (%.*s); not computed from one frame\n",
+    std::printf("head %-14.*s %-9s -> needs %zu embeddings (%.*s); not computed from one frame"
+                "  [%s]\n",
                 static_cast<int>(m.grasp_head.name.size()), m.grasp_head.name.data(), "probe",
                 m.grasp_head.weight.size() / static_cast<size_t>(m.embedding_dim),
                 static_cast<int>(m.grasp_head.feature_layout.size()),
-                m.grasp_head.feature_layout.data());
+                m.grasp_head.feature_layout.data(),
+                inspect::trust_text(m.grasp_head.trust, false).c_str());
   }
   if (m.provenance.training.find("random-reference") != std::string_view::npos) {
     std::printf(

@@ -27,6 +27,7 @@ struct TouchFlags {
   std::string sensor = "gelsight-mini";
   int vision_height = 240, vision_width = 320;
   bool markers = false;
+  double markers_fraction = 0;
   int sensor_instances = 1;
   int jpeg_quality = 90;
   double test_fraction = 0.2;
@@ -43,6 +44,7 @@ int run_touch(const TouchFlags& f) {
   job.generator.vision_height = f.vision_height;
   job.generator.vision_width = f.vision_width;
   job.generator.markers = f.markers;
+  job.generator.markers_fraction = f.markers_fraction;
   job.generator.seed = f.seed;
   job.generator.sensor_instances = f.sensor_instances;
   job.format = f.format == "tag" ? sim::TouchSetFormat::kTouchAndGo : sim::TouchSetFormat::kTouch100k;
@@ -77,7 +79,9 @@ void add_touch_command(CLI::App& sim, int& exit_code, const char* name, const ch
   cmd->add_option("-s,--seed", f->seed, "Seed; sample i depends only on (seed, i)")
       ->capture_default_str();
   cmd->add_option("--sensor", f->sensor,
-                  "Sensor profile: gelsight-mini, digit, digit-640x480, gelsight-r1.5")
+                  "Sensor profile: gelsight-mini, digit, digit-640x480, gelsight-r1.5; or "
+                  "several separated by commas (each session on one, drawn from (seed, "
+                  "session): a mixed-profile set)")
       ->capture_default_str();
   cmd->add_option("--vision-height", f->vision_height, "Vision image height")
       ->check(CLI::Range(1, 8192))
@@ -86,6 +90,11 @@ void add_touch_command(CLI::App& sim, int& exit_code, const char* name, const ch
       ->check(CLI::Range(1, 8192))
       ->capture_default_str();
   cmd->add_flag("--markers", f->markers, "Render the marker grid");
+  cmd->add_option("--markers-fraction", f->markers_fraction,
+                  "Share of sessions whose gel has markers, drawn per session (gels come with "
+                  "and without them); --markers = all")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   cmd->add_option("--sensor-instances", f->sensor_instances, kSensorInstancesHelp)
       ->check(CLI::Range(1, sim::kMaxSensorInstances))
       ->capture_default_str();

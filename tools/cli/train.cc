@@ -1,8 +1,10 @@
 // tlvlink train DATA_DIR -o OUT.ckpt: TLV-Link training of an edge touch encoder (libtorch).
 // Built with TLVLINK_BUILD_TRAINER; see tools/trainer/README.md.
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
+#include <string>
 
 #include "common.h"
 #include "tlvlink/trainer/arch.h"
@@ -14,6 +16,7 @@ namespace {
 struct TrainFlags {
   trainer::TrainOptions o;
   std::string beta_schedule = "linear";
+  std::string objective = "tlv-link";
   bool no_curriculum = false;
   bool list_archs = false;
   int64_t max_cache_mb = static_cast<int64_t>(trainer::kDefaultMaxCacheBytes >> 20);
@@ -21,7 +24,11 @@ struct TrainFlags {
 };
 
 int list_archs(const trainer::TrainOptions& o) {
-  for (const char* name : {"small", "tiny"}) {
+  const std::string names = trainer::arch_names();
+  for (size_t start = 0; start < names.size();) {
+    const size_t comma = std::min(names.find(", ", start), names.size());
+    const std::string name = names.substr(start, comma - start);
+    start = comma + 2;
     auto a = trainer::make_arch(name, o.input_height, o.input_width, o.text.dim);
     if (!a.ok()) return report_error("train", a.error());
     std::printf("%s\n", trainer::describe_arch(*a).c_str());
@@ -45,7 +52,12 @@ int run_train(TrainFlags& f) {
       }
     }
   }
-  auto schedule = trainer::parse_beta_schedule(f.no_curriculum ? "none" : f.beta_schedule);
+  auto objective = trainer::parse_objective(f.objective);
+  if (!objective.ok()) return report_error("train", objective.error());
+  f.o.objective = *objective;
+  // The supervised objective has no text loss, so no curriculum (and no teacher) either.
+  const bool no_curriculum = f.no_curriculum || *objective == trainer::Objective::kSupervised;
+  auto schedule = trainer::parse_beta_schedule(no_curriculum ? "none" : f.beta_schedule);
   if (!schedule.ok()) return report_error("train", schedule.error());
   f.o.beta.schedule = *schedule;
   f.o.max_cache_bytes = static_cast<size_t>(f.max_cache_mb) << 20;
@@ -122,6 +134,26 @@ void add_train_command(CLI::App& app, int& exit_code) {
               ->capture_default_str());
   setting(cmd->add_flag("--no-curriculum", f->no_curriculum,
                         "beta = 0 throughout (the paper's ablation; no teacher is trained)"));
+  setting(cmd->add_option("--objective", f->objective,
+                          "What the student learns from: tlv-link (InfoNCE against the text, the "
+                          "method), supervised (cross-entropy on the simulator's labels only: the "
+                          "supervised upper bound; implies --no-curriculum), tlv-link+supervised "
+                          "(both, summed)")
+              ->check(CLI::IsMember({"tlv-link", "supervised", "tlv-link+supervised"}))
+              ->capture_default_str());
+  setting(cmd->add_option("--supervised-weight", o.supervised_weight,
+                          "tlv-link+supervised: weight of the cross-entropy term")
+              ->capture_default_str());
+  setting(cmd->add_option("--augment-gain", o.augment.gain_sigma,
+                          "Augmentation: per-channel gain exp(N(0, s)) around the frame mean "
+                          "(0 = off)")
+              ->capture_default_str());
+  setting(cmd->add_option("--augment-exposure", o.augment.exposure_sigma,
+                          "Augmentation: exposure exp(N(0, s)) (0 = off)")
+              ->capture_default_str());
+  setting(cmd->add_option("--augment-noise", o.augment.noise_dn,
+                          "Augmentation: extra camera noise sigma in DN (0 = off)")
+              ->capture_default_str());
   setting(cmd->add_option("--teacher", o.teacher.torchscript,
                           "TorchScript vision encoder (.pt): float [N,3,H,W] RGB normalised by "
                           "--teacher-mean/--teacher-std -> [N,D]; default: the built-in teacher"));

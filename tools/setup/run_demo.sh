@@ -51,7 +51,7 @@ step "4/6 record the scenario: two simulated Minis, 6 grasps + 4 presses (tlvlin
 # are unchanged.
 scenario=$out/scenario
 scenario_args=(--sensor gelsight-mini --grasps 6 --presses 4 --seed 2026)
-if [ ! -f "$scenario/truth.jsonl" ] || [ "$(cat "$scenario/args" 2>/dev/null)" != "${scenario_args[*]}" ]; then
+if [ ! -f "$scenario/truth.jsonl" ] || [ ! -f "$scenario/A.tlvraw" ] || [ ! -f "$scenario/B.tlvraw" ] || [ "$(cat "$scenario/args" 2>/dev/null)" != "${scenario_args[*]}" ]; then
   "$tlvlink" sim scenario -o "$scenario" "${scenario_args[@]}"
   echo "${scenario_args[*]}" >"$scenario/args"
 else

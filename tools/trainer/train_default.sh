@@ -8,8 +8,10 @@
 # (3) `tlvlink export`. --no-curriculum trains the paper's ablation (beta = 0, no teacher) into
 # OUT_DIR/no-curriculum/ from the same data. Environment: TLVLINK_BUILD (build directory,
 # default build/host), TLVLINK_TRAIN_THREADS (torch threads, default 1; see README "Threads"),
-# TLVLINK_TRAIN_ARCH (tiny or small, default tiny).
-# Target: under 30 min wall on the shared 2-core development machine (README "Default model").
+# TLVLINK_TRAIN_ARCH (default tiny), TLVLINK_TRAIN_OBJECTIVE (default tlv-link+supervised;
+# tlv-link for the pure method, supervised for the supervised bound: then no teacher either),
+# TLVLINK_TRAIN_NAME (output name, default the arch).
+# Target: under 60 min wall on the shared 2-core development machine (README "Default model").
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 variant=curriculum
@@ -18,9 +20,10 @@ out=/tmp/tlvlink-default
 if [ $# -gt 0 ] && [ "$1" != "--" ]; then out=$1; shift; fi
 [ "${1:-}" = "--" ] && shift
 extra=("$@")
-# `tiny` (12.8 MMAC, 0.36 M parameters) is the shipped default: it scores like `small` on the
-# simulator set (README "Default model") at a third of the run time and a quarter of the file.
+# `tiny` (12.8 MMAC, 0.36 M parameters) is the shipped default (README "Default model").
 arch=${TLVLINK_TRAIN_ARCH:-tiny}
+objective=${TLVLINK_TRAIN_OBJECTIVE:-tlv-link+supervised}
+name=${TLVLINK_TRAIN_NAME:-$arch}
 # The paper's lr 2e-4 fine-tunes pre-trained CLIP encoders; a student trained from scratch
 # under-trains with it (the loss rises again as beta decays), 1e-3 trains it. An --lr among the
 # extra flags replaces it.
@@ -35,41 +38,49 @@ if [ ! -x "$tlvlink" ] || [ ! -x "$build/tools/cli/tlvlink-train" ]; then
   exit 1
 fi
 
-# The dataset: 1500 sessions x 8 frames = 12,000 samples (9,600 train / 2,400 test by session),
-# seed 1, 64 sensor instances. Sized so the whole run fits the time target (README "Default model").
-# Each session is rendered on one of 64 simulated sensor instances (LED gains, background, white
-# balance, exposure): trained on a single instance, the heads did not transfer to another one
-# (tools/sim/README.md "Sensor instances").
-sessions=1500
-frames=8
+# The dataset: 9000 sessions x 2 frames = 18,000 samples (14,400 train / 3,600 test by
+# session), seed 1. Many objects with few frames each: with 8 frames of 1500 objects a student
+# learned the objects rather than their materials (tools/trainer/README.md "Default model").
+# Each session is recorded on one of 64 simulated sensor instances (LED gains, background,
+# white balance, exposure), on a GelSight Mini or a DIGIT (half each: one model for both sensor
+# types), half of them on gels with markers. Vision images at the student's input size (the
+# built-in teacher's input; larger ones would only be resized down).
+sessions=9000
+frames=2
 instances=64
+sensors=gelsight-mini,digit
+markers=0.5
 data=$out/data
 t0=$(date +%s)
 if [ -f "$data/tlvlink_sim.json" ] && grep -q "\"sessions\": *$sessions" "$data/tlvlink_sim.json" &&
    grep -q "\"frames_per_session\": *$frames" "$data/tlvlink_sim.json" &&
    grep -q "\"sensor_instances\": *$instances" "$data/tlvlink_sim.json" &&
+   grep -q "\"sensor\": *\"$sensors\"" "$data/tlvlink_sim.json" &&
+   grep -q "\"markers_fraction\": *$markers" "$data/tlvlink_sim.json" &&
    grep -Eq "\"seed\": *1,?$" "$data/tlvlink_sim.json"; then
   echo "== 1/3 reusing the simulator set in $data"
 else
   rm -rf "$data"
-  echo "== 1/3 simulator set: $sessions sessions x $frames frames, $instances sensor instances, seed 1 -> $data"
+  echo "== 1/3 simulator set: $sessions sessions x $frames frames ($sensors, $instances sensor" \
+       "instances, markers on $markers of them), seed 1 -> $data"
   "$tlvlink" sim touch100k -o "$data" --sessions $sessions --frames-per-session $frames \
-    --sensor-instances $instances --seed 1 --threads 2
+    --sensor "$sensors" --sensor-instances $instances --markers-fraction $markers --seed 1 \
+    --threads 2 --vision-height 96 --vision-width 128
 fi
 t1=$(date +%s)
 
 dir=$out
-flags=()
+flags=(--objective "$objective")
 if [ "$variant" = no-curriculum ]; then dir=$out/no-curriculum; flags+=(--no-curriculum); fi
 mkdir -p "$dir"
-echo "== 2/3 train $arch ($variant), threads $threads -> $dir/$arch.ckpt"
-"$tlvlink" train "$data" -o "$dir/$arch.ckpt" --arch "$arch" "${lr_flag[@]}" --seed 1 --threads "$threads" \
-  --checkpoint-dir "$dir/checkpoints" --checkpoint-every 400 "${flags[@]}" "${extra[@]}"
+echo "== 2/3 train $arch ($variant, $objective), threads $threads -> $dir/$name.ckpt"
+"$tlvlink" train "$data" -o "$dir/$name.ckpt" --arch "$arch" "${lr_flag[@]}" --seed 1 \
+  --threads "$threads" --checkpoint-dir "$dir/checkpoints-$name" --checkpoint-every 600 \
+  "${flags[@]}" "${extra[@]}"
 t2=$(date +%s)
 
-echo "== 3/3 export -> $dir/$arch.tlvm"
-"$tlvlink" export "$dir/$arch.ckpt" -o "$dir/$arch.tlvm"
+echo "== 3/3 export -> $dir/$name.tlvm"
+"$tlvlink" export "$dir/$name.ckpt" -o "$dir/$name.tlvm"
 t3=$(date +%s)
 echo "train_default: data $((t1 - t0))s, train $((t2 - t1))s, export $((t3 - t2))s," \
-     "total $((t3 - t0))s; model $dir/$arch.tlvm"
-echo "evaluate: $tlvlink eval $dir/$arch.tlvm --touch $data"
+     "total $((t3 - t0))s; model $dir/$name.tlvm"

@@ -7,6 +7,7 @@
 // (sensors, heads, labels) are resolved once at start. Schema: firmware/tlvlinkd/README.md.
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -22,9 +23,13 @@ struct OutputNames {
   struct Head {
     std::string name, kind;
     std::vector<std::string> labels;
+    // The model's trust record (metadata.h HeadTrust), NaN when the head has none.
+    float accuracy = std::numeric_limits<float>::quiet_NaN();
+    float majority = std::numeric_limits<float>::quiet_NaN();
   };
   std::vector<Head> heads;  // in FramePrediction::heads[].head index order (all per-frame heads)
   std::string grasp_head;
+  Head grasp;  // the grasp head's trust record (name and labels unused)
 };
 
 class JsonlWriter {

@@ -64,9 +64,17 @@ internal::OutputNames names(const DaemonConfig& c, const pipeline::FrameProcesso
     h.name = std::string(r.name);
     h.kind = heads::head_kind_name(r.kind);
     for (std::string_view l : r.labels) h.labels.emplace_back(l);
+    if (r.trust != nullptr && r.trust->present) {
+      h.accuracy = r.trust->accuracy;
+      h.majority = r.trust->majority;
+    }
     n.heads.push_back(std::move(h));
   }
   n.grasp_head = std::string(p.heads().grasp_name());
+  if (p.heads().has_grasp() && p.heads().grasp_trust().present) {
+    n.grasp.accuracy = p.heads().grasp_trust().accuracy;
+    n.grasp.majority = p.heads().grasp_trust().majority;
+  }
   return n;
 }
 

@@ -110,12 +110,16 @@ void StreamSink::build_hello(const DaemonConfig& config, const Model& model,
     info.name = h.name;
     info.kind = h.kind == "zero-shot" ? protocol::HeadKind::kZeroShot : protocol::HeadKind::kLinear;
     info.labels = label_views_.back();
+    info.accuracy = h.accuracy;  // NaN (protocol::kNotRecorded) when the model has no record
+    info.majority_rate = h.majority;
     heads_.push_back(info);
   }
   if (!names.grasp_head.empty()) {
     protocol::HeadInfo grasp;
     grasp.name = names.grasp_head;
     grasp.kind = protocol::HeadKind::kGrasp;
+    grasp.accuracy = names.grasp.accuracy;
+    grasp.majority_rate = names.grasp.majority;
     heads_.push_back(grasp);
   }
   for (const char* s : kStageNames) stage_names_.emplace_back(s);

@@ -10,6 +10,9 @@ std::vector<std::string> strings(const std::vector<std::string_view>& v) {
 std::vector<float> floats(std::span<const float> v) {
   return {v.begin(), v.end()};
 }
+HeadTrustSpec trust(const HeadTrust& t) {
+  return {t.present, t.accuracy, t.majority, t.n, std::string(t.test_set)};
+}
 }  // namespace
 
 MetadataSpec metadata_spec_from(const Metadata& m) {
@@ -23,17 +26,17 @@ MetadataSpec metadata_spec_from(const Metadata& m) {
   s.embedding_output = m.embedding_output;
   for (const LinearHead& h : m.linear_heads) {
     s.linear_heads.push_back(
-        {std::string(h.name), strings(h.labels), floats(h.weight), floats(h.bias)});
+        {std::string(h.name), strings(h.labels), floats(h.weight), floats(h.bias), trust(h.trust)});
   }
   for (const ZeroShotHead& h : m.zero_shot_heads) {
     s.zero_shot_heads.push_back({std::string(h.name), strings(h.class_names),
                                  std::string(h.prompt_template), floats(h.prompt_matrix),
-                                 h.logit_scale});
+                                 h.logit_scale, trust(h.trust)});
   }
   s.has_grasp_head = m.grasp_head.present;
   if (s.has_grasp_head) {
     s.grasp_head = {std::string(m.grasp_head.name), std::string(m.grasp_head.feature_layout),
-                    floats(m.grasp_head.weight), m.grasp_head.bias};
+                    floats(m.grasp_head.weight), m.grasp_head.bias, trust(m.grasp_head.trust)};
   }
   s.producer = m.provenance.producer;
   s.created_utc = m.provenance.created_utc;

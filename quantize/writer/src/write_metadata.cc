@@ -15,6 +15,12 @@ std::string utc_now() {
   return text;
 }
 
+flatbuffers::Offset<fb::HeadTrust> write_trust(flatbuffers::FlatBufferBuilder& fbb,
+                                               const HeadTrustSpec& t) {
+  if (!t.present) return 0;
+  return fb::CreateHeadTrust(fbb, t.accuracy, t.majority, t.n, fbb.CreateString(t.test_set));
+}
+
 }  // namespace
 
 flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder& fbb,
@@ -34,19 +40,21 @@ flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder&
   for (const auto& h : spec.linear_heads) {
     linear.push_back(fb::CreateLinearHead(fbb, fbb.CreateString(h.name),
                                           fbb.CreateVectorOfStrings(h.labels),
-                                          fbb.CreateVector(h.weight), fbb.CreateVector(h.bias)));
+                                          fbb.CreateVector(h.weight), fbb.CreateVector(h.bias),
+                                          write_trust(fbb, h.trust)));
   }
   std::vector<flatbuffers::Offset<fb::ZeroShotHead>> zero_shot;
   for (const auto& h : spec.zero_shot_heads) {
     zero_shot.push_back(fb::CreateZeroShotHead(
         fbb, fbb.CreateString(h.name), fbb.CreateVectorOfStrings(h.class_names),
-        fbb.CreateString(h.prompt_template), fbb.CreateVector(h.prompt_matrix), h.logit_scale));
+        fbb.CreateString(h.prompt_template), fbb.CreateVector(h.prompt_matrix), h.logit_scale,
+        write_trust(fbb, h.trust)));
   }
   flatbuffers::Offset<fb::GraspHead> grasp = 0;
   if (spec.has_grasp_head) {
     const auto& g = spec.grasp_head;
     grasp = fb::CreateGraspHead(fbb, fbb.CreateString(g.name), fbb.CreateString(g.feature_layout),
-                                fbb.CreateVector(g.weight), g.bias);
+                                fbb.CreateVector(g.weight), g.bias, write_trust(fbb, g.trust));
   }
   auto provenance = fb::CreateProvenance(
       fbb, fbb.CreateString(spec.producer),

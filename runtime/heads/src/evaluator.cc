@@ -1,11 +1,18 @@
 #include "tlvlink/heads/evaluator.h"
 
+#include "tlvlink/head_trust.h"
 #include "tlvlink/heads/head_math.h"
 
 namespace tlvlink::heads {
 
 const char* head_kind_name(HeadKind kind) {
   return kind == HeadKind::kZeroShot ? "zero-shot" : "probe";
+}
+
+bool reported_by_default(const HeadResult& result) {
+  return result.kind == HeadKind::kProbe &&
+         (result.trust == nullptr ||
+          assess_head(*result.trust).level != HeadTrustLevel::kUntrusted);
 }
 
 Result<HeadEvaluator> HeadEvaluator::create(const Metadata& m) {
@@ -36,19 +43,20 @@ Result<HeadEvaluator> HeadEvaluator::create(const Metadata& m) {
   h.scratch_.assign(values, 0.0f);
   size_t at = 0;
   const auto add = [&](std::string_view name, HeadKind kind,
-                       std::span<const std::string_view> labels) {
+                       std::span<const std::string_view> labels, const HeadTrust& trust) {
     HeadResult r;
     r.name = name;
     r.kind = kind;
     r.labels = labels;
+    r.trust = &trust;
     h.offsets_.push_back(at);
     r.logits = std::span<const float>(h.scratch_).subspan(at, labels.size());
     r.probabilities = std::span<const float>(h.scratch_).subspan(at + labels.size(), labels.size());
     at += 2 * labels.size();
     h.results_.push_back(r);
   };
-  for (const LinearHead& l : m.linear_heads) add(l.name, HeadKind::kProbe, l.labels);
-  for (const ZeroShotHead& z : m.zero_shot_heads) add(z.name, HeadKind::kZeroShot, z.class_names);
+  for (const LinearHead& l : m.linear_heads) add(l.name, HeadKind::kProbe, l.labels, l.trust);
+  for (const ZeroShotHead& z : m.zero_shot_heads) add(z.name, HeadKind::kZeroShot, z.class_names, z.trust);
   if (m.grasp_head.present) {
     TLV_ASSIGN_OR_RETURN(h.grasp_layout_, parse_grasp_layout(m.grasp_head.feature_layout));
     TLV_ENSURE(m.grasp_head.weight.size() == h.grasp_layout_.size() * dim,

@@ -71,12 +71,28 @@ Status convert_input_spec(const fb::InputSpec* in, const Graph& graph, InputSpec
   return {};
 }
 
+// Trust record of a head: fractions must be finite and in [0, 1], at least one item scored.
+Status convert_trust(const fb::HeadTrust* t, const char* what, std::string_view name,
+                     HeadTrust& out) {
+  if (t == nullptr) return {};
+  out = {true, t->accuracy(), t->majority(), t->n(), view(t->test_set())};
+  const bool fractions = std::isfinite(out.accuracy) && std::isfinite(out.majority) &&
+                         out.accuracy >= 0.0f && out.accuracy <= 1.0f && out.majority >= 0.0f &&
+                         out.majority <= 1.0f;
+  TLV_ENSURE(fractions && out.n >= 1, ErrorCode::kModelInvalidMetadata,
+             "%s '%.*s' trust record: accuracy %g and majority %g must be in [0, 1], n %lld >= 1",
+             what, static_cast<int>(name.size()), name.data(), static_cast<double>(out.accuracy),
+             static_cast<double>(out.majority), static_cast<long long>(out.n));
+  return {};
+}
+
 Status convert_heads(const fb::Metadata& m, Metadata& out) {
   const auto dim = static_cast<size_t>(out.embedding_dim);
   if (m.linear_heads() != nullptr) {
     for (uint32_t i = 0; i < m.linear_heads()->size(); ++i) {
       const fb::LinearHead* h = m.linear_heads()->Get(i);
-      LinearHead head{view(h->name()), strings(h->labels()), floats(h->weight()), floats(h->bias())};
+      LinearHead head{view(h->name()), strings(h->labels()), floats(h->weight()),
+                      floats(h->bias()), {}};
       const size_t n = head.labels.size();
       TLV_ENSURE(n >= 1 && dim >= 1 && head.weight.size() == n * dim && head.bias.size() == n,
                  ErrorCode::kModelInvalidMetadata,
@@ -85,6 +101,7 @@ Status convert_heads(const fb::Metadata& m, Metadata& out) {
                  n * dim, n, dim, head.weight.size(), head.bias.size());
       TLV_TRY(check_finite_values(head.weight, "linear head", head.name));
       TLV_TRY(check_finite_values(head.bias, "linear head", head.name));
+      TLV_TRY(convert_trust(h->trust(), "linear head", head.name, head.trust));
       out.linear_heads.push_back(std::move(head));
     }
   }
@@ -92,7 +109,7 @@ Status convert_heads(const fb::Metadata& m, Metadata& out) {
     for (uint32_t i = 0; i < m.zero_shot_heads()->size(); ++i) {
       const fb::ZeroShotHead* h = m.zero_shot_heads()->Get(i);
       ZeroShotHead head{view(h->name()), strings(h->class_names()), view(h->prompt_template()),
-                        floats(h->prompt_matrix()), h->logit_scale()};
+                        floats(h->prompt_matrix()), h->logit_scale(), {}};
       const size_t n = head.class_names.size();
       TLV_ENSURE(n >= 1 && dim >= 1 && head.prompt_matrix.size() == n * dim &&
                  std::isfinite(head.logit_scale) && head.logit_scale > 0,
@@ -101,17 +118,19 @@ Status convert_heads(const fb::Metadata& m, Metadata& out) {
                  "and a positive logit scale", static_cast<int>(head.name.size()), head.name.data(),
                  n, n, dim, head.prompt_matrix.size());
       TLV_TRY(check_finite_values(head.prompt_matrix, "zero-shot head", head.name));
+      TLV_TRY(convert_trust(h->trust(), "zero-shot head", head.name, head.trust));
       out.zero_shot_heads.push_back(std::move(head));
     }
   }
   if (const fb::GraspHead* g = m.grasp_head(); g != nullptr) {
     GraspHead& head = out.grasp_head;
-    head = {true, view(g->name()), view(g->feature_layout()), floats(g->weight()), g->bias()};
+    head = {true, view(g->name()), view(g->feature_layout()), floats(g->weight()), g->bias(), {}};
     TLV_ENSURE(dim >= 1 && !head.weight.empty() && head.weight.size() % dim == 0 &&
                std::isfinite(head.bias), ErrorCode::kModelInvalidMetadata,
                "grasp head has %zu weights, not a multiple of the embedding dimension %zu",
                head.weight.size(), dim);
     TLV_TRY(check_finite_values(head.weight, "grasp head", head.name));
+    TLV_TRY(convert_trust(g->trust(), "grasp head", head.name, head.trust));
   }
   return {};
 }

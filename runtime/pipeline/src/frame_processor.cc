@@ -18,14 +18,14 @@ int64_t monotonic_ns() {
   return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
-// The reported heads: by name, or every probe head.
+// The reported heads: by name, or those heads::reported_by_default picks.
 Result<std::vector<int16_t>> select_heads(const heads::HeadEvaluator& h,
                                           const std::vector<std::string>& names) {
   std::vector<int16_t> out;
   const auto results = h.results();
   if (names.empty()) {
     for (size_t i = 0; i < results.size(); ++i)
-      if (results[i].kind == heads::HeadKind::kProbe) out.push_back(static_cast<int16_t>(i));
+      if (heads::reported_by_default(results[i])) out.push_back(static_cast<int16_t>(i));
   }
   for (const std::string& name : names) {
     const auto it = std::find_if(results.begin(), results.end(), [&](const heads::HeadResult& r) {

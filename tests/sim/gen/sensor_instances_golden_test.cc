@@ -1,6 +1,11 @@
 // With one sensor instance (the default) the generators must give the bytes they gave before
 // domain randomization over sensor instances existed. The expected hashes were computed by the
 // generators as committed before `sensor_instances` was added (93cfc22), with this very test.
+// One was re-made deliberately since (issue 16): touch sample 3 is a rubber sheet (4.7 MPa on a
+// 7 mm layer), whose texture the renderer now shares with the gel at the texture's own scale
+// (texture_kappa 0.969 instead of the bulk kappa 0.946: a 2.4 % stronger texture; tools/sim/
+// README.md "Soft objects: two corrections"). Samples 0 and 5 (gravel, concrete) and both grasp
+// episodes keep the bytes of 93cfc22: stiff objects render as before.
 //
 // Rendered bytes come from float arithmetic without fast-math or FMA contraction, so they are
 // reproducible across optimisation levels on x86-64 (host and host-asan builds). Other
@@ -91,7 +96,7 @@ TEST(SensorInstancesGolden, OneInstanceGivesTheTouchBytesOfBefore) {
     uint64_t hash;
   };
   const Want want[] = {
-      {0, 0x253fff72fd449098ull}, {3, 0x882cd990b3c7d42full}, {5, 0x87dcde4197c35277ull}};
+      {0, 0x253fff72fd449098ull}, {3, 0xfec13332d539f13dull}, {5, 0x87dcde4197c35277ull}};
   TouchSample s;
   for (const Want& w : want) {
     ASSERT_TRUE((*gen)->generate(w.index, s).ok());

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <regex>
 #include <set>
+#include <string>
 
 #include "gen/session_names.h"
 #include "support/random.h"
@@ -136,6 +137,72 @@ TEST(TouchGenerator, BadOptionsAndIndicesAreErrors) {
   TouchSample s;
   EXPECT_EQ(gen->generate(-1, s).error().code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(gen->generate(gen->size(), s).error().code(), ErrorCode::kInvalidArgument);
+}
+
+TEST(TouchGenerator, MixedProfileSetsDrawAProfilePerSession) {
+  // "gelsight-mini,digit": each session on one profile; a session's Mini frames are the bytes
+  // a Mini-only set of the same seed gives (same material, press, sensor and noise seeds).
+  TouchSetOptions mixed = small_options(5);
+  mixed.sessions = 12;
+  mixed.sensor = "gelsight-mini,digit";
+  TouchSetOptions mini = mixed;
+  mini.sensor = "gelsight-mini";
+  auto g = make(mixed), m = make(mini);
+  ASSERT_NE(g, nullptr);
+  ASSERT_NE(m, nullptr);
+  std::set<std::string> seen;
+  TouchSample s, t;
+  for (int64_t i = 0; i < g->size(); ++i) {
+    ASSERT_TRUE(g->generate(i, s).ok());
+    seen.insert(s.sensor);
+    if (s.frame_index == 1) {  // both frames of a session on one profile
+      TouchSample first;
+      ASSERT_TRUE(g->generate(i - 1, first).ok());
+      EXPECT_EQ(first.sensor, s.sensor);
+    }
+    if (s.sensor == "gelsight-mini") {
+      EXPECT_EQ(s.touch.height, 240);
+      ASSERT_TRUE(m->generate(i, t).ok());
+      EXPECT_EQ(s.touch.rgb, t.touch.rgb) << "sample " << i;
+      EXPECT_EQ(t.sensor, "gelsight-mini");
+    } else {
+      EXPECT_EQ(s.sensor, "digit");
+      EXPECT_EQ(s.touch.height, 320);  // DIGIT frames are portrait (tools/sim/REFERENCE.md)
+      EXPECT_EQ(s.touch.width, 240);
+    }
+  }
+  EXPECT_EQ(seen.size(), 2u) << "12 sessions should draw both profiles";
+  mixed.sensor = "gelsight-mini,nosuch";
+  EXPECT_FALSE(TouchSampleGenerator::create(mixed).ok());
+}
+
+TEST(TouchGenerator, MarkersFractionDrawsMarkedGelsPerSession) {
+  // Half the sessions on gels with markers: their frames differ from the unmarked set's, the
+  // others are the same bytes; both frames of a session agree.
+  TouchSetOptions half = small_options(9);
+  half.sessions = 16;
+  half.markers_fraction = 0.5;
+  TouchSetOptions none = half;
+  none.markers_fraction = 0;
+  auto g = make(half), n = make(none);
+  ASSERT_NE(g, nullptr);
+  ASSERT_NE(n, nullptr);
+  int marked = 0;
+  TouchSample a, b;
+  for (int64_t session = 0; session < half.sessions; ++session) {
+    bool differs[2];
+    for (int32_t f = 0; f < 2; ++f) {
+      ASSERT_TRUE(g->generate(session * 2 + f, a).ok());
+      ASSERT_TRUE(n->generate(session * 2 + f, b).ok());
+      differs[f] = a.touch.rgb != b.touch.rgb;
+    }
+    EXPECT_EQ(differs[0], differs[1]) << "session " << session;
+    marked += differs[0] ? 1 : 0;
+  }
+  EXPECT_GT(marked, 2);
+  EXPECT_LT(marked, 14);
+  half.markers_fraction = 1.5;
+  EXPECT_EQ(TouchSampleGenerator::create(half).error().code(), ErrorCode::kInvalidArgument);
 }
 
 TEST(TouchGenerator, Rate) {

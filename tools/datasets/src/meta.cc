@@ -10,7 +10,7 @@ OrderedJson material_json(const sim::MaterialSample& m) {
           {"poisson", m.poisson},   {"friction", m.friction},
           {"sq_um", m.sq_um},       {"correlation_length_mm", m.correlation_length_mm},
           {"hurst", m.hurst},       {"hard", m.hard},
-          {"rough", m.rough}};
+          {"rough", m.rough},       {"layer_mm", m.layer_mm}};
 }
 
 void read_material(const Json& j, sim::MaterialSample& m) {
@@ -23,6 +23,7 @@ void read_material(const Json& j, sim::MaterialSample& m) {
   m.hurst = j.at("hurst").get<double>();
   m.hard = j.at("hard").get<bool>();
   m.rough = j.at("rough").get<int32_t>();
+  m.layer_mm = j.value("layer_mm", 0.0);  // recorded since issue 16; 0 = bulk or not recorded
 }
 
 OrderedJson contact_json(const sim::ContactState& c) {
@@ -31,6 +32,7 @@ OrderedJson contact_json(const sim::ContactState& c) {
           {"press_mm", c.press_mm},
           {"max_gel_indentation_mm", c.max_gel_indentation_mm},
           {"kappa", c.kappa},
+          {"texture_kappa", c.texture_kappa},
           {"contact_area_mm2", c.contact_area_mm2},
           {"contact_radius_mm", c.contact_radius_mm},
           {"stick_radius_mm", c.stick_radius_mm},
@@ -46,6 +48,7 @@ void read_contact(const Json& j, sim::ContactState& c) {
   c.press_mm = j.at("press_mm").get<double>();
   c.max_gel_indentation_mm = j.at("max_gel_indentation_mm").get<double>();
   c.kappa = j.at("kappa").get<double>();
+  c.texture_kappa = j.value("texture_kappa", 0.0);  // 0: written before it was recorded
   c.contact_area_mm2 = j.at("contact_area_mm2").get<double>();
   c.contact_radius_mm = j.at("contact_radius_mm").get<double>();
   c.stick_radius_mm = j.at("stick_radius_mm").get<double>();
@@ -110,6 +113,7 @@ OrderedJson touch_meta(const sim::TouchSample& s, const std::string& key, bool t
           {"frame_index", s.frame_index},
           {"object_id", s.object_id},
           {"sensor_instance", s.sensor_instance},
+          {"sensor", s.sensor},
           {"material", material_json(s.material)},
           {"contact", contact_json(s.contact)}};
 }
@@ -136,6 +140,7 @@ bool apply_touch_meta(const Json& meta, sim::TouchSample& out, std::string& why)
   try {
     out.object_id = meta.at("object_id").get<int32_t>();
     out.sensor_instance = read_instance(meta, 0);
+    out.sensor = meta.value("sensor", std::string());  // recorded since issue 16
     read_material(meta.at("material"), out.material);
     read_contact(meta.at("contact"), out.contact);
     return true;

@@ -29,6 +29,7 @@ std::string touch_set_options_json(const sim::TouchSetOptions& o) {
                    {"vision_height", o.vision_height},
                    {"vision_width", o.vision_width},
                    {"markers", o.markers},
+                   {"markers_fraction", o.markers_fraction},
                    {"seed", o.seed},
                    {"sensor_instances", o.sensor_instances}};
   return j.dump();

@@ -171,7 +171,8 @@ std::optional<GraspOracle> oracle_for(const GraspEmbeddings& g, int64_t samples)
   o.seed = j.value("seed", o.seed);
   auto r = sim::grasp_oracle_report(o, samples);
   if (!r.ok()) return std::nullopt;
-  return GraspOracle{r->accuracy, r->success_rate, r->majority_rate, r->samples};
+  return GraspOracle{r->accuracy, r->class_friction_accuracy, r->success_rate, r->majority_rate,
+                     r->samples};
 }
 
 Status evaluate_probes(const EmbeddingSet& set, const FittedHeads& fit, EvalReport& rep) {
@@ -320,6 +321,12 @@ const char* method_title(Method m) {
                                     : "zero-shot";
 }
 
+const TaskResult* BoundRow::find(Task task) const {
+  for (const TaskResult& r : results)
+    if (r.task == task) return &r;
+  return nullptr;
+}
+
 const TaskResult* EvalReport::find(Task task, Method method) const {
   for (const TaskResult& r : results)
     if (r.task == task && r.method == method) return &r;
@@ -360,12 +367,22 @@ Result<EvalReport> evaluate_embeddings(const Metadata& metadata, const Embedding
   if (options.model_heads) TLV_TRY(evaluate_model_heads(metadata, set, rep));
   TLV_TRY(evaluate_zero_shot(metadata, set, options, rep));
   if (set.grasp) rep.oracle = oracle_for(*set.grasp, options.oracle_samples);
+  if (set.touch && options.touch_oracles) {
+    rep.touch_oracles = touch_oracles(*set.touch);
+    // A set with no hidden variables at all (real data) gets no oracle rows rather than notes.
+    if (std::none_of(rep.touch_oracles.begin(), rep.touch_oracles.end(),
+                     [](const TouchOracle& o) { return o.available; }))
+      rep.touch_oracles.clear();
+  }
   return rep;
 }
 
 Result<EvalReport> evaluate(const Model& model, const EvalData& data, const EvalOptions& options) {
   TLV_ASSIGN_OR_RETURN(EmbeddingSet set, extract_embeddings(model, data, options.embedder));
-  return evaluate_embeddings(model.metadata(), set, options);
+  TLV_ASSIGN_OR_RETURN(EvalReport report, evaluate_embeddings(model.metadata(), set, options));
+  report.touch_dir = data.touch_dir;
+  report.grasp_dir = data.grasp_dir;
+  return report;
 }
 
 }  // namespace tlvlink::eval

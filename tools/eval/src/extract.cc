@@ -37,6 +37,9 @@ struct TouchSink {
     out.group.push_back(s.session);
     out.is_test.push_back(test ? 1 : 0);
     out.keys.push_back(key);
+    out.hidden_material.push_back(s.material);
+    if (!has_labels) out.hidden_material.back().class_id = -1;
+    out.hidden_contact.push_back(s.contact);
     ++taken[test ? 1 : 0];
     progress.add();
     return {};

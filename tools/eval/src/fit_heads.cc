@@ -62,12 +62,15 @@ Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads&
   std::vector<std::string> groups;
   for (size_t i = 0; i < g.size(); ++i) {
     if (g.is_test[i] != 0) continue;
-    for (const auto& [finger, moment] : layout) {
-      const std::span<const float> e = g.frame(i, finger, moment);
-      x.insert(x.end(), e.begin(), e.end());
+    for (const int32_t swap : {0, 1}) {
+      if (swap == 1 && !o.grasp_swap_fingers) break;
+      for (const auto& [finger, moment] : layout) {
+        const std::span<const float> e = g.frame(i, finger ^ swap, moment);
+        x.insert(x.end(), e.begin(), e.end());
+      }
+      y.push_back(g.label[i]);
+      groups.push_back(g.group[i]);  // both copies in the same validation group
     }
-    y.push_back(g.label[i]);
-    groups.push_back(g.group[i]);
   }
   if (const std::string why = unfit_reason(y); !why.empty()) {
     out.notes.push_back("grasp: not fitted, " + why);
@@ -86,6 +89,7 @@ Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads&
   for (size_t i = 0; i < f; ++i) h.weight[i] = probe->weight[f + i] - probe->weight[i];
   h.bias = probe->bias[1] - probe->bias[0];
   out.grasp = std::move(h);
+  out.grasp_swap_fingers = o.grasp_swap_fingers;
   out.probes.emplace_back(Task::kGrasp, std::move(probe).value());
   return {};
 }
@@ -101,7 +105,10 @@ nlohmann::json probes_json(const FittedHeads& heads, const WriteHeadsOptions& o)
                           {"iterations", p.iterations},
                           {"note", p.note}};
   }
-  if (heads.grasp) j["grasp_feature_layout"] = heads.grasp->feature_layout;
+  if (heads.grasp) {
+    j["grasp_feature_layout"] = heads.grasp->feature_layout;
+    j["grasp_swap_fingers"] = heads.grasp_swap_fingers;
+  }
   j["notes"] = heads.notes;
   if (!o.provenance_note.empty()) j["context"] = o.provenance_note;
   return j;

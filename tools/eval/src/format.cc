@@ -129,11 +129,34 @@ std::string format_table(std::span<const EvalReport* const> reports, bool paper_
                kCellWidth);
   }
   out += "\n";
+  if (!first.touch_oracles.empty()) {
+    for (const bool hidden : {true, false}) {
+      out += pad(hidden ? "oracle: hidden variables" : "oracle: one frame (k-NN estimate)",
+                 kLabelWidth);
+      for (Task t : {Task::kMaterial, Task::kHard, Task::kRough}) {
+        const TouchOracle* o = nullptr;
+        for (const TouchOracle& x : first.touch_oracles)
+          if (x.task == t) o = &x;
+        out += pad(o && o->available
+                       ? fmt("%.1f", 100 * (hidden ? o->hidden_accuracy : o->frame_accuracy))
+                       : "-",
+                   kCellWidth);
+      }
+      out += "\n";
+    }
+  }
   if (first.oracle) {
     out += pad("grasp oracle (visible variables)", kLabelWidth) +
            pad("", 3 * kCellWidth) +
            fmt("%.1f (%lld episodes)\n", 100 * first.oracle->accuracy,
                static_cast<long long>(first.oracle->samples));
+    out += pad("grasp oracle (mu via class only)", kLabelWidth) + pad("", 3 * kCellWidth) +
+           fmt("%.1f\n", 100 * first.oracle->class_friction_accuracy);
+  }
+  for (const BoundRow& b : first.bounds) {
+    out += pad("bound: " + b.label, kLabelWidth);
+    for (Task t : kAllTasks) out += pad(cell_text(b.find(t)), kCellWidth);
+    out += "\n";
   }
   if (paper_rows) {
     out += "paper (real data), Table 2 — not comparable to simulated data:\n";
@@ -166,6 +189,17 @@ std::string format_table(std::span<const EvalReport* const> reports, bool paper_
     }
     for (const std::string& n : r.notes)
       out += fmt("note%s: %s\n", label_of(r, i, reports.size()).c_str(), n.c_str());
+    for (const BoundRow& b : r.bounds)
+      out += fmt("bound%s '%s': %s '%s' (%s)\n", label_of(r, i, reports.size()).c_str(),
+                 b.label.c_str(), b.model_path.c_str(), b.model_name.c_str(),
+                 !b.results.empty() && b.results[0].method == Method::kModelHeads
+                     ? "its own heads"
+                     : "linear probes fitted on this training split");
+    if (!r.touch_oracles.empty())
+      out += fmt("oracles%s: hidden = from the simulator's recorded variables (hard/soft and "
+                 "rough/smooth are functions of them); one frame = %d-NN on force, contact area, "
+                 "gel depth and the texture the gel shows (tools/eval/README.md)\n",
+                 label_of(r, i, reports.size()).c_str(), kFrameOracleNeighbours);
     out += fmt("grasp features%s: %s\n", label_of(r, i, reports.size()).c_str(),
                grasp_features_name(r.grasp_features));
   }
@@ -198,8 +232,25 @@ std::string report_json(std::span<const EvalReport* const> reports) {
                                       {"converged", p.converged},
                                       {"note", p.note}};
     }
+    for (const TouchOracle& o : r->touch_oracles) {
+      nlohmann::json oj = {{"task", task_name(o.task)}, {"available", o.available}, {"n", o.n}};
+      if (o.available) {
+        oj["hidden_accuracy"] = o.hidden_accuracy;
+        oj["frame_accuracy"] = o.frame_accuracy;
+      } else {
+        oj["note"] = o.note;
+      }
+      j["touch_oracles"].push_back(std::move(oj));
+    }
+    for (const BoundRow& b : r->bounds) {
+      nlohmann::json bj = {{"label", b.label}, {"model_path", b.model_path},
+                           {"model_name", b.model_name}, {"results", nlohmann::json::array()}};
+      for (const TaskResult& c : b.results) bj["results"].push_back(result_json(c));
+      j["bounds"].push_back(std::move(bj));
+    }
     if (r->oracle) {
       j["grasp_oracle"] = {{"accuracy", r->oracle->accuracy},
+                           {"class_friction_accuracy", r->oracle->class_friction_accuracy},
                            {"success_rate", r->oracle->success_rate},
                            {"majority_rate", r->oracle->majority_rate},
                            {"samples", r->oracle->samples}};

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "tlvlink/head_trust.h"
 #include "tlvlink/inspect/inspect.h"
 
 namespace tlvlink::inspect {
@@ -20,6 +21,20 @@ json quant_json(const QuantParams& q) {
           {"zero_point", std::vector<int32_t>(q.zero_point.begin(), q.zero_point.end())}};
 }
 
+json trust_json(const HeadTrust& t) {
+  const TrustAssessment a = assess_head(t);
+  json j = {{"level", head_trust_level_name(a.level)}};
+  if (t.present) {
+    j["accuracy"] = t.accuracy;
+    j["majority"] = t.majority;
+    j["n"] = t.n;
+    j["test_set"] = t.test_set;
+    j["margin"] = a.margin;
+    j["required_margin"] = a.required;
+  }
+  return j;
+}
+
 json metadata_json(const Model& model) {
   const Metadata& m = model.metadata();
   const InputSpec& in = m.input;
@@ -27,20 +42,23 @@ json metadata_json(const Model& model) {
   for (const LinearHead& h : m.linear_heads) {
     heads.push_back({{"kind", "linear"},
                      {"name", h.name},
-                     {"labels", std::vector<std::string>(h.labels.begin(), h.labels.end())}});
+                     {"labels", std::vector<std::string>(h.labels.begin(), h.labels.end())},
+                     {"trust", trust_json(h.trust)}});
   }
   for (const ZeroShotHead& h : m.zero_shot_heads) {
     heads.push_back(
         {{"kind", "zero_shot"},
          {"name", h.name},
          {"logit_scale", h.logit_scale},
-         {"labels", std::vector<std::string>(h.class_names.begin(), h.class_names.end())}});
+         {"labels", std::vector<std::string>(h.class_names.begin(), h.class_names.end())},
+         {"trust", trust_json(h.trust)}});
   }
   if (m.grasp_head.present) {
     heads.push_back({{"kind", "grasp"},
                      {"name", m.grasp_head.name},
                      {"feature_layout", m.grasp_head.feature_layout},
-                     {"weights", m.grasp_head.weight.size()}});
+                     {"weights", m.grasp_head.weight.size()},
+                     {"trust", trust_json(m.grasp_head.trust)}});
   }
   return {{"name", m.name},
           {"schema_version", model.schema_version()},

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "tlvlink/inspect/inspect.h"
+#include "tlvlink/inspect/trust_text.h"
 #include "tlvlink/io/format.h"
 
 namespace tlvlink::inspect {
@@ -41,19 +42,19 @@ void print_metadata(std::string& out, const Model& model) {
     std::string labels;
     for (size_t i = 0; i < h.labels.size(); ++i)
       labels += (i ? ", " : "") + std::string(h.labels[i]);
-    appendf(out, "linear head  %.*s (%zu): %s\n", static_cast<int>(h.name.size()), h.name.data(),
-                h.labels.size(), labels.c_str());
+    appendf(out, "linear head  %.*s (%zu): %s\n             %s\n", static_cast<int>(h.name.size()),
+            h.name.data(), h.labels.size(), labels.c_str(), trust_text(h.trust).c_str());
   }
   for (const ZeroShotHead& h : m.zero_shot_heads) {
-    appendf(out, "zero-shot    %.*s (%zu classes, logit scale %g)\n",
-                static_cast<int>(h.name.size()), h.name.data(), h.class_names.size(),
-                static_cast<double>(h.logit_scale));
+    appendf(out, "zero-shot    %.*s (%zu classes, logit scale %g)\n             %s\n",
+            static_cast<int>(h.name.size()), h.name.data(), h.class_names.size(),
+            static_cast<double>(h.logit_scale), trust_text(h.trust).c_str());
   }
   if (m.grasp_head.present) {
-    appendf(out, "grasp head   %.*s: %zu weights, layout %.*s\n",
-                static_cast<int>(m.grasp_head.name.size()), m.grasp_head.name.data(),
-                m.grasp_head.weight.size(), static_cast<int>(m.grasp_head.feature_layout.size()),
-                m.grasp_head.feature_layout.data());
+    appendf(out, "grasp head   %.*s: %zu weights, layout %.*s\n             %s\n",
+            static_cast<int>(m.grasp_head.name.size()), m.grasp_head.name.data(),
+            m.grasp_head.weight.size(), static_cast<int>(m.grasp_head.feature_layout.size()),
+            m.grasp_head.feature_layout.data(), trust_text(m.grasp_head.trust).c_str());
   }
   appendf(out, "golden pairs %zu\n", m.golden.size());
 }

@@ -9,14 +9,22 @@ namespace {
 
 struct Family {
   const char* name;
-  int32_t channels[5];
+  int32_t stages;        // stride-2 stages (5, or 6 for full-resolution input)
+  int32_t channels[6];
   int32_t head;
 };
-// Stages 1-2 stay plain (high resolution is where dense 3x3 costs most); stages 3-5 add one
-// residual block each. Widths are multiples of 8 (XNNPACK's int8 kernels work in 8/16 lanes).
+// Stages 1-2 stay plain (high resolution is where dense 3x3 costs most); the later stages add
+// one residual block each. Widths are multiples of 8 (XNNPACK's int8 kernels work in 8/16
+// lanes). `large` is not an edge student: it is the "clearly larger network" of the supervised
+// upper bound (issue 16), to show what capacity costs. The `-hr` families take the GelSight
+// frame at full resolution (240x320: no resize, so a texture finer than the 96x128 grid's
+// 0.16 mm pixels still reaches the network) through a sixth, narrow stride-2 stage.
 constexpr Family kFamilies[] = {
-    {"small", {16, 32, 64, 128, 256}, 512},
-    {"tiny", {16, 24, 32, 64, 128}, 256},
+    {"large", 5, {32, 64, 128, 256, 512, 0}, 1024},
+    {"small", 5, {16, 32, 64, 128, 256, 0}, 512},
+    {"tiny", 5, {16, 24, 32, 64, 128, 0}, 256},
+    {"tiny-hr", 6, {8, 16, 24, 32, 64, 128}, 256},
+    {"large-hr", 6, {16, 32, 64, 96, 192, 384}, 768},
 };
 constexpr int32_t kFirstResidualStage = 2;  // 0-based
 
@@ -48,7 +56,7 @@ Result<ArchSpec> make_arch(std::string_view name, int32_t input_height, int32_t 
     spec.input_height = input_height;
     spec.input_width = input_width;
     spec.embedding_dim = embedding_dim;
-    for (int32_t stage = 0; stage < 5; ++stage) {
+    for (int32_t stage = 0; stage < f.stages; ++stage) {
       spec.layers.push_back({LayerKind::kConvBnRelu6, f.channels[stage], 3, 2});
       if (stage >= kFirstResidualStage) {
         spec.layers.push_back({LayerKind::kResidualBnRelu6, f.channels[stage], 3, 1});

@@ -38,6 +38,11 @@ Status save_checkpoint(const std::string& path, const TrainState& state,
       state.projection->save(projection);
       archive.write("projection", projection);
     }
+    if (state.heads) {
+      torch::serialize::OutputArchive heads;
+      state.heads->save(heads);
+      archive.write("supervised", heads);
+    }
     if (optimizer != nullptr) {
       torch::serialize::OutputArchive opt;
       optimizer->save(opt);
@@ -88,6 +93,11 @@ Result<TrainState> load_checkpoint(const std::string& path) {
       const auto out = state.meta.at("arch").at("embedding_dim").get<int64_t>();
       state.projection = torch::nn::Linear(in, out);
       state.projection->load(projection);
+    }
+    torch::serialize::InputArchive heads;
+    if (archive.try_read("supervised", heads)) {
+      state.heads = SupervisedHeads(state.meta.at("arch").at("embedding_dim").get<int64_t>());
+      state.heads->load(heads);
     }
   } catch (const nlohmann::json::exception& e) {
     return Error::make(ErrorCode::kFormat, "%s: malformed checkpoint meta: %s", path.c_str(),

@@ -7,6 +7,7 @@
 //   "logit_scale"         the learnable log(1 / temperature)
 //   "teacher_embeddings"  [n_train, D_t] frozen teacher outputs (absent without curriculum)
 //   "projection"          TorchScript teacher D_t -> D projection (absent when D_t == D)
+//   "supervised"          supervised heads (supervised.h; absent for objective tlv-link)
 //   "optimizer"           AdamW state (moments, step counts)
 // Written to PATH.tmp and renamed, so a crash never leaves a half-written checkpoint at PATH.
 
@@ -17,6 +18,7 @@
 
 #include "tlvlink/error.h"
 #include "net.h"
+#include "supervised.h"
 
 namespace tlvlink::trainer {
 
@@ -29,6 +31,7 @@ struct TrainState {
   torch::Tensor logit_scale;
   torch::Tensor teacher_embeddings;       // undefined without curriculum
   torch::nn::Linear projection{nullptr};  // null unless a TorchScript teacher needs one
+  SupervisedHeads heads{nullptr};         // null unless the objective has a supervised term
 };
 
 Status save_checkpoint(const std::string& path, const TrainState& state,

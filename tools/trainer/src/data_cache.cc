@@ -40,7 +40,7 @@ Status load_resized(const std::string& path, int32_t height, int32_t width, uint
 
 struct Pending {
   std::string key, sentence, phrases;
-  int32_t material = -1;
+  int32_t material = -1, hard = -1, rough = -1;
 };
 
 }  // namespace
@@ -120,7 +120,11 @@ Result<DataCache> load_cache(const CacheOptions& o) {
       continue;
     }
     if (o.max_samples > 0 && static_cast<int64_t>(pending.size()) >= o.max_samples) continue;
-    pending.push_back({key, s.sentence_desc, join_phrases(s.phrases), s.material.class_id});
+    // Labels exist only where the simulator's sidecar recorded the material (class id >= 0).
+    const bool labelled = s.material.class_id >= 0;
+    pending.push_back({key, s.sentence_desc, join_phrases(s.phrases), s.material.class_id,
+                       labelled ? (s.material.hard ? 1 : 0) : -1,
+                       labelled ? s.material.rough : -1});
   }
   const char* split_name = o.split == SplitChoice::kTrain ? "train" : "test";
   TLV_ENSURE(!pending.empty(), ErrorCode::kInvalidArgument,
@@ -197,6 +201,8 @@ Result<DataCache> load_cache(const CacheOptions& o) {
     cache.sentences.push_back(std::move(pending[i].sentence));
     cache.phrase_descs.push_back(std::move(pending[i].phrases));
     cache.material.push_back(pending[i].material);
+    cache.hard.push_back(pending[i].hard);
+    cache.rough.push_back(pending[i].rough);
     ++kept;
   }
   cache.touch.resize(kept * cache.touch_stride());

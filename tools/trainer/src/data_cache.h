@@ -38,6 +38,8 @@ struct DataCache {
   std::vector<std::string> sentences;       // sentence_desc
   std::vector<std::string> phrase_descs;    // phrases joined with ", "
   std::vector<int32_t> material;            // class id, -1 unknown (no sidecar)
+  std::vector<int32_t> hard;                // 1 hard, 0 soft, -1 unknown (no sidecar)
+  std::vector<int32_t> rough;               // 1 rough, 0 smooth, -1 in between or unknown
   std::string split_source;                 // "sidecar" or "session hash (test fraction f)"
   std::string load_summary;                 // the loader's LoadReport summary
   int64_t skipped_other_split = 0;

@@ -109,8 +109,8 @@ Status add_golden(const ExportOptions& o, const nlohmann::ordered_json& meta, En
     dir = meta.at("dataset").at("dir").get<std::string>();
     struct stat st {};
     if (::stat((dir + "/data_list.json").c_str(), &st) != 0) {
-      summary.note = "no golden pairs: the training set " + dir +
-                     " is gone (pass --golden-data DIR)";
+      summary.note += (summary.note.empty() ? "" : "; ") + std::string("no golden pairs: the "
+                      "training set ") + dir + " is gone (pass --golden-data DIR)";
       return {};
     }
   }
@@ -185,16 +185,24 @@ Result<ExportSummary> export_model(const ExportOptions& o) {
   auto encoder = encoder_for(meta, o.text_embeddings);
   if (!encoder.ok()) return encoder.error().with_context("%s", o.checkpoint.c_str());
   ExportSummary summary;
-  for (const text::PromptSet& p : {text::material_prompts(), text::hardness_prompts(),
-                                   text::roughness_prompts(), text::grasp_prompts()}) {
-    TLV_ASSIGN_OR_RETURN(quantize::ZeroShotHeadSpec h, zero_shot_head(**encoder, p));
-    summary.zero_shot_heads.push_back(h.name);
-    m.zero_shot_heads.push_back(std::move(h));
+  // A student trained on labels alone never saw the text space: zero-shot heads would only
+  // measure chance, so that model gets none.
+  const std::string objective =
+      meta.at("settings").value("objective", std::string(objective_name(Objective::kTlvLink)));
+  if (objective == objective_name(Objective::kSupervised)) {
+    summary.note = "no zero-shot heads: objective supervised does not align with the text";
+  } else {
+    for (const text::PromptSet& p : {text::material_prompts(), text::hardness_prompts(),
+                                     text::roughness_prompts(), text::grasp_prompts()}) {
+      TLV_ASSIGN_OR_RETURN(quantize::ZeroShotHeadSpec h, zero_shot_head(**encoder, p));
+      summary.zero_shot_heads.push_back(h.name);
+      m.zero_shot_heads.push_back(std::move(h));
+    }
   }
   // Linear probes and the grasp head are fitted later on runtime embeddings (tlvlink heads fit).
   m.producer = "tlvlink export";
   nlohmann::ordered_json training = {
-      {"kind", "tlv-link"},
+      {"kind", objective},
       {"trained", true},
       {"checkpoint", o.checkpoint},
       {"arch", meta.at("arch")},

@@ -19,6 +19,21 @@ const char* resize_name(ResizeFilter f) {
 
 }  // namespace
 
+const char* objective_name(Objective o) {
+  return o == Objective::kSupervised          ? "supervised"
+         : o == Objective::kTlvLinkSupervised ? "tlv-link+supervised"
+                                              : "tlv-link";
+}
+
+Result<Objective> parse_objective(std::string_view name) {
+  for (Objective o : {Objective::kTlvLink, Objective::kSupervised, Objective::kTlvLinkSupervised}) {
+    if (name == objective_name(o)) return o;
+  }
+  return Error::make(ErrorCode::kInvalidArgument,
+                     "unknown objective '%.*s' (known: tlv-link, supervised, tlv-link+supervised)",
+                     static_cast<int>(name.size()), name.data());
+}
+
 Status validate(const TrainOptions& o) {
   TLV_ENSURE(!o.data_dir.empty(), ErrorCode::kInvalidArgument, "no data directory given");
   TLV_ENSURE(!o.output.empty(), ErrorCode::kInvalidArgument, "no output checkpoint given (-o)");
@@ -27,6 +42,20 @@ Status validate(const TrainOptions& o) {
              "resize filter %s: the trainer caches bilinear-resized frames only",
              resize_name(o.resize));
   TLV_TRY(validate(o.beta));
+  TLV_ENSURE(o.objective != Objective::kSupervised || o.beta.schedule == BetaSchedule::kNone,
+             ErrorCode::kInvalidArgument,
+             "objective supervised has no text loss for a curriculum to act on: use it with "
+             "--no-curriculum");
+  TLV_ENSURE(std::isfinite(o.supervised_weight) && o.supervised_weight > 0 &&
+                 o.supervised_weight <= 100,
+             ErrorCode::kInvalidArgument, "supervised weight %g outside (0, 100]",
+             o.supervised_weight);
+  const AugmentOptions& a = o.augment;
+  TLV_ENSURE(a.gain_sigma >= 0 && a.gain_sigma <= 1 && a.exposure_sigma >= 0 &&
+                 a.exposure_sigma <= 1 && a.noise_dn >= 0 && a.noise_dn <= 50,
+             ErrorCode::kInvalidArgument,
+             "augmentation gain sigma %g, exposure sigma %g (each in [0, 1]) or noise %g DN "
+             "(in [0, 50]) out of range", a.gain_sigma, a.exposure_sigma, a.noise_dn);
   TLV_TRY(validate(o.lr));
   TLV_ENSURE(o.weight_decay >= 0 && o.weight_decay < 10, ErrorCode::kInvalidArgument,
              "weight decay %g outside [0, 10)", o.weight_decay);
@@ -99,6 +128,11 @@ nlohmann::ordered_json options_to_json(const TrainOptions& o) {
       {"teacher", teacher},
       {"beta", {{"schedule", beta_schedule_name(o.beta.schedule)}, {"beta1", o.beta.beta1},
                 {"span", o.beta.span}, {"beta_min", o.beta.beta_min}}},
+      {"objective", objective_name(o.objective)},
+      {"supervised_weight", o.supervised_weight},
+      {"augment", {{"gain_sigma", o.augment.gain_sigma},
+                   {"exposure_sigma", o.augment.exposure_sigma},
+                   {"noise_dn", o.augment.noise_dn}}},
       {"lr", o.lr.lr},
       {"warmup_steps", o.lr.warmup_steps},
       {"min_lr", o.lr.min_lr},
@@ -143,6 +177,17 @@ Status options_from_json(const nlohmann::ordered_json& j, TrainOptions& o) {
     o.beta.beta1 = j.at("beta").at("beta1").get<double>();
     o.beta.span = j.at("beta").at("span").get<double>();
     o.beta.beta_min = j.at("beta").at("beta_min").get<double>();
+    // Settings added later (issue 16): checkpoints written before them trained TLV-Link alone,
+    // without augmentation.
+    TLV_ASSIGN_OR_RETURN(o.objective, parse_objective(j.value("objective", "tlv-link")));
+    o.supervised_weight = j.value("supervised_weight", 1.0);
+    if (j.contains("augment")) {
+      o.augment.gain_sigma = j.at("augment").at("gain_sigma").get<double>();
+      o.augment.exposure_sigma = j.at("augment").at("exposure_sigma").get<double>();
+      o.augment.noise_dn = j.at("augment").at("noise_dn").get<double>();
+    } else {
+      o.augment = {};
+    }
     o.lr.lr = j.at("lr").get<double>();
     o.lr.warmup_steps = j.at("warmup_steps").get<int64_t>();
     o.lr.min_lr = j.at("min_lr").get<double>();

@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "tlvlink/text/text_encoder.h"
+#include "augment.h"
 #include "checkpoint.h"
 #include "data_cache.h"
 #include "options_json.h"
@@ -70,6 +71,11 @@ std::unique_ptr<torch::optim::AdamW> make_optimizer(TrainState& s, const TrainOp
     decay.push_back(s.projection->weight);
     no_decay.push_back(s.projection->bias);
   }
+  if (s.heads) {
+    for (const auto& p : s.heads->named_parameters()) {
+      (p.value().dim() >= 2 ? decay : no_decay).push_back(p.value());
+    }
+  }
   auto base = torch::optim::AdamWOptions(o.lr.lr).betas({o.adam_beta1, o.adam_beta2}).eps(o.adam_eps);
   std::vector<torch::optim::OptimizerParamGroup> groups;
   groups.emplace_back(decay, std::make_unique<torch::optim::AdamWOptions>(
@@ -106,6 +112,24 @@ std::string step_checkpoint_path(const std::string& dir, int64_t step) {
   char name[40];
   std::snprintf(name, sizeof(name), "/step_%07lld.ckpt", static_cast<long long>(step));
   return dir + name;
+}
+
+// The batch of touch frames `idx`, augmented per sample when the options ask for it (the
+// augmented copies go through `scratch`, so the cache keeps the original pixels).
+torch::Tensor touch_batch(const DataCache& cache, const std::vector<int64_t>& idx,
+                          const std::vector<float>& mean, const std::vector<float>& std,
+                          const TrainOptions& o, int64_t step, std::vector<uint8_t>& scratch) {
+  if (!o.augment.enabled()) return image_batch(cache.touch, cache.height, cache.width, idx, mean, std);
+  const size_t stride = cache.touch_stride();
+  scratch.resize(idx.size() * stride);
+  std::vector<int64_t> rows(idx.size());
+  for (size_t i = 0; i < idx.size(); ++i) {
+    augment_frame(cache.touch.data() + static_cast<size_t>(idx[i]) * stride,
+                  scratch.data() + i * stride, cache.height, cache.width, o.augment,
+                  augment_seed(o.seed, step, idx[i]));
+    rows[i] = static_cast<int64_t>(i);
+  }
+  return image_batch(scratch, cache.height, cache.width, rows, mean, std);
 }
 
 }  // namespace
@@ -146,6 +170,8 @@ Result<TrainSummary> train(const TrainOptions& requested) {
   std::fprintf(stderr, "student: %s\n", summary.arch_description.c_str());
 
   const bool curriculum = o.beta.schedule != BetaSchedule::kNone;
+  const bool text_loss = o.objective != Objective::kSupervised;
+  const bool supervised = o.objective != Objective::kTlvLink;
   const bool torchscript_teacher = curriculum && !o.teacher.torchscript.empty();
   CacheOptions co;
   co.dir = o.data_dir;
@@ -175,6 +201,14 @@ Result<TrainSummary> train(const TrainOptions& requested) {
                "(%lld samples now)", o.data_dir.c_str(), o.resume.c_str(),
                static_cast<long long>(n));
   }
+  if (supervised) {
+    const bool labelled = std::any_of(cache.material.begin(), cache.material.end(),
+                                      [](int32_t m) { return m >= 0; });
+    TLV_ENSURE(labelled, ErrorCode::kInvalidArgument,
+               "%s: objective %s needs labels, and no training sample has any (only a simulated "
+               "set's sidecar records material, hard/soft and rough/smooth)",
+               o.data_dir.c_str(), objective_name(o.objective));
+  }
   TLV_ASSIGN_OR_RETURN(const torch::Tensor text, text_features(*encoder, cache));
 
   std::vector<float> mean, std;
@@ -193,6 +227,7 @@ Result<TrainSummary> train(const TrainOptions& requested) {
   } else {
     state.student = EncoderNet(arch);
     state.logit_scale = torch::full({}, std::log(1.0 / o.init_temperature), torch::kFloat32);
+    if (supervised) state.heads = SupervisedHeads(o.text.dim);
     if (curriculum) {
       const auto tt = Clock::now();
       auto teacher = torchscript_teacher ? run_torchscript_teacher(cache, o)
@@ -289,6 +324,10 @@ Result<TrainSummary> train(const TrainOptions& requested) {
           : torch::Tensor();
   TrainMonitor monitor("student", start, total, o.batch, log.get());
   state.student->train();
+  if (state.heads) state.heads->train();
+  TLV_ENSURE(supervised == static_cast<bool>(state.heads), ErrorCode::kInvalidState,
+             "checkpoint and objective disagree about the supervised heads");
+  std::vector<uint8_t> augment_scratch;
   std::vector<int64_t> order;
   int64_t order_epoch = -1;
   for (int64_t step = start; step < total; ++step) {
@@ -306,10 +345,10 @@ Result<TrainSummary> train(const TrainOptions& requested) {
       static_cast<torch::optim::AdamWOptions&>(g.options()).lr(rate);
     }
     const double beta = beta_at(o.beta, step, total);
-    const torch::Tensor x = image_batch(cache.touch, cache.height, cache.width, idx, mean, std);
+    const torch::Tensor x = touch_batch(cache, idx, mean, std, o, step, augment_scratch);
     torch::Tensor touch = state.student->forward(x);
     torch::Tensor mixed = touch;
-    if (curriculum && beta > 0) {
+    if (text_loss && curriculum && beta > 0) {
       torch::Tensor vision = state.projection
                                  ? F::normalize(state.projection->forward(
                                                     state.teacher_embeddings.index_select(0, rows)),
@@ -317,8 +356,14 @@ Result<TrainSummary> train(const TrainOptions& requested) {
                                  : teacher_unit.index_select(0, rows);
       mixed = beta * vision + (1.0 - beta) * F::normalize(touch, F::NormalizeFuncOptions().dim(1));
     }
-    torch::Tensor loss =
-        clip_loss(mixed, text.index_select(0, rows), state.logit_scale.exp());
+    torch::Tensor loss = torch::zeros({});
+    if (text_loss) loss = clip_loss(mixed, text.index_select(0, rows), state.logit_scale.exp());
+    if (supervised) {
+      const double w = text_loss ? o.supervised_weight : 1.0;
+      loss = loss + w * state.heads->loss(touch, label_batch(cache.material, idx),
+                                          label_batch(cache.hard, idx),
+                                          label_batch(cache.rough, idx));
+    }
     optimizer->zero_grad();
     loss.backward();
     optimizer->step();

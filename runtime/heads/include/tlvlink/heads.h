@@ -3,3 +3,4 @@
 #include "tlvlink/heads/evaluator.h"
 #include "tlvlink/heads/grasp_layout.h"
 #include "tlvlink/heads/head_math.h"
+#include "tlvlink/head_trust.h"

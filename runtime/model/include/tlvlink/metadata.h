@@ -22,11 +22,23 @@ struct InputSpec {
   bool background_subtraction = false;
 };
 
+// How far a head can be trusted: its accuracy on a labelled test set beside the accuracy of
+// always answering that set's commonest class. head_trust.h turns it into a decision.
+// The loader guarantees: accuracy and majority finite in [0, 1], n >= 1 when present.
+struct HeadTrust {
+  bool present = false;    // false: the file records no measurement for this head
+  float accuracy = 0;
+  float majority = 0;
+  int64_t n = 0;
+  std::string_view test_set;
+};
+
 struct LinearHead {
   std::string_view name;
   std::vector<std::string_view> labels;
   std::span<const float> weight;  // [labels, embedding_dim]
   std::span<const float> bias;    // [labels]
+  HeadTrust trust = {};
 };
 
 struct ZeroShotHead {
@@ -35,6 +47,7 @@ struct ZeroShotHead {
   std::string_view prompt_template;
   std::span<const float> prompt_matrix;  // [classes, embedding_dim]
   float logit_scale = 100;
+  HeadTrust trust = {};
 };
 
 struct GraspHead {
@@ -43,6 +56,7 @@ struct GraspHead {
   std::string_view feature_layout;
   std::span<const float> weight;
   float bias = 0;
+  HeadTrust trust = {};
 };
 
 struct Provenance {

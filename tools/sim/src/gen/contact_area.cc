@@ -99,22 +99,37 @@ double contact_area_mm2(const GelContactModel& gel, const ObjectGeometry& geomet
     }
   }
   const double kappa = compliance_split(gel, mechanics);
+  // A compliant layer bottoms out as in the renderer (render/contact.h): each cell's gel share
+  // of its approach a is max(kappa a, a - cap) once the cap can be reached.
+  const double layer_cap = mechanics.layer_mm > 0 ? kMaxLayerStrain * mechanics.layer_mm : 0;
+  const double gel_max = kMaxGelStrain * gel.gel_thickness_mm;
+  const bool capped = layer_cap > 0 && layer_cap / std::max(1 - kappa, 1e-300) < gel_max / kappa;
   const double e_gel = gel.gel_modulus_pa * 1e-6;  // N/mm^2
   const double k =
       gel.confinement * e_gel / ((1 - gel.gel_poisson * gel.gel_poisson) * gel.gel_thickness_mm);
   const double t = gel.tension * e_gel * gel.gel_thickness_mm / (6 * (1 + gel.gel_poisson));
   auto force_at = [&](double depth) {
+    // Below the depth where the layer reaches its cap, F is the uncapped one (same arithmetic as
+    // before the cap existed).
+    const bool reached = capped && (1 - kappa) * depth > layer_cap;
     double w = 0, c = 0;
     for (size_t i = 0; i < height.size(); ++i) {
       const double gap = top - height[i];
       if (gap < depth) {
-        w += depth - gap;
-        c += curvature[i];
+        if (reached) {
+          const double a = depth - gap;
+          const double share = std::min(std::max(kappa * a, a - layer_cap), gel_max) / a;
+          w += share * a;
+          c += share * curvature[i];
+        } else {
+          w += depth - gap;
+          c += curvature[i];
+        }
       }
     }
-    return kappa * (k * w * cell + t * c);
+    return reached ? k * w * cell + t * c : kappa * (k * w * cell + t * c);
   };
-  double lo = 0, hi = 0.9 * gel.gel_thickness_mm / kappa;
+  double lo = 0, hi = gel_max / kappa;
   double delta = hi;  // the depth limit when even it does not reach the force
   if (force_at(hi) > force_n) {
     for (int i = 0; i < kBisectionSteps; ++i) {

@@ -53,6 +53,7 @@ GraspObject sample_grasp_object(uint64_t seed, int64_t object_index) {
   }
   o.mechanics.modulus_pa = o.material.modulus_pa;
   o.mechanics.poisson = o.material.poisson;
+  o.mechanics.layer_mm = o.material.layer_mm;
   o.mass_kg = sample_mass(rng);
   o.texture_seed = rng.next();
   return o;

@@ -10,6 +10,10 @@
 namespace tlvlink::sim::internal {
 
 inline constexpr int64_t kOracleHiddenDraws = 4000;  // P(success | visible) to ~+-0.8 %
+// Friction values per class (mid-points of equal slices of its uniform range) when mu is known
+// only through the material class; with kOracleHiddenDraws / kOracleFrictionDraws hidden draws
+// each, the estimate costs what the exact-mu one does.
+inline constexpr int64_t kOracleFrictionDraws = 16;
 
 // Precomputed draws of the hidden variables from their prior.
 struct HiddenDraws {
@@ -19,6 +23,10 @@ HiddenDraws draw_hidden(uint64_t seed, int64_t count);
 
 // P(success | visible part of v), by Monte Carlo over `hidden` (v's hidden fields are ignored).
 double success_probability(const GraspVariables& v, const HiddenDraws& hidden);
+// The same with v.friction replaced by kOracleFrictionDraws values spread over `range` (each
+// with every `stride`-th hidden draw, offset by its index, so all draws are used once).
+double success_probability_class_friction(const GraspVariables& v, Range range,
+                                          const HiddenDraws& hidden);
 
 // The oracle's accuracy on `samples` fresh episodes drawn from the grasp prior with `seed`.
 GraspOracleReport oracle_report(const GelContactModel& gel, uint64_t seed, int64_t samples);

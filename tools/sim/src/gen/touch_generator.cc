@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "gen/rng.h"
 #include "gen/sensor_instances.h"
@@ -50,18 +52,33 @@ Status validate(const TouchSetOptions& o) {
                  o.vision_width <= kMaxVisionSide,
              ErrorCode::kInvalidArgument, "touch set: vision size %dx%d is outside 1..%d",
              o.vision_height, o.vision_width, kMaxVisionSide);
+  TLV_ENSURE(o.markers_fraction >= 0 && o.markers_fraction <= 1, ErrorCode::kInvalidArgument,
+             "touch set: markers_fraction = %g is outside [0, 1]", o.markers_fraction);
   TLV_ENSURE(o.sensor_instances >= 1 && o.sensor_instances <= kMaxSensorInstances,
              ErrorCode::kInvalidArgument, "touch set: sensor_instances = %d is outside 1..%d",
              o.sensor_instances, kMaxSensorInstances);
   return {};
 }
 
+// The profile names of a (comma-separated) sensor option, in order.
+std::vector<std::string> profile_names(std::string_view sensor) {
+  std::vector<std::string> out;
+  while (true) {
+    const size_t comma = sensor.find(',');
+    out.emplace_back(sensor.substr(0, comma));
+    if (comma == std::string_view::npos) break;
+    sensor.remove_prefix(comma + 1);
+  }
+  return out;
+}
+
 class TouchGenerator final : public TouchSampleGenerator {
  public:
-  TouchGenerator(const TouchSetOptions& o, std::unique_ptr<internal::RendererCache> r,
+  TouchGenerator(const TouchSetOptions& o,
+                 std::vector<std::unique_ptr<internal::RendererCache>> r,
                  std::shared_ptr<const Describer> d)
       : options_(o), renderers_(std::move(r)), describer_(std::move(d)) {
-    options_.sensor = renderers_->profile().name;  // the caller's string may not outlive us
+    options_.sensor = {};  // the caller's string may not outlive us; profiles are in renderers_
   }
 
   int64_t size() const override {
@@ -82,17 +99,26 @@ class TouchGenerator final : public TouchSampleGenerator {
     out.session = internal::session_name(seed, session);
     out.frame_index = static_cast<int32_t>(index % options_.frames_per_session);
     out.object_id = static_cast<int32_t>(session);
-    // The session's sensor: consecutive frames of a session reuse the kept Renderer.
+    // The session's sensor: consecutive frames of a session reuse the kept Renderer. A mixed
+    // set draws the profile per session too (a single profile draws nothing: same bytes).
+    const size_t profile =
+        renderers_.size() == 1
+            ? 0
+            : static_cast<size_t>(derive_seed(seed, {tag(Stream::kSensorProfile),
+                                                     static_cast<uint64_t>(session)}) %
+                                  renderers_.size());
+    internal::RendererCache& cache = *renderers_[profile];
+    out.sensor = cache.profile().name;
     out.sensor_instance =
         internal::touch_session_instance(seed, session, options_.sensor_instances);
-    TLV_ASSIGN_OR_RETURN(Renderer * renderer, renderers_->get(out.sensor_instance));
+    TLV_ASSIGN_OR_RETURN(Renderer * renderer, cache.get(out.sensor_instance));
 
     // The press.
     Rng rng(derive_seed(seed, {tag(Stream::kFrame), static_cast<uint64_t>(index)}));
     ContactScene scene;
     const Press press = make_press(out.material, texture_seed, rng, scene);
     RenderOptions render;
-    render.markers = options_.markers;
+    render.markers = options_.markers || session_has_markers(session);
     TLV_TRY(renderer->render(
         scene, render, derive_seed(seed, {tag(Stream::kRender), static_cast<uint64_t>(index)}),
         frame_));
@@ -150,6 +176,7 @@ class TouchGenerator final : public TouchSampleGenerator {
         break;
     }
     s.mechanics.local_radius_mm = compliant_length_mm(m, radius);
+    s.mechanics.layer_mm = m.layer_mm;
     p.shape = shape == PressShape::kFlat ? Shape::kFlatPlate : g.shape;  // described as flat
     p.force_n = rng.log_uniform(kMinForceN, kMaxForceN);
     s.texture.sq_um = m.sq_um;
@@ -169,8 +196,16 @@ class TouchGenerator final : public TouchSampleGenerator {
     return p;
   }
 
+  // markers_fraction: a uniform draw per session below the fraction (none at 0).
+  bool session_has_markers(int64_t session) const {
+    if (!(options_.markers_fraction > 0)) return false;
+    const uint64_t h =
+        derive_seed(options_.seed, {tag(Stream::kMarkers), static_cast<uint64_t>(session)});
+    return static_cast<double>(h >> 11) * 0x1.0p-53 < options_.markers_fraction;
+  }
+
   TouchSetOptions options_;
-  std::unique_ptr<internal::RendererCache> renderers_;
+  std::vector<std::unique_ptr<internal::RendererCache>> renderers_;  // one per profile
   std::shared_ptr<const Describer> describer_;
   Frame frame_;
   Description description_;
@@ -181,11 +216,15 @@ class TouchGenerator final : public TouchSampleGenerator {
 Result<std::unique_ptr<TouchSampleGenerator>> TouchSampleGenerator::create(
     const TouchSetOptions& options) {
   TLV_TRY(validate(options));
-  TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(options.sensor));
-  // The set's sensor instances; their backgrounds are fixed by the dataset seed.
-  TLV_ASSIGN_OR_RETURN(
-      std::unique_ptr<internal::RendererCache> renderers,
-      internal::RendererCache::create(profile, options.seed, options.sensor_instances));
+  // The set's sensor instances of each profile; their backgrounds are fixed by the dataset seed.
+  std::vector<std::unique_ptr<internal::RendererCache>> renderers;
+  for (const std::string& name : profile_names(options.sensor)) {
+    TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(name));
+    TLV_ASSIGN_OR_RETURN(
+        std::unique_ptr<internal::RendererCache> cache,
+        internal::RendererCache::create(profile, options.seed, options.sensor_instances));
+    renderers.push_back(std::move(cache));
+  }
   TLV_ASSIGN_OR_RETURN(std::shared_ptr<const Describer> describer, Describer::create());
   return std::unique_ptr<TouchSampleGenerator>(
       new TouchGenerator(options, std::move(renderers), std::move(describer)));

@@ -26,7 +26,26 @@ Compliance compliance(const SensorProfile& s, const ObjectMechanics& o) {
   c.tension = kPsi * e_gel * s.gel_thickness_mm / (6 * (1 + s.gel_poisson));
   c.max_gel_mm = kMaxGelStrain * s.gel_thickness_mm;
   c.max_press_mm = c.max_gel_mm / c.kappa;
+  if (o.layer_mm > 0) {
+    c.layer_cap_mm = kMaxLayerStrain * o.layer_mm;
+    // The object's share (1 - kappa) a reaches the cap at a = cap / (1 - kappa).
+    const double reach = c.layer_cap_mm / std::max(1 - c.kappa, 1e-300);
+    if (reach < c.max_press_mm) {
+      c.capped = true;
+      c.capped_max_press_mm = std::min(c.max_press_mm, c.max_gel_mm + c.layer_cap_mm);
+    }
+  }
   return c;
+}
+
+double texture_split(const SensorProfile& s, const ObjectMechanics& o, const SurfaceTexture& t) {
+  const double cg =
+      std::max((1 - s.gel_poisson * s.gel_poisson) / s.gel_modulus_pa, kMinCompliancePerPa);
+  const double co = std::max((1 - o.poisson * o.poisson) / o.modulus_pa, kMinCompliancePerPa);
+  const double l = t.correlation_length_mm;
+  const double gel = cg * std::min(l, s.gel_thickness_mm);
+  const double obj = co * (o.layer_mm > 0 ? std::min(l, o.layer_mm) : l);
+  return std::clamp(gel / (gel + obj), 1e-12, 1.0);
 }
 
 ContactSolver::ContactSolver(const FrameGrid& grid)
@@ -65,7 +84,28 @@ void ContactSolver::prepare(const float* h, const float* curvature, const Compli
   gap_max_ = dbl(gmax);
 }
 
+double ContactSolver::capped_force_at(double press) const {
+  double winkler = 0, tension = 0;
+  const auto d = static_cast<float>(press);
+  const auto kappa = static_cast<float>(c_.kappa), cap = static_cast<float>(c_.layer_cap_mm);
+  const auto gel_cap = static_cast<float>(c_.max_gel_mm);
+  const size_t w = static_cast<size_t>(grid_.width);
+  for (int32_t y = surface_.y0; y < surface_.y1; ++y) {
+    for (int32_t x = surface_.x0; x < surface_.x1; ++x) {
+      const size_t i = static_cast<size_t>(y) * w + static_cast<size_t>(x);
+      if (gap_[i] < d) {
+        const float a = d - gap_[i];
+        const float ug = std::min(std::max(kappa * a, a - cap), gel_cap);
+        winkler += dbl(ug);
+        tension += dbl(curvature_[i]) * dbl(ug) / dbl(a);
+      }
+    }
+  }
+  return c_.winkler * area_px_ * winkler + c_.tension * tension;
+}
+
 double ContactSolver::force_at(double press) const {
+  if (cap_reached(press)) return capped_force_at(press);
   double winkler = 0, tension = 0;
   const auto d = static_cast<float>(press);
   const size_t w = static_cast<size_t>(grid_.width);
@@ -83,6 +123,23 @@ double ContactSolver::force_at(double press) const {
 
 double ContactSolver::press_for_force(double target) {
   if (!(target > 0) || surface_.empty()) return 0;
+  const double d = uncapped_press_for_force(target);
+  if (!cap_reached(d)) return d;  // the capped F equals the uncapped one up to this depth
+  // Plain bisection: the cap makes F piecewise in each pixel, so the histogram sums no longer
+  // give F at the bin edges. The capped F is above the uncapped one, so the press is below d.
+  double lo = 0, hi = std::min(d, c_.capped_max_press_mm);
+  if (capped_force_at(hi) <= target) return hi;
+  double p = hi;
+  for (int it = 0; it < kMaxBisection; ++it) {
+    p = 0.5 * (lo + hi);
+    const double f = capped_force_at(p);
+    if (std::fabs(f - target) < kForceRelTolerance * target) break;
+    (f < target ? lo : hi) = p;
+  }
+  return p;
+}
+
+double ContactSolver::uncapped_press_for_force(double target) {
   const double kk = c_.kappa * c_.winkler * area_px_, kt = c_.kappa * c_.tension;
   const double hi = std::min(c_.max_press_mm, gap_max_);
   const size_t w = static_cast<size_t>(grid_.width);
@@ -175,6 +232,8 @@ ContactSolution ContactSolver::indent(double press, float* u) const {
   const auto d = static_cast<float>(press);
   const auto kappa = static_cast<float>(c_.kappa);
   const auto cap = static_cast<float>(c_.max_gel_mm);
+  const auto layer_cap = static_cast<float>(c_.layer_cap_mm);
+  const bool capped = cap_reached(press);
   double winkler = 0, tension = 0, sx = 0, sy = 0;
   float umax = 0;
   int32_t x0 = w, y0 = h, x1 = 0, y1 = 0;
@@ -185,11 +244,19 @@ ContactSolution ContactSolver::indent(double press, float* u) const {
     for (int32_t x = surface_.x0; x < surface_.x1; ++x) {
       const float g = gap_[row + static_cast<size_t>(x)];
       if (!(g < d)) continue;
-      const float ug = std::min(kappa * (d - g), cap);
+      float ug;
+      if (capped) {  // force terms carry the gel's own share (contact.h)
+        const float a = d - g;
+        ug = std::min(std::max(kappa * a, a - layer_cap), cap);
+        winkler += dbl(ug) / c_.kappa;
+        tension += dbl(curvature_[row + static_cast<size_t>(x)]) * dbl(ug) / dbl(a) / c_.kappa;
+      } else {
+        ug = std::min(kappa * (d - g), cap);
+        winkler += dbl(d - g);
+        tension += dbl(curvature_[row + static_cast<size_t>(x)]);
+      }
       u[row + static_cast<size_t>(x)] = ug;
       umax = std::max(umax, ug);
-      winkler += dbl(d - g);
-      tension += dbl(curvature_[row + static_cast<size_t>(x)]);
       x0 = std::min(x0, x);
       x1 = std::max(x1, x + 1);
       ++row_count;

@@ -56,6 +56,7 @@ std::vector<Field> fields() {
       {"scene.mechanics.poisson", [](C& c, double v) { c.scene.mechanics.poisson = v; }},
       {"scene.mechanics.local_radius_mm",
        [](C& c, double v) { c.scene.mechanics.local_radius_mm = v; }},
+      {"scene.mechanics.layer_mm", [](C& c, double v) { c.scene.mechanics.layer_mm = v; }},
       {"scene.loading.force_n", [](C& c, double v) { c.scene.loading.force_n = v; }},
       {"scene.loading.press_mm", [](C& c, double v) { c.scene.loading.press_mm = v; }},
       {"scene.loading.shear_x_n", [](C& c, double v) { c.scene.loading.shear_x_n = v; }},

@@ -1,5 +1,5 @@
 #pragma once
-// Constants of the frame model (tools/sim/README.md), in one place so each is named
+// Constants of the frame model (tools/sim/REFERENCE.md), in one place so each is named
 // once with its reason. Lengths in mm, moduli in N/mm^2 (= MPa) inside the renderer.
 
 #include <array>
@@ -23,6 +23,15 @@ inline constexpr double kTensionMaxSlope = 0.3;
 inline constexpr double kMinCompliancePerPa = 1e-15;
 // Gel indentation never exceeds this fraction of the gel thickness.
 inline constexpr double kMaxGelStrain = 0.9;
+// A compliant layer on a rigid backing (fabric, leather, a paper stack, turf) compresses until
+// its fibres jam: at most this share of its thickness. Fibre assemblies densify from ~0.1-0.2 to
+// ~0.3-0.6 fibre volume fraction (van Wyk 1946), and fabric compression curves (Kawabata's
+// KES-FB3) flatten out at 50-70 % strain. Beyond it the rest of the approach goes into the gel.
+inline constexpr double kMaxLayerStrain = 0.6;
+// The texture's own compliance split (texture_split) differs from the bulk one by less than this
+// for stiff objects; such a texture is not rescaled: < 0.1 % of a texture is < 0.01 DN, and
+// leaving it keeps their frames byte-identical to the renderer before the split existed.
+inline constexpr double kTextureSplitTolerance = 1e-3;
 // Force bisection: stop at |dF| < 1e-3 F or after 60 halvings; histogram bins of the gap.
 inline constexpr double kForceRelTolerance = 1e-3;
 inline constexpr int kMaxBisection = 60;

@@ -57,7 +57,7 @@ class RendererImpl final : public Renderer {
     p.name = name;  // the profile's name now points into this renderer
     return p;
   }
-  Roi build_surface(const ContactScene& scene, const Placement& at);
+  Roi build_surface(const ContactScene& scene, const SurfaceTexture& texture, const Placement& at);
   void clear_dirty();
   void draw_markers(const ShearField& shear, bool contact, Frame& out);
 
@@ -77,7 +77,8 @@ class RendererImpl final : public Renderer {
 };
 
 // Object surface (+ dome), its membrane curvature and texture; returns where it has a surface.
-Roi RendererImpl::build_surface(const ContactScene& scene, const Placement& at) {
+Roi RendererImpl::build_surface(const ContactScene& scene, const SurfaceTexture& texture,
+                                const Placement& at) {
   const FrameGrid& g = tables_.grid;
   object_height(scene.geometry, at, g, h_.data());
   if (!tables_.dome_height.empty()) {
@@ -86,7 +87,7 @@ Roi RendererImpl::build_surface(const ContactScene& scene, const Placement& at) 
   const Roi surface = surface_bounds(h_.data(), g);
   // The membrane follows the object's shape, not its micro-texture: curvature before texture.
   tension_curvature(h_.data(), g, surface, curvature_.data());
-  texture_.add(scene.texture, at.center_x_mm, at.center_y_mm, surface, h_.data(), tables_.view);
+  texture_.add(texture, at.center_x_mm, at.center_y_mm, surface, h_.data(), tables_.view);
   return surface;
 }
 
@@ -145,8 +146,14 @@ Status RendererImpl::render(const ContactScene& scene, const RenderOptions& opti
   ShearField shear;
   if (scene.geometry.shape != Shape::kNone) {
     const Compliance comp = compliance(profile_, scene.mechanics);
+    // The gel takes kappa of the shape but texture_kappa of the texture (contact.h): the
+    // texture's heights are scaled so that kappa * scaled = texture_kappa * texture.
+    const double texture_kappa = texture_split(profile_, scene.mechanics, scene.texture);
+    SurfaceTexture texture = scene.texture;
+    if (std::fabs(texture_kappa / comp.kappa - 1) > kTextureSplitTolerance)
+      texture.sq_um *= texture_kappa / comp.kappa;
     Placement at{scene.geometry.center_x_mm, scene.geometry.center_y_mm, scene.geometry.angle_deg};
-    solver_.prepare(h_.data(), curvature_.data(), comp, build_surface(scene, at));
+    solver_.prepare(h_.data(), curvature_.data(), comp, build_surface(scene, texture, at));
     const Loading& l = scene.loading;
     const double press = l.force_n >= 0 ? solver_.press_for_force(l.force_n)
                                         : std::min(l.press_mm, comp.max_press_mm);
@@ -162,7 +169,7 @@ Status RendererImpl::render(const ContactScene& scene, const RenderOptions& opti
             std::min(l.slip_mm / std::max(shear.contact_radius_mm, 0.5), kMaxSlipTwistRad);
         at.angle_deg += std::copysign(turn, l.torque_nmm) * 180 / kPi;
       }
-      solver_.prepare(h_.data(), curvature_.data(), comp, build_surface(scene, at));
+      solver_.prepare(h_.data(), curvature_.data(), comp, build_surface(scene, texture, at));
       contact = solver_.indent(press, u_gel_.data());
       shear.active = contact.in_contact;
       shear.center_x_mm = contact.centroid_x_mm;
@@ -175,6 +182,7 @@ Status RendererImpl::render(const ContactScene& scene, const RenderOptions& opti
     st.press_mm = press;
     st.max_gel_indentation_mm = contact.max_gel_mm;
     st.kappa = comp.kappa;
+    st.texture_kappa = texture_kappa;
     st.contact_area_mm2 = contact.area_mm2;
     st.contact_radius_mm = std::sqrt(contact.area_mm2 / kPi);
     st.stick_radius_mm = shear.stick_radius_mm;

@@ -1,5 +1,5 @@
 // Parameter validation of sensor profiles, scenes and render options. Ranges are the documented
-// ones (headers and tools/sim/README.md); errors name the field, e.g. "scene.loading.force_n".
+// ones (headers and tools/sim/REFERENCE.md); errors name the field, e.g. "scene.loading.force_n".
 #include <cstdio>
 
 #include "render/check.h"
@@ -101,6 +101,7 @@ Status validate(const ContactScene& s) {
   TLV_TRY(check_range("scene.mechanics.modulus_pa", m.modulus_pa, 1e2, 1e13));
   TLV_TRY(check_range("scene.mechanics.poisson", m.poisson, 0, 0.5));
   TLV_TRY(check_range("scene.mechanics.local_radius_mm", m.local_radius_mm, 0.01, 1e6));
+  TLV_TRY(check_range("scene.mechanics.layer_mm", m.layer_mm, 0, 1e6));
   const Loading& l = s.loading;
   TLV_TRY(check_finite("scene.loading.force_n", l.force_n));
   TLV_TRY(check_finite("scene.loading.press_mm", l.press_mm));

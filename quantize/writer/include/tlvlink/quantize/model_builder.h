@@ -33,10 +33,17 @@ struct QuantSpec {
 };
 
 // Owning counterparts of metadata.h, for writing.
+struct HeadTrustSpec {
+  bool present = false;  // false: no trust record is written
+  float accuracy = 0, majority = 0;
+  int64_t n = 0;
+  std::string test_set;
+};
 struct LinearHeadSpec {
   std::string name;
   std::vector<std::string> labels;
   std::vector<float> weight, bias;
+  HeadTrustSpec trust = {};
 };
 struct ZeroShotHeadSpec {
   std::string name;
@@ -44,11 +51,13 @@ struct ZeroShotHeadSpec {
   std::string prompt_template;
   std::vector<float> prompt_matrix;
   float logit_scale = 100;
+  HeadTrustSpec trust = {};
 };
 struct GraspHeadSpec {
   std::string name, feature_layout;
   std::vector<float> weight;
   float bias = 0;
+  HeadTrustSpec trust = {};
 };
 struct InputSpecDef {
   int32_t height = 0, width = 0, channels = 3;

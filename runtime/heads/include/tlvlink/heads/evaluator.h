@@ -25,7 +25,15 @@ struct HeadResult {
   std::span<const std::string_view> labels;
   std::span<const float> logits, probabilities;
   int32_t top = 0;  // argmax
+  // The head's trust record in the model (never null; `present` false when unmeasured):
+  // head_trust.h decides from it whether the head is shown by default.
+  const HeadTrust* trust = nullptr;
 };
+
+// Whether a per-frame head is reported when none are named (the daemon's default output): a
+// probe head that its trust record does not mark untrusted (head_trust.h). Heads without a
+// record (older model files) are reported; zero-shot heads only when named.
+bool reported_by_default(const HeadResult& result);
 
 class HeadEvaluator {
  public:
@@ -48,6 +56,7 @@ class HeadEvaluator {
   // The grasp head, if the model has one: the features its layout names, in layout order.
   bool has_grasp() const { return !grasp_layout_.empty(); }
   std::string_view grasp_name() const;
+  const HeadTrust& grasp_trust() const { return metadata_->grasp_head.trust; }
   std::span<const GraspFeature> grasp_layout() const { return grasp_layout_; }
   // p(success) from one embedding per layout entry (each embedding_dim values). No allocation.
   Result<float> grasp_probability(std::span<const std::span<const float>> features) const;

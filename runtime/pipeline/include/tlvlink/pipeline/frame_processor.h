@@ -42,8 +42,10 @@ struct ProcessorOptions {
   bool grasp = true;           // track grasps when the model has a grasp head and fingers A, B
   GraspOptions grasp_options;
   int64_t smoothing_tau_ns = 150'000'000;
-  // The per-frame heads reported, by name; empty = every probe head (zero-shot heads only when
-  // named). An unknown name is an error listing the model's heads.
+  // The per-frame heads reported, by name; empty = every probe head except those the model's
+  // trust record marks untrusted (head_trust.h: not better than the majority class on their own
+  // test set); zero-shot and untrusted heads only when named. An unknown name is an error
+  // listing the model's heads.
   std::vector<std::string> heads;
 };
 

@@ -92,6 +92,10 @@ struct TouchEmbeddings {
   std::vector<std::string> group;    // session
   std::vector<uint8_t> is_test;
   std::vector<std::string> keys;     // the loader's key of each sample
+  // What the simulator recorded about each sample (its sidecar): the material's hidden
+  // parameters and the contact. class_id -1 when the set records none (oracle.h needs them).
+  std::vector<sim::MaterialSample> hidden_material;
+  std::vector<sim::ContactState> hidden_contact;
   SplitInfo split;
   std::string format;                // "touch100k" / "touch_and_go"
   std::string load_summary;          // datasets::LoadReport::summary() of the loaders

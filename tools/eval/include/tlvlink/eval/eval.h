@@ -26,6 +26,7 @@
 #include "tlvlink/error.h"
 #include "tlvlink/eval/embeddings.h"
 #include "tlvlink/eval/heads.h"
+#include "tlvlink/eval/oracle.h"
 #include "tlvlink/eval/probe.h"
 #include "tlvlink/eval/tasks.h"
 #include "tlvlink/metadata.h"
@@ -51,6 +52,7 @@ struct EvalOptions {
   bool fit_probes = true;              // fit and score linear probes (the "linear probe" row)
   bool model_heads = true;             // also score the heads stored in the model
   int64_t oracle_samples = 10000;      // grasp oracle Monte Carlo episodes (~3 s); 0 = skip
+  bool touch_oracles = true;           // oracle.h rows when the touch set records hidden variables
 };
 
 // One cell of the table.
@@ -70,9 +72,21 @@ struct TaskResult {
 
 struct GraspOracle {
   double accuracy = 0;      // Bayes-optimal on visible variables (tlvlink/sim/generate.h)
+  double class_friction_accuracy = 0;  // the same with mu known only through the class
   double success_rate = 0;
   double majority_rate = 0;
   int64_t samples = 0;
+};
+
+// A reference model's accuracy beside the evaluated one (`tlvlink eval --bound LABEL=MODEL`):
+// e.g. the supervised upper bounds. Scored like the evaluated model's own heads when it has
+// heads (fit both on the same heads' set), else by linear probes fitted on this data.
+struct BoundRow {
+  std::string label;            // "supervised tiny (same size)"
+  std::string model_path, model_name;
+  std::vector<TaskResult> results;  // Method::kModelHeads or kProbe, one per task
+
+  const TaskResult* find(Task task) const;
 };
 
 struct EvalReport {
@@ -82,8 +96,11 @@ struct EvalReport {
   std::vector<TaskResult> results;  // for each Method, each Task (kAllTasks order)
   std::optional<SplitInfo> touch_split, grasp_split;
   std::string touch_format, grasp_format;  // "touch100k" / "touch_and_go"; "feel_hdf5" / "feel_repacked"
+  std::string touch_dir, grasp_dir;        // the data evaluated on (evaluate() fills them)
   std::string touch_load_summary, grasp_load_summary;
   std::optional<GraspOracle> oracle;  // generated grasp sets only
+  std::vector<TouchOracle> touch_oracles;  // generated touch sets with hidden variables only
+  std::vector<BoundRow> bounds;       // reference models' probe rows (the CLI fills them)
   GraspFeatures grasp_features = GraspFeatures::kBeforeDuring;
   double extract_seconds = 0, fit_seconds = 0;
   int64_t frames = 0;

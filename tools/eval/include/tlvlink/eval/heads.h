@@ -62,6 +62,11 @@ Result<TextHeads> zero_shot_heads_from_text(const Metadata& metadata, const Text
 struct HeadFitOptions {
   ProbeOptions probe;
   GraspFeatures grasp_features = GraspFeatures::kBeforeDuring;
+  // The two fingers are alike (the simulator draws each on its own sensor; a real gripper's
+  // fingers are interchangeable), so the grasp head is fitted on every training episode twice,
+  // once with A and B swapped: the fit then gives both fingers the same weights, half the free
+  // parameters for the same data.
+  bool grasp_swap_fingers = true;
 };
 
 // Probes fitted on the TRAIN split: linear heads named by task_name() with canonical labels,
@@ -70,6 +75,7 @@ struct HeadFitOptions {
 struct FittedHeads {
   std::vector<quantize::LinearHeadSpec> linear;
   std::optional<quantize::GraspHeadSpec> grasp;
+  bool grasp_swap_fingers = false;                   // fitted with A/B-swapped copies
   std::vector<std::pair<Task, FittedProbe>> probes;  // diagnostics per fitted task
   std::vector<std::string> notes;                    // tasks skipped and why
 };

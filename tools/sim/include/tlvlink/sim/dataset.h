@@ -30,6 +30,9 @@ struct TouchSample {
   // same for every frame of a session. Loaders: 0 from sidecars written before the field
   // existed (those sets used one instance), -1 when there is no simulator metadata.
   int32_t sensor_instance = 0;
+  // The sensor profile the session was recorded on ("gelsight-mini"); empty when the data does
+  // not say (loaders of sets written before it was recorded, real data).
+  std::string sensor;
   MaterialSample material;
   ContactState contact;
   RgbImage touch;                   // the GelSight frame

@@ -26,9 +26,17 @@ uint64_t sensor_instance_seed(uint64_t seed, int32_t instance);
 struct TouchSetOptions {
   int32_t sessions = 100;           // one object (one material sample) per session
   int32_t frames_per_session = 10;  // presses of that object at varied force/position/shear
+  // A profile name, or several separated by commas ("gelsight-mini,digit"): then each session
+  // is recorded on one of them, drawn by hashing (seed, session) (a mixed-profile set, for a
+  // model that serves several sensor types; TouchSample::sensor says which). Frames keep their
+  // profile's size. One profile gives the bytes it always gave.
   std::string_view sensor = "gelsight-mini";
   int32_t vision_height = 240, vision_width = 320;
   bool markers = false;
+  // With markers false: the share of sessions recorded with a marker grid on the gel, [0, 1],
+  // drawn per session by hashing (seed, session) (gels with and without markers, as real
+  // sensors come; a model meant for both should see both). 0 = none, the bytes of before.
+  double markers_fraction = 0;
   uint64_t seed = 1;
   // 1..kMaxSensorInstances simulated sensors; each session is recorded on one of them, drawn by
   // hashing (seed, session), like a real recording session on one physical sensor.
@@ -108,6 +116,11 @@ struct GraspOracleReport {
   double success_rate = 0;      // fraction of them with is_gripping
   double majority_rate = 0;     // accuracy of always predicting the majority label
   int64_t hidden_draws = 0;     // Monte Carlo draws of (mass, COM offset, lift accel) per episode
+  // The same predictor when the friction is known only through the material class (what the
+  // frames show of it: the class's texture, not mu itself): mu is marginalised uniformly over
+  // the class's range, kOracleFrictionDraws values. Closer to what a model of the frames can
+  // reach; the exact-mu figure above is the task's ceiling.
+  double class_friction_accuracy = 0;
 };
 Result<GraspOracleReport> grasp_oracle_report(const GraspSetOptions& options, int64_t samples);
 

@@ -1,7 +1,7 @@
 #pragma once
 // The GelSight frame renderer: contact mechanics (compliance split, force bisection, membrane
 // spreading), photometric shading over a non-uniform background, markers with normal dilation
-// and shear/slip fields, blur, noise, vignetting, optional JPEG. See tools/sim/README.md for the
+// and shear/slip fields, blur, noise, vignetting, optional JPEG. See tools/sim/REFERENCE.md for the
 // model.
 //
 // A Renderer owns its scratch buffers: after the first frame of a given size, render() does
@@ -25,6 +25,7 @@ struct ContactState {
   double press_mm = 0;              // total approach delta
   double max_gel_indentation_mm = 0;
   double kappa = 0;                 // compliance split: share of the approach taken by the gel
+  double texture_kappa = 0;         // the same for the object's texture, at its own scale
   double contact_area_mm2 = 0;
   double contact_radius_mm = 0;     // a = sqrt(area / pi)
   double stick_radius_mm = 0;       // c (Cattaneo-Mindlin), 0 in gross slip

@@ -41,6 +41,11 @@ struct ObjectMechanics {
   double modulus_pa = 70e9;         // E_o [1e2, 1e13]
   double poisson = 0.33;            // nu_o [0, 0.5]
   double local_radius_mm = 5.0;     // L_o in the compliance split [0.01, 1e6]
+  // Thickness of a compliant layer over a rigid backing (fabric on a table, a leather cover, a
+  // stack of paper, turf) [0, 1e6]; 0 = bulk material. A layer cannot be compressed by more
+  // than kMaxLayerStrain of its thickness: beyond that the rest of the approach goes into the
+  // gel (tools/sim/REFERENCE.md "Soft layers bottom out").
+  double layer_mm = 0.0;
 };
 
 struct Loading {

@@ -11,6 +11,8 @@
 //
 //   small: c = 16, 32, 64, 128, 256, head 512  (~38 MMAC, ~1.4 M parameters at 96x128)
 //   tiny:  c = 16, 24, 32, 64, 128,  head 256  (~13 MMAC, ~0.4 M parameters at 96x128)
+//   large: c = 32, 64, 128, 256, 512, head 1024 (~150 MMAC, ~5.5 M parameters at 96x128): not an
+//          edge student, the larger network of the supervised upper bound
 // Exact figures for any input size: arch_macs() / arch_params(); `tlvlink train --help-arch`.
 // Host-side description only (no libtorch here): the trainer builds the libtorch module from it
 // and the exporter the .tlvm graph, so both walk the same list.
@@ -43,13 +45,13 @@ struct LayerSpec {
 };
 
 struct ArchSpec {
-  std::string name;                 // "small", "tiny"
+  std::string name;                 // "large", "small", "tiny"
   int32_t input_height = 96, input_width = 128;
   std::vector<LayerSpec> layers;    // in order; the last one is the 1x1 head conv
   int32_t embedding_dim = 128;      // FC output = the text encoder's dimension
 };
 
-// Names of the built-in architectures, for --help and error messages: "small, tiny".
+// Names of the built-in architectures, for --help and error messages: "large, small, tiny".
 std::string arch_names();
 // The named architecture at an input size and embedding dimension. Errors (kInvalidArgument):
 // unknown name, sides outside kMinInputSide..kMaxInputSide, dim outside the embedding range.

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "tlvlink/error.h"
@@ -51,6 +52,30 @@ struct TeacherOptions {
   std::vector<float> std = {0.26862954f, 0.26130258f, 0.27577711f};
 };
 
+// What the student learns from (README "Objectives"):
+//   kTlvLink            TLV-Link: symmetric InfoNCE of the (curriculum-mixed) embedding against
+//                       the text features. The default and the method the product implements.
+//   kSupervised         cross-entropy on the labels a simulated set records (material,
+//                       hard/soft, rough/smooth; supervised.h) and nothing else: no text, no
+//                       teacher. The supervised upper bound of the issue-16 tables.
+//   kTlvLinkSupervised  both: InfoNCE + supervised_weight * cross-entropy (a multi-task
+//                       objective beside TLV-Link; the curriculum applies to the InfoNCE part).
+enum class Objective : uint8_t { kTlvLink = 0, kSupervised, kTlvLinkSupervised };
+const char* objective_name(Objective objective);  // "tlv-link", "supervised", "tlv-link+supervised"
+Result<Objective> parse_objective(std::string_view name);
+
+// Photometric augmentation of the touch frames, drawn per sample and step from the seed (0 =
+// off). It imitates what differs between two sensors of one model (tools/sim/REFERENCE.md "Sensor
+// instances"): each colour channel is scaled by exp(N(0, gain_sigma)) around its frame mean
+// (LED and white-balance gains), the frame by exp(N(0, exposure_sigma)), and N(0, noise_dn)
+// camera noise is added; then rounded and clamped to uint8 like a camera frame.
+struct AugmentOptions {
+  double gain_sigma = 0;
+  double exposure_sigma = 0;
+  double noise_dn = 0;
+  bool enabled() const { return gain_sigma > 0 || exposure_sigma > 0 || noise_dn > 0; }
+};
+
 struct TrainOptions {
   std::string data_dir;         // Touch100k-format directory
   std::string output;           // final checkpoint (required)
@@ -65,6 +90,9 @@ struct TrainOptions {
   TextOptions text;
   TeacherOptions teacher;
   BetaOptions beta;             // schedule kNone = --no-curriculum (no teacher needed)
+  Objective objective = Objective::kTlvLink;
+  double supervised_weight = 1;  // kTlvLinkSupervised: weight of the cross-entropy term
+  AugmentOptions augment;
 
   LrOptions lr;
   double weight_decay = 0.2;    // AdamW, on conv/FC weights (not BN, biases, temperature)

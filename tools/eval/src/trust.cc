@@ -1,0 +1,92 @@
+// Trust records from an evaluation report into a model copy (trust.h).
+
+#include "tlvlink/eval/trust.h"
+
+#include <cstdio>
+
+#include "tlvlink/head_trust.h"
+#include "tlvlink/quantize/model_copy.h"
+
+namespace tlvlink::eval {
+namespace {
+
+// The head's cell in the report, if scored.
+const TaskResult* scored(const EvalReport& r, std::string_view head_name, Method method) {
+  auto task = task_of_head(head_name);
+  if (!task.ok()) return nullptr;
+  const TaskResult* c = r.find(*task, method);
+  return c != nullptr && c->available ? c : nullptr;
+}
+
+quantize::HeadTrustSpec record_of(const EvalReport& r, const TaskResult& c) {
+  return {true, static_cast<float>(c.accuracy), static_cast<float>(c.majority), c.n,
+          test_set_description(r, c.task)};
+}
+
+std::string line_of(const std::string& kind, const std::string& name,
+                    const quantize::HeadTrustSpec& t, bool dropped) {
+  HeadTrust view{t.present, t.accuracy, t.majority, t.n, t.test_set};
+  const TrustAssessment a = assess_head(view);
+  char buf[256];
+  if (!t.present) {
+    std::snprintf(buf, sizeof buf, "%s head '%s': not measured", kind.c_str(), name.c_str());
+  } else {
+    std::snprintf(buf, sizeof buf,
+                  "%s head '%s': accuracy %.1f %% vs majority %.1f %% (n=%lld): %s "
+                  "(margin %+.1f, needs %+.1f)%s",
+                  kind.c_str(), name.c_str(), 100.0 * static_cast<double>(t.accuracy),
+                  100.0 * static_cast<double>(t.majority),
+                  static_cast<long long>(t.n), head_trust_level_name(a.level), 100 * a.margin,
+                  100 * a.required, dropped ? "; removed" : "");
+  }
+  return buf;
+}
+
+}  // namespace
+
+std::string test_set_description(const EvalReport& r, Task task) {
+  const bool grasp = task == Task::kGrasp;
+  const std::optional<SplitInfo>& s = grasp ? r.grasp_split : r.touch_split;
+  const std::string& dir = grasp ? r.grasp_dir : r.touch_dir;
+  const std::string& format = grasp ? r.grasp_format : r.touch_format;
+  char buf[320];
+  std::snprintf(buf, sizeof buf, "%s: %s (%s) test split (%s): %lld items, %lld %s",
+                grasp ? "grasp" : "touch", dir.empty() ? "?" : dir.c_str(), format.c_str(),
+                s ? s->source.c_str() : "?", s ? static_cast<long long>(s->test_items) : 0LL,
+                s ? static_cast<long long>(s->test_groups) : 0LL, grasp ? "objects" : "sessions");
+  return buf;
+}
+
+Result<std::vector<std::byte>> model_with_trust(const Model& model, const EvalReport& report,
+                                                const TrustRecordOptions& options,
+                                                std::vector<std::string>* lines) {
+  quantize::MetadataSpec meta = quantize::metadata_spec_from(model.metadata());
+  std::vector<std::string> out;
+  for (quantize::LinearHeadSpec& h : meta.linear_heads) {
+    if (const TaskResult* c = scored(report, h.name, Method::kModelHeads)) h.trust = record_of(report, *c);
+    out.push_back(line_of("linear", h.name, h.trust, false));
+  }
+  if (meta.has_grasp_head) {
+    if (const TaskResult* c = scored(report, meta.grasp_head.name, Method::kModelHeads))
+      meta.grasp_head.trust = record_of(report, *c);
+    out.push_back(line_of("grasp", meta.grasp_head.name, meta.grasp_head.trust, false));
+  }
+  std::vector<quantize::ZeroShotHeadSpec> kept;
+  for (quantize::ZeroShotHeadSpec& h : meta.zero_shot_heads) {
+    if (const TaskResult* c = scored(report, h.name, Method::kZeroShot)) h.trust = record_of(report, *c);
+    const HeadTrust view{h.trust.present, h.trust.accuracy, h.trust.majority, h.trust.n, {}};
+    const bool drop = options.drop_untrusted_zero_shot && h.trust.present &&
+                      assess_head(view).level == HeadTrustLevel::kUntrusted;
+    out.push_back(line_of("zero-shot", h.name, h.trust, drop));
+    if (!drop) kept.push_back(std::move(h));
+  }
+  meta.zero_shot_heads = std::move(kept);
+  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder, quantize::rebuild_with_metadata(model, meta));
+  std::vector<std::byte> bytes = builder.finish();
+  auto check = Model::load(bytes);
+  if (!check.ok()) return check.error().with_context("model with trust records does not load");
+  if (lines != nullptr) *lines = std::move(out);
+  return bytes;
+}
+
+}  // namespace tlvlink::eval
