@@ -9,7 +9,7 @@
 //   SweepOptions o;
 //   o.models = {"enc96.tlvm", "enc128.tlvm"};  o.data.path = "/data/t100k";  o.out_dir = "sweep";
 //   auto r = run_sweep(o);
-//   std::fputs(sweep_table(*r).c_str(), stdout);
+//   std::fputs(sweep_table(o, *r).c_str(), stdout);
 
 #include <cstddef>
 #include <functional>
