@@ -19,7 +19,8 @@ if(TLVLINK_SANITIZE)
   add_link_options(-fsanitize=${TLVLINK_SANITIZE})
 endif()
 
-# The on-device code builds without exceptions or RTTI (errors are values).
+# The on-device code builds without exceptions (errors are values). RTTI stays on: nothing uses
+# it, but the tests' doubles derive from runtime interfaces and need their typeinfo.
 add_library(tlvlink_target_code INTERFACE)
 target_compile_options(tlvlink_target_code INTERFACE -fno-exceptions)
 

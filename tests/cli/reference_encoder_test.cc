@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "cli/frame_source.h"
-#include "cli/op_stats.h"
+#include "tlvlink/quantize/frames.h"
+#include "tlvlink/inspect/graph_stats.h"
 #include "support/test_models.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/quantize/calibrate.h"
@@ -39,7 +39,7 @@ ReferenceEncoderOptions options(EncoderDType dtype, int32_t resolution = 128) {
   o.resolution = resolution;
   o.seed = 11;
   o.calibration_frames = 8;
-  o.preprocess = cli::tool_preprocessor();
+  o.preprocess = quantize::deployment_preprocessor();
   return o;
 }
 
@@ -81,7 +81,7 @@ TEST(ReferenceEncoder, Fp32LoadsWithMetadataAndIndependentMacCount) {
   auto model = testing::load_model(enc->file);
   ASSERT_NE(model, nullptr);
   // The builder's own count and inspect's count from the loaded graph agree.
-  EXPECT_EQ(cli::graph_stats(model->graph()).macs, enc->macs);
+  EXPECT_EQ(inspect::graph_stats(model->graph()).macs, enc->macs);
   const Metadata& m = model->metadata();
   EXPECT_EQ(m.input.height, 128);
   EXPECT_EQ(m.input.channel_order, ChannelOrder::kRGB);
@@ -119,7 +119,7 @@ TEST(ReferenceEncoder, ActivationsNeitherExplodeNorVanish) {
   ASSERT_NE(model, nullptr);
   std::vector<std::vector<float>> frames;
   for (uint64_t s = 0; s < 4; ++s) {
-    auto x = cli::synthetic_input(*model, 500 + s);
+    auto x = quantize::synthetic_input(*model, 500 + s);
     ASSERT_TRUE(x.ok());
     frames.push_back(std::move(*x));
   }
@@ -160,7 +160,7 @@ TEST(ReferenceEncoder, Int8FormIsWellFormedAndTracksFp32OnFreshFrames) {
   ASSERT_TRUE(ef.ok() && eq.ok());
   double worst = 1.0;
   for (uint64_t s = 0; s < 4; ++s) {  // seeds disjoint from calibration and golden frames
-    auto x = cli::synthetic_input(*mf, 90000 + s);
+    auto x = quantize::synthetic_input(*mf, 90000 + s);
     ASSERT_TRUE(x.ok());
     worst = std::min(worst, cosine(run(**ef, *x), run(**eq, *x)));
   }

@@ -10,7 +10,7 @@
 #include <set>
 #include <tuple>
 
-#include "cli/sim_commands.h"
+#include "tlvlink/sim/sets.h"
 #include "datasets/samples.h"
 #include "tlvlink/datasets/datasets.h"
 #include "tlvlink/sim/generate.h"
@@ -31,26 +31,15 @@ sim::TouchSetOptions small_touch_set() {
 }
 
 Status write_touch(const std::string& dir, const sim::TouchSetOptions& gen, int threads, bool tag) {
-  std::vector<std::unique_ptr<sim::TouchSampleGenerator>> generators;
-  for (int t = 0; t < threads; ++t) {
-    TLV_ASSIGN_OR_RETURN(auto g, sim::TouchSampleGenerator::create(gen));
-    generators.push_back(std::move(g));
-  }
-  WriterOptions wo;
-  wo.generator_json = touch_set_options_json(gen);
-  wo.test_fraction = 1.0 / 3.0;
-  TLV_ASSIGN_OR_RETURN(auto writer,
-                       tag ? create_tag_writer(dir, wo) : create_touch100k_writer(dir, wo));
-  std::FILE* sink = std::tmpfile();
-  tools::Progress progress("test", generators[0]->size(), sink, tools::ProgressMode::kQuiet);
-  const std::function<Status(const sim::TouchSample&)> consume = [&](const sim::TouchSample& s) {
-    return writer->write(s);
-  };
-  Status s = cli::generate_in_order<sim::TouchSample>(generators, generators[0]->size(), consume,
-                                                      progress);
-  std::fclose(sink);
-  TLV_TRY(s);
-  return writer->finish();
+  // The simulator's set writer: one generator per thread through the batch generator.
+  sim::TouchSetJob job;
+  job.generator = gen;
+  job.format = tag ? sim::TouchSetFormat::kTouchAndGo : sim::TouchSetFormat::kTouch100k;
+  job.writer.test_fraction = 1.0 / 3.0;
+  job.dir = dir;
+  job.threads = threads;
+  job.progress_label = "test";
+  return sim::write_touch_set(job).status();
 }
 
 std::string file_bytes(const std::filesystem::path& p) {

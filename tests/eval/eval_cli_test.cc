@@ -193,7 +193,7 @@ TEST_F(EvalCli, ReferenceExecutorCapsAndResplit) {
 TEST_F(EvalCli, BadInputsGiveClearErrors) {
   CliRun r = tlvlink("eval " + kFp32 + " --touch " + (dir_ / "missing").string());
   EXPECT_RUN(r, 1);
-  EXPECT_NE(r.out.find("is not a directory"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("does not exist"), std::string::npos) << r.out;
   r = tlvlink("eval " + kFp32);  // no dataset
   EXPECT_RUN(r, 2);
   r = tlvlink("eval " + kFp32 + " -q --touch " + kData + "/t100k_nolabels");
@@ -205,7 +205,7 @@ TEST_F(EvalCli, BadInputsGiveClearErrors) {
   EXPECT_RUN(r, 2);
   r = tlvlink("eval " + kFp32 + " --touch " + kData + "/feel");  // a grasp set given as touch
   EXPECT_RUN(r, 1);
-  EXPECT_NE(r.out.find("neither a Touch100k set"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("not a touch dataset"), std::string::npos) << r.out;
 }
 
 }  // namespace

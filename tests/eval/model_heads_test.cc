@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cli/frame_source.h"
+#include "tlvlink/quantize/frames.h"
 #include "tlvlink/heads/evaluator.h"
 #include "tlvlink/heads/head_math.h"
 #include "support/random.h"
@@ -30,7 +30,7 @@ std::vector<std::byte> reference_model(quantize::EncoderDType dtype) {
   o.seed = 5;
   o.embedding_dim = 32;
   o.calibration_frames = 2;
-  o.preprocess = cli::tool_preprocessor();
+  o.preprocess = quantize::deployment_preprocessor();
   auto enc = quantize::build_reference_encoder(o);
   EXPECT_TRUE(enc.ok()) << enc.error().message();
   return enc.ok() ? enc->file : std::vector<std::byte>{};
@@ -49,7 +49,7 @@ std::vector<std::byte> run(const Model& m, ExecutorKind kind, const std::vector<
 
 void expect_same_outputs(const Model& a, const Model& b) {
   for (uint64_t seed : {1u, 2u}) {
-    auto x = cli::synthetic_input(a, seed);
+    auto x = quantize::synthetic_input(a, seed);
     ASSERT_TRUE(x.ok()) << x.error().message();
     for (ExecutorKind kind : {ExecutorKind::kReference, ExecutorKind::kXnnpack}) {
       EXPECT_EQ(run(a, kind, *x), run(b, kind, *x))

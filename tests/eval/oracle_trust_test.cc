@@ -8,13 +8,12 @@
 
 #include <gtest/gtest.h>
 
-#include "cli/frame_source.h"
 #include "support/test_models.h"
 #include "tlvlink/eval/eval.h"
 #include "tlvlink/eval/oracle.h"
 #include "tlvlink/eval/trust.h"
 #include "tlvlink/head_trust.h"
-#include "tlvlink/quantize/calibrate.h"
+#include "tlvlink/quantize/frames.h"
 #include "tlvlink/quantize/model_copy.h"
 #include "tlvlink/quantize/reference_encoder.h"
 #include "tlvlink/sim/materials.h"
@@ -127,7 +126,7 @@ std::vector<std::byte> reference_model() {
   o.seed = 5;
   o.embedding_dim = 32;
   o.calibration_frames = 2;
-  o.preprocess = cli::tool_preprocessor();
+  o.preprocess = quantize::deployment_preprocessor();
   auto enc = quantize::build_reference_encoder(o);
   EXPECT_TRUE(enc.ok()) << enc.error().message();
   if (!enc.ok()) return {};

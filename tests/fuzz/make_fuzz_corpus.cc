@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "cli/frame_source.h"
+#include "tlvlink/quantize/frames.h"
 #include "model/tiny_models.h"
 #include "reference/all_ops_models.h"
 #include "tlvlink/quantize/calibrate.h"
@@ -79,7 +79,7 @@ Status add_encoders(Seeds& seeds) {
     o.dtype = dtype;
     o.calibration_frames = 2;
     o.golden_pairs = 1;
-    o.preprocess = cli::tool_preprocessor();
+    o.preprocess = quantize::deployment_preprocessor();
     TLV_ASSIGN_OR_RETURN(auto enc, quantize::build_reference_encoder(o));
     const bool int8 = dtype == quantize::EncoderDType::kInt8;
     seeds.emplace_back(int8 ? "encoder_r96_int8.tlvm" : "encoder_r96_fp32.tlvm",

@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cli/frame_source.h"
+#include "tlvlink/quantize/frames.h"
 #include "quantizer/quantizer_graphs.h"
 #include "support/test_models.h"
 #include "tlvlink/quantize/bias_correction.h"
@@ -141,14 +141,14 @@ TEST(BiasCorrection, RemovesMostOfTheReferenceEncodersMeanShiftOnUnseenFrames) {
   eo.resolution = 96;
   eo.seed = 5;
   eo.golden_pairs = 0;
-  eo.preprocess = cli::tool_preprocessor();
+  eo.preprocess = quantize::deployment_preprocessor();
   auto enc = quantize::build_reference_encoder(eo);
   ASSERT_TRUE(enc.ok()) << enc.error().message();
   auto fp32 = testing::load_model(enc->file);
   ASSERT_NE(fp32, nullptr);
   std::vector<std::vector<float>> calib, heldout;
   for (uint64_t i = 0; i < 96; ++i) {
-    auto x = cli::synthetic_input(*fp32, 1000 + i);
+    auto x = quantize::synthetic_input(*fp32, 1000 + i);
     ASSERT_TRUE(x.ok()) << x.error().message();
     (i < 64 ? calib : heldout).push_back(std::move(*x));
   }

@@ -1,4 +1,4 @@
-// The numerical edge cases of shared/notes/quantization.md, one test each: zero-range tensors,
+// The numerical edge cases of the int8 scheme (calibrate.h), one test each: zero-range tensors,
 // denormal / huge scales, weights that would round to -128, bias overflow after BatchNorm
 // folding, accumulator bounds, requantization multipliers out of range (conv, Add, GAP), pad
 // values outside the int8 range, NaN/Inf weights and activations. Each one either meets the int8

@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "cli/frame_source.h"
-#include "cli/quantize_data.h"
+#include "tlvlink/quantize/frames.h"
+#include "tlvlink/quantize/calib_data.h"
 #include "support/test_models.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/quantize/layer_error.h"
@@ -23,21 +23,21 @@ TEST(ExtremeCalibration, ReferenceEncoderQuantizesFullyWithEveryMethod) {
   eo.resolution = 96;
   eo.seed = 5;
   eo.golden_pairs = 0;
-  eo.preprocess = cli::tool_preprocessor();
+  eo.preprocess = quantize::deployment_preprocessor();
   auto enc = quantize::build_reference_encoder(eo);
   ASSERT_TRUE(enc.ok()) << enc.error().message();
   auto fp32 = testing::load_model(enc->file);
   ASSERT_NE(fp32, nullptr);
 
-  cli::CalibDataOptions d;
+  quantize::CalibDataOptions d;
   d.path = "extreme";
   d.calib_count = 24;
   d.heldout_count = 8;
   d.seed = 3;
   d.progress = false;
-  auto data = cli::load_calib_data(d, fp32->metadata().input);
+  auto data = quantize::load_calib_data(d, fp32->metadata().input);
   ASSERT_TRUE(data.ok()) << data.error().message();
-  EXPECT_EQ(data->format, cli::CalibFormat::kExtreme);
+  EXPECT_EQ(data->format, quantize::CalibFormat::kExtreme);
   ASSERT_EQ(data->calibration.size(), 24u);
   ASSERT_EQ(data->heldout.size(), 8u);
 

@@ -2,9 +2,9 @@
 
 #include <gtest/gtest.h>
 
-#include "cli/quantize_plot.h"
+#include "tlvlink/quantize/plot.h"
 
-namespace tlvlink::cli {
+namespace tlvlink::quantize {
 namespace {
 
 size_t count(const std::string& s, const std::string& what) {
@@ -54,4 +54,4 @@ TEST(Plot, SvgHasAxesLegendAndOneMarkerPerPoint) {
 }
 
 }  // namespace
-}  // namespace tlvlink::cli
+}  // namespace tlvlink::quantize

@@ -88,9 +88,18 @@ TEST_F(QuantizeCli, BadArgumentsExitTwo) {
                      " --method kl"), 2);
   EXPECT_RUN(run_tlvlink("quantize " + m + " --calib " + path("t100k") + " -o " + path("x.tlvm") +
                      " --keep-float no_such_layer"), 2);
-  EXPECT_RUN(run_tlvlink("quantize " + m + " --calib " + path("missing") + " -o " + path("x.tlvm")), 2);
   EXPECT_RUN(run_tlvlink("quantize " + m + " --calib extreme -o " + path("x.tlvm") + " --percentile 20"), 2);
   EXPECT_RUN(run_tlvlink("quantize " + m + " --calib extreme -o " + path("x.tlvm") + " --calib-split train"), 2);
+  EXPECT_FALSE(fs::exists(path("x.tlvm")));
+}
+
+// A calibration set that does not exist is the datasets' one error for it (as in eval and train):
+// a failure of the work, exit 1, naming the path.
+TEST_F(QuantizeCli, MissingCalibrationSetExitsOne) {
+  CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("missing") + " -o " +
+                         path("x.tlvm"));
+  EXPECT_RUN(r, 1);
+  EXPECT_NE(r.out.find("does not exist"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(path("x.tlvm")));
 }
 

@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cli/quantize_data.h"
+#include "tlvlink/quantize/calib_data.h"
 #include "tlvlink/io/file.h"
 #include "support/test_models.h"
 #include "tlvlink/executor.h"
@@ -47,12 +47,12 @@ TEST(QuantizeOnnx, EveryParityModelQuantizesAndTracksFloat) {
     ASSERT_TRUE(imported.ok()) << imported.error().message();
     auto fp32 = testing::load_model(imported->model);
     ASSERT_NE(fp32, nullptr);
-    cli::CalibDataOptions d;
+    quantize::CalibDataOptions d;
     d.path = "extreme";
     d.calib_count = 16;
     d.heldout_count = 6;
     d.progress = false;
-    auto data = cli::load_calib_data(d, fp32->metadata().input);
+    auto data = quantize::load_calib_data(d, fp32->metadata().input);
     ASSERT_TRUE(data.ok()) << data.error().message();
     auto stats = quantize::calibrate(*fp32, data->calibration);
     ASSERT_TRUE(stats.ok()) << stats.error().message();

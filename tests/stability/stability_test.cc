@@ -21,7 +21,7 @@
 
 #include <gtest/gtest.h>
 
-#include "cli/frame_source.h"
+#include "tlvlink/quantize/frames.h"
 #include "tlvlink/heads/evaluator.h"
 #include "tlvlink/verify/compare.h"
 #include "tlvlink/image/preprocess.h"
@@ -59,7 +59,7 @@ std::vector<NamedModel> stability_models() {
     o.seed = 11;
     o.dtype = dtype;
     o.golden_pairs = 0;
-    o.preprocess = cli::tool_preprocessor();
+    o.preprocess = quantize::deployment_preprocessor();
     auto enc = quantize::build_reference_encoder(o);
     EXPECT_TRUE(enc.ok()) << enc.error().message();
     if (!enc.ok()) continue;

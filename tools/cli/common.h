@@ -1,20 +1,20 @@
 #pragma once
-// Shared pieces of the `tlvlink` subcommands: exit codes, error reporting, model loading,
-// executor options, formatting helpers.
+// Shared pieces of the `tlvlink` subcommands: exit codes, error reporting, model loading and
+// the --executor / --threads flags. Private to tools/cli.
 
 #include <CLI/CLI.hpp>
 
-#include <cstdint>
 #include <memory>
 #include <string>
-#include <vector>
 
 #include "tlvlink/executor.h"
 #include "tlvlink/model.h"
 
 namespace tlvlink::cli {
 
-// Exit codes of every subcommand (documented in the --help footer).
+// Exit codes of every subcommand (documented in the --help footer). Errors map to them by kind
+// (report_error): a usage error (ErrorCode::kInvalidArgument) is 2, every other error (runtime,
+// model, data) is 1.
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;  // runtime, model or data-file error; golden mismatch
 inline constexpr int kExitUsage = 2;    // bad command-line arguments
@@ -23,28 +23,23 @@ inline constexpr const char* kExitCodeFooter =
     "Exit codes: 0 success; 1 runtime, model or data error (including a failed verify); "
     "2 usage error (bad arguments).";
 
-// Prints "tlvlink <command>: error [code]: message" to stderr; returns the exit code for it
-// (kExitUsage for ErrorCode::kInvalidArgument, else kExitFailure).
+// The exit code of an error: kExitUsage for ErrorCode::kInvalidArgument, else kExitFailure.
+int exit_code_of(const Error& error);
+// Prints "tlvlink <command>: error [code]: message" to stderr; returns exit_code_of(error).
 int report_error(const char* command, const Error& error);
 
+// tools::load_model (the path in every error).
 Result<std::unique_ptr<Model>> load_model(const std::string& path);
 
-// --executor and --threads, shared by infer / verify / bench.
+// --executor and --threads, shared by infer / verify / bench / eval / heads fit.
 struct ExecutorFlags {
   std::string executor = "xnnpack";
   int threads = 1;
   void add_to(CLI::App& app);
+  ExecutorKind kind() const;  // validated by the flag's check
   ExecutorOptions options() const;
 };
 Result<std::unique_ptr<Executor>> create_executor(const Model& model, const ExecutorFlags& flags);
-
-// "[1, 128, 128, 3]"
-std::string shape_string(const Shape& shape);
-// "1.50 MB" / "12.3 kB" / "512 B"
-std::string human_bytes(size_t bytes);
-
-// An output tensor as floats (int8 outputs are dequantized with their parameters).
-std::vector<float> output_as_floats(const Tensor& tensor, std::span<const std::byte> bytes);
 
 // Registration of each subcommand on the root app; `exit_code` receives the command's result.
 void add_inspect_command(CLI::App& app, int& exit_code);

@@ -3,8 +3,9 @@
 
 #include <filesystem>
 
-#include "cli/common.h"
+#include "common.h"
 #include "tlvlink/io/file.h"
+#include "tlvlink/io/format.h"
 #include "tlvlink/quantize/onnx_import.h"
 
 namespace tlvlink::cli {
@@ -47,14 +48,14 @@ int run_convert(const ConvertOptions& o) {
   auto shape = [](const std::vector<int32_t>& dims) {
     Shape sh;
     for (int32_t d : dims) sh.dims[sh.rank++] = d;
-    return shape_string(sh);
+    return tools::shape_string(sh);
   };
   std::printf("converted %s (%s, opset %lld, %zu nodes) -> %s\n", o.input.c_str(),
               s.onnx_producer.c_str(), static_cast<long long>(s.opset), s.onnx_nodes,
               o.output.c_str());
   std::printf("  %zu operators (%zu nodes folded or fused), input %s NHWC, output %s, %s\n",
               s.operators, s.fused, shape(s.input_shape).c_str(), shape(s.output_shape).c_str(),
-              human_bytes(result->model.size()).c_str());
+              tools::human_bytes(result->model.size()).c_str());
   return kExitOk;
 }
 

@@ -3,7 +3,7 @@
 
 #include <cstdio>
 
-#include "cli/common.h"
+#include "common.h"
 
 namespace tlvlink::cli {
 

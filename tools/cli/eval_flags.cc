@@ -1,4 +1,4 @@
-#include "cli/eval_flags.h"
+#include "eval_flags.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/common.h"
+#include "common.h"
 #include "tlvlink/eval/eval.h"
 
 namespace tlvlink::cli {

@@ -4,7 +4,8 @@
 #include <cstdio>
 #include <memory>
 
-#include "cli/common.h"
+#include "common.h"
+#include "tlvlink/io/format.h"
 #include "tlvlink/trainer/trainer.h"
 
 namespace tlvlink::cli {
@@ -37,7 +38,7 @@ void add_export_command(CLI::App& app, int& exit_code) {
     for (const std::string& h : s->zero_shot_heads) heads += (heads.empty() ? "" : ", ") + h;
     std::printf("exported %s\n  %s, %s, embedding %d, zero-shot heads: %s, %d golden pairs\n",
                 o->output.c_str(), s->arch_description.c_str(),
-                human_bytes(s->file_bytes).c_str(), s->embedding_dim, heads.c_str(),
+                tools::human_bytes(s->file_bytes).c_str(), s->embedding_dim, heads.c_str(),
                 s->golden_pairs);
     if (!s->note.empty()) std::printf("  note: %s\n", s->note.c_str());
     exit_code = kExitOk;

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "cli/common.h"
+#include "common.h"
 #include "tlvlink/io/pnm.h"
 #include "tlvlink/quantize/reference_encoder.h"
 

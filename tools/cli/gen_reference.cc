@@ -3,8 +3,8 @@
 #include <cinttypes>
 #include <cstdio>
 
-#include "cli/common.h"
-#include "cli/frame_source.h"
+#include "common.h"
+#include "tlvlink/quantize/frames.h"
 #include "tlvlink/io/file.h"
 #include "tlvlink/quantize/reference_encoder.h"
 
@@ -30,7 +30,7 @@ int run_gen(const GenOptions& o) {
   e.dtype = o.dtype == "int8" ? quantize::EncoderDType::kInt8 : quantize::EncoderDType::kFloat32;
   e.calibration_frames = o.calibration_frames;
   e.golden_pairs = o.golden;
-  e.preprocess = tool_preprocessor();
+  e.preprocess = quantize::deployment_preprocessor();
   e.log_activation_ranges = o.print_ranges;
   auto enc = quantize::build_reference_encoder(e);
   if (!enc.ok()) return report_error("gen-reference", enc.error());

@@ -5,9 +5,8 @@
 #include <cstdio>
 #include <memory>
 
-#include "cli/eval_flags.h"
-#include "tlvlink/eval/trust.h"
-#include "tlvlink/io/file.h"
+#include "eval_flags.h"
+#include "tlvlink/eval/run.h"
 
 namespace tlvlink::cli {
 namespace {
@@ -21,62 +20,33 @@ struct HeadsFitCommand {
 
 int run_heads_fit(const HeadsFitCommand& c) {
   const char* command = "heads fit";
+  eval::HeadsFitJob job;
   auto data = c.flags.data();
   if (!data.ok()) return report_error(command, data.error());
   auto options = c.flags.options();
   if (!options.ok()) return report_error(command, options.error());
-  auto model = load_model(c.model);
-  if (!model.ok()) return report_error(command, model.error());
-  auto set = eval::extract_embeddings(**model, *data, options->embedder);
-  if (!set.ok()) return report_error(command, set.error());
-  auto heads = eval::fit_heads(*set, options->heads);
-  if (!heads.ok()) return report_error(command, heads.error());
-  for (const std::string& note : heads->notes) std::fprintf(stderr, "note: %s\n", note.c_str());
-  if (heads->linear.empty() && !heads->grasp) {
-    return report_error(command, Error::make(ErrorCode::kFormat,
-                                             "no head could be fitted (no labelled training rows)"));
-  }
-  eval::WriteHeadsOptions wo;
-  wo.add_missing_zero_shot = !c.no_zero_shot;
-  wo.text = options->text;
-  wo.provenance_note = "tlvlink heads fit";
-  if (!data->touch_dir.empty()) wo.provenance_note += " --touch " + data->touch_dir;
-  if (!data->grasp_dir.empty()) wo.provenance_note += " --grasp " + data->grasp_dir;
-  auto bytes = eval::model_with_heads(**model, *heads, wo);
-  if (!bytes.ok()) return report_error(command, bytes.error());
-  // Score what was written, as the device applies it (the model's heads on the test split),
-  // and record it in the heads (trust.h) before the file is written.
-  auto written = Model::load(*bytes);
-  if (!written.ok()) return report_error(command, written.error());
-  eval::EvalOptions score = *options;
-  score.fit_probes = false;
-  score.model_heads = true;
-  score.oracle_samples = 0;
-  score.touch_oracles = false;
-  auto report = eval::evaluate_embeddings((*written)->metadata(), *set, score);
-  if (!report.ok()) return report_error(command, report.error());
-  report->touch_dir = data->touch_dir;
-  report->grasp_dir = data->grasp_dir;
-  eval::TrustRecordOptions ro;
-  ro.drop_untrusted_zero_shot = !c.keep_untrusted_zero_shot;
-  std::vector<std::string> trust_lines;
-  auto recorded = eval::model_with_trust(**written, *report, ro, &trust_lines);
-  if (!recorded.ok()) return report_error(command, recorded.error());
-  *bytes = std::move(recorded).value();
-  if (Status s = tools::write_file(c.output, *bytes); !s.ok()) return report_error(command, s.error());
-  std::printf("wrote %s (%zu bytes): %zu linear heads%s\n", c.output.c_str(), bytes->size(),
-              heads->linear.size(), heads->grasp ? " + grasp head" : "");
-  for (const auto& [task, p] : heads->probes) {
-    const eval::TaskResult* r = report->find(task, eval::Method::kModelHeads);
+  job.model_path = c.model;
+  job.output_path = c.output;
+  job.data = std::move(data).value();
+  job.options = std::move(options).value();
+  job.add_missing_zero_shot = !c.no_zero_shot;
+  job.keep_untrusted_zero_shot = c.keep_untrusted_zero_shot;
+  job.on_note = [](const std::string& note) { std::fprintf(stderr, "note: %s\n", note.c_str()); };
+  auto r = eval::fit_heads_into_file(job);
+  if (!r.ok()) return report_error(command, r.error());
+  std::printf("wrote %s (%zu bytes): %zu linear heads%s\n", c.output.c_str(), r->bytes,
+              r->heads.linear.size(), r->heads.grasp ? " + grasp head" : "");
+  for (const auto& [task, p] : r->heads.probes) {
+    const eval::TaskResult* t = r->score.find(task, eval::Method::kModelHeads);
     std::printf("  %-13s l2=%-7g train acc %.3f (%lld rows)", eval::task_name(task), p.l2,
                 p.train_accuracy, static_cast<long long>(p.train_rows));
-    if (r != nullptr && r->available) {
-      std::printf("  test acc %.3f (n=%lld)", r->accuracy, static_cast<long long>(r->n));
+    if (t != nullptr && t->available) {
+      std::printf("  test acc %.3f (n=%lld)", t->accuracy, static_cast<long long>(t->n));
     }
     std::printf("%s%s\n", p.note.empty() ? "" : "  ", p.note.c_str());
   }
   std::printf("trust (recorded in the heads; runtime rule: head_trust.h):\n");
-  for (const std::string& l : trust_lines) std::printf("  %s\n", l.c_str());
+  for (const std::string& l : r->trust_lines) std::printf("  %s\n", l.c_str());
   return kExitOk;
 }
 

@@ -3,7 +3,7 @@
 #include <csignal>
 #include <cstdio>
 
-#include "cli/common.h"
+#include "common.h"
 #include "tlvlink/listen/session.h"
 
 namespace tlvlink::cli {

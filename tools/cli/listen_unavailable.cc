@@ -1,6 +1,6 @@
 // Built when TLVLINK_WITH_SERIAL is OFF: listen/replay explain how to get them.
 
-#include "cli/common.h"
+#include "common.h"
 
 namespace tlvlink::cli {
 namespace {

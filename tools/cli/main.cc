@@ -2,7 +2,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "cli/common.h"
+#include "common.h"
 
 int main(int argc, char** argv) {
   using namespace tlvlink::cli;

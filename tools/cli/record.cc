@@ -3,7 +3,7 @@
 #include <memory>
 #include <string>
 
-#include "cli/common.h"
+#include "common.h"
 #include "tlvlink/record/record.h"
 
 namespace tlvlink::cli {

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/common.h"
+#include "common.h"
 #include "tlvlink/score/score.h"
 
 namespace tlvlink::cli {

@@ -5,8 +5,8 @@
 #include <memory>
 #include <string>
 
-#include "cli/common.h"
-#include "cli/sim_commands.h"
+#include "common.h"
+#include "sim_commands.h"
 
 namespace tlvlink::cli {
 

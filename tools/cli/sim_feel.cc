@@ -4,11 +4,10 @@
 #include <cstdio>
 #include <string>
 
-#include "cli/common.h"
-#include "cli/sim_commands.h"
-#include "tlvlink/io/progress.h"
-#include "tlvlink/datasets/feel.h"
-#include "tlvlink/sim/generate.h"
+#include "common.h"
+#include "sim_commands.h"
+#include "tlvlink/io/format.h"
+#include "tlvlink/sim/sets.h"
 
 namespace tlvlink::cli {
 namespace {
@@ -36,7 +35,8 @@ struct FeelFlags {
 
 int run_feel(const FeelFlags& f) {
   const char* command = "sim feel";
-  sim::GraspSetOptions gen;
+  sim::GraspSetJob job;
+  sim::GraspSetOptions& gen = job.generator;
   gen.objects = f.objects;
   gen.grasps_per_object = f.grasps_per_object;
   gen.sensor = f.sensor;
@@ -45,43 +45,29 @@ int run_feel(const FeelFlags& f) {
   gen.markers = !f.no_markers;
   gen.seed = f.seed;
   gen.sensor_instances = f.sensor_instances;
-  std::vector<std::unique_ptr<sim::GraspEpisodeGenerator>> generators;
-  for (int t = 0; t < f.threads; ++t) {
-    auto g = sim::GraspEpisodeGenerator::create(gen);
-    if (!g.ok()) return report_error(command, g.error());
-    generators.push_back(std::move(g).value());
-  }
-  datasets::FeelWriterOptions wo;
+  datasets::FeelWriterOptions& wo = job.writer;
   wo.jpeg_quality = f.jpeg_quality;
   wo.test_fraction = f.test_fraction;
   wo.sidecar = !f.no_sidecar;
-  wo.generator_json = datasets::grasp_set_options_json(gen);
   wo.records_per_file = f.records_per_file;
   wo.deflate_level = f.deflate_level;
   wo.camera_jpeg_quality = f.camera_jpeg_quality;
   wo.gelsight_quarter_turns = f.quarter_turns;
-  auto writer = f.repacked ? datasets::create_feel_repacked_writer(f.output_dir, wo)
-                           : datasets::create_feel_writer(f.output_dir, wo);
-  if (!writer.ok()) return report_error(command, writer.error());
-  const int64_t total = generators[0]->size();
-  tools::Progress progress(command, total);
-  int64_t gripping = 0;
-  const std::function<Status(const sim::GraspEpisode&)> consume = [&](const sim::GraspEpisode& e) {
-    gripping += e.is_gripping ? 1 : 0;
-    return (*writer)->write(e);
-  };
-  Status s = generate_in_order<sim::GraspEpisode>(generators, total, consume, progress);
-  if (s.ok()) s = (*writer)->finish();
-  const datasets::WriteSummary& sum = (*writer)->summary();
-  progress.finish(human_bytes(static_cast<size_t>(sum.bytes)));
-  if (!s.ok()) return report_error(command, s.error());
+  job.repacked = f.repacked;
+  job.dir = f.output_dir;
+  job.threads = f.threads;
+  job.progress_label = command;
+  auto result = sim::write_grasp_set(job);
+  if (!result.ok()) return report_error(command, result.error());
+  const datasets::WriteSummary& sum = result->written;
   std::printf(
       "wrote %lld grasps of %lld objects (%lld test objects), %.1f %% still held after "
       "the lift; %lld files, %s in %s\n",
       static_cast<long long>(sum.items), static_cast<long long>(sum.objects),
       static_cast<long long>(sum.test_objects),
-      sum.items > 0 ? 100.0 * static_cast<double>(gripping) / static_cast<double>(sum.items) : 0.0,
-      static_cast<long long>(sum.files), human_bytes(static_cast<size_t>(sum.bytes)).c_str(),
+      sum.items > 0 ? 100.0 * static_cast<double>(result->gripping) / static_cast<double>(sum.items)
+                    : 0.0,
+      static_cast<long long>(sum.files), tools::human_bytes(static_cast<size_t>(sum.bytes)).c_str(),
       f.output_dir.c_str());
   if (f.oracle) {
     constexpr int64_t kOracleSamples = 20000;

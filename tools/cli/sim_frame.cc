@@ -9,8 +9,8 @@
 #include <string>
 #include <utility>
 
-#include "cli/common.h"
-#include "cli/sim_commands.h"
+#include "common.h"
+#include "sim_commands.h"
 #include "tlvlink/io/file.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/io/image.h"
@@ -140,7 +140,7 @@ void add_sim_frame_command(CLI::App& sim, int& exit_code) {
   CLI::App* cmd = sim.add_subcommand(
       "frame",
       "Render one GelSight frame (PPM, or JPEG q95 for .jpg) with a chosen sensor, "
-      "object and load, and/or the sensor camera's raw output; ranges: tools/sim/README.md");
+      "object and load, and/or the sensor camera's raw output; ranges: tools/sim/REFERENCE.md");
   cmd->add_option("-o,--output", f->output, "Processed frame file (.ppm, or .jpg/.jpeg)");
   cmd->add_option("--raw", f->raw_output,
                   "Also write the frame as the camera emits it: MJPEG .jpg (gelsight-mini "

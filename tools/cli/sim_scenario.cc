@@ -4,8 +4,9 @@
 #include <optional>
 #include <string>
 
-#include "cli/common.h"
-#include "cli/sim_commands.h"
+#include "common.h"
+#include "sim_commands.h"
+#include "tlvlink/io/progress.h"
 #include "tlvlink/sim/scenario.h"
 
 namespace tlvlink::cli {

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <string>
 
-#include "cli/common.h"
-#include "cli/sim_commands.h"
+#include "common.h"
+#include "sim_commands.h"
 #include "tlvlink/datasets/stats.h"
 
 namespace tlvlink::cli {

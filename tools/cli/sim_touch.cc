@@ -4,12 +4,10 @@
 #include <cstdio>
 #include <string>
 
-#include "cli/common.h"
-#include "cli/sim_commands.h"
-#include "tlvlink/io/progress.h"
-#include "tlvlink/datasets/touch100k.h"
-#include "tlvlink/datasets/touch_and_go.h"
-#include "tlvlink/sim/generate.h"
+#include "common.h"
+#include "sim_commands.h"
+#include "tlvlink/io/format.h"
+#include "tlvlink/sim/sets.h"
 
 namespace tlvlink::cli {
 namespace {
@@ -39,45 +37,30 @@ struct TouchFlags {
 
 int run_touch(const TouchFlags& f) {
   const char* command = f.format == "tag" ? "sim tag" : "sim touch100k";
-  sim::TouchSetOptions gen;
-  gen.sessions = f.sessions;
-  gen.frames_per_session = f.frames_per_session;
-  gen.sensor = f.sensor;
-  gen.vision_height = f.vision_height;
-  gen.vision_width = f.vision_width;
-  gen.markers = f.markers;
-  gen.markers_fraction = f.markers_fraction;
-  gen.seed = f.seed;
-  gen.sensor_instances = f.sensor_instances;
-  std::vector<std::unique_ptr<sim::TouchSampleGenerator>> generators;
-  for (int t = 0; t < f.threads; ++t) {
-    auto g = sim::TouchSampleGenerator::create(gen);
-    if (!g.ok()) return report_error(command, g.error());
-    generators.push_back(std::move(g).value());
-  }
-  datasets::WriterOptions wo;
-  wo.jpeg_quality = f.jpeg_quality;
-  wo.test_fraction = f.test_fraction;
-  wo.sidecar = !f.no_sidecar;
-  wo.generator_json = datasets::touch_set_options_json(gen);
-  auto writer = f.format == "tag" ? datasets::create_tag_writer(f.output_dir, wo)
-                                  : datasets::create_touch100k_writer(f.output_dir, wo);
-  if (!writer.ok()) return report_error(command, writer.error());
-  const int64_t total = generators[0]->size();
-  tools::Progress progress(command, total);
-  const std::function<Status(const sim::TouchSample&)> consume = [&](const sim::TouchSample& s) {
-    return (*writer)->write(s);
-  };
-  Status s = generate_in_order<sim::TouchSample>(generators, total, consume, progress);
-  if (s.ok()) s = (*writer)->finish();
-  const datasets::WriteSummary& sum = (*writer)->summary();
-  progress.finish(human_bytes(static_cast<size_t>(sum.bytes)));
-  if (!s.ok()) return report_error(command, s.error());
+  sim::TouchSetJob job;
+  job.generator.sessions = f.sessions;
+  job.generator.frames_per_session = f.frames_per_session;
+  job.generator.sensor = f.sensor;
+  job.generator.vision_height = f.vision_height;
+  job.generator.vision_width = f.vision_width;
+  job.generator.markers = f.markers;
+  job.generator.markers_fraction = f.markers_fraction;
+  job.generator.seed = f.seed;
+  job.generator.sensor_instances = f.sensor_instances;
+  job.format = f.format == "tag" ? sim::TouchSetFormat::kTouchAndGo : sim::TouchSetFormat::kTouch100k;
+  job.writer.jpeg_quality = f.jpeg_quality;
+  job.writer.test_fraction = f.test_fraction;
+  job.writer.sidecar = !f.no_sidecar;
+  job.dir = f.output_dir;
+  job.threads = f.threads;
+  job.progress_label = command;
+  auto sum = sim::write_touch_set(job);
+  if (!sum.ok()) return report_error(command, sum.error());
   std::printf("wrote %lld samples (%lld sessions: %lld train, %lld test; %lld files, %s) to %s\n",
-              static_cast<long long>(sum.items), static_cast<long long>(sum.objects),
-              static_cast<long long>(sum.objects - sum.test_objects),
-              static_cast<long long>(sum.test_objects), static_cast<long long>(sum.files),
-              human_bytes(static_cast<size_t>(sum.bytes)).c_str(), f.output_dir.c_str());
+              static_cast<long long>(sum->items), static_cast<long long>(sum->objects),
+              static_cast<long long>(sum->objects - sum->test_objects),
+              static_cast<long long>(sum->test_objects), static_cast<long long>(sum->files),
+              tools::human_bytes(static_cast<size_t>(sum->bytes)).c_str(), f.output_dir.c_str());
   return kExitOk;
 }
 

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "cli/common.h"
+#include "common.h"
 #include "tlvlink/trainer/arch.h"
 #include "tlvlink/trainer/trainer.h"
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/common.h"
+#include "common.h"
 
 namespace tlvlink::cli {
 namespace {

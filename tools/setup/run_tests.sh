@@ -36,13 +36,17 @@ run_fuzz() {
   CC=clang CXX=clang++ cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DTLVLINK_BUILD_FUZZERS=ON -DTLVLINK_BUILD_TESTS=OFF -DTLVLINK_WERROR=ON >/dev/null &&
     cmake --build "$dir" -j "$jobs" --target model_loader_fuzz make_fuzz_corpus \
-      stream_decoder_fuzz make_stream_fuzz_corpus || return 1
-  rm -rf "$dir/corpus" "$dir/stream_corpus" && mkdir -p "$dir/corpus" "$dir/stream_corpus" "$dir/artifacts"
+      stream_decoder_fuzz make_stream_fuzz_corpus file_parsers_fuzz make_parser_fuzz_corpus || return 1
+  rm -rf "$dir/corpus" "$dir/stream_corpus" "$dir/parser_corpus" &&
+    mkdir -p "$dir/corpus" "$dir/stream_corpus" "$dir/parser_corpus" "$dir/artifacts"
   "$dir/tests/fuzz/make_fuzz_corpus" "$dir/corpus" || return 1
   "$dir/tests/fuzz/make_stream_fuzz_corpus" "$dir/stream_corpus" || return 1
-  # The budget is split: two thirds for the model loader, one third for the stream decoder.
-  local loader_seconds=$(( fuzz_seconds * 2 / 3 ))
-  local stream_seconds=$(( fuzz_seconds - loader_seconds ))
+  "$dir/tests/fuzz/make_parser_fuzz_corpus" "$dir/parser_corpus" >/dev/null || return 1
+  # The budget is split: half for the model loader, a quarter each for the stream decoder and
+  # the file parsers (npy, PNM, PNG, JPEG, dataset indexes, recordings, camera frames).
+  local loader_seconds=$(( fuzz_seconds / 2 ))
+  local stream_seconds=$(( fuzz_seconds / 4 ))
+  local parser_seconds=$(( fuzz_seconds - loader_seconds - stream_seconds ))
   # -max_len covers the largest seed (the 96-px fp32 reference encoder, ~670 KiB): libFuzzer
   # truncates longer seeds into invalid files. Executions stay in the millisecond range: the
   # fuzzer invokes only small models (its kMaxInvoke* caps), never the encoders.
@@ -63,7 +67,16 @@ run_fuzz() {
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs|cov: .* ft:|ERROR|SUMMARY" \
     "$dir/stream_fuzz.log" | tail -6
   [ $stream_rc -eq 0 ] || { tail -60 "$dir/stream_fuzz.log"; ls "$dir/artifacts"; }
-  [ $rc -eq 0 ] && [ $stream_rc -eq 0 ]
+  # -max_len covers the largest seed (a 320x240 YUYV camera frame, 150 KiB).
+  "$dir/tests/fuzz/file_parsers_fuzz" -max_total_time="$parser_seconds" -max_len=200000 -timeout=10 \
+    -rss_limit_mb=2048 -artifact_prefix="$dir/artifacts/parser-" -print_final_stats=1 \
+    "$dir/parser_corpus" 2>"$dir/parser_fuzz.log"
+  local parser_rc=$?
+  echo "file_parsers_fuzz (${parser_seconds}s):"
+  grep -E "stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs|cov: .* ft:|ERROR|SUMMARY" \
+    "$dir/parser_fuzz.log" | tail -6
+  [ $parser_rc -eq 0 ] || { tail -60 "$dir/parser_fuzz.log"; ls "$dir/artifacts"; }
+  [ $rc -eq 0 ] && [ $stream_rc -eq 0 ] && [ $parser_rc -eq 0 ]
 }
 
 # The README's minimal board builds, each configured on its own (no host-tool dependency may be

@@ -8,7 +8,7 @@
 namespace tlvlink::quantize::encoder_internal {
 namespace {
 
-// Touch-and-Go material ids 0..19 (shared/notes/datasets-and-method.md).
+// Touch-and-Go's 20 material classes; the index is the dataset's material id (0..19).
 const char* const kMaterials[] = {
     "concrete",         "plastic",        "glass",  "wood",  "metal", "brick", "tile", "leather",
     "synthetic fabric", "natural fabric", "rubber", "paper", "tree",  "grass", "soil", "rock",

@@ -8,11 +8,14 @@
 #include <string>
 
 #include "encoder/encoder_internal.h"
+#include "tlvlink/log.h"
 #include "tlvlink/quantize/calibrate.h"
 #include "tlvlink/quantize/reference_encoder.h"
 
 namespace tlvlink::quantize {
 namespace {
+
+TLV_LOG_CATEGORY(kLogQuantize, "quantize");
 
 using encoder_internal::derive_seed;
 
@@ -58,11 +61,11 @@ Result<std::unique_ptr<Model>> load(const std::vector<std::byte>& file, const ch
 
 void log_ranges(const Model& model, const std::vector<TensorRange>& ranges) {
   const Graph& g = model.graph();
-  std::fprintf(stderr, "activation ranges over the calibration frames (min / max):\n");
+  TLV_LOG(kLogQuantize, kInfo, "activation ranges over the calibration frames (min / max):");
   for (const Operator& op : g.operators) {
     const TensorRange& r = ranges[static_cast<size_t>(op.output)];
-    std::fprintf(stderr, "  %-22.*s %9.3f %9.3f\n", static_cast<int>(op.name.size()),
-                 op.name.data(), static_cast<double>(r.min), static_cast<double>(r.max));
+    TLV_LOG(kLogQuantize, kInfo, "  %-22.*s %9.3f %9.3f", static_cast<int>(op.name.size()),
+            op.name.data(), static_cast<double>(r.min), static_cast<double>(r.max));
   }
 }
 

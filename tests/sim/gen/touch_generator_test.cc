@@ -167,7 +167,7 @@ TEST(TouchGenerator, MixedProfileSetsDrawAProfilePerSession) {
       EXPECT_EQ(t.sensor, "gelsight-mini");
     } else {
       EXPECT_EQ(s.sensor, "digit");
-      EXPECT_EQ(s.touch.height, 320);  // DIGIT frames are portrait (tools/sim/README.md)
+      EXPECT_EQ(s.touch.height, 320);  // DIGIT frames are portrait (tools/sim/REFERENCE.md)
       EXPECT_EQ(s.touch.width, 240);
     }
   }

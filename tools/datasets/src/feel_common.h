@@ -3,11 +3,11 @@
 
 #include <string>
 
+#include "tlvlink/datasets/detect.h"
 #include "tlvlink/datasets/feel.h"
 
 namespace tlvlink::datasets {
 
-inline constexpr const char* kFeelFilePrefix = "calandra_corl2017_";
 inline constexpr const char* kMomentNames[heads::kMoments] = {"before", "during", "after"};
 inline constexpr const char* kFingerNames[heads::kFingers] = {"A", "B"};
 

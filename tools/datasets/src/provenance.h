@@ -4,11 +4,12 @@
 #include <string>
 
 #include "meta.h"
+#include "tlvlink/datasets/detect.h"
 #include "tlvlink/datasets/writer.h"
 
 namespace tlvlink::datasets {
 
-inline constexpr const char* kProvenanceFile = "tlvlink_sim.json";
+inline constexpr const char* kProvenanceFile = kGeneratorRecord;
 
 // Writes DIR/tlvlink_sim.json: {"format", "generator", "writer", "counts"}; `writer_extra`
 // holds format-specific writer options. Adds the file to `summary`.

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "tlvlink/datasets/detect.h"
 #include "tlvlink/datasets/touch100k.h"
 
 namespace tlvlink::eval::internal {
@@ -28,48 +29,45 @@ std::string join(const std::string& dir, const std::string& name) {
 }
 
 Result<TouchFormat> detect_touch_format(const std::string& dir, TouchFormat requested) {
-  TLV_ENSURE(dir_exists(dir), ErrorCode::kIo, "touch dataset '%s' is not a directory",
-             dir.c_str());
-  if (requested != TouchFormat::kAuto) return requested;
-  if (file_exists(join(dir, datasets::kTouch100kIndex))) return TouchFormat::kTouch100k;
-  if (file_exists(join(dir, "train.txt")) || file_exists(join(dir, "test.txt")))
-    return TouchFormat::kTouchAndGo;
-  return Error::make(ErrorCode::kFormat,
-                     "%s: neither a Touch100k set (data_list.json) nor a Touch-and-Go set "
-                     "(train.txt / test.txt label files)",
-                     dir.c_str());
+  if (requested != TouchFormat::kAuto) {
+    TLV_ENSURE(dir_exists(dir), ErrorCode::kIo, "touch dataset '%s' is not a directory",
+               dir.c_str());
+    return requested;
+  }
+  TLV_ASSIGN_OR_RETURN(const datasets::DatasetFormat f, datasets::detect_dataset_format(dir));
+  TLV_ENSURE(datasets::is_touch_format(f), ErrorCode::kFormat,
+             "%s: a %s set, not a touch dataset (Touch100k or Touch-and-Go)", dir.c_str(),
+             datasets::dataset_format_name(f));
+  return f == datasets::DatasetFormat::kTouch100k ? TouchFormat::kTouch100k
+                                                  : TouchFormat::kTouchAndGo;
 }
 
 Result<GraspFormat> detect_grasp_format(const std::string& path, GraspFormat requested) {
-  const bool is_file = file_exists(path);
-  TLV_ENSURE(is_file || dir_exists(path), ErrorCode::kIo,
-             "grasp dataset '%s' is neither a file nor a directory", path.c_str());
-  if (requested != GraspFormat::kAuto) return requested;
-  if (is_file) return GraspFormat::kFeelHdf5;
-  if (file_exists(join(path, "train_info.json")) || file_exists(join(path, "test_info.json")))
-    return GraspFormat::kFeelRepacked;
-  std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(path, ec)) {
-    if (e.path().extension() == ".h5") return GraspFormat::kFeelHdf5;
+  if (requested != GraspFormat::kAuto) {
+    TLV_ENSURE(file_exists(path) || dir_exists(path), ErrorCode::kIo,
+               "grasp dataset '%s' is neither a file nor a directory", path.c_str());
+    return requested;
   }
-  return Error::make(ErrorCode::kFormat,
-                     "%s: neither a Feel HDF5 set (*.h5) nor TLV-Link's repacked layout "
-                     "(train_info.json / test_info.json)",
-                     path.c_str());
+  TLV_ASSIGN_OR_RETURN(const datasets::DatasetFormat f, datasets::detect_dataset_format(path));
+  TLV_ENSURE(!datasets::is_touch_format(f), ErrorCode::kFormat,
+             "%s: a %s set, not a grasp dataset (Feel HDF5 or repacked)", path.c_str(),
+             datasets::dataset_format_name(f));
+  return f == datasets::DatasetFormat::kFeelHdf5 ? GraspFormat::kFeelHdf5
+                                                 : GraspFormat::kFeelRepacked;
 }
 
-std::string dataset_dir(const std::string& path) {
-  if (!file_exists(path)) return path;
-  const std::filesystem::path p(path);
-  return p.has_parent_path() ? p.parent_path().string() : std::string(".");
+datasets::DatasetFormat dataset_format(TouchFormat format) {
+  return format == TouchFormat::kTouchAndGo ? datasets::DatasetFormat::kTouchAndGo
+                                            : datasets::DatasetFormat::kTouch100k;
 }
 
-bool is_generated(const std::string& path) {
-  return file_exists(join(dataset_dir(path), kSimRecord));
+datasets::DatasetFormat dataset_format(GraspFormat format) {
+  return format == GraspFormat::kFeelRepacked ? datasets::DatasetFormat::kFeelRepacked
+                                              : datasets::DatasetFormat::kFeelHdf5;
 }
 
 std::optional<std::string> generator_json(const std::string& path) {
-  std::ifstream in(join(dataset_dir(path), kSimRecord));
+  std::ifstream in(join(datasets::dataset_dir(path), datasets::kGeneratorRecord));
   if (!in) return std::nullopt;
   std::stringstream ss;
   ss << in.rdbuf();
@@ -78,10 +76,9 @@ std::optional<std::string> generator_json(const std::string& path) {
   return j.at("generator").dump();
 }
 
-std::optional<datasets::HashSplit> split_to_apply(const EvalData& data, bool generated) {
-  if (data.resplit) return data.resplit;
-  if (generated) return std::nullopt;
-  return data.default_split;
+std::optional<datasets::HashSplit> split_to_apply(const EvalData& data, const std::string& path,
+                                                  datasets::DatasetFormat format) {
+  return datasets::split_to_apply(path, format, data.resplit, data.default_split);
 }
 
 std::string split_source(const std::optional<datasets::HashSplit>& split) {
@@ -109,7 +106,7 @@ int64_t expected_touch_items(const std::string& dir, TouchFormat format) {
 int64_t expected_grasp_items(const std::string& path, GraspFormat format) {
   if (format == GraspFormat::kFeelRepacked)
     return count_lines(join(path, "train_info.json")) + count_lines(join(path, "test_info.json"));
-  std::ifstream in(join(dataset_dir(path), kSimRecord));
+  std::ifstream in(join(datasets::dataset_dir(path), datasets::kGeneratorRecord));
   if (!in || file_exists(path)) return 0;  // one .h5 file of a set: its share is unknown
   std::stringstream ss;
   ss << in.rdbuf();

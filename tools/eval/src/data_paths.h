@@ -1,6 +1,7 @@
 #pragma once
-// Dataset directory probing shared by the touch and grasp extraction: format detection, whether
-// the set was written by tlvlink's simulator (then its recorded split is trusted), split labels.
+// Dataset directory probing shared by the touch and grasp extraction. Format detection and the
+// split rule are tools/datasets' (tlvlink/datasets/detect.h); this maps them onto EvalData's
+// formats and adds what only the reports need (split source text, progress totals).
 
 #include <optional>
 #include <string>
@@ -11,25 +12,23 @@
 
 namespace tlvlink::eval::internal {
 
-inline constexpr const char* kSimRecord = "tlvlink_sim.json";
-
 bool file_exists(const std::string& path);
 bool dir_exists(const std::string& path);
 std::string join(const std::string& dir, const std::string& name);
 
+// `requested` when given (the path must exist), else datasets::detect_dataset_format, which must
+// name a format of the right kind.
 Result<TouchFormat> detect_touch_format(const std::string& dir, TouchFormat requested);
 Result<GraspFormat> detect_grasp_format(const std::string& path, GraspFormat requested);
+datasets::DatasetFormat dataset_format(TouchFormat format);
+datasets::DatasetFormat dataset_format(GraspFormat format);
 
-// The directory holding a dataset's tlvlink_sim.json (`path` itself, or its parent for a file).
-std::string dataset_dir(const std::string& path);
-// True when the dataset records the simulator's generation (tlvlink_sim.json).
-bool is_generated(const std::string& path);
 // The "generator" object of tlvlink_sim.json, serialised, when present.
 std::optional<std::string> generator_json(const std::string& path);
 
-// The hash split to apply: the forced one, else none for a generated set (use the recorded split),
-// else the default.
-std::optional<datasets::HashSplit> split_to_apply(const EvalData& data, bool generated);
+// datasets::split_to_apply with the data's forced and default splits.
+std::optional<datasets::HashSplit> split_to_apply(const EvalData& data, const std::string& path,
+                                                  datasets::DatasetFormat format);
 std::string split_source(const std::optional<datasets::HashSplit>& split);
 
 // Non-blank lines of a text file (0 when it cannot be read): progress totals.

@@ -48,10 +48,8 @@ struct TouchSink {
 
 Status run_touch100k(const EvalData& data, TouchSink& sink) {
   // The recorded split lives in the simulator's sidecar; a set without one is split by hash.
-  const bool recorded_split =
-      internal::is_generated(data.touch_dir) &&
-      internal::file_exists(join(data.touch_dir, datasets::kTouch100kSidecar));
-  const std::optional<datasets::HashSplit> hash = internal::split_to_apply(data, recorded_split);
+  const std::optional<datasets::HashSplit> hash =
+      internal::split_to_apply(data, data.touch_dir, datasets::DatasetFormat::kTouch100k);
   datasets::Touch100kLoaderOptions o;
   o.load_vision = o.require_vision = false;
   o.scale_denominator = data.scale_denominator;
@@ -81,8 +79,8 @@ Status run_touch100k(const EvalData& data, TouchSink& sink) {
 }
 
 Status run_tag(const EvalData& data, TouchSink& sink) {
-  const bool generated = internal::is_generated(data.touch_dir);
-  const std::optional<datasets::HashSplit> hash = internal::split_to_apply(data, generated);
+  const std::optional<datasets::HashSplit> hash =
+      internal::split_to_apply(data, data.touch_dir, datasets::DatasetFormat::kTouchAndGo);
   std::string summary;
   for (const bool test : {false, true}) {
     datasets::TagLoaderOptions o;
@@ -141,8 +139,8 @@ Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
                                       const EmbedderOptions& options) {
   TLV_ASSIGN_OR_RETURN(const GraspFormat format,
                        internal::detect_grasp_format(data.grasp_dir, data.grasp_format));
-  const bool generated = internal::is_generated(data.grasp_dir);
-  const std::optional<datasets::HashSplit> hash = internal::split_to_apply(data, generated);
+  const std::optional<datasets::HashSplit> hash =
+      internal::split_to_apply(data, data.grasp_dir, internal::dataset_format(format));
   GraspEmbeddings out;
   out.dim = embedder.dim();
   out.format = format == GraspFormat::kFeelHdf5 ? "feel_hdf5" : "feel_repacked";

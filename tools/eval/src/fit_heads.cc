@@ -5,7 +5,6 @@
 
 #include "tlvlink/eval/heads.h"
 #include "tlvlink/heads/grasp_layout.h"
-#include "tlvlink/quantize/calibrate.h"
 #include "tlvlink/quantize/model_copy.h"
 
 namespace tlvlink::eval {

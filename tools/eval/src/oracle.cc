@@ -38,7 +38,7 @@ sim::Range widen(sim::Range r) {
 }
 
 // What a texture shows in the frame: its shading contrast, ~ the renderer's small-slope gain
-// (80 DN at 45 deg: ~80 DN per radian, tools/sim/README.md "Shading") times its rms slope
+// (80 DN at 45 deg: ~80 DN per radian, tools/sim/REFERENCE.md "Shading") times its rms slope
 // Sq / lc. Below kVisibleTextureDn (a third of the camera noise sigma of 3 DN, under the camera's
 // 5x5 blur) the frame's noise hides it: then neither its amplitude nor its correlation length
 // nor its Hurst exponent can be read from the frame, and all three take one "invisible" value.

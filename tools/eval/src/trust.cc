@@ -5,7 +5,6 @@
 #include <cstdio>
 
 #include "tlvlink/head_trust.h"
-#include "tlvlink/quantize/calibrate.h"
 #include "tlvlink/quantize/model_copy.h"
 
 namespace tlvlink::eval {

@@ -12,6 +12,15 @@ namespace {
 constexpr size_t kAlign = 64;
 }  // namespace
 
+NpyArray npy_from_tensor(const Tensor& t, std::span<const std::byte> bytes) {
+  NpyArray a;
+  a.dtype = t.dtype;
+  a.shape.assign(t.shape.dims.begin(),
+                 t.shape.dims.begin() + static_cast<std::ptrdiff_t>(t.shape.rank));
+  a.data.assign(bytes.begin(), bytes.end());
+  return a;
+}
+
 const char* npy_descr(DType dtype) {
   switch (dtype) {
     case DType::kFloat32: return "<f4";

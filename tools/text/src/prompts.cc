@@ -1,4 +1,4 @@
-// The paper's zero-shot prompt sets (../shared/notes/datasets-and-method.md). Class i of every
+// The TLV-Link paper's zero-shot prompt sets (text_encoder.h). Class i of every
 // set is label value i of the datasets: material = TAG id, hard/soft and rough/smooth as TAG's
 // label files (1 hard, 1 rough), grasp as Feel's is_gripping (1 still held after the lift).
 

@@ -2,8 +2,6 @@
 
 #include "data_cache.h"
 
-#include <sys/stat.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -17,16 +15,12 @@
 #include "tlvlink/image/preprocess.h"
 #include "tlvlink/io/npy_image.h"
 #include "tlvlink/io/progress.h"
+#include "tlvlink/datasets/detect.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/datasets/touch100k.h"
 
 namespace tlvlink::trainer {
 namespace {
-
-bool file_exists(const std::string& path) {
-  struct stat st {};
-  return ::stat(path.c_str(), &st) == 0;
-}
 
 std::string join_phrases(const std::vector<std::string>& phrases) {
   std::string s;
@@ -83,15 +77,17 @@ void channel_stats(const std::vector<uint8_t>& pixels, std::vector<float>& mean,
 }
 
 Result<DataCache> load_cache(const CacheOptions& o) {
-  const std::string index = o.dir + "/" + datasets::kTouch100kIndex;
-  TLV_ENSURE(file_exists(index), ErrorCode::kInvalidArgument,
+  // The datasets' one rule: format by marker files, the recorded split of a generated set
+  // (the sidecar), else the hash split by session.
+  TLV_ASSIGN_OR_RETURN(const std::optional<datasets::DatasetFormat> format,
+                       datasets::probe_dataset_format(o.dir));
+  TLV_ENSURE(format == datasets::DatasetFormat::kTouch100k, ErrorCode::kFormat,
              "%s: no %s (not a Touch100k-format directory; `tlvlink sim touch100k -o DIR` makes "
              "one)", o.dir.c_str(), datasets::kTouch100kIndex);
-  const std::string sidecar = o.dir + "/" + datasets::kTouch100kSidecar;
+  const std::optional<datasets::HashSplit> hash = datasets::split_to_apply(
+      o.dir, *format, std::nullopt, datasets::HashSplit{o.test_fraction, 0});
   DataCache cache;
-  // The simulator's sidecar is the only place a Touch100k set records its split.
-  const bool have_sidecar = file_exists(sidecar);
-  if (have_sidecar) {
+  if (!hash) {
     cache.split_source = "sidecar";
   } else {
     char text[96];
@@ -105,20 +101,19 @@ Result<DataCache> load_cache(const CacheOptions& o) {
   TLV_ASSIGN_OR_RETURN(auto loader, datasets::open_touch100k(o.dir, lo));
   std::vector<Pending> pending;
   sim::TouchSample s;
-  const datasets::HashSplit hash{o.test_fraction, 0};
   for (;;) {
     TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
     if (!more) break;
     const std::string& key = loader->key();
     bool is_test;
-    if (have_sidecar) {
+    if (!hash) {
       const datasets::Split recorded = loader->recorded_split();
       TLV_ENSURE(recorded != datasets::Split::kAll, ErrorCode::kFormat,
                  "%s: sample '%s' has no train/test split in %s (%s)", o.dir.c_str(),
                  key.c_str(), datasets::kTouch100kSidecar, loader->report().summary().c_str());
       is_test = recorded == datasets::Split::kTest;
     } else {
-      is_test = datasets::hash_split_is_test(s.session, hash);
+      is_test = datasets::hash_split_is_test(s.session, *hash);
     }
     if (is_test != (o.split == SplitChoice::kTest)) {
       ++cache.skipped_other_split;

@@ -4,10 +4,14 @@
 #include <cmath>
 
 #include "options_json.h"
+#include "tlvlink/datasets/detect.h"
 #include "tlvlink/trainer/arch.h"
 
 namespace tlvlink::trainer {
 namespace {
+
+// The default split of a set without a recorded one is the datasets' (one rule, one place).
+static_assert(kDefaultTestFraction == datasets::kDefaultSplit.test_fraction);
 
 const char* resize_name(ResizeFilter f) {
   return f == ResizeFilter::kArea ? "area" : f == ResizeFilter::kNearest ? "nearest" : "bilinear";

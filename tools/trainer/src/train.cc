@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 
+#include "tlvlink/log.h"
 #include "tlvlink/text/text_encoder.h"
 #include "augment.h"
 #include "checkpoint.h"
@@ -22,6 +23,8 @@
 
 namespace tlvlink::trainer {
 namespace {
+
+TLV_LOG_CATEGORY(kLogTrain, "train");
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) {
@@ -167,7 +170,7 @@ Result<TrainSummary> train(const TrainOptions& requested) {
   TLV_ASSIGN_OR_RETURN(const ArchSpec arch,
                        make_arch(o.arch, o.input_height, o.input_width, o.text.dim));
   summary.arch_description = describe_arch(arch);
-  std::fprintf(stderr, "student: %s\n", summary.arch_description.c_str());
+  TLV_LOG(kLogTrain, kInfo, "student: %s", summary.arch_description.c_str());
 
   const bool curriculum = o.beta.schedule != BetaSchedule::kNone;
   const bool text_loss = o.objective != Objective::kSupervised;
@@ -188,7 +191,7 @@ Result<TrainSummary> train(const TrainOptions& requested) {
   TLV_ASSIGN_OR_RETURN(DataCache cache, load_cache(co));
   const int64_t n = cache.size();
   summary.train_samples = n;
-  std::fprintf(stderr, "data: %lld training samples from %s (%s; split from %s)\n",
+  TLV_LOG(kLogTrain, kInfo, "data: %lld training samples from %s (%s; split from %s)",
                static_cast<long long>(n), o.data_dir.c_str(), cache.load_summary.c_str(),
                cache.split_source.c_str());
   TLV_ENSURE(n >= o.batch, ErrorCode::kInvalidArgument,
@@ -238,8 +241,8 @@ Result<TrainSummary> train(const TrainOptions& requested) {
       teacher_dim = state.teacher_embeddings.size(1);
       if (teacher_dim != o.text.dim) {
         state.projection = torch::nn::Linear(teacher_dim, o.text.dim);
-        std::fprintf(stderr,
-                     "teacher output dim %lld != text dim %d: learning a linear projection\n",
+        TLV_LOG(kLogTrain, kInfo,
+                "teacher output dim %lld != text dim %d: learning a linear projection",
                      static_cast<long long>(teacher_dim), o.text.dim);
       }
       summary.teacher_seconds = seconds_since(tt);
@@ -278,7 +281,7 @@ Result<TrainSummary> train(const TrainOptions& requested) {
       return Error::make(ErrorCode::kFormat, "%s: progress record: %s", o.resume.c_str(),
                          e.what());
     }
-    std::fprintf(stderr, "resuming %s at step %lld of %lld\n", o.resume.c_str(),
+    TLV_LOG(kLogTrain, kInfo, "resuming %s at step %lld of %lld", o.resume.c_str(),
                  static_cast<long long>(start), static_cast<long long>(total));
   }
   summary.start_step = start;

@@ -1,6 +1,6 @@
 #pragma once
 // Minimal post-training int8 conversion: min/max calibration with the reference executor, then
-// a rewrite of a float model into the int8 scheme of shared/notes/quantization.md:
+// a rewrite of a float model into tlvlink's int8 scheme:
 //   - Quantize after each float graph input, Dequantize before each graph output (I/O stays fp32);
 //   - activations int8, per-tensor asymmetric, range always including 0, width floored at
 //     kMinActivationRange;
@@ -25,6 +25,7 @@
 #include "tlvlink/error.h"
 #include "tlvlink/model.h"
 #include "tlvlink/quantize/model_builder.h"
+#include "tlvlink/quantize/model_copy.h"  // metadata_spec_from (the model writer)
 
 namespace tlvlink::quantize {
 
@@ -58,9 +59,6 @@ struct Int8ConversionOptions {
 // finish()). Metadata is copied from the float model, minus its golden pairs.
 Result<ModelBuilder> convert_to_int8(const Model& fp32, std::span<const TensorRange> ranges,
                                      const Int8ConversionOptions& options = {});
-
-// An owned copy of loaded metadata (golden pairs are not copied).
-MetadataSpec metadata_spec_from(const Metadata& metadata);
 
 // Runs `model` once on `input` (the bytes of graph input 0) with the reference executor and
 // returns the bytes of graph output 0: what a golden pair records.

@@ -1,6 +1,6 @@
 #pragma once
 // Post-training int8 quantization with calibration and mixed-precision fallback (`tlvlink
-// quantize`). The scheme is the one of shared/notes/quantization.md (see calibrate.h):
+// quantize`). The scheme is calibrate.h's (and quantize/README.md's "Scheme"):
 // per-channel (or per-tensor) symmetric int8 weights in [-127, 127], per-tensor asymmetric
 // int8 activations, int32 bias at s_in * s_w[c], ReLU/ReLU6 fused into the op before them,
 // pass-through ops sharing their input's parameters, Sigmoid output fixed at (1/256, -128).

@@ -1,7 +1,7 @@
 #pragma once
 // The grasp prior: how objects and grasps are drawn, shared by the episode generator and the
 // oracle so that the oracle's Monte Carlo uses exactly the generator's distribution. Ranges and
-// the reasons for them: tools/sim/README.md ("Grasp episodes").
+// the reasons for them: tools/sim/REFERENCE.md ("Grasp episodes").
 
 #include <cstdint>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Constants of the frame model (../shared/notes/gelsight-sim.md), in one place so each is named
+// Constants of the frame model (tools/sim/REFERENCE.md), in one place so each is named
 // once with its reason. Lengths in mm, moduli in N/mm^2 (= MPa) inside the renderer.
 
 #include <array>

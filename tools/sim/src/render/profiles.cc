@@ -1,5 +1,5 @@
 // The built-in sensor profiles (gelsight-sensors.md, gelsight-sim.md). Values not given by the
-// notes are our documented choices (tools/sim/README.md, "Sensor profiles").
+// notes are our documented choices (tools/sim/REFERENCE.md, "Sensor profiles").
 #include <array>
 
 #include "tlvlink/sim/sensor.h"

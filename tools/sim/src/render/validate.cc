@@ -1,5 +1,5 @@
 // Parameter validation of sensor profiles, scenes and render options. Ranges are the documented
-// ones (headers and tools/sim/README.md); errors name the field, e.g. "scene.loading.force_n".
+// ones (headers and tools/sim/REFERENCE.md); errors name the field, e.g. "scene.loading.force_n".
 #include <cstdio>
 
 #include "render/check.h"

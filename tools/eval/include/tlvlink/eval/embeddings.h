@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "tlvlink/datasets/detect.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/error.h"
 #include "tlvlink/executor.h"
@@ -27,17 +28,18 @@ enum class TouchFormat : uint8_t { kAuto = 0, kTouch100k, kTouchAndGo };
 enum class GraspFormat : uint8_t { kAuto = 0, kFeelHdf5, kFeelRepacked };
 
 // Where the evaluation data lives. Empty dirs are skipped (at least one must be set).
-// Splits: a dataset written by tlvlink's simulator (it holds tlvlink_sim.json) keeps its recorded
-// split (Touch100k: the sidecar's "split"; TAG: the train/test files; Feel: the recorded split).
-// Any other dataset, or every dataset when `resplit` is set, is split by a hash of the session
-// (touch) or object name (grasp) — never by frame, so train and test never share one.
+// Formats and splits follow tools/datasets' one rule (tlvlink/datasets/detect.h): a dataset
+// written by tlvlink's simulator keeps its recorded split (Touch100k: the sidecar's "split"; TAG:
+// the train/test files; Feel: the recorded split). Any other dataset, or every dataset when
+// `resplit` is set, is split by a hash of the session (touch) or object name (grasp) — never by
+// frame, so train and test never share one.
 struct EvalData {
   std::string touch_dir;
   TouchFormat touch_format = TouchFormat::kAuto;  // auto: data_list.json -> Touch100k, train.txt -> TAG
   std::string grasp_dir;                          // a dir, or one calandra_corl2017_*.h5 file
   GraspFormat grasp_format = GraspFormat::kAuto;  // auto: *.h5 -> HDF5, train_info.json -> repacked
   std::optional<datasets::HashSplit> resplit;     // force a hash split
-  datasets::HashSplit default_split{0.2, 0};      // used when the data records no split
+  datasets::HashSplit default_split = datasets::kDefaultSplit;  // when the data records none
   int32_t scale_denominator = 1;                  // JPEG decode at 1/1, 1/2, 1/4, 1/8
   int32_t gelsight_quarter_turns = 0;             // Feel HDF5: undo the stored rotation (0..3)
   // Caps per split (train and test each), for quick runs; 0 = all. Items beyond are not read.

@@ -49,6 +49,9 @@ Result<NpyArray> read_npy(const std::string& path);
 Result<std::vector<std::byte>> encode_npy(const NpyArray& array, int major_version = 1);
 Status write_npy(const std::string& path, const NpyArray& array, int major_version = 1);
 
+// A tensor's bytes as an array of its dtype and shape (e.g. an executor's output).
+NpyArray npy_from_tensor(const Tensor& tensor, std::span<const std::byte> bytes);
+
 // numpy's descr string for a dtype ("<f4", "|u1", "|i1", "<i4").
 const char* npy_descr(DType dtype);
 

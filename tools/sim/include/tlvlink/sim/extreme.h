@@ -3,7 +3,7 @@
 // consumer must survive — the renderer's tests, the runtime's stability suite and the
 // quantizer's calibration. Each must render to a finite uint8 frame of the profile's size with
 // finite ContactState. Plus the parameter sets that must be rejected (NaN/Inf and out-of-range
-// values), each naming the field the error has to mention. Lists: tools/sim/README.md.
+// values), each naming the field the error has to mention. Lists: tools/sim/REFERENCE.md.
 
 #include <span>
 #include <string>

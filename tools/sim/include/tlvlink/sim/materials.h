@@ -1,7 +1,7 @@
 #pragma once
 // The 20 Touch-and-Go material classes with per-class ranges of the physical parameters the
 // renderer uses, and the hard/soft and rough/smooth labels that follow from the physics.
-// The table and the reasons for its ranges: tools/sim/README.md, "Materials, descriptions,
+// The table and the reasons for its ranges: tools/sim/REFERENCE.md, "Materials, descriptions,
 // grasp episodes".
 
 #include <array>

@@ -2,7 +2,7 @@
 // The simulated sensor's raw camera output: a scene rendered as the bytes the physical camera
 // emits (the Mini's MJPEG 3280x2464, DIGIT's YUYV in its own orientation, the R1.5's MJPEG
 // 320x240), and the inverse a capture pipeline applies: raw bytes -> the processed RGB frame.
-// Geometry and formats: tools/sim/README.md, "Raw camera output".
+// Geometry and formats: tools/sim/REFERENCE.md, "Raw camera output".
 //
 // Both classes own their buffers: after the first frame, RawCamera::render and
 // RawDecoder::recover make no allocation of their own (libjpeg-turbo still mallocs its

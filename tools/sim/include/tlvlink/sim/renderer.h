@@ -1,8 +1,8 @@
 #pragma once
 // The GelSight frame renderer: contact mechanics (compliance split, force bisection, membrane
 // spreading), photometric shading over a non-uniform background, markers with normal dilation
-// and shear/slip fields, blur, noise, vignetting, optional JPEG. See tools/sim/README.md and
-// ../shared/notes/gelsight-sim.md for the model.
+// and shear/slip fields, blur, noise, vignetting, optional JPEG. See tools/sim/REFERENCE.md for the
+// model.
 //
 // A Renderer owns its scratch buffers: after the first frame of a given size, render() does
 // not allocate (it will later serve as the live simulated sensor in the streaming pipeline).

@@ -44,7 +44,7 @@ struct ObjectMechanics {
   // Thickness of a compliant layer over a rigid backing (fabric on a table, a leather cover, a
   // stack of paper, turf) [0, 1e6]; 0 = bulk material. A layer cannot be compressed by more
   // than kMaxLayerStrain of its thickness: beyond that the rest of the approach goes into the
-  // gel (tools/sim/README.md "Soft layers bottom out").
+  // gel (tools/sim/REFERENCE.md "Soft layers bottom out").
   double layer_mm = 0.0;
 };
 

@@ -1,7 +1,7 @@
 #pragma once
 // Sensor profiles for the GelSight simulator: geometry, gel, lights, background and camera
 // artefacts of each supported sensor. Every field has a documented default and range
-// (tools/sim/README.md); validate() rejects out-of-range or non-finite values by name.
+// (tools/sim/REFERENCE.md); validate() rejects out-of-range or non-finite values by name.
 
 #include <array>
 #include <cstdint>
@@ -63,7 +63,7 @@ struct SensorProfile {
 // "digit" (camera 320x240 YUYV, stored transposed and flipped top to bottom: 240 wide x 320
 // high, 0.04 mm/px),
 // "digit-640x480" (480 wide x 640 high, 0.02 mm/px), "gelsight-r1.5" (240x320, 0.06 mm/px).
-// Values and their sources: tools/sim/README.md, "Sensor profiles".
+// Values and their sources: tools/sim/REFERENCE.md, "Sensor profiles".
 std::span<const std::string_view> sensor_profile_names();
 Result<SensorProfile> sensor_profile(std::string_view name);
 // Checks every field against its documented range; the error names the field and the value.

@@ -75,7 +75,7 @@ struct PromptSet {
   // The prompts of class i, with {c} substituted.
   std::vector<std::string> prompts_for(size_t class_index) const;
 };
-// The paper's templates (../shared/notes/datasets-and-method.md): 20 TAG materials;
+// The TLV-Link paper's templates: 20 TAG materials;
 // hard/soft; rough/smooth; grasp (lifted in the air / falling on the ground).
 PromptSet material_prompts();
 PromptSet hardness_prompts();

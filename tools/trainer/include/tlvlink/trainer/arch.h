@@ -1,7 +1,7 @@
 #pragma once
 // The edge student architectures: plain CNNs built only from operators the int8 runtime runs
-// fast on XNNPACK (shared/notes/performance-anchors.md: int8 depthwise is the slow kernel on x86,
-// dense 3x3 and 1x1 convolutions are fast). No depthwise, no grouped convolutions.
+// fast on XNNPACK (int8 depthwise is XNNPACK's slow kernel on x86; dense 3x3 and 1x1
+// convolutions are fast). No depthwise, no grouped convolutions.
 //
 //   input [1,H,W,3] float (default 96x128, the 240x320 GelSight frame's aspect)
 //   -> stride-2 3x3 conv + BN + ReLU6, five times (channels c1..c5; H/32 x W/32 at the end),

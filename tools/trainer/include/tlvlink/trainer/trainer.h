@@ -29,6 +29,8 @@ namespace tlvlink::trainer {
 inline constexpr size_t kDefaultMaxCacheBytes = size_t{4} << 30;
 inline constexpr int32_t kMaxBatch = 4096;
 inline constexpr int32_t kMaxThreads = 64;
+// The test share of the datasets' default split (datasets::kDefaultSplit; options.cc checks).
+inline constexpr double kDefaultTestFraction = 0.2;
 
 struct TextOptions {
   std::string embeddings_dir;  // precomputed embeddings (text_encoder.h layout); empty: hashing
@@ -63,7 +65,7 @@ const char* objective_name(Objective objective);  // "tlv-link", "supervised", "
 Result<Objective> parse_objective(std::string_view name);
 
 // Photometric augmentation of the touch frames, drawn per sample and step from the seed (0 =
-// off). It imitates what differs between two sensors of one model (tools/sim/README.md "Sensor
+// off). It imitates what differs between two sensors of one model (tools/sim/REFERENCE.md "Sensor
 // instances"): each colour channel is scaled by exp(N(0, gain_sigma)) around its frame mean
 // (LED and white-balance gains), the frame by exp(N(0, exposure_sigma)), and N(0, noise_dn)
 // camera noise is added; then rounded and clamped to uint8 like a camera frame.
@@ -104,7 +106,9 @@ struct TrainOptions {
   int32_t threads = 1;          // torch intra-op threads (results depend on it; see README)
   int64_t max_samples = 0;      // > 0: use only the first N training samples
   size_t max_cache_bytes = kDefaultMaxCacheBytes;
-  double test_fraction = 0.2;   // split by session hash when the set has no sidecar
+  // The hash split by session of a set that records none (the datasets' rule,
+  // tlvlink/datasets/detect.h).
+  double test_fraction = kDefaultTestFraction;
 };
 // Checks ranges and combinations; names the offending setting (kInvalidArgument).
 Status validate(const TrainOptions& options);

@@ -1,0 +1,48 @@
+// Loaded metadata (views) -> owned MetadataSpec, for rewriting a model.
+
+#include "tlvlink/quantize/model_copy.h"
+
+namespace tlvlink::quantize {
+namespace {
+std::vector<std::string> strings(const std::vector<std::string_view>& v) {
+  return {v.begin(), v.end()};
+}
+std::vector<float> floats(std::span<const float> v) {
+  return {v.begin(), v.end()};
+}
+HeadTrustSpec trust(const HeadTrust& t) {
+  return {t.present, t.accuracy, t.majority, t.n, std::string(t.test_set)};
+}
+}  // namespace
+
+MetadataSpec metadata_spec_from(const Metadata& m) {
+  MetadataSpec s;
+  s.name = m.name;
+  const InputSpec& in = m.input;
+  s.input = {in.height,        in.width,        in.channels,    in.channel_order,
+             in.crop_x,        in.crop_y,       in.crop_w,      in.crop_h,
+             in.resize_filter, floats(in.mean), floats(in.std), in.background_subtraction};
+  s.embedding_dim = m.embedding_dim;
+  s.embedding_output = m.embedding_output;
+  for (const LinearHead& h : m.linear_heads) {
+    s.linear_heads.push_back(
+        {std::string(h.name), strings(h.labels), floats(h.weight), floats(h.bias), trust(h.trust)});
+  }
+  for (const ZeroShotHead& h : m.zero_shot_heads) {
+    s.zero_shot_heads.push_back({std::string(h.name), strings(h.class_names),
+                                 std::string(h.prompt_template), floats(h.prompt_matrix),
+                                 h.logit_scale, trust(h.trust)});
+  }
+  s.has_grasp_head = m.grasp_head.present;
+  if (s.has_grasp_head) {
+    s.grasp_head = {std::string(m.grasp_head.name), std::string(m.grasp_head.feature_layout),
+                    floats(m.grasp_head.weight), m.grasp_head.bias, trust(m.grasp_head.trust)};
+  }
+  s.producer = m.provenance.producer;
+  s.created_utc = m.provenance.created_utc;
+  s.training_json = m.provenance.training;
+  s.quantization_json = m.provenance.quantization;
+  return s;
+}
+
+}  // namespace tlvlink::quantize

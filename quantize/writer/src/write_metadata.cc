@@ -1,0 +1,70 @@
+#include <chrono>
+#include <ctime>
+
+#include "writer_internal.h"
+
+namespace tlvlink::quantize::writer_internal {
+namespace {
+
+std::string utc_now() {
+  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char text[32];
+  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return text;
+}
+
+flatbuffers::Offset<fb::HeadTrust> write_trust(flatbuffers::FlatBufferBuilder& fbb,
+                                               const HeadTrustSpec& t) {
+  if (!t.present) return 0;
+  return fb::CreateHeadTrust(fbb, t.accuracy, t.majority, t.n, fbb.CreateString(t.test_set));
+}
+
+}  // namespace
+
+flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder& fbb,
+                                                 const MetadataSpec& spec,
+                                                 std::span<const GoldenIndices> golden_buffers,
+                                                 uint64_t checksum) {
+  flatbuffers::Offset<fb::InputSpec> input = 0;
+  if (spec.input.height > 0) {
+    const InputSpecDef& in = spec.input;
+    input = fb::CreateInputSpec(fbb, in.height, in.width, in.channels,
+                                static_cast<fb::ChannelOrder>(in.channel_order), in.crop_x, in.crop_y,
+                                in.crop_w, in.crop_h, static_cast<fb::ResizeFilter>(in.resize_filter),
+                                fbb.CreateVector(in.mean), fbb.CreateVector(in.std),
+                                in.background_subtraction);
+  }
+  std::vector<flatbuffers::Offset<fb::LinearHead>> linear;
+  for (const auto& h : spec.linear_heads) {
+    linear.push_back(fb::CreateLinearHead(fbb, fbb.CreateString(h.name),
+                                          fbb.CreateVectorOfStrings(h.labels),
+                                          fbb.CreateVector(h.weight), fbb.CreateVector(h.bias),
+                                          write_trust(fbb, h.trust)));
+  }
+  std::vector<flatbuffers::Offset<fb::ZeroShotHead>> zero_shot;
+  for (const auto& h : spec.zero_shot_heads) {
+    zero_shot.push_back(fb::CreateZeroShotHead(
+        fbb, fbb.CreateString(h.name), fbb.CreateVectorOfStrings(h.class_names),
+        fbb.CreateString(h.prompt_template), fbb.CreateVector(h.prompt_matrix), h.logit_scale,
+        write_trust(fbb, h.trust)));
+  }
+  flatbuffers::Offset<fb::GraspHead> grasp = 0;
+  if (spec.has_grasp_head) {
+    const auto& g = spec.grasp_head;
+    grasp = fb::CreateGraspHead(fbb, fbb.CreateString(g.name), fbb.CreateString(g.feature_layout),
+                                fbb.CreateVector(g.weight), g.bias, write_trust(fbb, g.trust));
+  }
+  auto provenance = fb::CreateProvenance(
+      fbb, fbb.CreateString(spec.producer),
+      fbb.CreateString(spec.created_utc.empty() ? utc_now() : spec.created_utc),
+      fbb.CreateString(spec.training_json), fbb.CreateString(spec.quantization_json), checksum);
+  std::vector<flatbuffers::Offset<fb::GoldenPair>> golden;
+  for (const auto& g : golden_buffers) golden.push_back(fb::CreateGoldenPair(fbb, g.input, g.output));
+  return fb::CreateMetadata(fbb, fbb.CreateString(spec.name), input, spec.embedding_dim,
+                            spec.embedding_output, fbb.CreateVector(linear),
+                            fbb.CreateVector(zero_shot), grasp, provenance, fbb.CreateVector(golden));
+}
+
+}  // namespace tlvlink::quantize::writer_internal

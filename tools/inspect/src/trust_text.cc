@@ -1,0 +1,21 @@
+#include "tlvlink/inspect/trust_text.h"
+
+#include <cstdio>
+
+#include "tlvlink/head_trust.h"
+
+namespace tlvlink::inspect {
+
+std::string trust_text(const HeadTrust& t, bool with_set) {
+  const TrustAssessment a = assess_head(t);
+  if (a.level == HeadTrustLevel::kUnmeasured) return "unmeasured: no test accuracy recorded";
+  char buf[512];
+  std::snprintf(buf, sizeof buf, "%s: test accuracy %.1f %% vs majority %.1f %% (n=%lld%s%.*s)",
+                head_trust_level_name(a.level), 100.0 * static_cast<double>(t.accuracy),
+                100.0 * static_cast<double>(t.majority), static_cast<long long>(t.n),
+                with_set ? "; " : "", with_set ? static_cast<int>(t.test_set.size()) : 0,
+                t.test_set.data());
+  return buf;
+}
+
+}  // namespace tlvlink::inspect

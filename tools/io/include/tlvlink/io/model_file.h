@@ -1,0 +1,14 @@
+#pragma once
+// Loading a model file for a host tool: Model::load_file with the path in every error.
+
+#include <memory>
+#include <string>
+
+#include "tlvlink/error.h"
+#include "tlvlink/model.h"
+
+namespace tlvlink::tools {
+
+Result<std::unique_ptr<Model>> load_model(const std::string& path);
+
+}  // namespace tlvlink::tools
