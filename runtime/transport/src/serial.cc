@@ -66,7 +66,11 @@ class SerialTransport final : public Transport {
     tio.c_cflag &= ~CSTOPB;
     if (config_.flow == FlowControl::kRtsCts) tio.c_cflag |= CRTSCTS;
     else tio.c_cflag &= ~CRTSCTS;
-    tio.c_cc[VMIN] = 0;
+    // VMIN 1: with O_NONBLOCK an empty line reads as EAGAIN and 0 means end of file (hangup).
+    // With VMIN 0 an empty tty reads as 0 on some kernels (the emulated board's 6.1 on
+    // /dev/ttyGS0), which looked like end of file after every burst of commands: the board
+    // reconnected and lost its replies.
+    tio.c_cc[VMIN] = 1;
     tio.c_cc[VTIME] = 0;
     speed_t speed;
     if (config_.baud != 0 && baud_constant(config_.baud, speed)) {
