@@ -61,6 +61,7 @@ class SerialTransport final : public Transport {
       return Error::make(ErrorCode::kTransport, "%s is not a terminal (tcgetattr: %s)",
                          config_.path.c_str(), std::strerror(err));
     }
+    const bool was_cooked = (tio.c_lflag & (ICANON | ECHO)) != 0;
     cfmakeraw(&tio);  // 8 data bits, no parity, no echo, no line editing, no CR/LF mapping
     tio.c_cflag |= CLOCAL | CREAD;
     tio.c_cflag &= ~CSTOPB;
@@ -83,6 +84,11 @@ class SerialTransport final : public Transport {
       return Error::make(ErrorCode::kTransport, "configuring %s (raw, %d baud): %s",
                          config_.path.c_str(), config_.baud, std::strerror(err));
     }
+    // A tty that was cooked until now (a CDC-ACM tty after enumeration: echo, CR/LF mapping,
+    // XON/XOFF, line buffering) may have mangled what arrived since open(): drop it rather than
+    // hand on mangled bytes; the stream resynchronises at the next delimiter (the host asks for a
+    // Hello). A tty already raw (a pty set up by PtyTransport, a reopen) keeps its input.
+    if (was_cooked) (void)tcflush(fd, TCIFLUSH);
     fd_ = fd;
     return Status();
   }
