@@ -78,9 +78,14 @@ setup() {
 stream() {  # KIND: 1,200 predictions at 120 Hz (two sensors at 60 fps), a clean link
   name=stream-$1
   [ "$1" = ffs ] && wait_ffs_released
-  run_board "$1" "$name" --frames 1200 --rate 120 --hold 2
+  # The reader first: a CDC-ACM tty opened after the board started writing receives some bytes
+  # before it is raw (they are dropped: the restart scenario covers a late reader).
   tlvlink_stream_check check --source "$(host_source "$1")" --frames 1200 --clean --timeout 90 \
-    --label "usb-$1 stream (2 sensors x 60 fps)" >"$log/$name.check" 2>&1
+    --label "usb-$1 stream (2 sensors x 60 fps)" >"$log/$name.check" 2>&1 &
+  check_pid=$!
+  sleep 0.5
+  run_board "$1" "$name" --frames 1200 --rate 120 --hold 2
+  wait "$check_pid"
   finish "$name" $?
 }
 

@@ -13,8 +13,8 @@
 //                              [--expect-board-reconnects K] [--idle S] [--label NAME]
 //       a host: the Client on SOURCE (serial:PATH, usb[:VID:PID][,serial=S]); sends ping, info,
 //       start, closed 1, set bad=1; by default expects every prediction 0..N-1 intact and in order
-//       and each command answered (the last refused); --clean also no rejected frame and no
-//       sequence gap. --lossy (a damaged link, a reader restarted, an unplug): predictions may be
+//       and each command answered (the last refused); --clean also no rejected frame, no
+//       sequence gap and no reconnect on either side. --lossy (a damaged link, a reader restarted, an unplug): predictions may be
 //       missing and resent ones repeated, but none may be corrupted or go backwards, and the
 //       last one (N-1) must arrive unless --no-commands (the corruption runs) ends the check when
 //       no prediction came for --idle S. --start-any: a reader started mid-stream counts from the
@@ -230,10 +230,16 @@ int check(const Args& a) {
         ++beyond;
       } else if (seen[n]) {
         ++duplicates;  // resent after a disconnect
+        if (duplicates <= 5) {
+          std::printf("check: prediction %u again (frame sequence %u%s)\n", n, msg.sequence(), msg.delayed() ? ", delayed" : "");
+        }
       } else {
         seen[n] = true;
         ++unique;
-        if (static_cast<int64_t>(n) < last_frame) ++backward;
+        if (static_cast<int64_t>(n) < last_frame && ++backward <= 5) {
+          std::printf("check: prediction %u after %lld (frame sequence %u%s)\n", n, static_cast<long long>(last_frame),
+                      msg.sequence(), msg.delayed() ? ", delayed" : "");
+        }
         if (first_frame < 0) first_frame = n;
         last_frame = std::max<int64_t>(last_frame, n);
         if (!msg.delayed() && added.size() < added.capacity()) {
@@ -295,7 +301,9 @@ int check(const Args& a) {
     if (a.commands && last_frame != static_cast<int64_t>(a.frames) - 1) why.push_back("the last prediction never came");
   }
   if (a.commands && (!awaiting.empty() || !refused_ok)) why.push_back("commands unanswered or not refused");
-  if (a.clean && (r.rejected() != 0 || s.sequence_gaps != 0)) why.push_back("rejected frames or gaps on a clean link");
+  if (a.clean && (r.rejected() != 0 || s.sequence_gaps != 0 || reconnects != 0 || board_reconnects != 0)) {
+    why.push_back("rejected frames, gaps or reconnects on a clean link");
+  }
   if (reconnects < a.expect_reconnects) why.push_back("the client did not reconnect");
   if (board_reconnects < a.expect_board_reconnects) why.push_back("the board did not report its reconnect");
   std::string text;
@@ -319,6 +327,7 @@ int main(int argc, char** argv) {
                  "       tlvlink_stream_check record FILE [--cut]\n");
     return 2;
   }
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // lines reach a log even if the process is killed
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   if (a.mode == "board") return board(a);
