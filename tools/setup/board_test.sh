@@ -98,13 +98,13 @@ if [[ " ${presets[*]} " == *" $usb_preset "* ]] && [ -f "$usb_log" ]; then
   grep -E "^ +usb-(ffs|acm) " "$usb_log" | sed 's/^ */  /'
   grep -E "^ +board: [0-9.]+ wire bytes per frame" "$usb_log" | head -1 | sed 's/^ */  /'
   echo "  corruption injection (bytes damaged between the board's Sender and the USB link):"
-  echo "  | link | byte error rate | byte drop rate | bytes damaged | frames sent | received intact | lost | rejected (crc / cobs / truncated) | corrupted accepted |"
-  echo "  |---|---|---|---|---|---|---|---|---|"
+  echo "  | link | byte error rate | byte drop rate | bytes damaged | predictions posted | received intact | lost | of which dropped by the board's queue | rejected (crc / cobs / truncated) | corrupted accepted |"
+  echo "  |---|---|---|---|---|---|---|---|---|---|"
   grep -E "^ +corruption (ffs|acm) " "$usb_log" | sed 's/^ *corruption //' | awk '{
       for (i = 2; i <= NF; ++i) { split($i, kv, "="); v[kv[1]] = kv[2] }
-      printf "  | %s | %s | %s | %s + %s of %s | %s | %s | %s | %s / %s / %s | **%s** |\n", $1, v["errors"], v["drops"],
-             v["corrupted"], v["dropped"], v["bytes"], v["expected"], v["received"], v["lost"], v["crc"], v["cobs"],
-             v["truncated"], v["corrupted_accepted"] }'
+      printf "  | %s | %s | %s | %s + %s of %s | %s | %s | %s | %s | %s / %s / %s | **%s** |\n", $1, v["errors"], v["drops"],
+             v["corrupted"], v["dropped"], v["bytes"], v["expected"], v["received"], v["lost"], v["queue_drops"], v["crc"],
+             v["cobs"], v["truncated"], v["corrupted_accepted"] }'
 fi
 
 echo

@@ -12,7 +12,7 @@
 #                                          rejected frame, every command answered
 #   stream_usb.sh replug ffs|acm           gadget unbound (unplug) and bound again mid-stream
 #   stream_usb.sh restart ffs|acm          host reader killed (SIGKILL) mid-stream, a new one started
-#   stream_usb.sh corrupt ffs|acm ERR DROP bytes damaged between the Sender and the link
+#   stream_usb.sh corrupt ffs|acm ERR DROP bytes damaged between the Sender and the link (120 Hz)
 #   stream_usb.sh bench ffs|acm            throughput: the board posts as fast as it can
 # Exit 0 when the check passed. Figures are printed as "note:" lines (the rig keeps them).
 # Runs under busybox sh; programs are found on PATH (/bin in the rig), usb_gadget.sh next to this file.
@@ -121,11 +121,11 @@ restart() {  # KIND: the host reader killed 4 s in; a new reader from wherever t
   finish "$name" $?
 }
 
-corrupt() {  # KIND ERR DROP: 1,500 predictions at 300 Hz with byte errors/drops at the stated rates
+corrupt() {  # KIND ERR DROP: 1,200 predictions at 120 Hz with byte errors/drops at the stated rates
   name=corrupt-$1-$2-$3
   [ "$1" = ffs ] && wait_ffs_released
-  run_board "$1" "$name" --frames 1500 --rate 300 --hold 2 --byte-errors "$2" --byte-drops "$3" --seed 1
-  tlvlink_stream_check check --source "$(host_source "$1")" --frames 1500 --lossy --no-commands --idle 3 \
+  run_board "$1" "$name" --frames 1200 --rate 120 --hold 2 --byte-errors "$2" --byte-drops "$3" --seed 1
+  tlvlink_stream_check check --source "$(host_source "$1")" --frames 1200 --lossy --no-commands --idle 3 \
     --timeout 90 --label "usb-$1 corrupt $2 $3" >"$log/$name.check" 2>&1
   rc=$?
   wait "$board_pid"

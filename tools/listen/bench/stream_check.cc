@@ -162,8 +162,10 @@ int board(const Args& a) {
               static_cast<unsigned long long>(c.frames_sent), static_cast<unsigned long long>(c.bytes_sent));
   if (damage) {
     const testing::ByteFaultCounts d = damage->counts();
-    std::printf("board-damage bytes=%llu corrupted=%llu dropped=%llu\n", static_cast<unsigned long long>(d.bytes),
-                static_cast<unsigned long long>(d.corrupted), static_cast<unsigned long long>(d.dropped));
+    std::printf("board-damage bytes=%llu corrupted=%llu dropped=%llu queue_drops=%llu\n",
+                static_cast<unsigned long long>(d.bytes), static_cast<unsigned long long>(d.corrupted),
+                static_cast<unsigned long long>(d.dropped),
+                static_cast<unsigned long long>(c.dropped_queue_full + c.dropped_link_down + c.dropped_stale));
   }
   return 0;
 }
