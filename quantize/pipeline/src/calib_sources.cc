@@ -103,6 +103,8 @@ Result<std::vector<Item>> list_all(CalibFormat format, const std::string& path,
     case CalibFormat::kTouch100k:
     case CalibFormat::kTag: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_touch(format, path, false, split));
+      datasets::ProblemEcho echo("tlvlink quantize", stderr);
+      loader->report().on_problem = echo.callback();
       sim::TouchSample s;
       for (;;) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
@@ -110,11 +112,14 @@ Result<std::vector<Item>> list_all(CalibFormat format, const std::string& path,
         items.push_back({loader->key(), s.session.empty() ? loader->key() : s.session, 0,
                          loader->recorded_split()});
       }
+      echo.finish();
       return items;
     }
     case CalibFormat::kFeel:
     case CalibFormat::kFeelRepacked: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_grasp(format, path, false, split));
+      datasets::ProblemEcho echo("tlvlink quantize", stderr);
+      loader->report().on_problem = echo.callback();
       sim::GraspEpisode e;
       for (;;) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(e));
@@ -122,6 +127,7 @@ Result<std::vector<Item>> list_all(CalibFormat format, const std::string& path,
         for (int32_t f = 0; f < heads::kFingers * heads::kMoments; ++f)
           items.push_back({loader->key(), e.object_name.empty() ? loader->key() : e.object_name, f});
       }
+      echo.finish();
       return items;
     }
     case CalibFormat::kImages: {
@@ -191,6 +197,11 @@ Status read_frames(CalibFormat format, const std::string& path,
     case CalibFormat::kTouch100k:
     case CalibFormat::kTag: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_touch(format, path, true));
+      datasets::ProblemEcho echo("tlvlink quantize", stderr);
+      auto echo_files = echo.callback();  // index lines were echoed by the listing pass
+      loader->report().on_problem = [&](const datasets::LoadProblem& p) {
+        if (p.kind != datasets::ProblemKind::kMalformedLine) echo_files(p);
+      };
       sim::TouchSample s;
       while (seen < wanted.size()) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
@@ -201,12 +212,18 @@ Status read_frames(CalibFormat format, const std::string& path,
         if (on_item) on_item();
         TLV_TRY(visit(item, to_image(s.touch)));
       }
+      echo.finish();
       load_summary = loader->report().summary();
       return {};
     }
     case CalibFormat::kFeel:
     case CalibFormat::kFeelRepacked: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_grasp(format, path, true));
+      datasets::ProblemEcho echo("tlvlink quantize", stderr);
+      auto echo_files = echo.callback();  // index lines were echoed by the listing pass
+      loader->report().on_problem = [&](const datasets::LoadProblem& p) {
+        if (p.kind != datasets::ProblemKind::kMalformedLine) echo_files(p);
+      };
       sim::GraspEpisode e;
       while (seen < wanted.size()) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(e));
@@ -219,6 +236,7 @@ Status read_frames(CalibFormat format, const std::string& path,
           TLV_TRY(visit(item, to_image(e.frames[f / heads::kMoments][f % heads::kMoments])));
         }
       }
+      echo.finish();
       load_summary = loader->report().summary();
       return {};
     }

@@ -50,4 +50,18 @@ std::string LoadReport::summary() const {
   return s;
 }
 
+std::function<void(const LoadProblem&)> ProblemEcho::callback() {
+  return [this](const LoadProblem& p) {
+    if (seen_++ < shown_) std::fprintf(out_, "%s: %s\n", prefix_.c_str(), p.to_string().c_str());
+  };
+}
+
+void ProblemEcho::finish() {
+  if (seen_ > shown_) {
+    std::fprintf(out_, "%s: ... and %zu more problems not shown\n", prefix_.c_str(),
+                 seen_ - shown_);
+  }
+  seen_ = 0;
+}
+
 }  // namespace tlvlink::datasets

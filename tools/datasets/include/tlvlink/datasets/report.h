@@ -4,6 +4,7 @@
 // problems in full (path, line, reason) and hand every problem to an optional callback.
 
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <string>
 #include <vector>
@@ -55,6 +56,24 @@ class LoadReport {
   int64_t loaded_ = 0;
   int64_t counts_[kKinds] = {};
   std::vector<LoadProblem> problems_;
+};
+
+// What the commands print while loading: each of the first `shown` problems as it is met,
+// "PREFIX: path:line: kind: reason", then at finish() how many more were counted (all of them
+// are in the LoadReport's counts; its problems() keeps the first 100). Install with
+//   report.on_problem = echo.callback();
+class ProblemEcho {
+ public:
+  ProblemEcho(std::string prefix, std::FILE* out, size_t shown = 10)
+      : prefix_(std::move(prefix)), out_(out), shown_(shown) {}
+  std::function<void(const LoadProblem&)> callback();
+  void finish();  // "PREFIX: ... and N more problems not shown" when there were more
+
+ private:
+  std::string prefix_;
+  std::FILE* out_;
+  size_t shown_;
+  size_t seen_ = 0;
 };
 
 }  // namespace tlvlink::datasets
