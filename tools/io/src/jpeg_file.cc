@@ -9,7 +9,7 @@ namespace {
 
 // Largest JPEG file read_jpeg accepts: the pixel cap's RGB size (image/decode_budget.h); an
 // 8 MP MJPEG frame is a few MB even at q=100.
-constexpr size_t kMaxJpegFileBytes = size_t{96} << 20;
+constexpr size_t kMaxJpegFileBytes = size_t{48} << 20;
 
 }  // namespace
 

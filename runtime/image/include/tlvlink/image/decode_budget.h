@@ -2,8 +2,10 @@
 // The memory an image decode may take, checked from the header before any pixel buffer is
 // allocated: a few bytes declaring 16384x16384 must not cost 800 MB. Two rules, both errors
 // (kFormat, naming the image, the declared size and the limit), never a truncation:
-// - at most kMaxImagePixels pixels (32 Mi: four GelSight Mini frames of 3280x2464; the RGB
-//   buffer is then at most 96 MiB, the decoders' share of every command's memory budget);
+// - at most kMaxImagePixels pixels (16 Mi, 4096x4096: twice a GelSight Mini frame of
+//   3280x2464; the RGB buffer is then at most 48 MiB, plus at most 2 bytes per pixel and
+//   component of libjpeg's coefficient buffers for a progressive JPEG: the decoders' share of
+//   every command's memory budget, tools/cli/README.md);
 // - at most `max_ratio` decoded bytes per byte of file: a stream cannot plausibly expand more
 //   than its format's densest coding allows (ratios below, with the reason for each number).
 
@@ -14,7 +16,7 @@
 
 namespace tlvlink::image {
 
-inline constexpr int64_t kMaxImagePixels = int64_t{32} << 20;
+inline constexpr int64_t kMaxImagePixels = int64_t{16} << 20;
 
 // JPEG: Huffman coding spends at least 1 bit per 8x8 block (a progressive DC scan with 1-bit
 // codes; baseline needs 2), so one file byte holds at most 8 blocks = 512 pixels = 1536 RGB
