@@ -52,6 +52,17 @@ TEST(AtomicFile, ReplacesTheFileAndKeepsItsMode) {
   EXPECT_EQ(temporaries_in(dir.path()), 0);
 }
 
+TEST(AtomicFile, ANewFileGetsTheUmaskMode) {
+  testing::TempDir dir("atomic");
+  const std::string path = dir / "new.bin";
+  const mode_t mask = ::umask(022);
+  ::umask(mask);
+  ASSERT_TRUE(write_file_atomic(path.c_str(), std::as_bytes(std::span("x", 1))).ok());
+  struct stat st {};
+  ASSERT_EQ(::stat(path.c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0666u & ~mask);
+}
+
 TEST(AtomicFile, WithoutCommitTheOldFileStays) {
   testing::TempDir dir("atomic");
   const std::string path = dir / "out.bin";

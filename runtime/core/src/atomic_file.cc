@@ -24,12 +24,28 @@ void directory_of(const char* path, char* dir, size_t cap) {
   }
 }
 
+// The process umask without changing it: umask() can only be read by setting it, which would
+// give other threads' files mode 0777 for a moment; Linux shows it in /proc/self/status.
+mode_t current_umask() {
+  if (std::FILE* f = std::fopen("/proc/self/status", "re")) {
+    char line[128];
+    unsigned mask = 0;
+    bool found = false;
+    while (!found && std::fgets(line, sizeof(line), f) != nullptr)
+      found = std::sscanf(line, "Umask: %o", &mask) == 1;
+    std::fclose(f);
+    if (found) return static_cast<mode_t>(mask);
+  }
+  const mode_t mask = ::umask(022);  // no /proc: read it the racy way
+  ::umask(mask);
+  return mask;
+}
+
 // The mode the final file gets: the replaced file's, else what open(0666) would give.
 mode_t target_mode(const char* path) {
   struct stat st {};
   if (::stat(path, &st) == 0 && S_ISREG(st.st_mode)) return st.st_mode & 07777;
-  const mode_t mask = ::umask(0);
-  ::umask(mask);
+  static const mode_t mask = current_umask();
   return 0666 & ~mask;
 }
 
