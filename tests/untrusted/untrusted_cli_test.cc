@@ -4,6 +4,7 @@
 // `timeout 30` (exit 124 = it hung) besides the CTest timeout.
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -157,9 +158,16 @@ TEST_F(UntrustedCli, AllMalformedSetIsExitOneEverywhere) {
                      path("allbad.tlvm") + " --calib-count 4 --heldout-count 2 -q");
   EXPECT_RUN(r, 1);
   EXPECT_TRUE(contains(r, set + "/data_list.json:1:")) << r.out;
-  r = tlvlink("eval " + path("int8.tlvm") + " --touch " + set);
+  // The first 10 problems on stderr, then the count of the rest; --problems FILE lists all.
+  EXPECT_TRUE(contains(r, "... and 2 more load problems not shown")) << r.out;
+  const std::string log = path("problems.txt");
+  r = tlvlink("eval " + path("int8.tlvm") + " --touch " + set + " --problems " + log);
   EXPECT_RUN(r, 1);
   EXPECT_TRUE(contains(r, set + "/data_list.json:1:")) << r.out;
+  EXPECT_TRUE(contains(r, "12 load problems (the first 10 above), all in " + log)) << r.out;
+  const std::string logged = slurp(log);
+  EXPECT_EQ(std::count(logged.begin(), logged.end(), '\n'), 12) << logged;
+  EXPECT_NE(logged.find(set + "/data_list.json:12: malformed line"), std::string::npos) << logged;
 }
 
 // A line far over kMaxLineBytes is skipped and named; the other lines still load.

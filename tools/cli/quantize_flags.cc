@@ -16,6 +16,7 @@ void QuantizeDataFlags::add_to(CLI::App& app) {
                      "Calibrate on every image file under DIR (recursively), whatever its "
                      "layout; same as --calib DIR --calib-format images");
   source->require_option(1);
+  app.add_option("--problems", problems, "Write every load problem (file:line: kind: reason) to FILE; stderr shows the first 10");
   app.add_option("--calib-format", calib_format,
                  "auto, touch100k, tag, feel, feel-repacked, images or extreme")
       ->check(CLI::IsMember({"auto", "touch100k", "tag", "feel", "feel-repacked", "images", "extreme"}))

@@ -196,7 +196,7 @@ Result<CalibData> load_calib_data(const CalibDataOptions& o, const InputSpec& sp
     TLV_TRY(render_extreme(o, spec, out));
     return out;
   }
-  auto listed = calib_sources::list_items(out.format, o.path, o.split);
+  auto listed = calib_sources::list_items(out.format, o.path, o.split, o.problems);
   if (!listed.ok()) return listed.error().with_context("%s", o.path.c_str());
   const std::vector<Item>& items = *listed;
   TLV_ENSURE(!items.empty(), ErrorCode::kFormat, "%s (%s): no frames found", o.path.c_str(),
@@ -217,7 +217,7 @@ Result<CalibData> load_calib_data(const CalibDataOptions& o, const InputSpec& sp
         (calib ? out.calibration_keys : out.heldout_keys).push_back(item.id());
         return {};
       },
-      load_summary, [&] { progress.add(); }, o.on_note);
+      load_summary, [&] { progress.add(); }, o.on_note, o.problems);
   progress.finish();
   if (!read.ok()) return read.error().with_context("%s", o.path.c_str());
   TLV_ENSURE(!out.calibration.empty(), ErrorCode::kFormat,

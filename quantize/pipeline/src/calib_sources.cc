@@ -97,14 +97,13 @@ Result<tools::Image> read_image(const std::string& path) {
 namespace {
 
 Result<std::vector<Item>> list_all(CalibFormat format, const std::string& path,
-                                   datasets::Split split) {
+                                   datasets::Split split, datasets::ProblemEcho* problems) {
   std::vector<Item> items;
   switch (format) {
     case CalibFormat::kTouch100k:
     case CalibFormat::kTag: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_touch(format, path, false, split));
-      datasets::ProblemEcho echo("tlvlink quantize", stderr);
-      loader->report().on_problem = echo.callback();
+      if (problems != nullptr) loader->report().on_problem = problems->callback();
       sim::TouchSample s;
       for (;;) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
@@ -112,14 +111,12 @@ Result<std::vector<Item>> list_all(CalibFormat format, const std::string& path,
         items.push_back({loader->key(), s.session.empty() ? loader->key() : s.session, 0,
                          loader->recorded_split()});
       }
-      echo.finish();
       return items;
     }
     case CalibFormat::kFeel:
     case CalibFormat::kFeelRepacked: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_grasp(format, path, false, split));
-      datasets::ProblemEcho echo("tlvlink quantize", stderr);
-      loader->report().on_problem = echo.callback();
+      if (problems != nullptr) loader->report().on_problem = problems->callback();
       sim::GraspEpisode e;
       for (;;) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(e));
@@ -127,7 +124,6 @@ Result<std::vector<Item>> list_all(CalibFormat format, const std::string& path,
         for (int32_t f = 0; f < heads::kFingers * heads::kMoments; ++f)
           items.push_back({loader->key(), e.object_name.empty() ? loader->key() : e.object_name, f});
       }
-      echo.finish();
       return items;
     }
     case CalibFormat::kImages: {
@@ -161,7 +157,7 @@ datasets::DatasetFormat dataset_format_of(CalibFormat format) {
 }  // namespace
 
 Result<std::vector<Item>> list_items(CalibFormat format, const std::string& path,
-                                     datasets::Split split) {
+                                     datasets::Split split, datasets::ProblemEcho* problems) {
   const bool dataset = format != CalibFormat::kImages;
   const std::optional<datasets::HashSplit> hash =
       dataset ? datasets::split_to_apply(path, dataset_format_of(format), std::nullopt)
@@ -170,7 +166,8 @@ Result<std::vector<Item>> list_items(CalibFormat format, const std::string& path
   // sidecar), checked below.
   const bool recorded_in_loader = !hash && format != CalibFormat::kTouch100k;
   TLV_ASSIGN_OR_RETURN(std::vector<Item> items,
-                       list_all(format, path, recorded_in_loader ? split : datasets::Split::kAll));
+                       list_all(format, path, recorded_in_loader ? split : datasets::Split::kAll,
+                                problems));
   if (split == datasets::Split::kAll || recorded_in_loader) return items;
   std::vector<Item> kept;
   for (Item& item : items) {
@@ -191,17 +188,15 @@ Result<std::vector<Item>> list_items(CalibFormat format, const std::string& path
 Status read_frames(CalibFormat format, const std::string& path,
                    const std::unordered_set<std::string>& wanted, const FrameVisitor& visit,
                    std::string& load_summary, const std::function<void()>& on_item,
-                   const std::function<void(const std::string&)>& on_note) {
+                   const std::function<void(const std::string&)>& on_note,
+                   datasets::ProblemEcho* problems) {
   size_t seen = 0;
   switch (format) {
     case CalibFormat::kTouch100k:
     case CalibFormat::kTag: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_touch(format, path, true));
-      datasets::ProblemEcho echo("tlvlink quantize", stderr);
-      auto echo_files = echo.callback();  // index lines were echoed by the listing pass
-      loader->report().on_problem = [&](const datasets::LoadProblem& p) {
-        if (p.kind != datasets::ProblemKind::kMalformedLine) echo_files(p);
-      };
+      // Index lines were reported by the listing pass.
+      if (problems != nullptr) loader->report().on_problem = problems->callback(false);
       sim::TouchSample s;
       while (seen < wanted.size()) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
@@ -212,18 +207,14 @@ Status read_frames(CalibFormat format, const std::string& path,
         if (on_item) on_item();
         TLV_TRY(visit(item, to_image(s.touch)));
       }
-      echo.finish();
       load_summary = loader->report().summary();
       return {};
     }
     case CalibFormat::kFeel:
     case CalibFormat::kFeelRepacked: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_grasp(format, path, true));
-      datasets::ProblemEcho echo("tlvlink quantize", stderr);
-      auto echo_files = echo.callback();  // index lines were echoed by the listing pass
-      loader->report().on_problem = [&](const datasets::LoadProblem& p) {
-        if (p.kind != datasets::ProblemKind::kMalformedLine) echo_files(p);
-      };
+      // Index lines were reported by the listing pass.
+      if (problems != nullptr) loader->report().on_problem = problems->callback(false);
       sim::GraspEpisode e;
       while (seen < wanted.size()) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(e));
@@ -236,7 +227,6 @@ Status read_frames(CalibFormat format, const std::string& path,
           TLV_TRY(visit(item, to_image(e.frames[f / heads::kMoments][f % heads::kMoments])));
         }
       }
-      echo.finish();
       load_summary = loader->report().summary();
       return {};
     }
