@@ -84,18 +84,17 @@ TEST(DecodeBudget, JpegDeclaringMoreThanItsBytesCanHoldIsRefused) {
 }
 
 TEST(DecodeBudget, PngOverThePixelCapOrItsRatioIsRefused) {
-  EXPECT_NE(png_error(png_declaring(16384, 16384, 64)).find("kMaxImagePixels"),
-            std::string::npos);
+  EXPECT_NE(png_error(png_declaring(16384, 16384, 64)).find("kMaxImagePixels"), std::string::npos);
   EXPECT_NE(png_error(png_declaring(4000, 4000, 64)).find("decoded bytes per file byte"),
             std::string::npos);
 }
 
 TEST(DecodeBudget, TheRulesThemselves) {
-  EXPECT_TRUE(image::check_decode_budget(3280, 2464, 3, 400000, image::kJpegMaxRatio, "JPEG", "f")
-                  .ok());
-  EXPECT_FALSE(image::check_decode_budget(8192, 8192, 3, size_t{1} << 30, image::kJpegMaxRatio,
-                                          "JPEG", "f")
-                   .ok());
+  EXPECT_TRUE(
+      image::check_decode_budget(3280, 2464, 3, 400000, image::kJpegMaxRatio, "JPEG", "f").ok());
+  EXPECT_FALSE(
+      image::check_decode_budget(8192, 8192, 3, size_t{1} << 30, image::kJpegMaxRatio, "JPEG", "f")
+          .ok());
   EXPECT_FALSE(image::check_decode_budget(64, 64, 3, 5, image::kJpegMaxRatio, "JPEG", "f").ok());
 }
 

@@ -47,7 +47,8 @@ class UntrustedCli : public ::testing::Test {
     const std::string d = dir_->path();
     ASSERT_RUN(tlvlink("gen-reference -o " + d + "/int8.tlvm --resolution 96 --calib-frames 2"), 0);
     ASSERT_RUN(tlvlink("gen-reference -o " + d + "/fp32.tlvm --resolution 96 --dtype fp32"), 0);
-    ASSERT_RUN(tlvlink("sim touch100k -o " + d + "/t100k --sessions 4 --frames-per-session 3 "
+    ASSERT_RUN(tlvlink("sim touch100k -o " + d +
+                       "/t100k --sessions 4 --frames-per-session 3 "
                        "--seed 3"),
                0);
   }
@@ -190,8 +191,8 @@ TEST_F(UntrustedCli, FileSizeLimitKeepsTheExistingModel) {
   fs::copy_file(path("int8.tlvm"), out, fs::copy_options::overwrite_existing);
   const std::string before = slurp(out);
   CliRun r = run_cli("bash -c 'ulimit -f 64; exec timeout 30 " TLVLINK_CLI_BINARY,
-                     "quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " +
-                         out + " --calib-count 4 --heldout-count 2 -q'");
+                     "quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " + out +
+                         " --calib-count 4 --heldout-count 2 -q'");
   EXPECT_RUN(r, 1);
   EXPECT_TRUE(contains(r, out + ": write failed: file size limit reached")) << r.out;
   EXPECT_EQ(slurp(out), before);

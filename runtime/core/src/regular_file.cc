@@ -59,8 +59,8 @@ RegularFile::~RegularFile() {
 Status RegularFile::read_at(std::span<std::byte> dst, uint64_t offset, const char* path) const {
   size_t done = 0;
   while (done < dst.size()) {
-    const ssize_t n = ::pread(fd_, dst.data() + done, dst.size() - done,
-                              static_cast<off_t>(offset + done));
+    const ssize_t n =
+        ::pread(fd_, dst.data() + done, dst.size() - done, static_cast<off_t>(offset + done));
     if (n < 0 && errno == EINTR) continue;
     TLV_ENSURE(n >= 0, ErrorCode::kIo, "%s: read error: %s", path, std::strerror(errno));
     TLV_ENSURE(n > 0, ErrorCode::kIo, "%s: truncated while reading (%zu of %zu bytes at %llu)",

@@ -20,8 +20,8 @@ Status LineReader::open(const std::string& path) {
 
 bool LineReader::fill() {
   if (!file_) return false;
-  auto n = file_->read_some({reinterpret_cast<std::byte*>(buf_.data()), buf_.size()},
-                            path_.c_str());
+  auto n =
+      file_->read_some({reinterpret_cast<std::byte*>(buf_.data()), buf_.size()}, path_.c_str());
   if (!n.ok()) error_ = n.error();
   pos_ = 0;
   end_ = n.ok() ? *n : 0;
