@@ -68,8 +68,10 @@ struct WriterOptions {
   bool overwrite = false;  // replace an existing file (else an existing file is an error)
 };
 
-// Appends frames to a new recording. Every append is one write() of the whole record, so a
-// process that dies leaves at most a truncated final record, which readers skip. append() does
+// Appends frames to a new recording, in a temporary beside `path` until close() renames it into
+// place, so an existing file is replaced only by a complete recording. Every append is one
+// write() of the whole record: a process that dies leaves the temporary
+// (".NAME.tmp-XXXXXX") with at most a truncated final record, which readers skip. append() does
 // not allocate. Not thread-safe; non-copyable (owns the file).
 class RecordingWriter {
  public:
