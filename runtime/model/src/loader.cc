@@ -120,16 +120,7 @@ Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
   model->size_ = bytes.size();
   const auto* raw = reinterpret_cast<const uint8_t*>(model->data_.get());
 
-  if (!fb::ModelBufferHasIdentifier(raw)) {
-    char id[5] = {};
-    for (int i = 0; i < 4; ++i) {
-      const char c = static_cast<char>(raw[4 + i]);
-      id[i] = (c >= 32 && c < 127) ? c : '?';
-    }
-    return Error::make(ErrorCode::kModelMalformed,
-                       "not a tlvlink model: file identifier is '%s', expected '%s'", id,
-                       fb::ModelIdentifier());
-  }
+  TLV_TRY(model_internal::check_identifier(raw));
   flatbuffers::Verifier verifier(raw, model->size_, /*max_depth=*/64,
                                  /*max_tables=*/4 * (kMaxTensors + kMaxOperators));
   TLV_ENSURE(fb::VerifyModelBuffer(verifier), ErrorCode::kModelMalformed,
@@ -180,31 +171,6 @@ Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
                static_cast<unsigned long long>(actual), static_cast<unsigned long long>(expected));
   }
   return model;
-}
-
-Result<std::unique_ptr<Model>> Model::load_file(const char* path, const LoadOptions& options) {
-  std::FILE* f = std::fopen(path, "rb");
-  TLV_ENSURE(f != nullptr, ErrorCode::kIo, "cannot open model file '%s': %s", path,
-             std::strerror(errno));
-  std::vector<std::byte> bytes;
-  std::byte chunk[1 << 16];
-  size_t n = 0;
-  bool too_big = false;
-  while ((n = std::fread(chunk, 1, sizeof(chunk), f)) > 0) {
-    if (bytes.size() + n > kMaxModelBytes) {
-      too_big = true;
-      break;
-    }
-    bytes.insert(bytes.end(), chunk, chunk + n);
-  }
-  const bool read_error = std::ferror(f) != 0;
-  std::fclose(f);
-  TLV_ENSURE(!read_error, ErrorCode::kIo, "error reading model file '%s'", path);
-  TLV_ENSURE(!too_big, ErrorCode::kModelMalformed, "model file '%s' exceeds the %zu-byte limit",
-             path, kMaxModelBytes);
-  auto result = load(bytes, options);
-  if (!result.ok()) return result.error().with_context("%s", path);
-  return result;
 }
 
 }  // namespace tlvlink

@@ -50,4 +50,51 @@ std::string LoadReport::summary() const {
   return s;
 }
 
+ProblemEcho::ProblemEcho(std::string prefix, std::FILE* out, size_t shown, std::string log_path)
+    : prefix_(std::move(prefix)), out_(out), shown_(shown), log_path_(std::move(log_path)) {}
+
+std::function<void(const LoadProblem&)> ProblemEcho::callback(bool index_lines) {
+  return [this, index_lines](const LoadProblem& p) {
+    if (index_lines || p.kind != ProblemKind::kMalformedLine) add(p);
+  };
+}
+
+void ProblemEcho::add(const LoadProblem& p) {
+  const std::string text = p.to_string();
+  if (seen_++ < shown_) std::fprintf(out_, "%s: %s\n", prefix_.c_str(), text.c_str());
+  if (log_path_.empty() || !log_status_.ok()) return;
+  if (!log_) {
+    auto f = AtomicFile::create(log_path_.c_str());
+    if (!f.ok()) {
+      log_status_ = f.error();
+      return;
+    }
+    log_.emplace(std::move(f).value());
+  }
+  const std::string line = text + "\n";
+  log_status_ = log_->write(line.data(), line.size());
+}
+
+Status ProblemEcho::finish() {
+  if (seen_ > shown_ && log_path_.empty()) {
+    std::fprintf(out_, "%s: ... and %zu more load problems not shown (--problems FILE lists all)\n",
+                 prefix_.c_str(), seen_ - shown_);
+  } else if (seen_ > 0 && !log_path_.empty()) {
+    if (seen_ > shown_) {
+      std::fprintf(out_, "%s: %zu load problems (the first %zu above), all in %s\n",
+                   prefix_.c_str(), seen_, shown_, log_path_.c_str());
+    } else {
+      std::fprintf(out_, "%s: %zu load problems, all in %s\n", prefix_.c_str(), seen_,
+                   log_path_.c_str());
+    }
+  }
+  TLV_TRY(log_status_);
+  if (log_) {
+    Status s = log_->commit();
+    log_.reset();
+    return s;
+  }
+  return {};
+}
+
 }  // namespace tlvlink::datasets

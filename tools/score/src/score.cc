@@ -5,8 +5,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
-#include <fstream>
 #include <set>
+
+#include "tlvlink/io/line_reader.h"
 
 namespace tlvlink::score {
 namespace {
@@ -39,10 +40,13 @@ std::string lower(std::string s) {
 // Reads a JSON-lines file, calling `each` per object; errors name the file and line.
 template <typename Each>
 Status read_lines(const std::string& path, Each each) {
-  std::ifstream in(path);
-  TLV_ENSURE(in.good(), ErrorCode::kIo, "cannot read %s", path.c_str());
+  tools::LineReader in;
+  TLV_TRY(in.open(path));
   std::string line;
-  for (int64_t n = 1; std::getline(in, line); ++n) {
+  while (in.next(line)) {
+    const int64_t n = in.line_number();
+    TLV_ENSURE(!in.too_long(), ErrorCode::kFormat, "%s:%lld: line longer than %zu bytes",
+               path.c_str(), static_cast<long long>(n), tools::kMaxLineBytes);
     if (line.empty()) continue;
     json j = json::parse(line, nullptr, false);
     TLV_ENSURE(!j.is_discarded() && j.is_object(), ErrorCode::kFormat,
@@ -50,7 +54,7 @@ Status read_lines(const std::string& path, Each each) {
     Status st = each(j);
     if (!st.ok()) return st.error().with_context("%s:%lld", path.c_str(), static_cast<long long>(n));
   }
-  return {};
+  return in.error();
 }
 
 Result<Truth> read_truth(const std::string& path) {
