@@ -68,6 +68,17 @@ Status check_outputs_used(const Graph& graph) {
   return {};
 }
 
+Error identifier_error(const uint8_t* raw) {
+  char id[5] = {};
+  for (int i = 0; i < 4; ++i) {
+    const char c = static_cast<char>(raw[4 + i]);
+    id[i] = (c >= 32 && c < 127) ? c : '?';
+  }
+  return Error::make(ErrorCode::kModelMalformed,
+                     "not a tlvlink model: file identifier is '%s', expected '%s'", id,
+                     fb::ModelIdentifier());
+}
+
 Status validate_operators(const Graph& graph) {
   for (size_t i = 0; i < graph.operators.size(); ++i) {
     TLV_TRY(check_activation_quantization(graph, i));
@@ -114,6 +125,11 @@ Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
   // whole only when asked to (upgrade, or fuzzing with verify_checksum off).
   ModelIntegrity integrity;
   integrity.body_size = bytes.size();
+  // A file that is no model at all gets "not a tlvlink model", not advice on upgrading.
+  if (!has_integrity_trailer(bytes) &&
+      !fb::ModelBufferHasIdentifier(reinterpret_cast<const uint8_t*>(bytes.data()))) {
+    return identifier_error(reinterpret_cast<const uint8_t*>(bytes.data()));
+  }
   const bool legacy = !has_integrity_trailer(bytes) && (options.accept_legacy ||
                                                         !options.verify_checksum);
   if (!legacy) {
@@ -141,16 +157,7 @@ Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
              "model file holds %zu bytes before its trailer: too short to be a tlvlink model",
              body_size);
 
-  if (!fb::ModelBufferHasIdentifier(raw)) {
-    char id[5] = {};
-    for (int i = 0; i < 4; ++i) {
-      const char c = static_cast<char>(raw[4 + i]);
-      id[i] = (c >= 32 && c < 127) ? c : '?';
-    }
-    return Error::make(ErrorCode::kModelMalformed,
-                       "not a tlvlink model: file identifier is '%s', expected '%s'", id,
-                       fb::ModelIdentifier());
-  }
+  if (!fb::ModelBufferHasIdentifier(raw)) return identifier_error(raw);
   flatbuffers::Verifier verifier(raw, body_size, /*max_depth=*/64,
                                  /*max_tables=*/4 * (kMaxTensors + kMaxOperators));
   TLV_ENSURE(fb::VerifyModelBuffer(verifier), ErrorCode::kModelMalformed,
