@@ -23,7 +23,7 @@ import tempfile
 
 
 def run(cmd):
-    p = subprocess.run(cmd, capture_output=True, text=True)
+    p = subprocess.run(cmd, capture_output=True, text=True, errors="replace")
     return p.returncode, p.stdout, p.stderr
 
 
