@@ -107,6 +107,8 @@ double worst_bound(const Graph& g, const std::vector<Linear>& linear, double inp
       case OpType::kPad: y = std::max(a, std::fabs(static_cast<double>(std::get<PadParams>(op.params).value))); break;
       default: break;  // pooling, reshape, resize, (de)quantize: no larger than their input
     }
+    // The accumulation happens before the fused activation: it must not overflow either.
+    if (g.tensor(op.inputs[0]).dtype == DType::kFloat32) worst = std::max(worst, y);
     y = after_activation(y, activation_of(op));
     if (out.dtype != DType::kFloat32) {
       y = int8_bound(out);  // saturates: an int8 value is always finite
