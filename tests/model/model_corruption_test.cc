@@ -89,7 +89,9 @@ TEST(ModelCorruption, ChecksumCanBeSkippedExplicitly) {
   EXPECT_EQ(load_error(file).code(), ErrorCode::kModelChecksum);
   // Fuzzing and tests only: the hash is not compared (the trailer's structure still is).
   auto skipped = Model::load(file, {.verify_checksum = false});
-  if (!skipped.ok()) EXPECT_NE(skipped.error().code(), ErrorCode::kModelChecksum);
+  if (!skipped.ok()) {
+    EXPECT_NE(skipped.error().code(), ErrorCode::kModelChecksum);
+  }
 }
 
 // A file from before the trailer: refused with the command that upgrades it; `upgrade` (and only
