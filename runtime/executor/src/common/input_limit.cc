@@ -76,7 +76,8 @@ Activation activation_of(const Operator& op) {
   return Activation::kNone;
 }
 
-// The largest bound of any float tensor when every float graph input is bounded by `input`.
+// The largest bound of any float value computed (accumulations included) when every float
+// graph input is bounded by `input`.
 double worst_bound(const Graph& g, const std::vector<Linear>& linear, double input,
                    std::vector<double>& bound) {
   double worst = 0;
@@ -107,14 +108,20 @@ double worst_bound(const Graph& g, const std::vector<Linear>& linear, double inp
       case OpType::kPad: y = std::max(a, std::fabs(static_cast<double>(std::get<PadParams>(op.params).value))); break;
       default: break;  // pooling, reshape, resize, (de)quantize: no larger than their input
     }
-    // The accumulation happens before the fused activation: it must not overflow either.
-    if (g.tensor(op.inputs[0]).dtype == DType::kFloat32) worst = std::max(worst, y);
-    y = after_activation(y, activation_of(op));
-    if (out.dtype != DType::kFloat32) {
-      y = int8_bound(out);  // saturates: an int8 value is always finite
-    } else {
-      worst = std::max(worst, y);
+    // Only arithmetic creates larger values, and it does so before a fused activation: a float
+    // conv / FC / add / mul's result, and global average pooling's sum (H x W values). Moving,
+    // clamping, interpolating, quantizing or a sigmoid cannot overflow.
+    if (g.tensor(op.inputs[0]).dtype == DType::kFloat32) {
+      const bool arithmetic = op.type == OpType::kConv2D || op.type == OpType::kFullyConnected ||
+                              op.type == OpType::kAdd || op.type == OpType::kMul;
+      if (arithmetic) worst = std::max(worst, y);
+      if (op.type == OpType::kGlobalAveragePool) {
+        const Shape& in = g.tensor(op.inputs[0]).shape;
+        worst = std::max(worst, a * static_cast<double>(in.elements() / static_cast<size_t>(in[0] * in[3])));
+      }
     }
+    y = after_activation(y, activation_of(op));
+    if (out.dtype != DType::kFloat32) y = int8_bound(out);  // saturates: always finite
     bound[static_cast<size_t>(op.output)] = y;
   }
   return worst;
