@@ -7,10 +7,12 @@ Flips N bits chosen with a seeded generator (half uniform over the file, half sp
 the file in N/2 strata so every region is hit), and for each runs `TLVLINK verify` and
 `TLVLINK infer MODEL -i INPUT` (the printed embedding summary and head predictions). Prints one
 table row per outcome:
-  rejected at load            verify exits 1 with a model.* error (the loader refused the file)
-  accepted, verify fails      loads, verify exits 1 on a golden mismatch (or another error)
-  accepted, predictions changed   verify passes, a head's top class or the printed output differ
-  accepted, output unchanged  verify passes, infer prints exactly what the unflipped file gives
+  rejected at load                  verify exits 1 with a model.* error (the loader refused it)
+  accepted, verify fails / errors   loads, verify reports a golden mismatch / another error
+  accepted, infer fails             verify passes, infer exits non-zero
+  accepted, predictions changed     verify passes, a head's top class (or its label) differs
+  accepted, printed values changed  same top classes, but a printed value differs
+  accepted, output unchanged        infer prints exactly what the unflipped file gives
 Replay with the same arguments (the seed is printed).
 """
 import argparse
