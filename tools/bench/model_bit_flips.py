@@ -14,6 +14,11 @@ table row per outcome:
   accepted, printed values changed  same top classes, but a printed value differs
   accepted, output unchanged        infer prints exactly what the unflipped file gives
 Replay with the same arguments (the seed is printed).
+
+--targeted PYDIR flips up to 40 seeded bits in each of the places where flips used to change
+predictions silently (probe weights and biases, labels, zero-shot matrices, the grasp head,
+the input spec's mean/std/resize filter), located with the schema's Python module:
+  flatc --python -o PYDIR runtime/model/schema/tlvm.fbs
 """
 import argparse
 import concurrent.futures
@@ -38,6 +43,48 @@ def top_classes(text):
     """Each head's top class: the label after '->' on infer's 'head ...' lines."""
     return [line.split("->")[1].split(" p=")[0].strip()
             for line in text.splitlines() if line.startswith("head ") and "->" in line]
+
+
+def targeted_bits(data, py_dir, seed):
+    """Seeded bits inside each head / input-spec / label field of the file (see the docstring)."""
+    import flatbuffers
+    sys.path.insert(0, py_dir)
+    from tlvlink.fb.Model import Model
+
+    def uoffset(at):
+        return flatbuffers.encode.Get(flatbuffers.packer.uoffset, data, at)
+
+    def vector(table, slot, elem):
+        o = table._tab.Offset(slot)
+        if not o:
+            return None
+        start = table._tab.Vector(o)
+        return (start, start + table._tab.VectorLen(o) * elem)
+
+    md = Model.GetRootAsModel(data, 0).Metadata()
+    regions = []
+    for i in range(md.LinearHeadsLength()):
+        h = md.LinearHeads(i)
+        regions += [vector(h, 8, 4), vector(h, 10, 4)]  # weight, bias
+        labels = h._tab.Vector(h._tab.Offset(6))
+        for j in range(min(3, h.LabelsLength())):
+            at = labels + 4 * j
+            s = at + uoffset(at)
+            regions.append((s + 4, s + 4 + uoffset(s)))
+    for i in range(md.ZeroShotHeadsLength()):
+        regions.append(vector(md.ZeroShotHeads(i), 10, 4))  # prompt matrix
+    if md.GraspHead():
+        regions.append(vector(md.GraspHead(), 8, 4))
+    spec = md.Input()
+    regions += [vector(spec, 22, 4), vector(spec, 24, 4)]  # mean, std
+    o = spec._tab.Offset(20)  # resize filter (absent when it is the default)
+    if o:
+        regions.append((spec._tab.Pos + o, spec._tab.Pos + o + 1))
+    rng = random.Random(seed)
+    bits = []
+    for a, b in (r for r in regions if r):
+        bits += rng.sample(range(a * 8, b * 8), min(40, (b - a) * 8))
+    return bits
 
 
 def classify(args, data, bit, base_out, tmpdir):
@@ -77,10 +124,13 @@ def main():
     ap.add_argument("--seed", type=int, default=12)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--bits", help="comma-separated bit offsets to flip instead of a sample")
+    ap.add_argument("--targeted", metavar="PYDIR", help="flip bits in the heads, input spec and labels")
     args = ap.parse_args()
     data = open(args.model, "rb").read()
     nbits = len(data) * 8
-    if args.bits:
+    if args.targeted:
+        bits = targeted_bits(data, args.targeted, args.seed)
+    elif args.bits:
         bits = [int(b) for b in args.bits.split(",")]
     else:
         rng = random.Random(args.seed)
