@@ -81,8 +81,8 @@ bool has_integrity_trailer(std::span<const std::byte> file) {
 Result<ModelIntegrity> read_integrity(std::span<const std::byte> file, bool check_hash) {
   TLV_ENSURE(sodium_ready(), ErrorCode::kBackend, "libsodium failed to initialise");
   TLV_ENSURE(has_integrity_trailer(file), ErrorCode::kModelChecksum,
-             "no integrity trailer: a file from before the whole-file hash (its old checksum "
-             "covered only the constants); rewrite it with `tlvlink upgrade MODEL -o NEW`");
+             "no integrity trailer: rewrite it with `tlvlink upgrade MODEL -o NEW` (a file "
+             "from before the whole-file hash, whose checksum covered only the constants)");
   const auto* t = reinterpret_cast<const uint8_t*>(file.data()) + file.size() - kTrailerBytes;
   const uint16_t version = static_cast<uint16_t>(t[4] | t[5] << 8);
   const uint16_t flags = static_cast<uint16_t>(t[6] | t[7] << 8);

@@ -29,15 +29,15 @@ Status parse_key(std::span<const char> text, std::string_view prefix, const char
                  std::span<uint8_t> out) {
   std::string_view s(text.data(), text.size());
   while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.remove_suffix(1);
-  TLV_ENSURE(s.substr(0, prefix.size()) == prefix, ErrorCode::kInvalidArgument,
+  TLV_ENSURE(s.substr(0, prefix.size()) == prefix, ErrorCode::kFormat,
              "not a tlvlink %s key file: it should start with '%.*s'", what,
              static_cast<int>(prefix.size() - 1), prefix.data());
   s.remove_prefix(prefix.size());
-  TLV_ENSURE(s.size() == 2 * out.size(), ErrorCode::kInvalidArgument,
+  TLV_ENSURE(s.size() == 2 * out.size(), ErrorCode::kFormat,
              "%s key: %zu hex digits, expected %zu", what, s.size(), 2 * out.size());
   for (size_t i = 0; i < out.size(); ++i) {
     const int hi = hex_digit(s[2 * i]), lo = hex_digit(s[2 * i + 1]);
-    TLV_ENSURE(hi >= 0 && lo >= 0, ErrorCode::kInvalidArgument,
+    TLV_ENSURE(hi >= 0 && lo >= 0, ErrorCode::kFormat,
                "%s key: character %zu is not a hex digit", what, prefix.size() + 2 * i);
     out[i] = static_cast<uint8_t>(hi << 4 | lo);
   }
@@ -68,7 +68,7 @@ Result<SecretKey> parse_secret_key(std::span<const char> text) {
   crypto_sign_seed_keypair(pk.data(), sk.data(), key.bytes.data());
   const bool match = sodium_memcmp(sk.data(), key.bytes.data(), sk.size()) == 0;
   sodium_memzero(sk.data(), sk.size());
-  TLV_ENSURE(match, ErrorCode::kInvalidArgument,
+  TLV_ENSURE(match, ErrorCode::kFormat,
              "secret key: its public half does not match its seed (damaged key file)");
   return key;
 }

@@ -10,6 +10,7 @@
 //   if (auto s = (*exec)->invoke(); !s.ok()) log(s.error().message());
 //   use((*exec)->output(0));
 
+#include <cfloat>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -78,8 +79,14 @@ Status check_finite(std::span<const float> values, std::string_view what);
 // happens, in the same place and with the same message on both, where checking after the fact
 // cannot agree (XNNPACK's fused clamps turn an overflowed NaN into a finite value on x86, the
 // reference's keep it, and ARM kernels differ again).
-float float_input_limit(const Graph& graph);
-// check_finite, and |x| <= limit (kNonFiniteValue naming the element, its value and the limit).
-Status check_float_input(std::span<const float> values, float limit, std::string_view what);
+struct FloatInputLimit {
+  float limit = FLT_MAX;
+  int32_t op = -1;  // the first operator that could overflow just above the limit (-1: none)
+};
+FloatInputLimit float_input_limit(const Graph& graph);
+// check_finite, and |x| <= limit (kNonFiniteValue naming the element, its value, the limit and
+// the operator that would overflow first).
+Status check_float_input(std::span<const float> values, const FloatInputLimit& limit,
+                         const Graph& graph, std::string_view what);
 
 }  // namespace tlvlink

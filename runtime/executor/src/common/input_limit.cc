@@ -78,8 +78,9 @@ Activation activation_of(const Operator& op) {
 
 // The largest bound of any float value computed (accumulations included) when every float
 // graph input is bounded by `input`.
+// `first_unsafe`: the first operator whose bound passes kSafe (-1: none).
 double worst_bound(const Graph& g, const std::vector<Linear>& linear, double input,
-                   std::vector<double>& bound) {
+                   std::vector<double>& bound, int32_t* first_unsafe = nullptr) {
   double worst = 0;
   for (size_t t = 0; t < g.tensors.size(); ++t) {
     const Tensor& tensor = g.tensors[t];
@@ -120,6 +121,9 @@ double worst_bound(const Graph& g, const std::vector<Linear>& linear, double inp
         worst = std::max(worst, a * static_cast<double>(in.elements() / static_cast<size_t>(in[0] * in[3])));
       }
     }
+    if (first_unsafe != nullptr && *first_unsafe < 0 && !(worst <= kSafe)) {
+      *first_unsafe = static_cast<int32_t>(i);
+    }
     y = after_activation(y, activation_of(op));
     if (out.dtype != DType::kFloat32) y = int8_bound(out);  // saturates: always finite
     bound[static_cast<size_t>(op.output)] = y;
@@ -129,7 +133,7 @@ double worst_bound(const Graph& g, const std::vector<Linear>& linear, double inp
 
 }  // namespace
 
-float float_input_limit(const Graph& g) {
+FloatInputLimit float_input_limit(const Graph& g) {
   std::vector<Linear> linear(g.operators.size());
   for (size_t i = 0; i < g.operators.size(); ++i) {
     const Operator& op = g.operators[i];
@@ -138,17 +142,25 @@ float float_input_limit(const Graph& g) {
     if (float_linear) linear[i] = linear_of(g, op);
   }
   std::vector<double> bound(g.tensors.size());
-  if (worst_bound(g, linear, static_cast<double>(FLT_MAX), bound) <= kSafe) return FLT_MAX;
-  if (!(worst_bound(g, linear, 0, bound) <= kSafe)) return 0;  // constants alone overflow
+  FloatInputLimit limit;
+  if (worst_bound(g, linear, static_cast<double>(FLT_MAX), bound) <= kSafe) return limit;
   double lo = -160, hi = 128;  // log2 of the input bound: safe at 2^lo, unsafe at 2^hi
-  for (int k = 0; k < 60; ++k) {
-    const double mid = (lo + hi) / 2;
-    (worst_bound(g, linear, std::exp2(mid), bound) <= kSafe ? lo : hi) = mid;
+  if (!(worst_bound(g, linear, 0, bound) <= kSafe)) {
+    lo = -std::numeric_limits<double>::infinity();  // constants alone overflow
+  } else {
+    for (int k = 0; k < 60; ++k) {
+      const double mid = (lo + hi) / 2;
+      (worst_bound(g, linear, std::exp2(mid), bound) <= kSafe ? lo : hi) = mid;
+    }
   }
-  return static_cast<float>(std::exp2(lo));
+  limit.limit = static_cast<float>(std::exp2(lo));
+  worst_bound(g, linear, std::exp2(hi), bound, &limit.op);
+  return limit;
 }
 
-Status check_float_input(std::span<const float> values, float limit, std::string_view what) {
+Status check_float_input(std::span<const float> values, const FloatInputLimit& bound,
+                         const Graph& graph, std::string_view what) {
+  const float limit = bound.limit;
   // Branch-free: the largest |x| as bits (for non-negative floats, including Inf and NaN, bit
   // order is value order, NaN above Inf). Only a failing tensor is walked again.
   uint32_t worst = 0;
@@ -165,11 +177,14 @@ Status check_float_input(std::span<const float> values, float limit, std::string
                          static_cast<double>(values[i]));
     }
     if (std::fabs(values[i]) > limit) {
+      const std::string_view op =
+          bound.op >= 0 ? graph.operators[static_cast<size_t>(bound.op)].name : std::string_view();
       return Error::make(ErrorCode::kNonFiniteValue,
-                         "%.*s: element %zu of %zu is %g, beyond +-%g: the model's float32 "
-                         "values could overflow to Inf/NaN (the largest safe input magnitude)",
+                         "%.*s: element %zu of %zu is %g, beyond +-%g, the largest input with "
+                         "which float32 cannot overflow to Inf/NaN (first at operator '%.*s')",
                          static_cast<int>(what.size()), what.data(), i, values.size(),
-                         static_cast<double>(values[i]), static_cast<double>(limit));
+                         static_cast<double>(values[i]), static_cast<double>(limit),
+                         static_cast<int>(op.size()), op.data());
     }
   }
   return Status();

@@ -50,7 +50,7 @@ class XnnpackExecutor final : public Executor {
   std::vector<std::span<const std::byte>> readable_;   // per tensor; empty: not kept
   std::vector<std::span<std::byte>> inputs_;           // per graph input
   std::vector<int32_t> float_inputs_, float_outputs_;  // tensors checked for NaN/Inf
-  float input_limit_ = 0;                              // float_input_limit(graph_)
+  FloatInputLimit input_limit_;                              // float_input_limit(graph_)
   std::optional<xnn::ThreadPool> pool_;
   std::optional<xnn::Runtime> runtime_;
 };
@@ -110,7 +110,8 @@ Status XnnpackExecutor::build() {
 Status XnnpackExecutor::invoke() {
   for (int32_t t : float_inputs_) {
     const Status s = check_float_input(as_floats(readable_[static_cast<size_t>(t)]),
-                                       input_limit_, graph_.tensor(t).name);
+                                       input_limit_, graph_,
+                                       graph_.tensor(t).name);
     if (!s.ok()) return s.error().with_context("graph input tensor %d", t);
   }
   return invoke_trusted_inputs();
