@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   add_inspect_command(app, exit_code);
   add_infer_command(app, exit_code);
   add_verify_command(app, exit_code);
+  add_sign_commands(app, exit_code);
   add_bench_command(app, exit_code);
   add_gen_reference_command(app, exit_code);
   add_gen_frames_command(app, exit_code);

@@ -96,14 +96,31 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
   auto impl = std::make_unique<Impl>();
   Impl& s = *impl;
   s.config = config;
-  auto model = Model::load_file(config.model.c_str());
-  if (!model.ok()) return model.error().with_context("model %s", config.model.c_str());
+  LoadOptions load;
+  PublicKey key;
+  if (!config.model_public_key.empty()) {
+    auto read = read_public_key_file(config.model_public_key.c_str());
+    if (!read.ok()) return read.error().with_context("model_public_key");
+    key = *read;
+    load.public_key = &key;
+  }
+  auto model = Model::load_file(config.model.c_str(), load);
+  if (!model.ok()) {
+    if (load.public_key != nullptr && model.error().code() == ErrorCode::kModelSignature) {
+      return model.error().with_context("model %s, model_public_key %s", config.model.c_str(),
+                                        config.model_public_key.c_str());
+    }
+    return model.error().with_context("model %s", config.model.c_str());
+  }
   s.model = std::move(model).value();
   TLV_ASSIGN_OR_RETURN(s.executor, make(*s.model, config));
   if (config.verify_model) {
     // The start-up self-test: the model's golden pairs on this board's executor.
     auto report = verify::verify_golden(*s.model, *s.executor);
     if (!report.ok()) return report.error().with_context("verifying %s", config.model.c_str());
+    TLV_ENSURE(report->heads.pass, ErrorCode::kModelChecksum,
+               "%s: golden head outputs do not match (max error %.4g > %.4g)",
+               config.model.c_str(), report->heads.max_abs_error, report->heads.tolerance);
     TLV_ENSURE(report->pass, ErrorCode::kModelChecksum,
                "%s: golden pairs do not match on the %s executor (max error %.4g > %.4g)",
                config.model.c_str(), executor_kind_name(s.executor->kind()),

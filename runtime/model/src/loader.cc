@@ -1,6 +1,7 @@
-// Model::load: size limits -> aligned copy -> identifier -> flatbuffers Verifier -> version ->
-// tensors -> operators -> topology -> per-op semantics -> no dead operator -> metadata ->
-// checksum.
+// Model::load: size limits -> integrity trailer and hash (and signature, when a key is given)
+// -> aligned copy -> identifier -> flatbuffers Verifier -> version -> tensors -> operators ->
+// topology -> per-op semantics -> no dead operator -> metadata (-> legacy checksum, for a
+// file without a trailer accepted by `tlvlink upgrade`).
 
 #include <cstdio>
 #include <cstdlib>
@@ -109,6 +110,26 @@ Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
   TLV_ENSURE(bytes.size() <= kMaxModelBytes, ErrorCode::kModelMalformed,
              "model file is %zu bytes, over the %zu-byte limit", bytes.size(), kMaxModelBytes);
 
+  // Integrity first: nothing of an altered file is parsed. A file without a trailer is read
+  // whole only when asked to (upgrade, or fuzzing with verify_checksum off).
+  ModelIntegrity integrity;
+  integrity.body_size = bytes.size();
+  // A file that is no model at all gets "not a tlvlink model", not advice on upgrading.
+  if (!has_integrity_trailer(bytes) &&
+      !fb::ModelBufferHasIdentifier(reinterpret_cast<const uint8_t*>(bytes.data()))) {
+    return model_internal::check_identifier(reinterpret_cast<const uint8_t*>(bytes.data())).error();
+  }
+  const bool legacy = !has_integrity_trailer(bytes) && (options.accept_legacy ||
+                                                        !options.verify_checksum);
+  if (!legacy) {
+    TLV_ASSIGN_OR_RETURN(integrity, read_integrity(bytes, options.verify_checksum));
+  }
+  if (options.public_key != nullptr) {
+    TLV_ENSURE(!legacy, ErrorCode::kModelSignature,
+               "the model has no integrity trailer, so no signature; a signed model is required");
+    TLV_TRY(check_signature(integrity, *options.public_key));
+  }
+
   std::unique_ptr<Model> model(new (std::nothrow) Model());
   TLV_ENSURE(model != nullptr, ErrorCode::kOutOfMemory, "allocating the model");
   const size_t padded = (bytes.size() + kAlignment - 1) / kAlignment * kAlignment;
@@ -118,14 +139,19 @@ Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
   std::memcpy(model->data_.get(), bytes.data(), bytes.size());
   std::memset(model->data_.get() + bytes.size(), 0, padded - bytes.size());
   model->size_ = bytes.size();
+  model->integrity_ = integrity;
   const auto* raw = reinterpret_cast<const uint8_t*>(model->data_.get());
+  const size_t body_size = integrity.body_size;  // the flatbuffer, without the trailer
+  TLV_ENSURE(body_size >= 8, ErrorCode::kModelMalformed,
+             "model file holds %zu bytes before its trailer: too short to be a tlvlink model",
+             body_size);
 
   TLV_TRY(model_internal::check_identifier(raw));
-  flatbuffers::Verifier verifier(raw, model->size_, /*max_depth=*/64,
+  flatbuffers::Verifier verifier(raw, body_size, /*max_depth=*/64,
                                  /*max_tables=*/4 * (kMaxTensors + kMaxOperators));
   TLV_ENSURE(fb::VerifyModelBuffer(verifier), ErrorCode::kModelMalformed,
              "flatbuffers verification failed: the file is truncated or corrupt "
-             "(a table or vector points outside the %zu-byte file)", model->size_);
+             "(a table or vector points outside the %zu-byte flatbuffer)", body_size);
 
   const fb::Model* root = fb::GetModel(raw);
   model->schema_version_ = root->schema_version();
@@ -162,12 +188,12 @@ Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
   TLV_TRY(check_outputs_used(graph));
   TLV_TRY(model_internal::convert_metadata(root->metadata(), buffer_view, graph, model->metadata_));
 
-  if (options.verify_checksum) {
+  if (legacy && options.verify_checksum) {
     const uint64_t expected = model->metadata_.provenance.content_checksum;
     const uint64_t actual = content_checksum(buffer_view);
     TLV_ENSURE(expected == actual, ErrorCode::kModelChecksum,
-               "constant data checksum is %016llx, the file records %016llx: weights were "
-               "modified or corrupted after the model was written",
+               "legacy file: constant data checksum is %016llx, the file records %016llx: "
+               "weights were modified or corrupted after the model was written",
                static_cast<unsigned long long>(actual), static_cast<unsigned long long>(expected));
   }
   return model;

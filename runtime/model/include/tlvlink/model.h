@@ -13,6 +13,7 @@
 #include "tlvlink/error.h"
 #include "tlvlink/graph.h"
 #include "tlvlink/metadata.h"
+#include "tlvlink/model_integrity.h"
 
 namespace tlvlink {
 
@@ -25,7 +26,15 @@ inline constexpr size_t kMaxTensors = 100000;
 inline constexpr size_t kMaxOperators = 50000;
 
 struct LoadOptions {
-  bool verify_checksum = true;  // recompute the content checksum of the constant buffers
+  // Recompute the file's BLAKE2b-256 hash and compare it with the trailer's (model_integrity.h).
+  // Off only for fuzzing and tests: the trailer is then stripped if present, and a file without
+  // one is read whole.
+  bool verify_checksum = true;
+  // When set, the file must be signed by this key (kModelSignature otherwise). Borrowed for the call.
+  const PublicKey* public_key = nullptr;
+  // Accept a file written before the integrity trailer if its legacy FNV-1a checksum of the
+  // constant buffers matches: only for `tlvlink upgrade`, which rewrites it with a trailer.
+  bool accept_legacy = false;
 };
 
 // A loaded, validated model. Owns its bytes; Graph and Metadata are views into them.
@@ -43,8 +52,12 @@ class Model {
 
   const Graph& graph() const { return graph_; }
   const Metadata& metadata() const { return metadata_; }
+  // The whole file as loaded (flatbuffer, then the trailer if it has one).
   std::span<const std::byte> bytes() const { return {data_.get(), size_}; }
   uint32_t schema_version() const { return schema_version_; }
+  // The checked trailer; body_size == bytes().size() and hash all zero for a legacy file
+  // (accept_legacy) or one loaded without a trailer and verify_checksum off.
+  const ModelIntegrity& integrity() const { return integrity_; }
 
  private:
   Model() = default;
@@ -52,11 +65,14 @@ class Model {
   std::unique_ptr<std::byte[], AlignedFree> data_;
   size_t size_ = 0;
   uint32_t schema_version_ = 0;
+  ModelIntegrity integrity_;
   Graph graph_;
   Metadata metadata_;
 };
 
-// FNV-1a 64 over the constant buffers in index order (the value Provenance.content_checksum holds).
+// FNV-1a 64 over the constant buffers in index order (the value Provenance.content_checksum
+// holds). Legacy: superseded by the trailer's hash, checked only for files without one
+// (LoadOptions::accept_legacy); still written so runtimes from before the trailer read new files.
 uint64_t content_checksum(std::span<const std::span<const std::byte>> buffers);
 
 }  // namespace tlvlink
