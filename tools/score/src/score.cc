@@ -266,7 +266,7 @@ std::string format_score(const ScoreReport& r) {
     out += line;
     if (h.without_contact > 0) {
       std::snprintf(line, sizeof(line),
-                    "  %s: %lld labelled frames without contact (false contacts) not scored\n",
+                    "  %s: %lld labelled frames without contact not scored\n",
                     h.head.c_str(), static_cast<long long>(h.without_contact));
       out += line;
     }
