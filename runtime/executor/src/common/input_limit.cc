@@ -18,7 +18,6 @@ namespace {
 // A bound is safe below half of FLT_MAX: rounding in a different summation order (XNNPACK's
 // kernels) cannot then reach Inf.
 constexpr double kSafe = static_cast<double>(FLT_MAX) / 2.0;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // |value| of an int8 tensor, dequantized: never more than scale x (255 + |zp| margin).
 double int8_bound(const Tensor& t) {
