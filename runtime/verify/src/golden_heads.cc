@@ -74,12 +74,13 @@ Result<HeadCheck> check_golden_heads(const Model& model) {
     TLV_ENSURE(stored.size() == want.pairs[p].size(), ErrorCode::kModelInvalidMetadata,
                "golden pair %zu stores %zu head probabilities, the heads give %zu", p,
                stored.size(), want.pairs[p].size());
-    for (size_t i = 0; i < stored.size(); ++i) worse(want.pairs[p][i], stored[i]);
+    for (size_t i = 0; i < stored.size(); ++i)
+      worse(static_cast<double>(want.pairs[p][i]), static_cast<double>(stored[i]));
   }
   TLV_ENSURE(m.has_golden_grasp == want.has_grasp, ErrorCode::kModelInvalidMetadata,
              "the golden grasp output is %s but the model %s a grasp head",
              m.has_golden_grasp ? "stored" : "missing", want.has_grasp ? "has" : "has no");
-  if (want.has_grasp) worse(want.grasp, m.golden_grasp);
+  if (want.has_grasp) worse(static_cast<double>(want.grasp), static_cast<double>(m.golden_grasp));
   c.pass = c.max_abs_error <= c.tolerance;
   return c;
 }
