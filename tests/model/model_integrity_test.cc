@@ -196,8 +196,25 @@ TEST_F(ShippedModel, LegacyFileRefusedThenUpgradedToTheSameModel) {
   EXPECT_TRUE(Model::load(legacy, {.accept_legacy = true}).ok());
   auto upgraded = quantize::upgrade_model(legacy);
   ASSERT_TRUE(upgraded.ok()) << upgraded.error().message();
-  // Writing the same model again gives the same bytes: the shipped file is a fixed point.
+#if defined(__x86_64__)
+  // Writing the same model again gives the same bytes: the shipped file (written on x86-64) is
+  // a fixed point.
   EXPECT_EQ(*upgraded, file_);
+#else
+  // Elsewhere the rewrite recomputes the golden head outputs with this CPU's float math (expf,
+  // fused multiply-add), so bytes may differ; the outputs must agree within verify's tolerance.
+  auto again = Model::load(*upgraded);
+  ASSERT_TRUE(again.ok()) << again.error().message();
+  const Metadata& a = (*again)->metadata();
+  const Metadata& b = model_->metadata();
+  ASSERT_EQ(a.golden.size(), b.golden.size());
+  for (size_t p = 0; p < a.golden.size(); ++p) {
+    ASSERT_EQ(a.golden[p].head_probabilities.size(), b.golden[p].head_probabilities.size());
+    for (size_t i = 0; i < a.golden[p].head_probabilities.size(); ++i)
+      EXPECT_NEAR(a.golden[p].head_probabilities[i], b.golden[p].head_probabilities[i], 1e-3);
+  }
+  EXPECT_NEAR(a.golden_grasp, b.golden_grasp, 1e-3);
+#endif
   // A legacy file whose constants were altered: the legacy checksum still refuses it.
   const size_t w = offset_of(*model_, model_->graph().tensor(model_->graph().operators[0].inputs[1]).data.data());
   const Error altered = Model::load(flipped(legacy, w * 8), {.accept_legacy = true}).error();
