@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -159,8 +160,16 @@ TEST_F(UntrustedCli, AllMalformedSetIsExitOneEverywhere) {
                      path("allbad.tlvm") + " --calib-count 4 --heldout-count 2 -q");
   EXPECT_RUN(r, 1);
   EXPECT_TRUE(contains(r, set + "/data_list.json:1:")) << r.out;
-  // The first 10 problems on stderr, then the count of the rest; --problems FILE lists all.
-  EXPECT_TRUE(contains(r, "... and 2 more load problems not shown")) << r.out;
+  // The first 10 problems on stderr; all of them in a report file of tlvlink's own when no
+  // --problems FILE is named (none is only counted).
+  EXPECT_TRUE(contains(r, "12 load problems (the first 10 above), all in ")) << r.out;
+  const size_t at = r.out.find("all in ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const std::string own = r.out.substr(at + 7, r.out.find('\n', at) - at - 7);
+  EXPECT_NE(own.find("tlvlink-quantize-problems-"), std::string::npos) << own;
+  const std::string own_text = slurp(own);
+  EXPECT_EQ(std::count(own_text.begin(), own_text.end(), '\n'), 12) << own_text;
+  std::remove(own.c_str());
   const std::string log = path("problems.txt");
   r = tlvlink("eval " + path("int8.tlvm") + " --touch " + set + " --problems " + log);
   EXPECT_RUN(r, 1);

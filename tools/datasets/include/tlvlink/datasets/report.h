@@ -71,8 +71,9 @@ class ProblemEcho {
   ProblemEcho(std::string prefix, std::FILE* out, size_t shown = 10, std::string log_path = {});
   // `index_lines` false: skip malformed lines (a second pass over an index already reported).
   std::function<void(const LoadProblem&)> callback(bool index_lines = true);
-  // Prints "PREFIX: N load problems: the first K above, all in PATH" (or "... N more not shown")
-  // and commits the log; a failed log write is the error.
+  // Prints "PREFIX: N load problems (the first K above), all in PATH" and commits the log; a
+  // failed log write is the error. Without a log_path, more problems than `shown` go to
+  // $TMPDIR/PREFIX-problems-PID.txt (all of them), so none is only counted.
   Status finish();
   size_t seen() const { return seen_; }
 
@@ -81,7 +82,8 @@ class ProblemEcho {
   std::string prefix_;
   std::FILE* out_;
   size_t shown_;
-  std::string log_path_;
+  std::string log_path_;              // --problems FILE, or our own file once past shown_
+  std::vector<std::string> first_;    // the lines shown, until a file is opened for them
   std::optional<AtomicFile> log_;
   Status log_status_;
   size_t seen_ = 0;
