@@ -50,9 +50,10 @@ Result<std::unique_ptr<Model>> Model::load_file(const char* path, const LoadOpti
   TLV_ENSURE(root >= kHeadBytes && root < f.size(), ErrorCode::kModelMalformed,
              "%s: root table offset %u outside the %llu-byte file", path, root,
              static_cast<unsigned long long>(f.size()));
-  std::vector<std::byte> bytes(static_cast<size_t>(f.size()));
-  TLV_TRY(f.read_at(bytes, 0, path));
-  auto result = load(bytes, options);
+  // Straight into the model's own aligned buffer: one copy of the file in memory.
+  TLV_ASSIGN_OR_RETURN(std::unique_ptr<Model> model, with_buffer(static_cast<size_t>(f.size())));
+  TLV_TRY(f.read_at({model->data_.get(), model->size_}, 0, path));
+  auto result = parse(std::move(model), options);
   if (!result.ok()) return result.error().with_context("%s", path);
   return result;
 }

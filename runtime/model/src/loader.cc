@@ -103,13 +103,34 @@ Status validate_operators(const Graph& graph) {
 
 }  // namespace
 
+Result<std::unique_ptr<Model>> Model::with_buffer(size_t size) {
+  std::unique_ptr<Model> model(new (std::nothrow) Model());
+  TLV_ENSURE(model != nullptr, ErrorCode::kOutOfMemory, "allocating the model");
+  const size_t padded = (size + kAlignment - 1) / kAlignment * kAlignment;
+  model->data_.reset(static_cast<std::byte*>(std::aligned_alloc(kAlignment, padded)));
+  TLV_ENSURE(model->data_ != nullptr, ErrorCode::kOutOfMemory, "allocating %zu bytes for the model",
+             padded);
+  std::memset(model->data_.get() + size, 0, padded - size);
+  model->size_ = size;
+  return model;
+}
+
 Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
                                            const LoadOptions& options) {
   TLV_ENSURE(bytes.size() >= 8, ErrorCode::kModelMalformed,
              "model file is %zu bytes: too short to be a tlvlink model", bytes.size());
   TLV_ENSURE(bytes.size() <= kMaxModelBytes, ErrorCode::kModelMalformed,
              "model file is %zu bytes, over the %zu-byte limit", bytes.size(), kMaxModelBytes);
+  TLV_ASSIGN_OR_RETURN(std::unique_ptr<Model> model, with_buffer(bytes.size()));
+  std::memcpy(model->data_.get(), bytes.data(), bytes.size());
+  return parse(std::move(model), options);
+}
 
+// The model's own aligned copy is checked and parsed in place: nothing is parsed before the
+// integrity check, and load_file reads the file straight into that copy (one copy in memory).
+Result<std::unique_ptr<Model>> Model::parse(std::unique_ptr<Model> model,
+                                            const LoadOptions& options) {
+  const std::span<const std::byte> bytes = model->bytes();
   // Integrity first: nothing of an altered file is parsed. A file without a trailer is read
   // whole only when asked to (upgrade, or fuzzing with verify_checksum off).
   ModelIntegrity integrity;
@@ -130,15 +151,6 @@ Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
     TLV_TRY(check_signature(integrity, *options.public_key));
   }
 
-  std::unique_ptr<Model> model(new (std::nothrow) Model());
-  TLV_ENSURE(model != nullptr, ErrorCode::kOutOfMemory, "allocating the model");
-  const size_t padded = (bytes.size() + kAlignment - 1) / kAlignment * kAlignment;
-  model->data_.reset(static_cast<std::byte*>(std::aligned_alloc(kAlignment, padded)));
-  TLV_ENSURE(model->data_ != nullptr, ErrorCode::kOutOfMemory, "allocating %zu bytes for the model",
-             padded);
-  std::memcpy(model->data_.get(), bytes.data(), bytes.size());
-  std::memset(model->data_.get() + bytes.size(), 0, padded - bytes.size());
-  model->size_ = bytes.size();
   model->integrity_ = integrity;
   const auto* raw = reinterpret_cast<const uint8_t*>(model->data_.get());
   const size_t body_size = integrity.body_size;  // the flatbuffer, without the trailer

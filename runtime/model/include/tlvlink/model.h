@@ -19,8 +19,9 @@ namespace tlvlink {
 
 inline constexpr uint32_t kSchemaVersion = 1;
 // Documented limits; exceeding one is a load error, never a truncation.
-// 256 MiB: the shipped int8 encoder is 1.8 MB, an fp32 ResNet-50 ~100 MB; the loader holds two
-// copies while loading (file bytes + aligned copy), so this also bounds a board's load peak.
+// 256 MiB: the shipped int8 encoder is 0.8 MB, an fp32 ResNet-50 ~100 MB. load_file() reads the
+// file straight into the model's aligned buffer (one copy), so this also bounds a board's load
+// peak; load() from memory adds the caller's bytes.
 inline constexpr size_t kMaxModelBytes = size_t{256} << 20;
 inline constexpr size_t kMaxTensors = 100000;
 inline constexpr size_t kMaxOperators = 50000;
@@ -61,6 +62,11 @@ class Model {
 
  private:
   Model() = default;
+  // load() and load_file() share these: an aligned buffer for `size` bytes (zero-padded), then
+  // the checks and parsing of what was put into it, in place.
+  static Result<std::unique_ptr<Model>> with_buffer(size_t size);
+  static Result<std::unique_ptr<Model>> parse(std::unique_ptr<Model> model,
+                                              const LoadOptions& options);
   struct AlignedFree { void operator()(std::byte* p) const; };
   std::unique_ptr<std::byte[], AlignedFree> data_;
   size_t size_ = 0;
