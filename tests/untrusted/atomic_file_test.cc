@@ -1,11 +1,14 @@
 // AtomicFile: a write that fails half-way (file-size limit, read-only directory) leaves the
 // previous file byte-identical and no temporary behind.
+#include <sys/mount.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -124,6 +127,30 @@ TEST(AtomicFile, ReadOnlyDirectoryIsAnErrorNamingThePath) {
   ASSERT_FALSE(s.ok());
   EXPECT_NE(std::string(s.error().message()).find(path), std::string::npos) << s.error().message();
   EXPECT_EQ(slurp(path), "old");
+}
+
+// A real full disk: a 64 KiB tmpfs mounted over a temporary directory (needs CAP_SYS_ADMIN;
+// skipped, saying so, where mounting is not allowed). The old file stays, no temporary is left.
+TEST(AtomicFile, DiskFullLeavesTheOldFileIdentical) {
+  testing::TempDir dir("atomic_full");
+  const std::string mnt = dir / "small";
+  ASSERT_EQ(::mkdir(mnt.c_str(), 0700), 0);
+  if (::mount("tmpfs", mnt.c_str(), "tmpfs", 0, "size=64k") != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here (" << std::strerror(errno) << ")";
+  const std::string path = mnt + "/model.tlvm";
+  const std::string old(16 * 1024, 'o');
+  spit(path, old);
+  const std::vector<std::byte> big(256 * 1024, std::byte{0x5a});  // more than is left
+  const Status s = write_file_atomic(path.c_str(), big);
+  const std::string after = slurp(path);
+  const int temps = temporaries_in(mnt);
+  ::umount(mnt.c_str());
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(std::string(s.error().message()).find("disk full"), std::string::npos)
+      << s.error().message();
+  EXPECT_NE(std::string(s.error().message()).find(path), std::string::npos) << s.error().message();
+  EXPECT_EQ(after, old);
+  EXPECT_EQ(temps, 0);
 }
 
 TEST(AtomicFile, WriteErrorTextNamesDiskFull) {
