@@ -168,13 +168,9 @@ Status check_float_input(std::span<const float> values, const FloatInputLimit& b
   uint32_t limit_bits;
   std::memcpy(&limit_bits, &limit, sizeof limit_bits);
   if (worst <= limit_bits) return Status();
+  // NaN/Inf first, with the executors' one message for them (executor.h check_finite).
+  TLV_TRY(check_finite(values, what));
   for (size_t i = 0; i < values.size(); ++i) {
-    if (!std::isfinite(values[i])) {
-      return Error::make(ErrorCode::kNonFiniteValue,
-                         "%.*s: element %zu of %zu is %g; NaN and Inf are rejected",
-                         static_cast<int>(what.size()), what.data(), i, values.size(),
-                         static_cast<double>(values[i]));
-    }
     if (std::fabs(values[i]) > limit) {
       const std::string_view op =
           bound.op >= 0 ? graph.operators[static_cast<size_t>(bound.op)].name : std::string_view();
