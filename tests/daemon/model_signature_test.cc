@@ -11,14 +11,25 @@
 #include "tlvlink/daemon/config.h"
 #include "tlvlink/daemon/session.h"
 #include "tlvlink/image/jpeg.h"
-#include "tlvlink/io/file.h"
+#include "tlvlink/atomic_file.h"
 #include "tlvlink/quantize/model_sign.h"
+#include "tlvlink/regular_file.h"
 
 namespace tlvlink::daemon {
 namespace {
 
 constexpr const char* kModel = TLVLINK_SOURCE_DIR "/firmware/models/touch-tiny-int8.tlvm";
 constexpr int32_t kW = 640, kH = 480;
+
+// The runtime's own file helpers: this test also runs in cross builds, which have no host tools.
+std::vector<std::byte> read_whole(const char* path) {
+  auto f = RegularFile::open(path);
+  EXPECT_TRUE(f.ok()) << path;
+  if (!f.ok()) return {};
+  std::vector<std::byte> bytes(f->size());
+  EXPECT_TRUE(f->read_at(bytes, 0, path).ok()) << path;
+  return bytes;
+}
 
 std::string config_text(const std::string& model, const std::string& key, const std::string& out) {
   return "model = \"" + model + "\"\nmodel_public_key = \"" + key + "\"\n" +
@@ -57,18 +68,18 @@ TEST(DaemonModelSignature, RefusesUnsignedWrongKeyAndTamperedModels) {
   ASSERT_TRUE(quantize::write_key_files(base, *keys).ok());
   ASSERT_TRUE(quantize::write_key_files(other_base, *other).ok());
   const std::string pub = base + ".pub", out = dir.path() + "/p.jsonl";
-  auto file = tools::read_file(kModel, kMaxModelBytes);
-  ASSERT_TRUE(file.ok());
-  auto good = quantize::sign_model(*file, keys->secret);
-  auto wrong = quantize::sign_model(*file, other->secret);
+  const std::vector<std::byte> file = read_whole(kModel);
+  ASSERT_FALSE(file.empty());
+  auto good = quantize::sign_model(file, keys->secret);
+  auto wrong = quantize::sign_model(file, other->secret);
   ASSERT_TRUE(good.ok() && wrong.ok());
   auto tampered = *good;
   tampered[tampered.size() - 20] ^= std::byte{1};  // inside the signature
   const std::string good_path = dir.path() + "/good.tlvm", wrong_path = dir.path() + "/wrong.tlvm",
                     tampered_path = dir.path() + "/tampered.tlvm";
-  ASSERT_TRUE(tools::write_file(good_path, *good).ok());
-  ASSERT_TRUE(tools::write_file(wrong_path, *wrong).ok());
-  ASSERT_TRUE(tools::write_file(tampered_path, tampered).ok());
+  ASSERT_TRUE(write_file_atomic(good_path.c_str(), *good).ok());
+  ASSERT_TRUE(write_file_atomic(wrong_path.c_str(), *wrong).ok());
+  ASSERT_TRUE(write_file_atomic(tampered_path.c_str(), tampered).ok());
 
   struct Case {
     std::string model, expect;
