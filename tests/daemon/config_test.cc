@@ -14,6 +14,7 @@ executor = "reference"
 threads = 2
 heads = ["material", "hard_soft"]
 smoothing_ms = 200
+embedding = true
 output = "jsonl:/tmp/out.jsonl"
 control = "stdin"
 
@@ -56,6 +57,7 @@ TEST(DaemonConfig, AFullFileParses) {
   EXPECT_EQ(c->threads, 2);
   EXPECT_EQ(c->processing.heads, (std::vector<std::string>{"material", "hard_soft"}));
   EXPECT_EQ(c->processing.smoothing_tau_ns, 200'000'000);
+  EXPECT_TRUE(c->processing.report_embedding);
   EXPECT_EQ(c->control, ControlInput::kStdin);
   EXPECT_EQ(c->processing.contact.reference_frames, 30);
   EXPECT_FLOAT_EQ(c->processing.contact.noise_multiple, 6.5f);

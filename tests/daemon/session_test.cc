@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <string>
 #include <thread>
 #include <vector>
@@ -146,6 +147,51 @@ TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
   EXPECT_EQ(grasps, t.grasps + t.grasps_not_computed);
   EXPECT_GE(stats, 1u);
   EXPECT_EQ(summaries, 1u);
+}
+
+// `embedding = true`: every encoded frame carries the encoder's embedding and the int8 tensor it
+// comes from (the host-vs-board comparison of tests/hil reads them), still without allocating
+// per frame; a frame's values depend on its bytes only (the sources repeat four JPEGs).
+TEST(DaemonSession, ReportsTheEmbeddingAndItsInt8Tensor) {
+  testing::TempDir dir;
+  const std::string out = dir.path() + "/predictions.jsonl";
+  constexpr int64_t kWarmup = 100, kCounted = 300;
+  std::string text = config_text(out, kWarmup + kCounted);
+  text.replace(text.find("[contact]\n"), 10, "embedding = true\nsmoothing_ms = 0\n[contact]\nenabled = false\n");
+  auto config = parse_config(text, "test.toml");
+  ASSERT_TRUE(config.ok()) << config.error().message();
+  auto session = Session::start_with_sources(*config, sources());
+  ASSERT_TRUE(session.ok()) << session.error().message();
+  while ((*session)->frames_processed() < static_cast<uint64_t>(kWarmup))
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  testing::start_counting_allocations();
+  while (!(*session)->limit_reached()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  const size_t allocations = testing::stop_counting_allocations();
+  const SessionTotals t = (*session)->stop();
+  EXPECT_EQ(allocations, 0u) << "heap allocations while " << kCounted << " frames went through";
+  EXPECT_EQ(t.encoded, t.frames) << "gating is off: every frame is encoded";
+  std::ifstream in(out);
+  std::string line;
+  uint64_t frames = 0;
+  std::map<std::vector<int>, std::vector<double>> by_int8;  // int8 tensor -> its embedding
+  while (std::getline(in, line)) {
+    const auto j = nlohmann::json::parse(line);
+    if (j.at("type") != "frame") continue;
+    ++frames;
+    ASSERT_TRUE(j.contains("embedding") && j.contains("int8")) << line;
+    const auto embedding = j.at("embedding").get<std::vector<double>>();
+    const auto int8 = j.at("int8").get<std::vector<int>>();
+    EXPECT_EQ(embedding.size(), 128u);  // the shipped model: 256 int8 values -> fp32 FC -> 128
+    EXPECT_EQ(int8.size(), 256u);
+    for (int v : int8) EXPECT_TRUE(v >= -128 && v <= 127) << v;
+    auto [it, added] = by_int8.emplace(int8, embedding);
+    if (!added) {
+      EXPECT_EQ(it->second, embedding) << "same int8 tensor, another embedding";
+    }
+  }
+  EXPECT_EQ(frames, t.frames);
+  EXPECT_GE(by_int8.size(), 2u) << "pressed and idle frames must differ";
+  EXPECT_LE(by_int8.size(), 4u) << "four distinct frames, one int8 tensor each";
 }
 
 }  // namespace

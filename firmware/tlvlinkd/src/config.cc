@@ -166,6 +166,7 @@ Status read_top(TableReader& r, DaemonConfig& c) {
   int64_t smoothing_ms = c.processing.smoothing_tau_ns / kMs;
   TLV_TRY(r.integer("smoothing_ms", smoothing_ms, 0, 60'000));
   c.processing.smoothing_tau_ns = smoothing_ms * kMs;
+  TLV_TRY(r.flag("embedding", c.processing.report_embedding));
   if (auto t = r.table("contact"); !t.ok()) {
     return t.error();
   } else if (*t != nullptr) {

@@ -87,11 +87,26 @@ void JsonlWriter::frame(const pipeline::FramePrediction& p, int64_t written_ns) 
       line_.printf(":{\"label\":");
       line_.json_string(names.labels[static_cast<size_t>(h.top)]);
       line_.printf(",\"p\":%.4f,\"probs\":[", static_cast<double>(h.probability[static_cast<size_t>(h.top)]));
-      for (int16_t i = 0; i < h.labels; ++i)
-        line_.printf("%s%.4f", i > 0 ? "," : "", static_cast<double>(h.probability[static_cast<size_t>(i)]));
+      for (int16_t i = 0; i < h.labels; ++i) {
+        const auto v = static_cast<double>(h.probability[static_cast<size_t>(i)]);
+        if (p.embedding_dim > 0) {  // `embedding = true` (comparisons): the float exactly
+          line_.printf("%s%.9g", i > 0 ? "," : "", v);
+        } else {
+          line_.printf("%s%.4f", i > 0 ? "," : "", v);
+        }
+      }
       line_.printf("]}");
     }
     line_.put('}');
+  }
+  if (p.embedding_dim > 0) {  // `embedding = true`: %.9g reads back as the same float
+    line_.printf(",\"embedding\":[");
+    for (int32_t i = 0; i < p.embedding_dim; ++i)
+      line_.printf("%s%.9g", i > 0 ? "," : "", static_cast<double>(p.embedding[static_cast<size_t>(i)]));
+    line_.printf("],\"int8\":[");
+    for (int32_t i = 0; i < p.int8_count; ++i)
+      line_.printf("%s%d", i > 0 ? "," : "", p.int8_values[static_cast<size_t>(i)]);
+    line_.put(']');
   }
   line_.printf("}\n");
 }

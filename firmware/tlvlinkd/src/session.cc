@@ -53,6 +53,7 @@ Result<std::unique_ptr<Executor>> make(const Model& m, const DaemonConfig& c) {
   TLV_ASSIGN_OR_RETURN(const ExecutorKind kind, parse_executor_kind(c.executor));
   ExecutorOptions o;
   o.threads = c.threads;
+  o.expose_all_tensors = c.processing.report_embedding;  // the int8 tensor it reports
   return make_executor(m, kind, o);
 }
 

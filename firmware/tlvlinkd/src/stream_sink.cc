@@ -159,6 +159,7 @@ void StreamSink::record(const OutputRecord& record, int64_t) {
     m.contact = p->contact_state == 2;
     m.heads = std::span<const protocol::HeadOutput>(head_outputs_.data(),
                                                     p->encoder_ran ? static_cast<size_t>(p->head_count) : 0);
+    m.embedding = std::span<const float>(p->embedding.data(), static_cast<size_t>(p->embedding_dim));
     st = sender_->post(m);
   } else if (const auto* g = std::get_if<pipeline::GraspPrediction>(&record)) {
     for (int32_t i = 0; i < g->frame_count; ++i) {

@@ -54,6 +54,32 @@ Result<std::vector<int16_t>> select_heads(const heads::HeadEvaluator& h,
   return out;
 }
 
+// Where the model's int8 part ends: the input of its last Dequantize, or the embedding output
+// itself when that is int8; -1 when neither exists (a float model).
+int32_t int8_end(const Graph& g, int32_t embedding_tensor) {
+  if (g.tensor(embedding_tensor).dtype == DType::kInt8) return embedding_tensor;
+  for (auto op = g.operators.rbegin(); op != g.operators.rend(); ++op)
+    if (op->type == OpType::kDequantize) return op->inputs[0];
+  return -1;
+}
+
+// report_embedding: both tensors fit a FramePrediction, and the int8 one is readable.
+Result<int32_t> reported_int8_tensor(const Graph& g, const Executor& executor, int32_t embedding_tensor) {
+  const size_t dim = g.tensor(embedding_tensor).shape.elements();
+  TLV_ENSURE(dim <= static_cast<size_t>(kMaxReportedEmbedding), ErrorCode::kModelUnsupported,
+             "report_embedding: the embedding has %zu values; at most %d can be reported", dim,
+             kMaxReportedEmbedding);
+  const int32_t q = int8_end(g, embedding_tensor);
+  if (q < 0) return q;
+  const Tensor& t = g.tensor(q);
+  TLV_ENSURE(t.shape.elements() <= static_cast<size_t>(kMaxReportedInt8), ErrorCode::kModelUnsupported,
+             "report_embedding: int8 tensor '%.*s' has %zu values; at most %d can be reported",
+             static_cast<int>(t.name.size()), t.name.data(), t.shape.elements(), kMaxReportedInt8);
+  auto bytes = executor.tensor(q);
+  if (!bytes.ok()) return bytes.error().with_context("report_embedding");
+  return q;
+}
+
 }  // namespace
 
 Result<std::unique_ptr<FrameProcessor>> FrameProcessor::create(
@@ -76,6 +102,10 @@ Result<std::unique_ptr<FrameProcessor>> FrameProcessor::create(
              ErrorCode::kModelInvalidMetadata, "embedding output has %zu values, dim is %d",
              out.shape.elements(), model.metadata().embedding_dim);
   p->embedding_.assign(out.shape.elements(), 0.0f);
+  if (options.report_embedding) {
+    TLV_ASSIGN_OR_RETURN(p->int8_tensor_,
+                         reported_int8_tensor(g, executor, g.outputs[static_cast<size_t>(out_index)]));
+  }
   int32_t fingers[2] = {-1, -1};
   for (size_t i = 0; i < sensors.size(); ++i) {
     const SensorSetup& s = sensors[i];
@@ -167,6 +197,7 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
     counters_.grasp_forced += (!contact && wanted) ? 1 : 0;
     embedding = embedding_;
     out.encoder_ran = true;
+    if (options_.report_embedding) report(out);
   }
   // Predictions are reported in contact only: a frame encoded for the grasp tracker's open-gel
   // "before" moment says nothing about a material.
@@ -194,6 +225,16 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
                        decision->state == ContactState::kContact, embedding);
   }
   return {};
+}
+
+void FrameProcessor::report(FramePrediction& out) const {
+  out.embedding_dim = static_cast<int32_t>(embedding_.size());
+  std::copy(embedding_.begin(), embedding_.end(), out.embedding.begin());
+  if (int8_tensor_ < 0) return;
+  const auto bytes = executor_.tensor(int8_tensor_);  // checked readable at create()
+  if (!bytes.ok()) return;
+  out.int8_count = static_cast<int32_t>(bytes->size());
+  std::memcpy(out.int8_values.data(), bytes->data(), bytes->size());
 }
 
 bool FrameProcessor::take_grasp(GraspPrediction& out) {

@@ -47,6 +47,10 @@ struct ProcessorOptions {
   // test set); zero-shot and untrusted heads only when named. An unknown name is an error
   // listing the model's heads.
   std::vector<std::string> heads;
+  // Copy the embedding and the int8 tensor it comes from into every encoded frame's record
+  // (FramePrediction::embedding / int8_values): host-vs-board comparisons. The int8 tensor is
+  // an intermediate activation: the executor must be created with expose_all_tensors.
+  bool report_embedding = false;
 };
 
 struct ProcessorCounters {
@@ -90,6 +94,7 @@ class FrameProcessor {
   };
   FrameProcessor(const Model& model, Executor& executor) : model_(model), executor_(executor) {}
   Status embed(Sensor& s, const image::ImageView& frame, FrameTimes& times);
+  void report(FramePrediction& out) const;  // report_embedding: copies the embedding + int8 tensor
 
   const Model& model_;
   Executor& executor_;
@@ -98,6 +103,7 @@ class FrameProcessor {
   heads::HeadEvaluator heads_;
   std::vector<int16_t> reported_;
   std::vector<float> embedding_;
+  int32_t int8_tensor_ = -1;  // report_embedding: the int8 tensor reported (-1: none)
   std::unique_ptr<GraspTracker> tracker_;
   ProcessorCounters counters_;
 };

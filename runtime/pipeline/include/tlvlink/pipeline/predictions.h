@@ -13,6 +13,10 @@ inline constexpr int32_t kMaxHeads = 8;          // per-frame heads reported
 inline constexpr int32_t kMaxLabels = 32;        // labels of one head
 inline constexpr int32_t kMaxGraspFeatures = 6;  // embeddings a grasp head reads (2 fingers x 3)
 inline constexpr int32_t kMaxReason = 256;       // "not computed" explanations (an Error fits)
+// ProcessorOptions::report_embedding: the embedding and the int8 tensor it comes from, copied
+// into each encoded frame's record (a model with more is refused at start, naming the limit).
+inline constexpr int32_t kMaxReportedEmbedding = 256;
+inline constexpr int32_t kMaxReportedInt8 = 512;
 
 // The stages a frame goes through; per-stage times are CLOCK_MONOTONIC nanoseconds.
 struct FrameTimes {
@@ -42,6 +46,13 @@ struct FramePrediction {
   float contact_score_dn = 0;
   int32_t head_count = 0;
   std::array<HeadProbabilities, kMaxHeads> heads{};
+  // Only with ProcessorOptions::report_embedding and when the encoder ran (0 otherwise): the
+  // encoder's embedding (float) and the int8 tensor where the model's int8 part ends (the input
+  // of its last Dequantize, or the output itself for an all-int8 model; 0 values if it has none).
+  int32_t embedding_dim = 0;
+  std::array<float, kMaxReportedEmbedding> embedding{};
+  int32_t int8_count = 0;
+  std::array<int8_t, kMaxReportedInt8> int8_values{};
 };
 
 struct GraspFrameRef {
