@@ -23,8 +23,9 @@ void Client::Impl::note_internal(uint32_t sequence) {
   internal_sequences.push_back(sequence);
 }
 
+// Flushed per record: a recorder that is killed keeps everything it had received.
 void Client::Impl::record(RecordKind kind, int64_t time_ns, std::span<const std::byte> data) {
-  if (recorder) (void)recorder->write(kind, time_ns, data);
+  if (recorder && recorder->write(kind, time_ns, data).ok()) (void)recorder->flush();
 }
 
 // The board's sequence: +1 per frame it sends; a jump forward is frames lost or rejected on the
