@@ -78,12 +78,19 @@ bool frame_index(std::span<const uint8_t> frame, uint32_t& index) {
 
 Result<std::unique_ptr<LoopFeeder>> LoopFeeder::start(const Nodes& nodes, image::PixelFormat format,
                                                       Pattern pattern) {
+  return start(nodes, format, [pattern](uint32_t index, std::span<uint8_t> out) {
+    frame_pattern(pattern, index, out);
+  });
+}
+
+Result<std::unique_ptr<LoopFeeder>> LoopFeeder::start(const Nodes& nodes, image::PixelFormat format,
+                                                      FrameFill fill) {
   if (nodes.output.empty())
     return Error::make(ErrorCode::kCaptureNoDevice, "vivid loop: no output node");
   TLV_TRY(set_timings(nodes.capture, false));
   TLV_TRY(set_timings(nodes.output, true));
   std::unique_ptr<LoopFeeder> f(new LoopFeeder());
-  f->pattern_ = pattern;
+  f->fill_ = std::move(fill);
   f->fd_ = ::open(nodes.output.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
   if (f->fd_ < 0) return fail(nodes.output.c_str(), errno);
   v4l2_format fmt{};
@@ -137,7 +144,7 @@ bool LoopFeeder::queue_next() {
     return false;  // the output still holds every buffer: try again later
   }
   const size_t bytes = image::frame_bytes(format_);
-  frame_pattern(pattern_, index, std::span(buffers_[b.index], bytes));
+  fill_(index, std::span(buffers_[b.index], bytes));
   b.bytesused = static_cast<uint32_t>(bytes);
   b.field = V4L2_FIELD_NONE;
   if (xioctl(fd_, VIDIOC_QBUF, &b) != 0) return false;

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -31,11 +32,17 @@ void frame_pattern(Pattern pattern, uint32_t index, std::span<uint8_t> out);
 // The index a frame carries, or false if its header is not a valid one.
 bool frame_index(std::span<const uint8_t> frame, uint32_t& index);
 
+// Writes frame `index` (the index-th frame fed, from 0) into a buffer of the output's frame size.
+using FrameFill = std::function<void(uint32_t index, std::span<uint8_t> out)>;
+
 class LoopFeeder {
  public:
   // Configures both nodes and starts the output stream with frame 0 queued.
   static Result<std::unique_ptr<LoopFeeder>> start(const Nodes& nodes, image::PixelFormat format,
                                                    Pattern pattern);
+  // The same with frames from elsewhere (tests/hil feeds simulated GelSight frames).
+  static Result<std::unique_ptr<LoopFeeder>> start(const Nodes& nodes, image::PixelFormat format,
+                                                   FrameFill fill);
   ~LoopFeeder();
   LoopFeeder(const LoopFeeder&) = delete;
   LoopFeeder& operator=(const LoopFeeder&) = delete;
@@ -55,7 +62,7 @@ class LoopFeeder {
 
   int fd_ = -1;
   image::FrameFormat format_;
-  Pattern pattern_ = Pattern::kIndexed;
+  FrameFill fill_;
   uint8_t* buffers_[4] = {};
   size_t lengths_[4] = {};
   uint32_t count_ = 0;
