@@ -137,6 +137,11 @@ int main(int argc, char** argv) {
     }
   }
   (*feeder)->feed_every(0);  // the last frame stays on the output
+  if (g_stop) {  // "fed" means every frame: the scripts wait for it
+    std::printf("feeder: stopped after %u of %u frames at uptime %.3f\n", (*feeder)->frames_queued(), count,
+                uptime_s());
+    return 0;
+  }
   std::printf("feeder: fed %u frames (last at uptime %.3f)%s\n", (*feeder)->frames_queued(), uptime_s(),
               read_failed ? "; READ ERRORS" : "");
   std::fflush(stdout);

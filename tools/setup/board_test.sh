@@ -7,6 +7,9 @@
 # times. In the generic-a76 boot the prediction stream's USB tests follow the capture tests
 # (tests/listen/rig: FunctionFS bulk <-> libusb and CDC-ACM through dummy_hcd, replug, reader
 # restart, corruption injection, throughput; ~2.5 min); their figures are printed at the end.
+# Then the hardware-in-the-loop run (tests/hil/hil_test.sh: tlvlinkd on simulated GelSight frames
+# through vivid, predictions over the USB gadget compared one by one with the host build; fault
+# runs in the Cortex-A76 boot, the clean run in a Cortex-A72 boot; ~5 min).
 #   board_test.sh [a76|a72|all]        (default: all)
 # Environment: TLVLINK_JOBS (build jobs, default 2: the machine is shared); PYTHON (default
 # /usr/bin/python3: the rig needs only its standard library).
@@ -26,6 +29,8 @@ programs=(tests/capture/capture_vivid_test tests/capture/capture_unit_test runti
 # The USB stream tests run in one preset's boot only (they test the link, not the CPU).
 usb_preset=generic-a76
 usb_programs=(tools/listen/bench/tlvlink_stream_check)
+# The hardware-in-the-loop programs (tests/hil): built with each preset, run by hil_test.sh.
+hil_targets=(tlvlinkd tlvlink_hil_feeder tlvlink_hil_relay)
 py=${PYTHON:-/usr/bin/python3}
 
 now() { date +%s.%N; }
@@ -68,6 +73,7 @@ for preset in "${presets[@]}"; do
   fi
   targets=()
   for p in "${preset_programs[@]}"; do targets+=("$(basename "$p")"); done
+  targets+=("${hil_targets[@]}")
   if ! { cmake --preset "$preset" >"$log-configure.log" 2>&1 &&
          cmake --build --preset "$preset" -j "$jobs" --target "${targets[@]}" >"$log-build.log" 2>&1; }; then
     grep -E "error:|FAILED:|CMake Error" "$log-configure.log" "$log-build.log" | cut -c1-300 | head -30
@@ -106,6 +112,19 @@ if [[ " ${presets[*]} " == *" $usb_preset "* ]] && [ -f "$usb_log" ]; then
              v["corrupted"], v["dropped"], v["bytes"], v["expected"], v["received"], v["lost"], v["queue_drops"], v["crc"],
              v["cobs"], v["truncated"], v["corrupted_accepted"] }'
 fi
+
+# The hardware-in-the-loop run: its own boots (boot to first prediction is one of its figures).
+echo
+t0=$(now)
+if PYTHON=$py bash tests/hil/hil_test.sh "$which" >build/logs/board-hil.log 2>&1; then
+  summary+=("hil ($which): $(grep -c '^hil_compare: PASS' build/logs/board-hil.log) comparison(s) passed ($(secs "$t0" "$(now)")s)")
+else
+  tail -120 build/logs/board-hil.log
+  summary+=("hil ($which): FAILED in $(secs "$t0" "$(now)")s (log: build/logs/board-hil.log; guest consoles: build/hil/<preset>/rig/)")
+  failed=1
+fi
+echo "Hardware-in-the-loop (tests/hil; qemu TCG emulation):"
+grep -E "^\| |^boot to first prediction|^host reference|^hil:|^=== hil|^HIL " build/logs/board-hil.log | sed 's/^/  /'
 
 echo
 echo "board_test summary (-j$jobs):"

@@ -6,7 +6,7 @@
 # `embedding = true` and writes JSON lines to the virtio-serial port hil.jsonl (live, to the host)
 # and the stream to the FunctionFS gadget (or CDC-ACM), whose USB host side — libusb through
 # dummy_hcd, in this same guest — is tlvlink_hil_relay, recording every byte into
-# /mnt/host/out/SCENARIO/ (the host's directory, virtio 9p). The host compares it all afterwards.
+# \$HIL_OUT/SCENARIO/ (the host's directory, virtio 9p). The host compares it all afterwards.
 #   hil_guest.sh setup                 dummy_hcd + gadgets 'tlvlink' (FunctionFS) and 'tlvacm'
 #                                      (CDC-ACM, bound), vivid
 #   hil_guest.sh clean                 every distinct frame of the recording, nothing disturbed
@@ -15,7 +15,8 @@
 #   hil_guest.sh garbage               CDC-ACM link; random bytes injected both ways
 #   hil_guest.sh replug                the gadget unbound and bound again
 #   hil_guest.sh daemon_kill           tlvlinkd SIGKILLed, restarted by a supervisor loop
-# Environment: HIL_RECORDING (the frames), HIL_MODEL, HIL_INTERVAL_MS (feed period, default 200).
+# Environment: HIL_RECORDING (the frames), HIL_MODEL, HIL_INTERVAL_MS (feed period, default 200),
+# HIL_OUT (where the relay's recordings go, default /mnt/host/out).
 # Each scenario writes {"type":"hil",...} marker lines into the JSON-lines port around its run
 # and prints "note: ..." lines with what happened when (guest uptime). Exit 0 when every step
 # ran; the verdict on the predictions is the host's (tests/hil/host/hil_compare.py).
@@ -25,6 +26,7 @@ gadget_sh="$here/usb_gadget.sh"
 recording=${HIL_RECORDING:-/mnt/host/frames/A.tlvraw}
 model=${HIL_MODEL:-/payload/hil/touch-tiny-int8.tlvm}
 interval=${HIL_INTERVAL_MS:-200}
+out=${HIL_OUT:-/mnt/host/out}
 ffs_link="usb:/dev/ffs-tlvlink,udc=dummy_udc.0,gadget=/sys/kernel/config/usb_gadget/tlvlink"
 ffs_source="usb:1d6b:0104,serial=HIL-FFS-0001"
 cam=/tmp/hil-cam
@@ -34,8 +36,13 @@ mkdir -p "$work"
 die() { echo "hil: $*"; exit 1; }
 up() { cut -d' ' -f1 /proc/uptime; }
 jsonl_port() { rig rig_port hil.jsonl; }
+# Markers go to $out/SCENARIO/events.jsonl; begin, end and daemon_start (written while no daemon
+# runs) also into the JSON-lines port, where they split the daemons' lines into runs. (A virtio
+# console port takes one opener at a time: while tlvlinkd has it open, an echo into it fails.)
 mark() {  # SCENARIO EVENT [EXTRA_JSON]
-  echo "{\"type\":\"hil\",\"scenario\":\"$1\",\"event\":\"$2\",\"uptime_s\":$(up)${3:+,$3}}" >>"$port"
+  line="{\"type\":\"hil\",\"scenario\":\"$1\",\"event\":\"$2\",\"uptime_s\":$(up)${3:+,$3}}"
+  mkdir -p "$out/$1" && echo "$line" >>"$out/$1/events.jsonl"
+  case "$2" in begin|end|daemon_start) echo "$line" >>"$port" || die "$1: marker '$2' could not be written to $port" ;; esac
 }
 
 # ---- the camera: feeder + the link the daemon opens ----
@@ -96,8 +103,8 @@ stop_daemon() {  # SIGTERM: frames already decoded are processed, records flushe
 
 # ---- the USB host side ----
 start_relay() {  # SCENARIO NAME SOURCE
-  mkdir -p "/mnt/host/out/$1"
-  tlvlink_hil_relay --source "$3" --record "/mnt/host/out/$1/$2.tlvrec" --timeout 300 --label "$2" \
+  mkdir -p "$out/$1"
+  tlvlink_hil_relay --source "$3" --record "$out/$1/$2.tlvrec" --timeout 300 --label "$2" \
     >>"$work/relay-$1.log" 2>&1 &
   relay_pid=$!
 }
@@ -128,6 +135,7 @@ finish() {  # SCENARIO FEEDS [SECONDS]
   stop_relay
   stop_camera
   mark "$1" end
+  cp "$work/daemon.log" "$work/feeder.log" "$work/relay-$1.log" "$out/$1/" 2>/dev/null
   echo "--- daemon"; cat "$work/daemon.log"
   echo "--- relay"; cat "$work/relay-$1.log"
   echo "--- feeder"; cat "$work/feeder.log"
@@ -256,6 +264,7 @@ daemon_kill() {  # tlvlinkd SIGKILLed 4 s after the first prediction; the superv
   stop_relay
   stop_camera
   mark daemon_kill end
+  cp "$work/daemon.log" "$work/feeder.log" "$work/relay-daemon_kill.log" "$out/daemon_kill/" 2>/dev/null
   echo "--- daemon"; cat "$work/daemon.log"
   echo "--- relay"; cat "$work/relay-daemon_kill.log"
   grep "^relay-summary" "$work/relay-daemon_kill.log" | sed 's/^/note: /'
