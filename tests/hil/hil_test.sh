@@ -73,6 +73,7 @@ model = "digit-640x480"
 source = "replay"
 device = "$PWD/$frames/A.tlvraw"
 EOF
+rm -f "$dir/host.jsonl"
 "$host_daemon" --config "$dir/host.toml" >build/logs/hil-host-reference.log 2>&1 ||
   { tail -20 build/logs/hil-host-reference.log; echo "hil: the host reference run failed" >&2; exit 1; }
 echo "hil: host reference $(grep -c '"type":"frame"' "$dir/host.jsonl") predictions ($(secs "$t0" "$(now)")s)"
