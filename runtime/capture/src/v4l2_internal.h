@@ -11,6 +11,7 @@
 
 #include "clock.h"
 #include "tlvlink/capture/frame_accounting.h"
+#include "tlvlink/capture/reconnect_backoff.h"
 #include "tlvlink/capture/v4l2_source.h"
 
 namespace tlvlink::capture::internal {
@@ -31,7 +32,8 @@ int xioctl(int fd, unsigned long request, void* arg);
 namespace tlvlink::capture {
 
 struct V4l2Source::State {
-  explicit State(const V4l2Config& c) : config(c) {}
+  explicit State(const V4l2Config& c)
+      : config(c), backoff(c.backoff_initial_ms, c.backoff_max_ms) {}
 
   V4l2Config config;
   char name[192] = {};
@@ -48,15 +50,14 @@ struct V4l2Source::State {
   internal::MappedBuffer buffers[internal::kMaxGrantedBuffers];
   uint32_t buffer_count = 0;
   int held = -1;              // buffer index delivered and not yet released
-  int pending_errno = 0;      // a release() that found the device gone: next() ends it
+  int pending_errno = 0;      // a release() that found the device gone: next() ends the stream;
+                              // belongs to the open device (cleared when it is closed)
+  bool streamed = false;      // a frame was delivered since the device was opened
   int64_t last_frame_ns = 0;  // watchdog reference: last dequeue (or stream start + grace)
 
   // Lifecycle and outages.
   bool started = false;
-  int64_t outage_start_ns = 0;
-  int64_t closed_outage_ns = 0;  // total of outages already over
-  int64_t next_attempt_ns = 0;
-  int32_t backoff_ms = 0;
+  ReconnectBackoff backoff;
   Error last_reopen_error;
 };
 

@@ -67,6 +67,7 @@ Status open_device(V4l2Source::State& s) {
   s.last_frame_ns = monotonic_ns() + static_cast<int64_t>(s.watchdog_ms) * 1000000;
   s.held = -1;
   s.pending_errno = 0;
+  s.streamed = false;
   s.stats.connected = true;
   return Status();
 }
@@ -79,6 +80,9 @@ void close_device(V4l2Source::State& s) {
   unmap_buffers(s);
   if (s.fd >= 0) ::close(s.fd);
   s.fd = -1;
+  // A failed requeue of the device just closed is not an error of the next one: left set, it
+  // would end every later next() at once (no reopen, no wait: a spinning caller).
+  s.pending_errno = 0;
   s.stats.connected = false;
 }
 

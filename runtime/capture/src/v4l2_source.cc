@@ -27,57 +27,54 @@ int64_t timestamp_of(const v4l2_buffer& b, SourceStats& stats, int64_t dequeued_
   return dequeued_ns;
 }
 
-// Ends the stream and begins an outage; the returned error is what next() reports.
+// Ends the stream and begins an outage; the returned error is what next() reports. The backoff
+// restarts from backoff_initial_ms only if the device had delivered a frame since it was opened.
 Error begin_outage(V4l2Source::State& s, const char* why, int err) {
   internal::close_device(s);
   const int64_t now = monotonic_ns();
   ++s.stats.disconnects;
-  s.outage_start_ns = now;
-  s.backoff_ms = s.config.backoff_initial_ms;
-  s.next_attempt_ns = now + s.backoff_ms * kMs;
-  return Error::make(ErrorCode::kCaptureDisconnected, "%s: %s%s%s; reconnecting", s.name, why,
-                     err ? ": " : "", err ? std::strerror(err) : "");
+  s.backoff.lost(now, s.streamed);
+  s.stats.outage_ns = s.backoff.outage_ns(now);
+  return Error::make(ErrorCode::kCaptureDisconnected,
+                     "%s: %s%s%s; reconnecting (first reopen in %d ms)", s.name, why,
+                     err ? ": " : "", err ? std::strerror(err) : "", s.backoff.delay_ms());
 }
 
-void end_outage(V4l2Source::State& s, int64_t now) {
-  s.closed_outage_ns += now - s.outage_start_ns;
-  s.stats.outage_ns = s.closed_outage_ns;
-}
-
-// While disconnected: reopen attempts with doubling backoff until deadline_ns. Ok once streaming.
+// While disconnected: reopen attempts when the backoff allows, until deadline_ns; between them
+// the thread sleeps, so a caller calling next() in a loop waits its timeout per call. Ok once
+// streaming again.
 Status reconnect(V4l2Source::State& s, int64_t deadline_ns) {
   for (;;) {
     int64_t now = monotonic_ns();
-    s.stats.outage_ns = s.closed_outage_ns + (now - s.outage_start_ns);
-    if (now >= s.next_attempt_ns) {
+    if (s.backoff.due(now)) {
       Status st = internal::open_device(s);
       now = monotonic_ns();
       if (st.ok()) {
-        end_outage(s, now);
+        s.backoff.reopened(now);
+        s.stats.outage_ns = s.backoff.outage_ns(now);
         ++s.stats.reconnects;
         return Status();
       }
       ++s.stats.reconnect_attempts;
       s.last_reopen_error = st.error();
-      s.backoff_ms =
-          s.backoff_ms * 2 > s.config.backoff_max_ms ? s.config.backoff_max_ms : s.backoff_ms * 2;
-      s.next_attempt_ns = now + s.backoff_ms * kMs;
+      s.backoff.attempt_failed(now);
     }
-    if (s.next_attempt_ns > deadline_ns) {
+    s.stats.outage_ns = s.backoff.outage_ns(now);
+    if (s.backoff.next_attempt_ns() > deadline_ns) {
       internal::sleep_until_ns(deadline_ns);
       now = monotonic_ns();
-      s.stats.outage_ns = s.closed_outage_ns + (now - s.outage_start_ns);
+      s.stats.outage_ns = s.backoff.outage_ns(now);
       const char* reason = s.last_reopen_error.code() == ErrorCode::kOk
                                ? "not reopened yet"
                                : s.last_reopen_error.message();
       return Error::make(
           ErrorCode::kCaptureDisconnected,
           "%s: disconnected for %lld ms, %llu reopen attempts failed, next in %lld ms: %s", s.name,
-          static_cast<long long>((now - s.outage_start_ns) / kMs),
+          static_cast<long long>(s.backoff.current_outage_ns(now) / kMs),
           static_cast<unsigned long long>(s.stats.reconnect_attempts),
-          static_cast<long long>((s.next_attempt_ns - now) / kMs), reason);
+          static_cast<long long>((s.backoff.next_attempt_ns() - now) / kMs), reason);
     }
-    internal::sleep_until_ns(s.next_attempt_ns);
+    internal::sleep_until_ns(s.backoff.next_attempt_ns());
   }
 }
 
@@ -101,16 +98,13 @@ Status V4l2Source::start() {
   State& s = *state_;
   if (s.started) return Status();
   s.stats = SourceStats();
-  s.closed_outage_ns = 0;
+  s.backoff.reset();
   s.last_reopen_error = Error();
   Status st = internal::open_device(s);
   if (!st.ok()) {
     if (!s.config.wait_for_device || st.error().code() != ErrorCode::kCaptureNoDevice) return st;
     // Absent at start and allowed to be: an outage from the start, first attempt right away.
-    const int64_t now = monotonic_ns();
-    s.outage_start_ns = now;
-    s.backoff_ms = s.config.backoff_initial_ms;
-    s.next_attempt_ns = now;
+    s.backoff.absent_at_start(monotonic_ns());
     s.last_reopen_error = st.error();
   }
   s.started = true;
@@ -120,7 +114,11 @@ Status V4l2Source::start() {
 void V4l2Source::stop() {
   State& s = *state_;
   if (!s.started) return;
-  if (!s.stats.connected) end_outage(s, monotonic_ns());
+  if (s.backoff.in_outage()) {
+    const int64_t now = monotonic_ns();
+    s.backoff.reopened(now);  // the outage's clock stops with the source
+    s.stats.outage_ns = s.backoff.outage_ns(now);
+  }
   internal::close_device(s);
   s.started = false;
 }
@@ -180,6 +178,7 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
     if (newest >= 0) {
       s.accounting.count_stale(stale);
       s.accounting.count_delivered();
+      s.streamed = true;
       s.held = newest;
       frame.format = s.format;
       frame.skipped_before = stale;

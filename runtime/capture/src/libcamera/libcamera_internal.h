@@ -15,6 +15,7 @@
 
 #include "tlvlink/capture/frame_accounting.h"
 #include "tlvlink/capture/libcamera_source.h"
+#include "tlvlink/capture/reconnect_backoff.h"
 
 namespace tlvlink::capture::internal {
 
@@ -63,7 +64,8 @@ Result<std::unique_ptr<CameraSession>> open_camera(const LibcameraConfig& config
 namespace tlvlink::capture {
 
 struct LibcameraSource::State {
-  explicit State(const LibcameraConfig& c) : config(c) {}
+  explicit State(const LibcameraConfig& c)
+      : config(c), backoff(c.backoff_initial_ms, c.backoff_max_ms) {}
 
   LibcameraConfig config;
   char name[192] = {};
@@ -78,8 +80,8 @@ struct LibcameraSource::State {
   int held = -1;
   std::atomic<uint64_t> requeued{0};
   // Outage (a camera that disconnected).
-  int64_t outage_start_ns = 0, closed_outage_ns = 0, next_attempt_ns = 0;
-  int32_t backoff_ms = 0;
+  bool streamed = false;  // a frame was delivered since the camera was opened
+  ReconnectBackoff backoff;
   Error last_reopen_error;
 
   std::span<const uint8_t> buffer(uint32_t i) const {

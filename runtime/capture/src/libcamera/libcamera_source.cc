@@ -33,6 +33,7 @@ Status open_session(LibcameraSource::State& s) {
   std::snprintf(s.name, sizeof(s.name), "%s (libcamera %s)", label_of(s.config), s.session->camera);
   s.accounting.reset_stream(s.config.warmup_frames);
   s.held = -1;
+  s.streamed = false;
   s.stats.connected = true;
   return Status();
 }
@@ -41,43 +42,45 @@ Error begin_outage(LibcameraSource::State& s) {
   s.session.reset();
   s.stats.connected = false;
   ++s.stats.disconnects;
-  s.outage_start_ns = now_ns();
-  s.backoff_ms = s.config.backoff_initial_ms;
-  s.next_attempt_ns = s.outage_start_ns + s.backoff_ms * kMs;
-  return Error::make(ErrorCode::kCaptureDisconnected, "%s: camera disconnected; reconnecting",
-                     s.name);
+  const int64_t now = now_ns();
+  s.backoff.lost(now, s.streamed);  // tlvlink/capture/reconnect_backoff.h, as the V4L2 source
+  s.stats.outage_ns = s.backoff.outage_ns(now);
+  return Error::make(ErrorCode::kCaptureDisconnected,
+                     "%s: camera disconnected; reconnecting (first reopen in %d ms)", s.name,
+                     s.backoff.delay_ms());
+}
+
+void sleep_until(int64_t when_ns) {
+  timespec ts{when_ns / 1000000000, when_ns % 1000000000};
+  ::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
 }
 
 // Bounded reopening while the camera is gone (same scheme as the V4L2 source).
 Status reconnect(LibcameraSource::State& s, int64_t deadline) {
   for (;;) {
     int64_t now = now_ns();
-    if (now >= s.next_attempt_ns) {
+    if (s.backoff.due(now)) {
       Status st = open_session(s);
       now = now_ns();
       if (st.ok()) {
-        s.closed_outage_ns += now - s.outage_start_ns;
-        s.stats.outage_ns = s.closed_outage_ns;
+        s.backoff.reopened(now);
+        s.stats.outage_ns = s.backoff.outage_ns(now);
         ++s.stats.reconnects;
         return Status();
       }
       ++s.stats.reconnect_attempts;
       s.last_reopen_error = st.error();
-      s.backoff_ms =
-          s.backoff_ms * 2 > s.config.backoff_max_ms ? s.config.backoff_max_ms : s.backoff_ms * 2;
-      s.next_attempt_ns = now + s.backoff_ms * kMs;
+      s.backoff.attempt_failed(now);
     }
-    s.stats.outage_ns = s.closed_outage_ns + (now - s.outage_start_ns);
-    if (s.next_attempt_ns > deadline) {
-      timespec ts{deadline / 1000000000, deadline % 1000000000};
-      ::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
+    s.stats.outage_ns = s.backoff.outage_ns(now);
+    if (s.backoff.next_attempt_ns() > deadline) {
+      sleep_until(deadline);
       return Error::make(ErrorCode::kCaptureDisconnected,
                          "%s: disconnected, %llu reopen attempts failed: %s", s.name,
                          static_cast<unsigned long long>(s.stats.reconnect_attempts),
                          s.last_reopen_error.message());
     }
-    timespec ts{s.next_attempt_ns / 1000000000, s.next_attempt_ns % 1000000000};
-    ::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
+    sleep_until(s.backoff.next_attempt_ns());
   }
 }
 
@@ -135,7 +138,7 @@ Status LibcameraSource::start() {
   State& s = *state_;
   if (s.started) return Status();
   s.stats = SourceStats();
-  s.closed_outage_ns = 0;
+  s.backoff.reset();
   if (s.test_mode) {
     s.accounting.reset_stream(s.config.warmup_frames);
     s.stats.connected = true;
@@ -149,6 +152,11 @@ Status LibcameraSource::start() {
 void LibcameraSource::stop() {
   State& s = *state_;
   if (!s.started) return;
+  if (s.backoff.in_outage()) {
+    const int64_t now = now_ns();
+    s.backoff.reopened(now);  // the outage's clock stops with the source
+    s.stats.outage_ns = s.backoff.outage_ns(now);
+  }
   s.session.reset();
   s.completions.clear();
   s.held = -1;
@@ -206,6 +214,7 @@ Result<CapturedFrame> LibcameraSource::next(int32_t timeout_ms) {
     if (newest >= 0) {
       s.accounting.count_stale(stale);
       s.accounting.count_delivered();
+      s.streamed = true;
       s.held = newest;
       frame.format = s.format;
       frame.skipped_before = stale;
