@@ -1,5 +1,7 @@
 #include "capture_worker.h"
 
+#include <time.h>
+
 #include <cstdarg>
 #include <cstdio>
 
@@ -11,6 +13,7 @@ namespace {
 
 TLV_LOG_CATEGORY(kLogCapture, "capture");
 constexpr int32_t kPollMs = 100;                          // how often stop is checked
+constexpr int64_t kPollNs = int64_t{kPollMs} * 1'000'000;
 constexpr int64_t kDecodeEventIntervalNs = 1'000'000'000;  // at most one decode error event a second
 
 }  // namespace
@@ -55,6 +58,7 @@ void CaptureWorker::handle_error(const Error& e) {
 void CaptureWorker::run() {
   cpu_clock_ = this_thread_cpu_clock();
   while (!stop_.load(std::memory_order_relaxed)) {
+    const int64_t asked_ns = monotonic_ns();
     auto frame = source_->next(kPollMs);
     if (!frame.ok() && frame.error().code() == ErrorCode::kCaptureEndOfStream) {
       event(false, "%s", frame.error().message());  // a replay without loop: nothing more comes
@@ -63,9 +67,21 @@ void CaptureWorker::run() {
     }
     if (!frame.ok()) {
       handle_error(frame.error());
+      // Sources wait their timeout while a camera is gone; one that fails at once must not turn
+      // this loop into a spin either: an error costs at least one poll period.
+      const int64_t until = asked_ns + kPollNs;
+      if (monotonic_ns() < until) {
+        timespec ts{static_cast<time_t>(until / 1'000'000'000),
+                    static_cast<long>(until % 1'000'000'000)};
+        ::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
+      }
     } else {
       if (in_outage_) {
-        event(false, "camera back");
+        const capture::SourceStats& st = source_->stats();
+        event(false, "camera back (outage %llu; %.2f s without camera in all, %llu reopen "
+              "attempts failed)", static_cast<unsigned long long>(st.disconnects),
+              static_cast<double>(st.outage_ns) * 1e-9,
+              static_cast<unsigned long long>(st.reconnect_attempts));
         in_outage_ = false;
       }
       DecodedFrame* slot = ring_.acquire();

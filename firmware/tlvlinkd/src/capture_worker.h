@@ -53,7 +53,7 @@ class CaptureWorker {
   int64_t last_decode_event_ns_ = 0;
   std::atomic<clockid_t> cpu_clock_{-1};
   std::atomic<bool> ended_{false};
-  std::atomic<int64_t> final_cpu_ns_{-1};  // set when run() returns (a dead thread has no clock)  // set by run()
+  std::atomic<int64_t> final_cpu_ns_{-1};  // set when run() returns (a dead thread has no clock)
   mutable std::mutex mutex_;
   CaptureSnapshot snapshot_;
 };

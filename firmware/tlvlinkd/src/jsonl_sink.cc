@@ -20,7 +20,18 @@ void JsonlSink::stats(const RunTotals& r, bool final) {
   for (size_t i = 0; i < static_cast<size_t>(r.sensors); ++i) l.printf("%s%.1f", i ? "," : "", r.sensor_cpu_pct[i]);
   l.printf("]},\"fps\":[");
   for (size_t i = 0; i < static_cast<size_t>(r.sensors); ++i) l.printf("%s%.2f", i ? "," : "", r.sensor_fps[i]);
-  l.printf("],\"latency_ms\":{");
+  // Camera outages per sensor: disconnects (outages begun), reconnects (ended by a reopen),
+  // reopen attempts that failed, seconds without a camera.
+  const size_t n = static_cast<size_t>(r.sensors);
+  l.printf("],\"camera\":{\"disconnects\":[");
+  for (size_t i = 0; i < n; ++i) l.printf("%s%llu", i ? "," : "", static_cast<unsigned long long>(r.sensor_disconnects[i]));
+  l.printf("],\"reconnects\":[");
+  for (size_t i = 0; i < n; ++i) l.printf("%s%llu", i ? "," : "", static_cast<unsigned long long>(r.sensor_reconnects[i]));
+  l.printf("],\"reopen_failures\":[");
+  for (size_t i = 0; i < n; ++i) l.printf("%s%llu", i ? "," : "", static_cast<unsigned long long>(r.sensor_reopen_failures[i]));
+  l.printf("],\"outage_s\":[");
+  for (size_t i = 0; i < n; ++i) l.printf("%s%.3f", i ? "," : "", r.sensor_outage_s[i]);
+  l.printf("]},\"latency_ms\":{");
   for (int32_t s = 0; s < kStages; ++s) {
     l.printf("%s\"%s\":{\"p50\":%.3f,\"p99\":%.3f,\"max\":%.3f}", s ? "," : "", stage_name(s),
              r.p50_ms[static_cast<size_t>(s)], r.p99_ms[static_cast<size_t>(s)], r.max_ms[static_cast<size_t>(s)]);

@@ -87,6 +87,10 @@ RunTotals OutputWorker::collect(int64_t now_ns) const {
     r.sensor_cpu_pct[i] = pct(c.cpu_ns, wall);
     r.sensor_fps[i] = c.source.measured_fps;
     r.sensor_frames[i] = c.source.delivered;
+    r.sensor_disconnects[i] = c.source.disconnects;
+    r.sensor_reconnects[i] = c.source.reconnects;
+    r.sensor_reopen_failures[i] = c.source.reconnect_attempts;
+    r.sensor_outage_s[i] = static_cast<double>(c.source.outage_ns) * 1e-9;
     r.sensors = static_cast<int32_t>(i + 1);
   }
   const InferenceSnapshot inf = inference_.snapshot();
@@ -201,6 +205,14 @@ void OutputWorker::print_summary(std::FILE* out) const {
                static_cast<unsigned long long>(r.drops_stale), static_cast<unsigned long long>(r.drops_sequence),
                static_cast<unsigned long long>(r.drops_queue), static_cast<unsigned long long>(r.drops_output),
                static_cast<unsigned long long>(r.bad_frames), static_cast<unsigned long long>(r.decode_errors));
+  for (int32_t i = 0; i < r.sensors; ++i) {
+    const size_t k = static_cast<size_t>(i);
+    if (r.sensor_disconnects[k] == 0) continue;
+    std::fprintf(out, "  camera %s: lost %llu, back %llu, reopen attempts failed %llu, %.2f s without camera\n",
+                 names_.sensors[k].c_str(), static_cast<unsigned long long>(r.sensor_disconnects[k]),
+                 static_cast<unsigned long long>(r.sensor_reconnects[k]),
+                 static_cast<unsigned long long>(r.sensor_reopen_failures[k]), r.sensor_outage_s[k]);
+  }
   std::fprintf(out, "  latency ms (p50 / p99 / max):");
   for (int32_t s = 0; s < kStages; ++s) {
     std::fprintf(out, " %s %.2f/%.2f/%.2f", stage_name(s), r.p50_ms[static_cast<size_t>(s)],

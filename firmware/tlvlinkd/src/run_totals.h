@@ -26,6 +26,11 @@ struct RunTotals {
   int32_t sensors = 0;
   std::array<double, pipeline::kMaxSensors> sensor_cpu_pct{}, sensor_fps{};
   std::array<uint64_t, pipeline::kMaxSensors> sensor_frames{}, sensor_encoded{}, sensor_gated{};
+  // Camera outages per sensor (capture::SourceStats): begun, ended by a reopen, reopen attempts
+  // that failed, time without a camera.
+  std::array<uint64_t, pipeline::kMaxSensors> sensor_disconnects{}, sensor_reconnects{},
+      sensor_reopen_failures{};
+  std::array<double, pipeline::kMaxSensors> sensor_outage_s{};
   double inference_cpu_pct = 0, output_cpu_pct = 0;
   int64_t peak_rss_kb = 0;
 };
