@@ -205,6 +205,17 @@ def instance_counts(lines):
     return max([s["encoded"] for s in stats] + [len(frames)]), frames, False
 
 
+def camera_counts(lines):
+    """Camera outages of one daemon start (JSON lines' "camera" of its summary, else its last
+    stats): outages begun, ended by a reopen, reopen attempts failed, seconds without a camera."""
+    reports = [l for l in lines if l.get("type") in ("stats", "summary") and "camera" in l]
+    if not reports:
+        return 0, 0, 0, 0.0
+    c = reports[-1]["camera"]
+    return (sum(c["disconnects"]), sum(c["reconnects"]), sum(c["reopen_failures"]),
+            sum(c["outage_s"]))
+
+
 def rig_figures(path):
     text = open(path, errors="replace").read() if path and os.path.exists(path) else ""
     boot = re.search(r"boot to init ([0-9.]+)s \(guest kernel uptime ([0-9.]+)s\)", text)
@@ -250,8 +261,10 @@ def main():
             check.fail(f"{name}: no recording from the USB host side in {run_dir}")
         # JSON lines (virtio-serial): every one compared, int8 included.
         computed, bound_kill, lines_total, instances_done = 0, 0, 0, []
+        cam = [0, 0, 0, 0.0]  # camera lost, back, reopen attempts failed, seconds without it
         for k, inst in enumerate(run["instances"]):
             c, frames, stopped = instance_counts(inst)
+            cam = [x + y for x, y in zip(cam, camera_counts(inst))]
             computed += c
             lines_total += len(frames)
             instances_done.append(stopped)
@@ -261,7 +274,8 @@ def main():
             if not stopped and frames:  # SIGKILLed: what it computed in its last second may be lost
                 last = frames[-1]["capture_ns"]
                 bound_kill += sum(1 for f in frames if f["capture_ns"] >= last - 1_000_000_000) + (c - len(frames))
-        # The stream (USB): every prediction compared; delivered = distinct (boot, frame sequence).
+        # The stream (USB): every prediction compared; delivered = distinct (boot, sensor, frame
+        # sequence, capture time).
         delivered, rejected, by_boot, last_uptime = set(), 0, {}, []
         for r in recs:
             preds, stats, _ = decode_relay(os.path.join(run_dir, r))
@@ -270,7 +284,10 @@ def main():
                 i = check.one("stream", f"{name} {r} boot {boot:x} frame_sequence {p.frame_sequence}",
                               p.embedding, probs_of(p.heads, names))
                 by_boot.setdefault(boot, []).append(i)
-                delivered.add((boot, p.frame_sequence))
+                # frame_sequence restarts at 0 when the camera is reopened (runtime/capture): the
+                # capture time tells a post-reload frame from an earlier one with the same number;
+                # a resent frame (replug) has the same three.
+                delivered.add((boot, p.sensor, p.frame_sequence, p.capture_ns))
                 last_uptime.append(t)
         for boot, idx in by_boot.items():
             check.ordered(f"{name} boot {boot:x} (stream)", idx)
@@ -305,13 +322,16 @@ def main():
             fed_after = [i for idx in by_boot.values() for i in idx if i >= 50]
             if not fed_after:
                 check.fail("vivid_reload: no prediction of a frame fed after the reload reached the host")
+            if cam[0] < 1 or cam[1] != cam[0]:
+                check.fail(f"vivid_reload: camera lost {cam[0]} time(s), back {cam[1]}: expected every "
+                           "outage (at least the unplug) to end with a reopen")
         if after is not None and not any(t > after["uptime_s"] for t in last_uptime):
             check.fail(f"{name}: no prediction reached the host after the fault (uptime {after['uptime_s']})")
         if lost > bound:
             check.fail(f"{name}: computed {computed}, delivered {len(delivered)}, lost {lost} > bound {bound} ({why})")
         if lost < 0:
             check.fail(f"{name}: delivered {len(delivered)} > computed {computed}: predictions counted twice?")
-        table.append((name, computed, lines_total, len(delivered), lost, bound, why, rejected, len(by_boot)))
+        table.append((name, computed, lines_total, len(delivered), lost, bound, why, rejected, len(by_boot), cam))
 
     print(f"\nHIL {a.label}: every prediction against the host build (x86-64) on the same frames")
     print(f"| path | predictions compared | int8 tensors identical | max embedding diff | max probability diff |")
@@ -321,12 +341,13 @@ def main():
     print(f"| stream (USB; CDC-ACM in 'garbage') | {check.compared['stream']} | (not sent) | "
           f"{check.max_emb['stream']:.3g} | {check.max_prob['stream']:.3g} |")
     print(f"distinct frames predicted: {len(check.frames_seen)} of {len(ref.frames)}")
-    print(f"\n| run | computed | JSON lines | delivered (USB) | lost | bound | bound because | rejected by the host decoder | daemon starts seen |")
-    print(f"|---|---|---|---|---|---|---|---|---|")
-    for name, c, jl, d, lost, bound, why, rej, boots in table:
-        print(f"| {name} | {c} | {jl} | {d} | {lost} | {bound} | {why} | {rej} | {boots} |")
-    for name, c, jl, d, lost, bound, why, rej, boots in table:
-        print(f"note: hil {name}: computed {c}, delivered {d}, lost {lost} (bound {bound})")
+    print(f"\n| run | computed | JSON lines | delivered (USB) | lost | bound | bound because | rejected by the host decoder | daemon starts seen | camera lost / back (failed reopens, s without) |")
+    print(f"|---|---|---|---|---|---|---|---|---|---|")
+    for name, c, jl, d, lost, bound, why, rej, boots, cam in table:
+        print(f"| {name} | {c} | {jl} | {d} | {lost} | {bound} | {why} | {rej} | {boots} | "
+              f"{cam[0]} / {cam[1]} ({cam[2]}, {cam[3]:.2f} s) |")
+    for name, c, jl, d, lost, bound, why, rej, boots, cam in table:
+        print(f"note: hil {name}: computed {c}, delivered {d}, lost {lost} (bound {bound}); camera lost {cam[0]}, back {cam[1]}")
     boot, first = rig_figures(a.rig_log)
     if boot and first:
         print(f"boot to first prediction: guest uptime {first:.1f} s at the first prediction on the USB host "
