@@ -38,7 +38,8 @@ Status merge(const std::string& dir, const std::string& file, const json& p, Boa
     TLV_ASSIGN_OR_RETURN(const json pp, find_preset(dir, file, parent.get<std::string>()));
     TLV_TRY(merge(dir, file, pp, b));
   }
-  for (const auto& [k, v] : p.value("cacheVariables", json::object()).items())
+  const json cache = p.value("cacheVariables", json::object());
+  for (const auto& [k, v] : cache.items())
     if (v.is_string()) b.cache[k] = v.get<std::string>();
   b.cross = b.cross || p.contains("toolchainFile");
   return {};
