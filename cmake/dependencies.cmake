@@ -11,6 +11,16 @@ find_package(FlatBuffers CONFIG REQUIRED)
 find_program(TLVLINK_FLATC flatc REQUIRED)
 find_package(Threads REQUIRED)
 
+# libsodium: the model file's BLAKE2b-256 hash and optional ed25519 signature
+# (runtime/model "Integrity trailer"); every build that loads a model needs it.
+find_path(SODIUM_INCLUDE_DIR sodium.h)
+find_library(SODIUM_LIBRARY sodium)
+tlvlink_require(SODIUM_INCLUDE_DIR "sodium.h" libsodium-dev)
+tlvlink_require(SODIUM_LIBRARY "libsodium" libsodium-dev)
+add_library(tlvlink::sodium INTERFACE IMPORTED)
+target_include_directories(tlvlink::sodium INTERFACE ${SODIUM_INCLUDE_DIR})
+target_link_libraries(tlvlink::sodium INTERFACE ${SODIUM_LIBRARY})
+
 if(TLVLINK_WITH_XNNPACK)
   find_path(XNNPACK_INCLUDE_DIR xnnpack.h)
   find_library(XNNPACK_LIBRARY XNNPACK)

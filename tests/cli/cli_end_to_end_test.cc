@@ -288,6 +288,39 @@ TEST_F(Cli, VerifyPassesOnBothExecutors) {
   EXPECT_NE(r.out.find("no golden pairs"), std::string::npos) << r.out;
 }
 
+// keygen -> sign -> verify --public-key; the secret key file is 0600 and never overwritten;
+// a file from before the trailer is refused naming `upgrade`, which makes it load again.
+TEST_F(Cli, KeygenSignVerifyAndUpgrade) {
+  EXPECT_RUN(run_tlvlink("keygen -o " + path("k")), 0);
+  EXPECT_EQ(fs::status(path("k.key")).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write);
+  EXPECT_RUN(run_tlvlink("keygen -o " + path("k")), 1);  // exists: never overwritten
+  EXPECT_RUN(run_tlvlink("keygen -o " + path("other")), 0);
+  CliRun unsigned_run = run_tlvlink("verify " + path("int8.tlvm") + " --public-key " + path("k.pub"));
+  EXPECT_RUN(unsigned_run, 1);
+  EXPECT_NE(unsigned_run.out.find("not signed"), std::string::npos) << unsigned_run.out;
+  EXPECT_RUN(run_tlvlink("sign " + path("int8.tlvm") + " --key " + path("k.key") + " -o " +
+                         path("signed.tlvm")), 0);
+  CliRun good = run_tlvlink("verify " + path("signed.tlvm") + " --public-key " + path("k.pub"));
+  EXPECT_RUN(good, 0);
+  EXPECT_NE(good.out.find("signature"), std::string::npos) << good.out;
+  EXPECT_NE(good.out.find("golden head outputs"), std::string::npos) << good.out;
+  CliRun other = run_tlvlink("verify " + path("signed.tlvm") + " --public-key " + path("other.pub"));
+  EXPECT_RUN(other, 1);
+  EXPECT_NE(other.out.find("signed by key"), std::string::npos) << other.out;
+  // A secret key is not accepted as a public key, nor the reverse.
+  EXPECT_RUN(run_tlvlink("verify " + path("signed.tlvm") + " --public-key " + path("k.key")), 1);
+  EXPECT_RUN(run_tlvlink("sign " + path("int8.tlvm") + " --key " + path("k.pub")), 1);
+  // Strip the trailer: what a file from before it looks like.
+  fs::copy_file(path("int8.tlvm"), path("old.tlvm"));
+  fs::resize_file(path("old.tlvm"), fs::file_size(path("int8.tlvm")) - 112);
+  CliRun old = run_tlvlink("verify " + path("old.tlvm"));
+  EXPECT_RUN(old, 1);
+  EXPECT_NE(old.out.find("tlvlink upgrade"), std::string::npos) << old.out;
+  EXPECT_RUN(run_tlvlink("upgrade " + path("old.tlvm") + " -o " + path("new.tlvm")), 0);
+  EXPECT_RUN(run_tlvlink("verify " + path("new.tlvm")), 0);
+}
+
 TEST_F(Cli, BenchReportsTimingsAsTextAndJson) {
   CliRun text = run_tlvlink("bench " + path("int8.tlvm") + " --runs 5 --warmup 1");
   EXPECT_RUN(text, 0);

@@ -116,6 +116,15 @@ int main(int argc, char** argv) {
   if (!jpeg.ok() || !jpeg_cam.ok()) return 1;
   save(dir, "jpeg_s1", 3, *jpeg, 0);
   save(dir, "jpeg_s8", 3, *jpeg, 3);
+  // Issue 12's decompression bomb: 136 bytes declaring 16384x16384 (~800 MB before the decode
+  // budget). Under the fuzz memory limits it must stay an error, never an allocation.
+  Bytes bomb = {0xFF, 0xD8, 0xFF, 0xDB, 0x00, 0x43, 0x00};
+  bomb.insert(bomb.end(), 64, 1);
+  bomb.insert(bomb.end(), {0xFF, 0xC0, 0x00, 0x0B, 0x08, 0x40, 0x00, 0x40, 0x00, 0x01, 0x01,
+                           0x11, 0x00, 0xFF, 0xDA, 0x00, 0x08, 0x01, 0x01, 0x00, 0x00, 0x3F, 0x00});
+  bomb.insert(bomb.end(), 40, 0);
+  bomb.insert(bomb.end(), {0xFF, 0xD9});
+  save(dir, "jpeg_bomb_16k", 3, bomb, 0);
 
   save(dir, "tag_line", 4, text("20220917_000526/0000000012.jpg,3\r"));
 

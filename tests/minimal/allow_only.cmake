@@ -1,8 +1,8 @@
 # Dependency provider for tests/minimal (CMAKE_PROJECT_TOP_LEVEL_INCLUDES): every find_package()
 # made while configuring the board runtime must name a package it is allowed to need, or the
 # configure fails naming the package. pkg-config and host-tool packages (CLI11, nlohmann_json,
-# PNG, HDF5, ONNX, protobuf, torch, GTest, ...) are never on the list; XNNPACK, pthreadpool and
-# cpuinfo are plain find_library() calls, which the link-input check covers instead.
+# PNG, HDF5, ONNX, protobuf, torch, GTest, ...) are never on the list; XNNPACK, pthreadpool,
+# cpuinfo and libsodium are plain find_library() calls, which the link-input check covers instead.
 # PkgConfig joins the list when image decoding is built (libturbojpeg is found through it).
 set(TLVLINK_ALLOWED_PACKAGES FlatBuffers Threads)
 

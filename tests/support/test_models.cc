@@ -29,6 +29,11 @@ Error load_error(const std::vector<std::byte>& file) {
   return result.ok() ? Error() : result.error();
 }
 
+std::vector<std::byte> resealed(const std::vector<std::byte>& file) {
+  const size_t body = file.size() >= kTrailerBytes ? file.size() - kTrailerBytes : 0;
+  return seal_model(std::span<const std::byte>(file).first(body));
+}
+
 QuantizedWeights quantize_weights_per_channel(std::span<const float> weights, int32_t out_channels) {
   QuantizedWeights q;
   const size_t per = weights.size() / static_cast<size_t>(out_channels);

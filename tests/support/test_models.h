@@ -18,6 +18,10 @@ std::unique_ptr<Model> load_model(const std::vector<std::byte>& file);
 // Loads a file expected to be rejected; returns the error (kOk if it unexpectedly loaded).
 Error load_error(const std::vector<std::byte>& file);
 
+// A file whose flatbuffer a test edited, with its integrity trailer recomputed (unsigned), so the
+// loader's checks behind the hash see the edit.
+std::vector<std::byte> resealed(const std::vector<std::byte>& file);
+
 // Symmetric per-channel int8 quantization of OHWI / [Cout, ...] float weights along axis 0:
 // scale[c] = max|w_c| / 127 (floored at kMinWeightScale), values in [-127, 127].
 struct QuantizedWeights {

@@ -9,7 +9,7 @@
 
 #include <cerrno>
 #include <cstring>
-#include <random>
+#include <span>
 #include <vector>
 
 namespace tlvlink::testing {
@@ -73,9 +73,7 @@ PtyCable::Counts PtyCable::counts() const {
 }
 
 void PtyCable::relay() {
-  std::mt19937_64 rng(faults_.seed);
-  std::uniform_real_distribution<double> uniform(0, 1);
-  std::uniform_int_distribution<int> other(1, 255);
+  ByteFaults faults(faults_);
   struct Direction {
     int from, to;
     bool faulty;
@@ -100,22 +98,19 @@ void PtyCable::relay() {
         const ssize_t n = ::read(d.from, buf, sizeof(buf));
         if (n > 0) {
           progress = true;
-          std::lock_guard lock(mutex_);
-          for (ssize_t i = 0; i < n; ++i) {
-            unsigned char b = buf[i];
-            if (d.faulty) {
-              ++counts_.bytes;
-              const double r = uniform(rng);
-              if (r < faults_.byte_drop_rate) {
-                ++counts_.dropped;
-                continue;
-              }
-              if (r < faults_.byte_drop_rate + faults_.byte_error_rate) {
-                b = static_cast<unsigned char>(b ^ other(rng));
-                ++counts_.corrupted;
-              }
-            }
-            d.pending.push_back(b);
+          const size_t at = d.pending.size();
+          d.pending.resize(at + static_cast<size_t>(n));
+          if (d.faulty) {
+            const ByteFaultCounts before = faults.counts();
+            const size_t kept = faults.apply(std::as_bytes(std::span(buf, static_cast<size_t>(n))),
+                                             reinterpret_cast<std::byte*>(d.pending.data() + at));
+            d.pending.resize(at + kept);
+            std::lock_guard lock(mutex_);
+            counts_.bytes += faults.counts().bytes - before.bytes;
+            counts_.corrupted += faults.counts().corrupted - before.corrupted;
+            counts_.dropped += faults.counts().dropped - before.dropped;
+          } else {
+            std::memcpy(d.pending.data() + at, buf, static_cast<size_t>(n));
           }
         }
       }

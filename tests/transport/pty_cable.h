@@ -12,19 +12,14 @@
 #include <thread>
 
 #include "tlvlink/error.h"
+#include "transport/byte_faults.h"
 
 namespace tlvlink::testing {
 
 class PtyCable {
  public:
-  struct Faults {
-    double byte_error_rate = 0;  // per byte, board -> host
-    double byte_drop_rate = 0;
-    uint64_t seed = 1;
-  };
-  struct Counts {
-    uint64_t bytes = 0, corrupted = 0, dropped = 0;  // board -> host
-  };
+  using Faults = ByteFaultRates;   // per byte, board -> host (byte_faults.h)
+  using Counts = ByteFaultCounts;  // board -> host
 
   explicit PtyCable(std::string dir);
   PtyCable(std::string dir, Faults faults);

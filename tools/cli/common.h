@@ -45,6 +45,7 @@ Result<std::unique_ptr<Executor>> create_executor(const Model& model, const Exec
 void add_inspect_command(CLI::App& app, int& exit_code);
 void add_infer_command(CLI::App& app, int& exit_code);
 void add_verify_command(CLI::App& app, int& exit_code);
+void add_sign_commands(CLI::App& app, int& exit_code);  // sign.cc: keygen, sign, upgrade
 void add_bench_command(CLI::App& app, int& exit_code);
 void add_gen_reference_command(CLI::App& app, int& exit_code);
 void add_gen_frames_command(CLI::App& app, int& exit_code);

@@ -29,8 +29,12 @@ int run_eval(EvalCommand& c) {
   options->model_heads = !c.no_model_heads;
   c.job.data = std::move(data).value();
   c.job.options = std::move(options).value();
+  datasets::ProblemEcho problems("tlvlink eval", stderr, 10, c.flags.problems);
+  c.job.data.problems = &problems;
   auto run = eval::run_eval(c.job);
+  const Status shown = problems.finish();
   if (!run.ok()) return report_error(command, run.error());
+  if (!shown.ok()) return report_error(command, shown.error());
   if (!c.job.record_path.empty()) {
     std::fprintf(stderr, "recorded the heads' test accuracy in %s:\n", c.job.record_path.c_str());
     for (const std::string& l : run->trust_lines) std::fprintf(stderr, "  %s\n", l.c_str());

@@ -16,6 +16,7 @@ namespace tlvlink::cli {
 struct EvalFlags {
   std::string touch, touch_format = "auto";
   std::string grasp, grasp_format = "auto";
+  std::string problems;  // --problems FILE: every load problem
   double resplit = -1;  // < 0: recorded split for generated sets, hash split otherwise
   uint64_t split_seed = 0;
   int64_t max_touch = 0, max_grasp = 0;

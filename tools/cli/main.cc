@@ -2,10 +2,15 @@
 
 #include <CLI/CLI.hpp>
 
+#include <csignal>
+
 #include "common.h"
 
 int main(int argc, char** argv) {
   using namespace tlvlink::cli;
+  // A file-size limit (ulimit -f) then fails the write with EFBIG, which AtomicFile reports
+  // ("file size limit reached") after removing its temporary, instead of killing the process.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"tlvlink: inspect, run, verify and benchmark tlvlink (.tlvm) models"};
   app.footer(kExitCodeFooter);
   app.require_subcommand(1);
@@ -13,6 +18,7 @@ int main(int argc, char** argv) {
   add_inspect_command(app, exit_code);
   add_infer_command(app, exit_code);
   add_verify_command(app, exit_code);
+  add_sign_commands(app, exit_code);
   add_bench_command(app, exit_code);
   add_gen_reference_command(app, exit_code);
   add_gen_frames_command(app, exit_code);

@@ -32,6 +32,8 @@ int run_quantize(const QuantizeFlags& f) {
   o.output_path = f.output;
   o.report_dir = f.report_dir;
   o.data = f.data.options();
+  datasets::ProblemEcho problems("tlvlink quantize", stderr, 10, f.data.problems);
+  o.data.problems = &problems;
   o.averaging_constant = f.data.averaging_constant;
   auto method = quantize::parse_calibration_method(f.method);
   if (!method.ok()) return report_error(cmd, method.error());
@@ -47,7 +49,9 @@ int run_quantize(const QuantizeFlags& f) {
   o.tasks = f.tasks;
   o.progress = !f.quiet;
   auto run = quantize::run_quantize(o);
+  const Status shown = problems.finish();
   if (!run.ok()) return report_error(cmd, run.error());
+  if (!shown.ok()) return report_error(cmd, shown.error());
   std::fputs(quantize::format_summary(*run).c_str(), stdout);
   if (!f.report_dir.empty())
     std::printf("  %-12s %s/{report.json,layers.csv,summary.txt}\n", "report", f.report_dir.c_str());

@@ -13,6 +13,8 @@ namespace tlvlink::cli {
 
 struct QuantizeDataFlags {
   std::string calib;
+  std::string calib_images;  // --calib-images DIR: format images, explicitly
+  std::string problems;      // --problems FILE: every load problem
   std::string calib_format = "auto";
   std::string calib_split = "all";
   int64_t calib_count = 200;

@@ -34,6 +34,8 @@ int run_sweep(const SweepFlags& f) {
   }
   o.models = f.models;
   o.data = f.data.options();
+  datasets::ProblemEcho problems("tlvlink quantize-sweep", stderr, 10, f.data.problems);
+  o.data.problems = &problems;
   o.averaging_constant = f.data.averaging_constant;
   o.out_dir = f.out_dir;
   o.threads = f.threads;
@@ -45,7 +47,9 @@ int run_sweep(const SweepFlags& f) {
   o.progress = !f.quiet;
   o.on_note = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
   auto r = quantize::run_sweep(o);
+  const Status shown = problems.finish();
   if (!r.ok()) return report_error(cmd, r.error());
+  if (!shown.ok()) return report_error(cmd, shown.error());
   std::fputs(quantize::sweep_table(o, *r).c_str(), stdout);
   return kExitOk;
 }

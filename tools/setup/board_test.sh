@@ -4,7 +4,9 @@
 # tests (tools/rig/test_riglib.py, tools/rig/selftest.sh: ports, share, USB gadget, vivid), then
 # the capture test programs cross-built for the board presets (generic-a76 / rpi4-a72; only
 # those targets, in the cross stage's build trees), one boot per CPU, with boot, test and build
-# times.
+# times. In the generic-a76 boot the prediction stream's USB tests follow the capture tests
+# (tests/listen/rig: FunctionFS bulk <-> libusb and CDC-ACM through dummy_hcd, replug, reader
+# restart, corruption injection, throughput; ~2.5 min); their figures are printed at the end.
 #   board_test.sh [a76|a72|all]        (default: all)
 # Environment: TLVLINK_JOBS (build jobs, default 2: the machine is shared); PYTHON (default
 # /usr/bin/python3: the rig needs only its standard library).
@@ -21,6 +23,9 @@ case "$which" in
   *) echo "board_test.sh: unknown target '$which' (a76|a72|all)" >&2; exit 2 ;;
 esac
 programs=(tests/capture/capture_vivid_test tests/capture/capture_unit_test runtime/capture/capture_probe)
+# The USB stream tests run in one preset's boot only (they test the link, not the CPU).
+usb_preset=generic-a76
+usb_programs=(tools/listen/bench/tlvlink_stream_check)
 py=${PYTHON:-/usr/bin/python3}
 
 now() { date +%s.%N; }
@@ -49,8 +54,20 @@ for preset in "${presets[@]}"; do
   cpu=$(sed -n 's/.*"TLVLINK_QEMU_CPU": "\([^"]*\)".*/\1/p' "boards/$preset.json")
   log=build/logs/board-$preset
   t0=$(now)
+  preset_programs=("${programs[@]}")
+  script=tests/capture/rig/capture_rig.sh
+  extra=()
+  if [ "$preset" = "$usb_preset" ]; then
+    preset_programs+=("${usb_programs[@]}")
+    # One boot: the capture script, then the USB stream script.
+    mkdir -p "build/rig/$preset"
+    script=build/rig/$preset/board-test.sh
+    cat tests/capture/rig/capture_rig.sh tests/listen/rig/stream_rig.sh >"$script"
+    extra=(--file tests/listen/rig:/payload/stream
+           --file runtime/transport/scripts/usb_gadget.sh:/payload/stream/usb_gadget.sh)
+  fi
   targets=()
-  for p in "${programs[@]}"; do targets+=("$(basename "$p")"); done
+  for p in "${preset_programs[@]}"; do targets+=("$(basename "$p")"); done
   if ! { cmake --preset "$preset" >"$log-configure.log" 2>&1 &&
          cmake --build --preset "$preset" -j "$jobs" --target "${targets[@]}" >"$log-build.log" 2>&1; }; then
     grep -E "error:|FAILED:|CMake Error" "$log-configure.log" "$log-build.log" | cut -c1-300 | head -30
@@ -59,11 +76,11 @@ for preset in "${presets[@]}"; do
     continue
   fi
   t_build=$(secs "$t0" "$(now)")
-  args=()
-  for p in "${programs[@]}"; do args+=(--program "build/$preset/$p"); done
+  args=("${extra[@]}")
+  for p in "${preset_programs[@]}"; do args+=(--program "build/$preset/$p"); done
   echo "=== $preset: rig -cpu $cpu (build ${t_build}s)"
   t0=$(now)
-  "$py" tools/rig/rig.py run --cpu "$cpu" --script tests/capture/rig/capture_rig.sh "${args[@]}" \
+  "$py" tools/rig/rig.py run --cpu "$cpu" --script "$script" "${args[@]}" \
     --env TLVLINK_RIG=1 --out "build/rig/$preset" | tee "$log-rig.log"
   rc=${PIPESTATUS[0]}
   t_rig=$(secs "$t0" "$(now)")
@@ -72,6 +89,23 @@ for preset in "${presets[@]}"; do
   if [ "$rc" -eq 0 ]; then summary+=("$preset (-cpu $cpu): build ${t_build}s, rig ${t_rig}s, $boot; ${line#rig: }")
   else summary+=("$preset (-cpu $cpu): RIG FAILED in ${t_rig}s; ${line#rig: }"); failed=1; fi
 done
+
+# The USB stream's figures (printed, not asserted; the guest runs under TCG emulation).
+usb_log=build/logs/board-$usb_preset-rig.log
+if [[ " ${presets[*]} " == *" $usb_preset "* ]] && [ -f "$usb_log" ]; then
+  echo
+  echo "USB stream figures ($usb_preset boot; qemu TCG emulation, both ends in one guest: not hardware figures):"
+  grep -E "^ +usb-(ffs|acm) " "$usb_log" | sed 's/^ */  /'
+  grep -E "^ +board: [0-9.]+ wire bytes per frame" "$usb_log" | head -1 | sed 's/^ */  /'
+  echo "  corruption injection (bytes damaged between the board's Sender and the USB link):"
+  echo "  | link | byte error rate | byte drop rate | bytes damaged | predictions posted | received intact | lost | of which dropped by the board's queue | rejected (crc / cobs / truncated) | corrupted accepted |"
+  echo "  |---|---|---|---|---|---|---|---|---|---|"
+  grep -E "^ +corruption (ffs|acm) " "$usb_log" | sed 's/^ *corruption //' | awk '{
+      for (i = 2; i <= NF; ++i) { split($i, kv, "="); v[kv[1]] = kv[2] }
+      printf "  | %s | %s | %s | %s + %s of %s | %s | %s | %s | %s | %s / %s / %s | **%s** |\n", $1, v["errors"], v["drops"],
+             v["corrupted"], v["dropped"], v["bytes"], v["expected"], v["received"], v["lost"], v["queue_drops"], v["crc"],
+             v["cobs"], v["truncated"], v["corrupted_accepted"] }'
+fi
 
 echo
 echo "board_test summary (-j$jobs):"

@@ -18,6 +18,8 @@
 #    test splits -> OUT_DIR/touch-tiny-int8.tlvm, report in OUT_DIR/quantize-report/.
 # 5. `tlvlink eval` fp32 vs int8 on the encoder set's and the Feel set's test splits
 #    -> OUT_DIR/eval.txt.
+# Every file written carries the integrity trailer and its golden head outputs (the writers
+# seal what they write: runtime/README.md "Integrity trailer").
 # --install copies both models into firmware/models/. Deterministic: torch runs single-threaded
 # with fixed seeds, the probes use deterministic L-BFGS, calibration picks frames by seed.
 # Needs a host build with the trainer: cmake --preset host && cmake --build --preset host

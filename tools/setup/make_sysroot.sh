@@ -15,13 +15,17 @@ deb_cache=${TLVLINK_DEB_CACHE:-$cache_root/arm64-debs}
 stamp=$sysroot/.tlvlink-sysroot-stamp
 SUDO=""; [ "$(id -u)" = 0 ] || SUDO=sudo
 
-# Runtime (XNNPACK stack, flatbuffers), tests (GoogleTest, static arm64 libs in libgtest-dev),
-# and the arch-independent headers the host tools need when they are cross-built too.
+# Runtime (XNNPACK stack, flatbuffers, libsodium: the model file's hash and signatures), tests
+# (GoogleTest, static arm64 libs in libgtest-dev), libusb (the USB stream's host side, built into
+# the boards' test programs: the emulated board runs both ends of the USB link; libusb-1.0.so.0
+# needs libudev.so.1), and the arch-independent headers the host tools need when they are
+# cross-built too.
 # Not flatbuffers-compiler-dev: its FlatcTargets.cmake names an arm64 flatc that is not here,
 # and code generation uses the host's /usr/bin/flatc anyway.
 packages=(libxnnpack-dev libxnnpack0 libpthreadpool-dev libpthreadpool0 libcpuinfo-dev libcpuinfo0
   libflatbuffers-dev libflatbuffers2 libgtest-dev libgmock-dev libcli11-dev nlohmann-json3-dev
-  libturbojpeg0-dev libturbojpeg0 libjpeg62-turbo-dev libjpeg62-turbo libtomlplusplus-dev)
+  libturbojpeg0-dev libturbojpeg0 libjpeg62-turbo-dev libjpeg62-turbo libtomlplusplus-dev
+  libusb-1.0-0-dev libusb-1.0-0 libudev1 libsodium-dev libsodium23)
 
 die() { echo "make_sysroot: $*" >&2; exit 1; }
 
@@ -109,7 +113,8 @@ done < <(find "$tmp" -type l -print0)
 libdir=$tmp/usr/lib/aarch64-linux-gnu
 for f in "$libdir/libXNNPACK.so" "$libdir/libpthreadpool.so" "$libdir/libcpuinfo.so" \
          "$libdir/libgtest.a" "$libdir/cmake/flatbuffers/FlatBuffersConfig.cmake" \
-         "$tmp/usr/include/xnnpack.h"; do
+         "$libdir/pkgconfig/libusb-1.0.pc" "$libdir/libudev.so.1" "$libdir/libsodium.so" \
+         "$tmp/usr/include/xnnpack.h" "$tmp/usr/include/sodium.h"; do
   [ -e "$f" ] || die "expected ${f#"$tmp"} in the sysroot, not found (package layout changed?)"
 done
 

@@ -8,7 +8,10 @@
 # scripted grasps and presses: decode, contact gating, preprocessing, the shipped int8 encoder on
 # XNNPACK, the heads and one grasp prediction per grasp, with a live status line, a summary
 # (frames, drops, latency per stage, CPU, RSS) and the live predictions scored against the
-# simulator's ground truth. The embedded default is the shipped touch encoder
+# simulator's ground truth. The daemon also streams its predictions (runtime/protocol) to a pty,
+# as it would to a UART or USB, read live by `tlvlink listen` in the background (JSON lines and
+# a recording); the listener's link statistics (frames, rejected frames by cause, sequence gaps,
+# added latency send -> received) close the step. The embedded default is the shipped touch encoder
 # (firmware/models/touch-tiny-{fp32,int8}.tlvm: TLV-Link-trained on simulator data, int8 by
 # `tlvlink quantize`; tools/setup/make_default_models.sh reproduces both). Outputs go to
 # build/demo/out/.
@@ -24,10 +27,10 @@ int8=$models/touch-tiny-int8.tlvm
 
 step() { echo; echo "== $*"; }
 
-step "1/6 Debian packages (tools/setup/install_deps.sh core)"
+step "1/7 Debian packages (tools/setup/install_deps.sh core)"
 bash tools/setup/install_deps.sh core
 
-step "2/6 build tlvlinkd and the tlvlink CLI into $build (no tests)"
+step "2/7 build tlvlinkd and the tlvlink CLI into $build (no tests)"
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DTLVLINK_BUILD_TESTS=OFF \
   -DTLVLINK_BUILD_BENCHMARKS=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target tlvlink tlvlinkd >"$build/build.log" 2>&1 ||
@@ -37,7 +40,7 @@ tlvlink=$build/tools/cli/tlvlink
 tlvlinkd=$build/firmware/tlvlinkd/tlvlinkd
 mkdir -p "$out"
 
-step "3/6 the shipped models: inspect the int8 one (totals), verify the golden pairs stored in both"
+step "3/7 the shipped models: inspect the int8 one (totals), verify the golden pairs stored in both"
 "$tlvlink" inspect "$int8" | grep -iE "^(model|input|embedding|total|producer|checksum|heads)" || true
 for m in "$fp32" "$int8"; do
   for e in xnnpack reference; do
@@ -46,7 +49,7 @@ for m in "$fp32" "$int8"; do
   done
 done
 
-step "4/6 record the scenario: two simulated Minis, 6 grasps + 4 presses (tlvlink sim scenario)"
+step "4/7 record the scenario: two simulated Minis, 6 grasps + 4 presses (tlvlink sim scenario)"
 # Rendered once (~15-30 s; ~220 MB of MJPEG in build/demo/out/scenario), reused while its options
 # are unchanged.
 scenario=$out/scenario
@@ -58,11 +61,18 @@ else
   echo "   reusing $scenario (${scenario_args[*]})"
 fi
 
-step "5/6 tlvlinkd: both fingers live at 25 fps through the int8 model (status line, then summary)"
+step "5/7 tlvlinkd: both fingers live at 25 fps through the int8 model (status line, then summary)"
+# The stream goes to a pty (the daemon creates it and points $out/stream-tty at its slave) that
+# `tlvlink listen` reads, started first: it waits for the link and reconnects by itself.
+stream_tty=$PWD/$out/stream-tty
+rm -f "$out/stream.jsonl" "$out/stream.tlvrec" "$out/listen.log"
+"$tlvlink" listen --serial "$stream_tty" --json --record "$out/stream.tlvrec" >"$out/stream.jsonl" 2>"$out/listen.log" &
+listener=$!
+trap 'kill "$listener" 2>/dev/null || true' EXIT
 cat >"$out/tlvlinkd.toml" <<TOML
 # Written by tools/setup/run_demo.sh: firmware/tlvlinkd/tlvlinkd.toml explains every key.
 model = "$PWD/$int8"
-output = "jsonl:$PWD/$out/predictions.jsonl"
+output = ["jsonl:$PWD/$out/predictions.jsonl", "pty:$stream_tty"]
 status_line = true
 [grasp]
 mode = "detected"
@@ -84,7 +94,21 @@ rm -f "$out/predictions.jsonl"
 echo "   predictions: $out/predictions.jsonl ($(wc -l <"$out/predictions.jsonl") JSON lines;"
 echo "   schema in firmware/tlvlinkd/README.md)"
 
-step "6/6 the live predictions against the simulator's ground truth (tlvlink score)"
+step "6/7 the stream as the robot received it: tlvlink listen on the daemon's pty"
+# The daemon drained the pty to the listener before it closed; the listener then waits for a
+# link that is not coming back: stop it (it prints its statistics on SIGTERM).
+sleep 0.5
+kill -TERM "$listener" 2>/dev/null || true
+wait "$listener" || true
+trap - EXIT
+count() { grep -c "\"type\":\"$1\"" "$out/stream.jsonl" || true; }
+echo "   received: $(count hello) hello, $(count frame_prediction) frame predictions, $(count grasp_prediction) grasp"
+echo "   predictions, $(count stats) stats; the daemon wrote $(grep -c '"type":"frame"' "$out/predictions.jsonl" || true) frame records to its JSON lines"
+echo "   link statistics (tlvlink listen; send -> received on this machine's one clock):"
+sed -n '/^link:/,$p' "$out/listen.log" | sed 's/^/     /'
+echo "   stream: $out/stream.jsonl (JSON lines), $out/stream.tlvrec (tlvlink replay $out/stream.tlvrec)"
+
+step "7/7 the live predictions against the simulator's ground truth (tlvlink score)"
 "$tlvlink" score --truth "$scenario/truth.jsonl" --predictions "$out/predictions.jsonl" \
   --fingers left,right | sed 's/^/   /'
 

@@ -50,12 +50,15 @@ run_fuzz() {
   # -max_len covers the largest seed (the 96-px fp32 reference encoder, ~670 KiB): libFuzzer
   # truncates longer seeds into invalid files. Executions stay in the millisecond range: the
   # fuzzer invokes only small models (its kMaxInvoke* caps), never the encoders.
+  # Memory limits = the documented budgets (tools/cli/README.md "Memory budgets"): a model load
+  # holds two copies of the file (2 x kMaxModelBytes = 512 MiB, the largest single allocation);
+  # RSS adds libFuzzer's own (corpus, coverage maps). A bigger allocation is a finding.
   "$dir/tests/fuzz/model_loader_fuzz" -max_total_time="$loader_seconds" -max_len=1048576 -timeout=10 \
-    -rss_limit_mb=2048 -artifact_prefix="$dir/artifacts/" -print_final_stats=1 "$dir/corpus" \
-    2>"$dir/fuzz.log"
+    -rss_limit_mb=1024 -malloc_limit_mb=512 -artifact_prefix="$dir/artifacts/" -print_final_stats=1 \
+    "$dir/corpus" 2>"$dir/fuzz.log"
   local rc=$?
   echo "model_loader_fuzz (${loader_seconds}s):"
-  grep -E "stat::number_of_executed_units|Done [0-9]+ runs|ERROR|SUMMARY" "$dir/fuzz.log" | head -20
+  grep -E "stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs|ERROR|SUMMARY" "$dir/fuzz.log" | head -20
   [ $rc -eq 0 ] || { tail -60 "$dir/fuzz.log"; ls "$dir/artifacts"; }
   # The stream decoder allocates nothing per frame: tight limits make a runaway allocation a
   # finding. -max_len covers two largest wire frames.
@@ -67,10 +70,14 @@ run_fuzz() {
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs|cov: .* ft:|ERROR|SUMMARY" \
     "$dir/stream_fuzz.log" | tail -6
   [ $stream_rc -eq 0 ] || { tail -60 "$dir/stream_fuzz.log"; ls "$dir/artifacts"; }
-  # -max_len covers the largest seed (a 320x240 YUYV camera frame, 150 KiB).
+  # -max_len covers the largest seed (a 320x240 YUYV camera frame, 150 KiB). Memory limits =
+  # the image decode budget (tools/cli/README.md): one image of at most kMaxImagePixels (48 MiB
+  # RGB, the largest single allocation, under 64 MiB) plus the decoder's working memory; RSS
+  # adds libFuzzer's own. A decompression bomb (a header declaring more than its bytes can
+  # hold) is a finding: before issue 12 this target peaked at ~572 MB.
   "$dir/tests/fuzz/file_parsers_fuzz" -max_total_time="$parser_seconds" -max_len=200000 -timeout=10 \
-    -rss_limit_mb=2048 -artifact_prefix="$dir/artifacts/parser-" -print_final_stats=1 \
-    "$dir/parser_corpus" 2>"$dir/parser_fuzz.log"
+    -rss_limit_mb=384 -malloc_limit_mb=64 -artifact_prefix="$dir/artifacts/parser-" \
+    -print_final_stats=1 "$dir/parser_corpus" 2>"$dir/parser_fuzz.log"
   local parser_rc=$?
   echo "file_parsers_fuzz (${parser_seconds}s):"
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs|cov: .* ft:|ERROR|SUMMARY" \

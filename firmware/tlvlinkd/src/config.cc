@@ -124,6 +124,7 @@ Status read_top(TableReader& r, DaemonConfig& c) {
   c.executor = executor == 0 ? "xnnpack" : "reference";
   TLV_TRY(r.integer32("threads", c.threads, 1, kMaxThreads));
   TLV_TRY(r.flag("verify_model", c.verify_model));
+  TLV_TRY(r.text("model_public_key", c.model_public_key));
   if (r.has("output") && !r.is_array("output")) {
     std::string one;
     TLV_TRY(r.text("output", one));

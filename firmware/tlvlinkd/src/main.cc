@@ -1,4 +1,5 @@
 // tlvlinkd --config FILE [--check | --verify]: the board daemon (firmware/tlvlinkd/README.md).
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -43,6 +44,9 @@ int verify_model(const tlvlink::daemon::DaemonConfig& c) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A file-size limit (ulimit -f) on the JSON-lines output then fails the write with EFBIG, an
+  // output error the daemon counts, instead of killing it with computed predictions unsent.
+  std::signal(SIGXFSZ, SIG_IGN);
   std::string config;
   bool check = false, verify = false;
   for (int i = 1; i < argc; ++i) {

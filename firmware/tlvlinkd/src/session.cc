@@ -15,6 +15,7 @@
 #endif
 #include "sources.h"
 #include "tlvlink/capture/sensor_models.h"
+#include "tlvlink/daemon/model_check.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/log.h"
 #include "tlvlink/model.h"
@@ -96,14 +97,15 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
   auto impl = std::make_unique<Impl>();
   Impl& s = *impl;
   s.config = config;
-  auto model = Model::load_file(config.model.c_str());
-  if (!model.ok()) return model.error().with_context("model %s", config.model.c_str());
-  s.model = std::move(model).value();
+  TLV_ASSIGN_OR_RETURN(s.model, load_config_model(config));
   TLV_ASSIGN_OR_RETURN(s.executor, make(*s.model, config));
   if (config.verify_model) {
     // The start-up self-test: the model's golden pairs on this board's executor.
     auto report = verify::verify_golden(*s.model, *s.executor);
     if (!report.ok()) return report.error().with_context("verifying %s", config.model.c_str());
+    TLV_ENSURE(report->heads.pass, ErrorCode::kModelChecksum,
+               "%s: golden head outputs do not match (max error %.4g > %.4g)",
+               config.model.c_str(), report->heads.max_abs_error, report->heads.tolerance);
     TLV_ENSURE(report->pass, ErrorCode::kModelChecksum,
                "%s: golden pairs do not match on the %s executor (max error %.4g > %.4g)",
                config.model.c_str(), executor_kind_name(s.executor->kind()),

@@ -148,9 +148,22 @@ Result<CalibFormat> detect_calib_format(const std::string& path) {
   TLV_ASSIGN_OR_RETURN(const std::optional<datasets::DatasetFormat> dataset,
                        datasets::probe_dataset_format(path));
   if (dataset) return calib_format_of(*dataset);
-  // Not a dataset: a folder of images (or of folders of images).
+  // Not a dataset. A dataset's layout without its index is an error naming the index: taking
+  // its touch/ and vision/ images as a plain folder would silently change the data source.
   const fs::path p(path);
   std::error_code ec;
+  const bool touch100k_layout = fs::is_directory(p / "touch", ec) || fs::is_directory(p / "vision", ec);
+  TLV_ENSURE(!touch100k_layout, ErrorCode::kFormat,
+             "%s: not found; '%s' has a Touch100k layout (touch/, vision/) but no index. To "
+             "calibrate on its image files as a plain folder, pass --calib-images %s",
+             (p / "data_list.json").c_str(), path.c_str(), path.c_str());
+  for (const fs::directory_entry& e : fs::directory_iterator(p, ec)) {
+    TLV_ENSURE(!fs::is_directory(e.path() / "gelsight_frame", ec), ErrorCode::kFormat,
+               "%s: no train.txt / test.txt; '%s' has a Touch-and-Go layout "
+               "(SESSION/gelsight_frame/) but no label files. To calibrate on its image files as "
+               "a plain folder, pass --calib-images %s",
+               path.c_str(), e.path().filename().c_str(), path.c_str());
+  }
   bool any_image = false;
   for (const fs::directory_entry& e : fs::directory_iterator(p, ec)) {
     any_image = any_image ||
@@ -183,7 +196,7 @@ Result<CalibData> load_calib_data(const CalibDataOptions& o, const InputSpec& sp
     TLV_TRY(render_extreme(o, spec, out));
     return out;
   }
-  auto listed = calib_sources::list_items(out.format, o.path, o.split);
+  auto listed = calib_sources::list_items(out.format, o.path, o.split, o.problems);
   if (!listed.ok()) return listed.error().with_context("%s", o.path.c_str());
   const std::vector<Item>& items = *listed;
   TLV_ENSURE(!items.empty(), ErrorCode::kFormat, "%s (%s): no frames found", o.path.c_str(),
@@ -204,7 +217,7 @@ Result<CalibData> load_calib_data(const CalibDataOptions& o, const InputSpec& sp
         (calib ? out.calibration_keys : out.heldout_keys).push_back(item.id());
         return {};
       },
-      load_summary, [&] { progress.add(); }, o.on_note);
+      load_summary, [&] { progress.add(); }, o.on_note, o.problems);
   progress.finish();
   if (!read.ok()) return read.error().with_context("%s", o.path.c_str());
   TLV_ENSURE(!out.calibration.empty(), ErrorCode::kFormat,

@@ -97,12 +97,13 @@ Result<tools::Image> read_image(const std::string& path) {
 namespace {
 
 Result<std::vector<Item>> list_all(CalibFormat format, const std::string& path,
-                                   datasets::Split split) {
+                                   datasets::Split split, datasets::ProblemEcho* problems) {
   std::vector<Item> items;
   switch (format) {
     case CalibFormat::kTouch100k:
     case CalibFormat::kTag: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_touch(format, path, false, split));
+      if (problems != nullptr) loader->report().on_problem = problems->callback();
       sim::TouchSample s;
       for (;;) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
@@ -115,6 +116,7 @@ Result<std::vector<Item>> list_all(CalibFormat format, const std::string& path,
     case CalibFormat::kFeel:
     case CalibFormat::kFeelRepacked: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_grasp(format, path, false, split));
+      if (problems != nullptr) loader->report().on_problem = problems->callback();
       sim::GraspEpisode e;
       for (;;) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(e));
@@ -155,7 +157,7 @@ datasets::DatasetFormat dataset_format_of(CalibFormat format) {
 }  // namespace
 
 Result<std::vector<Item>> list_items(CalibFormat format, const std::string& path,
-                                     datasets::Split split) {
+                                     datasets::Split split, datasets::ProblemEcho* problems) {
   const bool dataset = format != CalibFormat::kImages;
   const std::optional<datasets::HashSplit> hash =
       dataset ? datasets::split_to_apply(path, dataset_format_of(format), std::nullopt)
@@ -164,7 +166,8 @@ Result<std::vector<Item>> list_items(CalibFormat format, const std::string& path
   // sidecar), checked below.
   const bool recorded_in_loader = !hash && format != CalibFormat::kTouch100k;
   TLV_ASSIGN_OR_RETURN(std::vector<Item> items,
-                       list_all(format, path, recorded_in_loader ? split : datasets::Split::kAll));
+                       list_all(format, path, recorded_in_loader ? split : datasets::Split::kAll,
+                                problems));
   if (split == datasets::Split::kAll || recorded_in_loader) return items;
   std::vector<Item> kept;
   for (Item& item : items) {
@@ -185,12 +188,15 @@ Result<std::vector<Item>> list_items(CalibFormat format, const std::string& path
 Status read_frames(CalibFormat format, const std::string& path,
                    const std::unordered_set<std::string>& wanted, const FrameVisitor& visit,
                    std::string& load_summary, const std::function<void()>& on_item,
-                   const std::function<void(const std::string&)>& on_note) {
+                   const std::function<void(const std::string&)>& on_note,
+                   datasets::ProblemEcho* problems) {
   size_t seen = 0;
   switch (format) {
     case CalibFormat::kTouch100k:
     case CalibFormat::kTag: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_touch(format, path, true));
+      // Index lines were reported by the listing pass.
+      if (problems != nullptr) loader->report().on_problem = problems->callback(false);
       sim::TouchSample s;
       while (seen < wanted.size()) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
@@ -207,6 +213,8 @@ Status read_frames(CalibFormat format, const std::string& path,
     case CalibFormat::kFeel:
     case CalibFormat::kFeelRepacked: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_grasp(format, path, true));
+      // Index lines were reported by the listing pass.
+      if (problems != nullptr) loader->report().on_problem = problems->callback(false);
       sim::GraspEpisode e;
       while (seen < wanted.size()) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(e));

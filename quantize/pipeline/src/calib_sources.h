@@ -28,8 +28,9 @@ struct Item {
 // keeps it (Touch100k: the sidecar; TAG: the train/test files; Feel: the recorded split); any
 // other set is split by a hash of the group with datasets::kDefaultSplit, as tools/eval does, so
 // `--calib-split train` never calibrates on the frames `tlvlink eval` tests on.
+// `problems` (may be null) receives the loader's problems.
 Result<std::vector<Item>> list_items(CalibFormat format, const std::string& path,
-                                     datasets::Split split);
+                                     datasets::Split split, datasets::ProblemEcho* problems);
 
 // Pass 2: calls `visit` for every frame whose Item::id() is in `wanted`, in dataset order.
 // `load_summary` receives the loader's problem counts. `on_item` is called per wanted frame read.
@@ -38,7 +39,8 @@ using FrameVisitor = std::function<Status(const Item& item, const tools::Image& 
 Status read_frames(CalibFormat format, const std::string& path,
                    const std::unordered_set<std::string>& wanted, const FrameVisitor& visit,
                    std::string& load_summary, const std::function<void()>& on_item,
-                   const std::function<void(const std::string&)>& on_note);
+                   const std::function<void(const std::string&)>& on_note,
+                   datasets::ProblemEcho* problems);
 
 // Image files of a folder (recursive), by extension: .jpg .jpeg .ppm .pgm .pnm .png.
 bool is_image_file(const std::string& path);

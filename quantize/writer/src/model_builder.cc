@@ -1,6 +1,8 @@
 #include "tlvlink/quantize/model_builder.h"
 
 #include "tlvlink/model.h"
+#include "tlvlink/model_integrity.h"
+#include "tlvlink/verify/golden_heads.h"
 #include "writer_internal.h"
 
 namespace tlvlink::quantize {
@@ -34,6 +36,21 @@ void ModelBuilder::add_op(OpType type, std::string name, std::vector<int32_t> in
 }
 
 std::vector<std::byte> ModelBuilder::finish() const {
+  std::vector<std::byte> body = serialize(nullptr);
+  // Golden head outputs come from the runtime's own code run on the written file, so what is
+  // stored and what `verify` recomputes cannot mean different things. A file the loader refuses
+  // (tests write those on purpose) gets none.
+  if (!metadata_.golden.empty()) {
+    auto model = Model::load(body, {.verify_checksum = false});
+    if (model.ok() && verify::golden_heads_apply(**model)) {
+      auto heads = verify::golden_head_outputs(**model);
+      if (heads.ok()) body = serialize(&*heads);
+    }
+  }
+  return seal_model(body);
+}
+
+std::vector<std::byte> ModelBuilder::serialize(const verify::GoldenHeadOutputs* heads) const {
   // Golden pairs are stored as constant buffers so the checksum covers them too.
   std::vector<std::vector<std::byte>> buffers = buffers_;
   std::vector<GoldenIndices> golden;
@@ -81,7 +98,7 @@ std::vector<std::byte> ModelBuilder::finish() const {
   }
   auto graph = fb::CreateGraph(fbb, fbb.CreateVector(fb_tensors), fbb.CreateVector(fb_ops),
                                fbb.CreateVector(inputs_), fbb.CreateVector(outputs_));
-  auto metadata = writer_internal::write_metadata(fbb, metadata_, golden, checksum);
+  auto metadata = writer_internal::write_metadata(fbb, metadata_, golden, heads, checksum);
   auto model = fb::CreateModel(fbb, schema_version_, graph, metadata, fbb.CreateVector(fb_buffers));
   fb::FinishModelBuffer(fbb, model);
   const auto* p = reinterpret_cast<const std::byte*>(fbb.GetBufferPointer());

@@ -26,6 +26,7 @@ flatbuffers::Offset<fb::HeadTrust> write_trust(flatbuffers::FlatBufferBuilder& f
 flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder& fbb,
                                                  const MetadataSpec& spec,
                                                  std::span<const GoldenIndices> golden_buffers,
+                                                 const verify::GoldenHeadOutputs* heads,
                                                  uint64_t checksum) {
   flatbuffers::Offset<fb::InputSpec> input = 0;
   if (spec.input.height > 0) {
@@ -61,10 +62,18 @@ flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder&
       fbb.CreateString(spec.created_utc.empty() ? utc_now() : spec.created_utc),
       fbb.CreateString(spec.training_json), fbb.CreateString(spec.quantization_json), checksum);
   std::vector<flatbuffers::Offset<fb::GoldenPair>> golden;
-  for (const auto& g : golden_buffers) golden.push_back(fb::CreateGoldenPair(fbb, g.input, g.output));
+  for (size_t i = 0; i < golden_buffers.size(); ++i) {
+    flatbuffers::Offset<flatbuffers::Vector<float>> probabilities = 0;
+    if (heads != nullptr && i < heads->pairs.size()) probabilities = fbb.CreateVector(heads->pairs[i]);
+    golden.push_back(fb::CreateGoldenPair(fbb, golden_buffers[i].input, golden_buffers[i].output,
+                                          probabilities));
+  }
+  flatbuffers::Offset<flatbuffers::Vector<float>> golden_grasp = 0;
+  if (heads != nullptr && heads->has_grasp) golden_grasp = fbb.CreateVector(&heads->grasp, 1);
   return fb::CreateMetadata(fbb, fbb.CreateString(spec.name), input, spec.embedding_dim,
                             spec.embedding_output, fbb.CreateVector(linear),
-                            fbb.CreateVector(zero_shot), grasp, provenance, fbb.CreateVector(golden));
+                            fbb.CreateVector(zero_shot), grasp, provenance, fbb.CreateVector(golden),
+                            golden_grasp);
 }
 
 }  // namespace tlvlink::quantize::writer_internal

@@ -2,6 +2,7 @@
 // Serialisation helpers shared by the ModelBuilder's files.
 
 #include "tlvlink/quantize/model_builder.h"
+#include "tlvlink/verify/golden_heads.h"
 #include "tlvm_generated.h"
 
 namespace tlvlink::quantize::writer_internal {
@@ -14,10 +15,12 @@ struct GoldenIndices {
   uint32_t input, output;  // buffer indices
 };
 
-// Metadata table. Golden pairs refer to buffers the caller has already placed.
+// Metadata table. Golden pairs refer to buffers the caller has already placed; `heads` (may be
+// null) are their head outputs.
 flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder& fbb,
                                                  const MetadataSpec& spec,
                                                  std::span<const GoldenIndices> golden_buffers,
+                                                 const verify::GoldenHeadOutputs* heads,
                                                  uint64_t checksum);
 
 }  // namespace tlvlink::quantize::writer_internal

@@ -1,6 +1,8 @@
-// RecordingWriter: one write per record, so a process that dies leaves whole records plus at
-// most one truncated final record (which readers skip).
+// RecordingWriter: one write per record into a temporary file beside the target
+// (tlvlink/atomic_file.h), renamed over it by close(): an existing recording is replaced only by
+// a complete one. Within the temporary, a failed write is cut back to the last whole record.
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <sys/uio.h>
 #include <unistd.h>
 
@@ -20,13 +22,16 @@ Result<RecordingWriter> RecordingWriter::create(const std::string& path,
                                                 const RecordingFormat& format,
                                                 const WriterOptions& options) {
   TLV_TRY(internal::validate_recording_format(format, path.c_str()));
-  const int flags = O_WRONLY | O_CREAT | O_CLOEXEC | (options.overwrite ? O_TRUNC : O_EXCL);
-  const int fd = ::open(path.c_str(), flags, 0644);
-  TLV_ENSURE(fd >= 0, ErrorCode::kIo, "recording %s: cannot create: %s", path.c_str(),
-             std::strerror(errno));
+  // Without overwrite, an existing file is an error now rather than replaced at close().
+  struct stat st {};
+  TLV_ENSURE(options.overwrite || ::stat(path.c_str(), &st) != 0, ErrorCode::kIo,
+             "recording %s: cannot create: %s", path.c_str(), std::strerror(EEXIST));
+  auto file = AtomicFile::create(path.c_str());
+  if (!file.ok()) return file.error().with_context("recording");
   RecordingWriter w;
   w.path_ = path;
-  w.fd_ = fd;
+  w.file_.emplace(std::move(file).value());
+  w.fd_ = w.file_->fd();
   w.origin_ns_ = options.origin_ns;
   uint8_t header[kRecordingHeaderBytes];
   internal::encode_file_header(format, header);
@@ -36,6 +41,7 @@ Result<RecordingWriter> RecordingWriter::create(const std::string& path,
 
 RecordingWriter::RecordingWriter(RecordingWriter&& o) noexcept
     : path_(std::move(o.path_)),
+      file_(std::move(o.file_)),
       fd_(std::exchange(o.fd_, -1)),
       end_(o.end_),
       frames_(o.frames_),
@@ -46,6 +52,8 @@ RecordingWriter& RecordingWriter::operator=(RecordingWriter&& o) noexcept {
   if (this != &o) {
     (void)close();
     path_ = std::move(o.path_);
+    file_ = std::move(o.file_);
+    o.file_.reset();
     fd_ = std::exchange(o.fd_, -1);
     end_ = o.end_;
     frames_ = o.frames_;
@@ -176,14 +184,11 @@ Status RecordingWriter::sync() {
 
 Status RecordingWriter::close() {
   if (fd_ < 0) return {};
-  const int sync_rc = ::fdatasync(fd_);
-  const int sync_err = errno;
-  const int close_rc = ::close(fd_);
   fd_ = -1;
-  TLV_ENSURE(sync_rc == 0, ErrorCode::kIo, "recording %s: fdatasync: %s", path_.c_str(),
-             std::strerror(sync_err));
-  TLV_ENSURE(close_rc == 0, ErrorCode::kIo, "recording %s: close: %s", path_.c_str(),
-             std::strerror(errno));
+  // fsync, rename over the path, fsync the directory; a failure leaves any old file as it was.
+  Status s = file_->commit();
+  file_.reset();
+  if (!s.ok()) return s.error().with_context("recording");
   return {};
 }
 

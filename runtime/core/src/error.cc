@@ -55,6 +55,7 @@ const char* error_code_name(ErrorCode code) {
     case ErrorCode::kModelInvalidMetadata: return "model.invalid_metadata";
     case ErrorCode::kModelChecksum: return "model.checksum";
     case ErrorCode::kModelUnsupported: return "model.unsupported";
+    case ErrorCode::kModelSignature: return "model.signature";
     case ErrorCode::kBackend: return "runtime.backend";
     case ErrorCode::kNonFiniteValue: return "runtime.non_finite";
     case ErrorCode::kShapeMismatch: return "runtime.shape_mismatch";

@@ -4,6 +4,8 @@
 
 #include "tlvlink/image/jpeg.h"
 
+#include "tlvlink/image/decode_budget.h"
+
 namespace tlvlink::image {
 
 int32_t jpeg_scaled_size(int32_t size, int32_t scale_denominator) {
@@ -63,6 +65,8 @@ Result<JpegHeader> JpegDecoder::read_header(std::span<const uint8_t> jpeg, const
   }
   TLV_ENSURE(width <= kMaxJpegSide && height <= kMaxJpegSide, ErrorCode::kFormat,
              "%s: JPEG size %dx%d outside 1..%d", what, width, height, kMaxJpegSide);
+  // Before any caller sizes a buffer from the header (decode_budget.h).
+  TLV_TRY(check_decode_budget(width, height, 3, jpeg.size(), kJpegMaxRatio, "JPEG", what));
   return JpegHeader{width, height};
 }
 

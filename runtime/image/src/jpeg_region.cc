@@ -5,6 +5,8 @@
 
 #include <jpeglib.h>
 
+#include "tlvlink/image/decode_budget.h"
+
 namespace tlvlink::image::internal {
 namespace {
 
@@ -101,6 +103,7 @@ Status JpegRegionDecoder::decode(std::span<const uint8_t> jpeg, const char* what
              jpeg.size(), err.message);
   TLV_ENSURE(h.width == width_ && h.height == height_, ErrorCode::kFormat,
              "%s: JPEG frame is %dx%d, expected %dx%d", what, h.width, h.height, width_, height_);
+  TLV_TRY(check_decode_budget(h.width, h.height, 3, jpeg.size(), kJpegMaxRatio, "JPEG", what));
   Outcome o = run(jpeg.data(), jpeg.size(), scale_, want_, pixels_.data(), row_bytes, false, err);
   TLV_ENSURE(o.ok, ErrorCode::kFormat, "%s: truncated or corrupt JPEG (%dx%d, %zu bytes): %s",
              what, width_, height_, jpeg.size(), err.message);

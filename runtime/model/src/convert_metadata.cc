@@ -136,21 +136,38 @@ Status convert_heads(const fb::Metadata& m, Metadata& out) {
 }
 
 Status convert_golden(const fb::Metadata& m, Buffers buffers, const Graph& graph, Metadata& out) {
-  if (m.golden() == nullptr) return {};
   const size_t in_bytes = graph.tensor(graph.inputs[0]).bytes();
   const size_t out_bytes = graph.tensor(graph.outputs[0]).bytes();
-  for (uint32_t i = 0; i < m.golden()->size(); ++i) {
+  size_t head_classes = 0;
+  for (const LinearHead& h : out.linear_heads) head_classes += h.labels.size();
+  for (const ZeroShotHead& h : out.zero_shot_heads) head_classes += h.class_names.size();
+  const uint32_t pairs = m.golden() == nullptr ? 0 : m.golden()->size();
+  for (uint32_t i = 0; i < pairs; ++i) {
     const fb::GoldenPair* g = m.golden()->Get(i);
     TLV_ENSURE(g->input() < buffers.size() && g->output() < buffers.size(),
                ErrorCode::kModelInvalidMetadata, "golden pair %u refers to buffers %u/%u of %zu", i,
                g->input(), g->output(), buffers.size());
-    GoldenPair pair{buffers[g->input()], buffers[g->output()]};
+    GoldenPair pair{buffers[g->input()], buffers[g->output()], floats(g->head_probabilities())};
     TLV_ENSURE(pair.input.size() == in_bytes && pair.output.size() == out_bytes,
                ErrorCode::kModelInvalidMetadata,
                "golden pair %u has %zu/%zu bytes, graph input 0 / output 0 need %zu/%zu", i,
                pair.input.size(), pair.output.size(), in_bytes, out_bytes);
+    // Stored head outputs: one probability per class of every per-frame head, or none.
+    TLV_ENSURE(pair.head_probabilities.empty() || pair.head_probabilities.size() == head_classes,
+               ErrorCode::kModelInvalidMetadata,
+               "golden pair %u stores %zu head probabilities, the heads have %zu classes", i,
+               pair.head_probabilities.size(), head_classes);
+    TLV_TRY(check_finite_values(pair.head_probabilities, "golden pair", "head probabilities"));
     out.golden.push_back(pair);
   }
+  const std::span<const float> grasp = floats(m.golden_grasp());
+  TLV_ENSURE(grasp.empty() || (grasp.size() == 1 && out.grasp_head.present && !out.golden.empty() &&
+                               std::isfinite(grasp[0])),
+             ErrorCode::kModelInvalidMetadata,
+             "golden grasp output: %zu values (one finite value expected, with a grasp head and "
+             "golden pairs)", grasp.size());
+  out.has_golden_grasp = !grasp.empty();
+  out.golden_grasp = grasp.empty() ? 0.0f : grasp[0];
   return {};
 }
 

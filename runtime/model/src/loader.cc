@@ -1,6 +1,7 @@
-// Model::load: size limits -> aligned copy -> identifier -> flatbuffers Verifier -> version ->
-// tensors -> operators -> topology -> per-op semantics -> no dead operator -> metadata ->
-// checksum.
+// Model::load: size limits -> integrity trailer and hash (and signature, when a key is given)
+// -> aligned copy -> identifier -> flatbuffers Verifier -> version -> tensors -> operators ->
+// topology -> per-op semantics -> no dead operator -> metadata (-> legacy checksum, for a
+// file without a trailer accepted by `tlvlink upgrade`).
 
 #include <cstdio>
 #include <cstdlib>
@@ -102,39 +103,67 @@ Status validate_operators(const Graph& graph) {
 
 }  // namespace
 
+Result<std::unique_ptr<Model>> Model::with_buffer(size_t size) {
+  std::unique_ptr<Model> model(new (std::nothrow) Model());
+  TLV_ENSURE(model != nullptr, ErrorCode::kOutOfMemory, "allocating the model");
+  const size_t padded = (size + kAlignment - 1) / kAlignment * kAlignment;
+  model->data_.reset(static_cast<std::byte*>(std::aligned_alloc(kAlignment, padded)));
+  TLV_ENSURE(model->data_ != nullptr, ErrorCode::kOutOfMemory, "allocating %zu bytes for the model",
+             padded);
+  std::memset(model->data_.get() + size, 0, padded - size);
+  model->size_ = size;
+  return model;
+}
+
 Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
                                            const LoadOptions& options) {
   TLV_ENSURE(bytes.size() >= 8, ErrorCode::kModelMalformed,
              "model file is %zu bytes: too short to be a tlvlink model", bytes.size());
   TLV_ENSURE(bytes.size() <= kMaxModelBytes, ErrorCode::kModelMalformed,
              "model file is %zu bytes, over the %zu-byte limit", bytes.size(), kMaxModelBytes);
-
-  std::unique_ptr<Model> model(new (std::nothrow) Model());
-  TLV_ENSURE(model != nullptr, ErrorCode::kOutOfMemory, "allocating the model");
-  const size_t padded = (bytes.size() + kAlignment - 1) / kAlignment * kAlignment;
-  model->data_.reset(static_cast<std::byte*>(std::aligned_alloc(kAlignment, padded)));
-  TLV_ENSURE(model->data_ != nullptr, ErrorCode::kOutOfMemory, "allocating %zu bytes for the model",
-             padded);
+  TLV_ASSIGN_OR_RETURN(std::unique_ptr<Model> model, with_buffer(bytes.size()));
   std::memcpy(model->data_.get(), bytes.data(), bytes.size());
-  std::memset(model->data_.get() + bytes.size(), 0, padded - bytes.size());
-  model->size_ = bytes.size();
-  const auto* raw = reinterpret_cast<const uint8_t*>(model->data_.get());
+  return parse(std::move(model), options);
+}
 
-  if (!fb::ModelBufferHasIdentifier(raw)) {
-    char id[5] = {};
-    for (int i = 0; i < 4; ++i) {
-      const char c = static_cast<char>(raw[4 + i]);
-      id[i] = (c >= 32 && c < 127) ? c : '?';
-    }
-    return Error::make(ErrorCode::kModelMalformed,
-                       "not a tlvlink model: file identifier is '%s', expected '%s'", id,
-                       fb::ModelIdentifier());
+// The model's own aligned copy is checked and parsed in place: nothing is parsed before the
+// integrity check, and load_file reads the file straight into that copy (one copy in memory).
+Result<std::unique_ptr<Model>> Model::parse(std::unique_ptr<Model> model,
+                                            const LoadOptions& options) {
+  const std::span<const std::byte> bytes = model->bytes();
+  // Integrity first: nothing of an altered file is parsed. A file without a trailer is read
+  // whole only when asked to (upgrade, or fuzzing with verify_checksum off).
+  ModelIntegrity integrity;
+  integrity.body_size = bytes.size();
+  // A file that is no model at all gets "not a tlvlink model", not advice on upgrading.
+  if (!has_integrity_trailer(bytes) &&
+      !fb::ModelBufferHasIdentifier(reinterpret_cast<const uint8_t*>(bytes.data()))) {
+    return model_internal::check_identifier(reinterpret_cast<const uint8_t*>(bytes.data())).error();
   }
-  flatbuffers::Verifier verifier(raw, model->size_, /*max_depth=*/64,
+  const bool legacy = !has_integrity_trailer(bytes) && (options.accept_legacy ||
+                                                        !options.verify_checksum);
+  if (!legacy) {
+    TLV_ASSIGN_OR_RETURN(integrity, read_integrity(bytes, options.verify_checksum));
+  }
+  if (options.public_key != nullptr) {
+    TLV_ENSURE(!legacy, ErrorCode::kModelSignature,
+               "the model has no integrity trailer, so no signature; a signed model is required");
+    TLV_TRY(check_signature(integrity, *options.public_key));
+  }
+
+  model->integrity_ = integrity;
+  const auto* raw = reinterpret_cast<const uint8_t*>(model->data_.get());
+  const size_t body_size = integrity.body_size;  // the flatbuffer, without the trailer
+  TLV_ENSURE(body_size >= 8, ErrorCode::kModelMalformed,
+             "model file holds %zu bytes before its trailer: too short to be a tlvlink model",
+             body_size);
+
+  TLV_TRY(model_internal::check_identifier(raw));
+  flatbuffers::Verifier verifier(raw, body_size, /*max_depth=*/64,
                                  /*max_tables=*/4 * (kMaxTensors + kMaxOperators));
   TLV_ENSURE(fb::VerifyModelBuffer(verifier), ErrorCode::kModelMalformed,
              "flatbuffers verification failed: the file is truncated or corrupt "
-             "(a table or vector points outside the %zu-byte file)", model->size_);
+             "(a table or vector points outside the %zu-byte flatbuffer)", body_size);
 
   const fb::Model* root = fb::GetModel(raw);
   model->schema_version_ = root->schema_version();
@@ -171,40 +200,15 @@ Result<std::unique_ptr<Model>> Model::load(std::span<const std::byte> bytes,
   TLV_TRY(check_outputs_used(graph));
   TLV_TRY(model_internal::convert_metadata(root->metadata(), buffer_view, graph, model->metadata_));
 
-  if (options.verify_checksum) {
+  if (legacy && options.verify_checksum) {
     const uint64_t expected = model->metadata_.provenance.content_checksum;
     const uint64_t actual = content_checksum(buffer_view);
     TLV_ENSURE(expected == actual, ErrorCode::kModelChecksum,
-               "constant data checksum is %016llx, the file records %016llx: weights were "
-               "modified or corrupted after the model was written",
+               "legacy file: constant data checksum is %016llx, the file records %016llx: "
+               "weights were modified or corrupted after the model was written",
                static_cast<unsigned long long>(actual), static_cast<unsigned long long>(expected));
   }
   return model;
-}
-
-Result<std::unique_ptr<Model>> Model::load_file(const char* path, const LoadOptions& options) {
-  std::FILE* f = std::fopen(path, "rb");
-  TLV_ENSURE(f != nullptr, ErrorCode::kIo, "cannot open model file '%s': %s", path,
-             std::strerror(errno));
-  std::vector<std::byte> bytes;
-  std::byte chunk[1 << 16];
-  size_t n = 0;
-  bool too_big = false;
-  while ((n = std::fread(chunk, 1, sizeof(chunk), f)) > 0) {
-    if (bytes.size() + n > kMaxModelBytes) {
-      too_big = true;
-      break;
-    }
-    bytes.insert(bytes.end(), chunk, chunk + n);
-  }
-  const bool read_error = std::ferror(f) != 0;
-  std::fclose(f);
-  TLV_ENSURE(!read_error, ErrorCode::kIo, "error reading model file '%s'", path);
-  TLV_ENSURE(!too_big, ErrorCode::kModelMalformed, "model file '%s' exceeds the %zu-byte limit",
-             path, kMaxModelBytes);
-  auto result = load(bytes, options);
-  if (!result.ok()) return result.error().with_context("%s", path);
-  return result;
 }
 
 }  // namespace tlvlink

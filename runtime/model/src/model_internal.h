@@ -26,6 +26,9 @@ Label shape_label(const Shape& shape);
 // Same scales, zero points and axis (pass-through ops keep their input's parameters).
 bool same_quantization(const Tensor& a, const Tensor& b);
 
+// The .tlvm file identifier at bytes 4..7 of `raw` (which holds at least 8 bytes); the loader
+// and load_file's look at the first bytes both use it.
+Status check_identifier(const uint8_t* raw);
 // Tensors: shape, dtype, quantization parameters, constant data binding (+ finite floats).
 Status convert_tensors(const fb::Graph& fb_graph, Buffers buffers, Graph& graph);
 // Operators: type, input/output indices in range, options matching the op type.

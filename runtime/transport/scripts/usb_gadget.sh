@@ -69,7 +69,9 @@ setup() {
     mkdir -p "$gadget/functions/ffs.$name"
     ln -s "$gadget/functions/ffs.$name" "$gadget/configs/c.1/"
     mkdir -p "$ffs_dir"
-    uid=$(id -u "$user") gid=$(id -g "$user")
+    # root needs no look-up (a minimal board's initramfs may have no /etc/passwd).
+    if [ "$user" = root ]; then uid=0 gid=0
+    else uid=$(id -u "$user") && gid=$(id -g "$user") || die "unknown user '$user'"; fi
     mount -t functionfs -o "uid=$uid,gid=$gid" "$name" "$ffs_dir" || die "cannot mount functionfs at $ffs_dir"
   fi
   where=""

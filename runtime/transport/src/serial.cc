@@ -61,12 +61,17 @@ class SerialTransport final : public Transport {
       return Error::make(ErrorCode::kTransport, "%s is not a terminal (tcgetattr: %s)",
                          config_.path.c_str(), std::strerror(err));
     }
+    const bool was_cooked = (tio.c_lflag & (ICANON | ECHO)) != 0;
     cfmakeraw(&tio);  // 8 data bits, no parity, no echo, no line editing, no CR/LF mapping
     tio.c_cflag |= CLOCAL | CREAD;
     tio.c_cflag &= ~CSTOPB;
     if (config_.flow == FlowControl::kRtsCts) tio.c_cflag |= CRTSCTS;
     else tio.c_cflag &= ~CRTSCTS;
-    tio.c_cc[VMIN] = 0;
+    // VMIN 1: with O_NONBLOCK an empty line reads as EAGAIN and 0 means end of file (hangup).
+    // With VMIN 0 an empty tty reads as 0 on some kernels (the emulated board's 6.1 on
+    // /dev/ttyGS0), which looked like end of file after every burst of commands: the board
+    // reconnected and lost its replies.
+    tio.c_cc[VMIN] = 1;
     tio.c_cc[VTIME] = 0;
     speed_t speed;
     if (config_.baud != 0 && baud_constant(config_.baud, speed)) {
@@ -79,6 +84,11 @@ class SerialTransport final : public Transport {
       return Error::make(ErrorCode::kTransport, "configuring %s (raw, %d baud): %s",
                          config_.path.c_str(), config_.baud, std::strerror(err));
     }
+    // A tty that was cooked until now (a CDC-ACM tty after enumeration: echo, CR/LF mapping,
+    // XON/XOFF, line buffering) may have mangled what arrived since open(): drop it rather than
+    // hand on mangled bytes; the stream resynchronises at the next delimiter (the host asks for a
+    // Hello). A tty already raw (a pty set up by PtyTransport, a reopen) keeps its input.
+    if (was_cooked) (void)tcflush(fd, TCIFLUSH);
     fd_ = fd;
     return Status();
   }

@@ -24,6 +24,8 @@ Result<GoldenReport> verify_golden(const Model& model, Executor& exec) {
     report.pass = report.pass && r.comparison.pass;
     report.pairs.push_back(r);
   }
+  TLV_ASSIGN_OR_RETURN(report.heads, check_golden_heads(model));
+  report.pass = report.pass && report.heads.pass;
   return report;
 }
 

@@ -1,5 +1,6 @@
 // Live scenarios: the recordings hold what the camera streams, at its pace, with B's phase; the
-// truth matches the frames; `score` counts a perfect run as perfect and each planted mistake once.
+// truth matches the frames; `score` counts a perfect run as perfect and each planted mistake once,
+// scores head labels on frames in contact only, and gives event figures a 95 % interval.
 #include <unistd.h>
 
 #include <filesystem>
@@ -164,6 +165,70 @@ TEST_F(Scenario, ScoreCountsAPerfectRunAsPerfectAndEachMistakeOnce) {
   auto bad = score::score_live_run(dir_ + "/A.tlvraw", perfect, {"left", "right"});
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(std::string(bad.error().message()).find("A.tlvraw"), std::string::npos);
+}
+
+// A label the daemon gives a frame the renderer shows without contact (the gate's false contact at
+// the end of a press) is the gate's mistake, not the head's: counted apart, and it is not the
+// event's answer.
+TEST(Score, LabelsOfFramesWithoutContactAreCountedApart) {
+  const std::string dir = (std::filesystem::temp_directory_path() /
+                           ("tlvlink_score_" + std::to_string(::getpid())))
+                              .string();
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream t(dir + "/truth.jsonl");
+    t << R"({"type":"scenario","sensor":"gelsight-mini","fps":25,"frames":4,"fingers":["A","B"]})" "\n"
+      << R"({"type":"event","id":0,"kind":"press","success":null,"material":"metal","hard_soft":"hard","rough_smooth":null})" "\n";
+    const bool contact[4] = {false, true, false, false};
+    const int event[4] = {-1, 0, 0, -1};
+    for (int k = 0; k < 4; ++k) {
+      t << json{{"type", "frame"}, {"finger", "A"}, {"seq", k}, {"contact", contact[k]},
+                {"force_n", contact[k] ? 3.0 : 0.0}, {"event", event[k]}}.dump() << "\n"
+        << json{{"type", "frame"}, {"finger", "B"}, {"seq", k}, {"contact", false},
+                {"force_n", 0.0}, {"event", -1}}.dump() << "\n";
+    }
+    std::ofstream p(dir + "/predictions.jsonl");
+    const auto frame = [&](int seq, const char* gate, const char* material) {
+      json f = {{"type", "frame"}, {"sensor", "left"}, {"seq", seq}, {"contact", gate}};
+      if (material != nullptr) f["heads"]["material"] = {{"label", material}};
+      p << f.dump() << "\n";
+    };
+    frame(0, "none", nullptr);
+    frame(1, "contact", "metal");
+    frame(2, "contact", "glass");  // the imprint has gone; the gate still says contact
+    frame(3, "none", nullptr);
+  }
+  auto r = score::score_live_run(dir + "/truth.jsonl", dir + "/predictions.jsonl", {"left", "right"});
+  std::filesystem::remove_all(dir);
+  ASSERT_TRUE(r.ok()) << r.error().message();
+  EXPECT_EQ(r->false_contact, 1);
+  ASSERT_EQ(r->heads.size(), 1u);
+  EXPECT_EQ(r->heads[0].frames.hits, 1);
+  EXPECT_EQ(r->heads[0].frames.total, 1);
+  EXPECT_EQ(r->heads[0].without_contact, 1);
+  EXPECT_EQ(r->heads[0].events.hits, 1);  // the answer given in contact
+  EXPECT_EQ(r->heads[0].events.total, 1);
+  EXPECT_NE(score::format_score(*r).find("1 labelled frames without contact"), std::string::npos);
+}
+
+// Events are few: the event and grasp rates come with the Wilson 95 % interval (published values:
+// 1/11 -> 1.6-37.7 %, 0/10 -> 0-27.8 %, 13/18 -> 49.1-87.5 %).
+TEST(Score, EventRatesComeWithTheirInterval) {
+  const auto near = [](score::Interval i, double low, double high) {
+    EXPECT_NEAR(i.low, low, 5e-4);
+    EXPECT_NEAR(i.high, high, 5e-4);
+  };
+  near(score::wilson95({1, 11}), 0.0162, 0.3774);
+  near(score::wilson95({0, 10}), 0.0, 0.2775);
+  near(score::wilson95({13, 18}), 0.4913, 0.8750);
+  near(score::wilson95({10, 10}), 0.7225, 1.0);
+  near(score::wilson95({0, 0}), 0.0, 1.0);
+  score::ScoreReport r;
+  r.heads.push_back({"material", {15, 650}, 0, {1, 11}, 0.273});
+  r.grasp_accuracy = {1, 4};
+  const std::string text = score::format_score(r);
+  EXPECT_NE(text.find("(1/11, 95 % CI 1.6-37.7; majority 27.3 %)"), std::string::npos) << text;
+  EXPECT_NE(text.find("1/4 (25.0 %, 95 % CI 4.6-69.9;"), std::string::npos) << text;
 }
 
 }  // namespace

@@ -149,8 +149,11 @@ class FeelLoader final : public GraspEpisodeLoader {
       }
     }
     std::string why;
-    if (has_meta && !apply_grasp_meta(meta, out, why))
-      problem(ProblemKind::kSidecarMismatch, record, "tlvlink_sim attribute: " + why);
+    // The attribute carries the labels: a bad one drops the episode rather than score it wrong.
+    if (has_meta && !apply_grasp_meta(meta, out, why)) {
+      problem(ProblemKind::kMalformedRecord, record, "tlvlink_sim attribute: " + why);
+      return false;
+    }
     key_ = std::filesystem::path(path_).filename().string() + ":/" + record;
     return true;
   }

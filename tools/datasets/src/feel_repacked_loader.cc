@@ -103,9 +103,12 @@ class FeelRepackedLoader final : public GraspEpisodeLoader {
       }
     }
     for (auto& v : out.vision) v = sim::RgbImage{};  // the repacked layout has no camera images
-    if (meta != nullptr && !apply_grasp_meta(*meta, out, why))
-      report_.add({ProblemKind::kSidecarMismatch, "tlvlink_sim_" + splits_[split_] + ".jsonl", 0,
-                   dir + ": " + why});
+    // The sidecar carries the labels: a bad line drops the episode rather than score it wrong.
+    if (meta != nullptr && !apply_grasp_meta(*meta, out, why)) {
+      report_.add(
+          {ProblemKind::kMalformedLine, sidecar_.path(), sidecar_.line_number(), dir + ": " + why});
+      return false;
+    }
     key_ = dir;
     return true;
   }

@@ -1,52 +1,41 @@
 #include "line_io.h"
 
 #include <cerrno>
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 
 namespace tlvlink::datasets {
 
-Status LineReader::open(const std::string& path) {
-  path_ = path;
-  line_number_ = 0;
-  in_.close();
-  in_.clear();
-  in_.open(path, std::ios::binary);
-  TLV_ENSURE(in_.is_open(), ErrorCode::kIo, "%s: cannot open: %s", path.c_str(),
-             std::strerror(errno));
-  return {};
-}
-
-bool LineReader::next(std::string& line) {
-  if (!std::getline(in_, line)) return false;
-  ++line_number_;
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  return true;
-}
-
 Status LineWriter::open(const std::string& path) {
   path_ = path;
   bytes_ = 0;
-  file_.reset(std::fopen(path.c_str(), "wb"));
-  TLV_ENSURE(file_ != nullptr, ErrorCode::kIo, "%s: cannot create: %s", path.c_str(),
-             std::strerror(errno));
+  TLV_ASSIGN_OR_RETURN(AtomicFile f, AtomicFile::create(path.c_str()));
+  file_.emplace(std::move(f));
   return {};
 }
 
 Status LineWriter::write_line(std::string_view line) {
-  TLV_ENSURE(file_ != nullptr, ErrorCode::kInvalidState, "%s: written after close", path_.c_str());
-  const bool ok = std::fwrite(line.data(), 1, line.size(), file_.get()) == line.size() &&
-                  std::fputc('\n', file_.get()) != EOF;
-  TLV_ENSURE(ok, ErrorCode::kIo, "%s: write failed: %s", path_.c_str(), std::strerror(errno));
+  TLV_ENSURE(file_.has_value(), ErrorCode::kInvalidState, "%s: written after close", path_.c_str());
+  pending_.append(line);
+  pending_ += '\n';
   bytes_ += static_cast<int64_t>(line.size()) + 1;
-  return {};
+  return pending_.size() >= kFlushBytes ? flush() : Status{};
+}
+
+Status LineWriter::flush() {
+  Status s = file_->write(pending_.data(), pending_.size());
+  pending_.clear();
+  if (!s.ok()) file_.reset();  // AtomicFile removed the temporary; the old file stays
+  return s;
 }
 
 Status LineWriter::close() {
   if (!file_) return {};
-  TLV_ENSURE(std::fclose(file_.release()) == 0, ErrorCode::kIo, "%s: close failed: %s",
-             path_.c_str(), std::strerror(errno));
-  return {};
+  TLV_TRY(flush());
+  Status s = file_->commit();
+  file_.reset();
+  return s;
 }
 
 bool is_blank(std::string_view line) {

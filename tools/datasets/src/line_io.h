@@ -4,48 +4,37 @@
 // the path. Internal to tlvlink_datasets.
 
 #include <cstdint>
-#include <cstdio>
-#include <fstream>
 #include <memory>
 #include <string>
+#include <optional>
 #include <string_view>
+#include <vector>
 
+#include "tlvlink/atomic_file.h"
 #include "tlvlink/error.h"
+#include "tlvlink/io/line_reader.h"
 
 namespace tlvlink::datasets {
 
-// Longest index line accepted; a longer one is reported as malformed (and skipped whole).
-inline constexpr size_t kMaxLineBytes = size_t{1} << 20;
+// The bounded line reader is tools/io's (one reader for every line-oriented file).
+using tools::kMaxLineBytes;
+using tools::LineReader;
 
-class LineReader {
- public:
-  // kIo naming the path when the file cannot be opened.
-  Status open(const std::string& path);
-  // Next line without its newline / trailing \r; false at the end of the file.
-  bool next(std::string& line);
-  int64_t line_number() const { return line_number_; }
-  const std::string& path() const { return path_; }
-  bool is_open() const { return in_.is_open(); }
-
- private:
-  std::ifstream in_;
-  std::string path_;
-  int64_t line_number_ = 0;
-};
-
+// Writes an index file atomically (tlvlink/atomic_file.h): the lines go to a temporary that
+// close() renames over the path; a writer dropped without close() leaves the old file as it was.
 class LineWriter {
  public:
   Status open(const std::string& path);
   Status write_line(std::string_view line);  // appends '\n'
   Status close();
-  bool is_open() const { return file_ != nullptr; }
+  bool is_open() const { return file_.has_value(); }
   int64_t bytes() const { return bytes_; }
 
  private:
-  struct Closer {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-  };
-  std::unique_ptr<std::FILE, Closer> file_;
+  static constexpr size_t kFlushBytes = size_t{64} << 10;
+  Status flush();
+  std::optional<AtomicFile> file_;
+  std::string pending_;  // lines not yet written (up to kFlushBytes)
   std::string path_;
   int64_t bytes_ = 0;
 };

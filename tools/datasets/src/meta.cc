@@ -2,6 +2,10 @@
 
 #include <sys/stat.h>
 
+#include <string>
+
+#include "tlvlink/sim/materials.h"
+
 namespace tlvlink::datasets {
 namespace {
 
@@ -13,8 +17,20 @@ OrderedJson material_json(const sim::MaterialSample& m) {
           {"rough", m.rough},       {"layer_mm", m.layer_mm}};
 }
 
+// A class id is checked where it is read: an out-of-range one would otherwise index the class
+// table later (exit 2 naming nothing) or read as "unlabelled" (-5) and be scored silently.
+int32_t read_class_id(const Json& material) {
+  const int32_t id = material.at("class_id").get<int32_t>();
+  if (id != -1 && (id < 0 || id >= sim::kMaterialClassCount)) {
+    const std::string why = "material class_id " + std::to_string(id) + " outside 0.." +
+                            std::to_string(sim::kMaterialClassCount - 1) + " (or -1, unlabelled)";
+    throw Json::other_error::create(501, why, &material);
+  }
+  return id;
+}
+
 void read_material(const Json& j, sim::MaterialSample& m) {
-  m.class_id = j.at("class_id").get<int32_t>();
+  m.class_id = read_class_id(j);
   m.modulus_pa = j.at("modulus_pa").get<double>();
   m.poisson = j.at("poisson").get<double>();
   m.friction = j.at("friction").get<double>();
@@ -182,6 +198,10 @@ const Json* SidecarReader::next(const std::string& key, LoadReport& report) {
       return nullptr;
     }
   } while (is_blank(line));
+  if (reader_.too_long()) {
+    stop("line longer than " + std::to_string(kMaxLineBytes) + " bytes", report);
+    return nullptr;
+  }
   std::string why;
   if (!parse_json(line, current_, why)) {
     stop(why, report);

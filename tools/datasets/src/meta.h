@@ -21,7 +21,9 @@ bool parse_json(const std::string& text, Json& out, std::string& why);
 OrderedJson touch_meta(const sim::TouchSample& sample, const std::string& key, bool test);
 OrderedJson grasp_meta(const sim::GraspEpisode& episode, const std::string& key, bool test);
 // Fill the simulator fields (object id, material, contact / variables, states) from metadata;
-// false with the reason when a field is missing or of the wrong type.
+// false with the reason when a field is missing, of the wrong type or out of range (a material
+// class_id outside 0..kMaterialClassCount-1; -1, "unlabelled", is what writers store for an
+// unknown class). On false `out` may be partly filled: the caller drops the item.
 bool apply_touch_meta(const Json& meta, sim::TouchSample& out, std::string& why);
 bool apply_grasp_meta(const Json& meta, sim::GraspEpisode& out, std::string& why);
 
@@ -36,6 +38,9 @@ class SidecarReader {
   const Json* next(const std::string& key, LoadReport& report);
   // Advances past the line of an index line that was itself unusable.
   void skip();
+  // The sidecar and the line next() last returned, for file:line problems.
+  const std::string& path() const { return reader_.path(); }
+  int64_t line_number() const { return reader_.line_number(); }
 
  private:
   void stop(const std::string& why, LoadReport& report);

@@ -150,7 +150,7 @@ class TagLoader final : public TouchSampleLoader {
         out.material.hard = labels.hard;
         out.material.rough = labels.rough;
       } else {
-        report_.add({ProblemKind::kSidecarMismatch, sidecar_name(material_files_[file_]), 0,
+        report_.add({ProblemKind::kSidecarMismatch, sidecar_.path(), sidecar_.line_number(),
                      l.key + ": " + why});
       }
     }

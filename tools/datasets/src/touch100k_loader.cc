@@ -128,8 +128,11 @@ class Touch100kLoader final : public TouchSampleLoader {
     if (!parse_tag_frame_key(name, out.session, out.frame_index)) out.session = name;
     out.sentence_desc = sentence->get<std::string>();
     out.phrases = std::move(phrases);
+    // The sidecar carries the labels: a bad line drops the sample rather than score it wrong.
     if (meta != nullptr && !apply_touch_meta(*meta, out, why)) {
-      report_.add({ProblemKind::kSidecarMismatch, kTouch100kSidecar, 0, name + ": " + why});
+      report_.add({ProblemKind::kMalformedLine, sidecar_.path(), sidecar_.line_number(),
+                   name + ": " + why});
+      return false;
     }
     recorded_split_ = meta != nullptr ? sidecar_split(*meta, name) : Split::kAll;
     key_ = name;

@@ -7,9 +7,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 
 #include "tlvlink/datasets/detect.h"
+#include "tlvlink/io/file.h"
 #include "tlvlink/datasets/touch100k.h"
 
 namespace tlvlink::eval::internal {
@@ -66,12 +66,20 @@ datasets::DatasetFormat dataset_format(GraspFormat format) {
                                               : datasets::DatasetFormat::kFeelHdf5;
 }
 
+// The generator record is a few KB; a larger one is not ours (read bounded, regular files only).
+constexpr size_t kMaxGeneratorRecordBytes = size_t{1} << 20;
+
+static std::optional<std::string> read_generator_record(const std::string& path) {
+  auto bytes = tools::read_file(join(datasets::dataset_dir(path), datasets::kGeneratorRecord),
+                                kMaxGeneratorRecordBytes);
+  if (!bytes.ok()) return std::nullopt;
+  return std::string(reinterpret_cast<const char*>(bytes->data()), bytes->size());
+}
+
 std::optional<std::string> generator_json(const std::string& path) {
-  std::ifstream in(join(datasets::dataset_dir(path), datasets::kGeneratorRecord));
-  if (!in) return std::nullopt;
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const nlohmann::json j = nlohmann::json::parse(ss.str(), nullptr, /*allow_exceptions=*/false);
+  const std::optional<std::string> text = read_generator_record(path);
+  if (!text) return std::nullopt;
+  const nlohmann::json j = nlohmann::json::parse(*text, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded() || !j.is_object() || !j.contains("generator")) return std::nullopt;
   return j.at("generator").dump();
 }
@@ -89,13 +97,25 @@ std::string split_source(const std::optional<datasets::HashSplit>& split) {
   return buf;
 }
 
+// Non-blank lines, for the progress total. Read in chunks, never a line at a time: an index
+// with a 1.5 GB line must not cost 1.5 GB here before the loader skips that line.
 int64_t count_lines(const std::string& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   int64_t n = 0;
-  std::string line;
-  while (std::getline(in, line))
-    if (line.find_first_not_of(" \t\r") != std::string::npos) ++n;
-  return n;
+  bool blank = true;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0) {
+    for (std::streamsize i = 0; i < in.gcount(); ++i) {
+      const char c = chunk[i];
+      if (c == '\n') {
+        n += blank ? 0 : 1;
+        blank = true;
+      } else if (c != ' ' && c != '\t' && c != '\r') {
+        blank = false;
+      }
+    }
+  }
+  return n + (blank ? 0 : 1);
 }
 
 int64_t expected_touch_items(const std::string& dir, TouchFormat format) {
@@ -106,11 +126,9 @@ int64_t expected_touch_items(const std::string& dir, TouchFormat format) {
 int64_t expected_grasp_items(const std::string& path, GraspFormat format) {
   if (format == GraspFormat::kFeelRepacked)
     return count_lines(join(path, "train_info.json")) + count_lines(join(path, "test_info.json"));
-  std::ifstream in(join(datasets::dataset_dir(path), datasets::kGeneratorRecord));
-  if (!in || file_exists(path)) return 0;  // one .h5 file of a set: its share is unknown
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const nlohmann::json j = nlohmann::json::parse(ss.str(), nullptr, false);
+  const std::optional<std::string> text = read_generator_record(path);
+  if (!text || file_exists(path)) return 0;  // one .h5 file of a set: its share is unknown
+  const nlohmann::json j = nlohmann::json::parse(*text, nullptr, false);
   if (j.is_discarded() || !j.contains("counts") || !j["counts"].contains("items")) return 0;
   const nlohmann::json& items = j["counts"]["items"];
   return items.is_number_integer() ? items.get<int64_t>() : 0;

@@ -54,6 +54,7 @@ Status run_touch100k(const EvalData& data, TouchSink& sink) {
   o.load_vision = o.require_vision = false;
   o.scale_denominator = data.scale_denominator;
   TLV_ASSIGN_OR_RETURN(auto loader, datasets::open_touch100k(data.touch_dir, o));
+  if (data.problems != nullptr) loader->report().on_problem = data.problems->callback();
   sim::TouchSample s;
   for (;;) {
     TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
@@ -89,13 +90,14 @@ Status run_tag(const EvalData& data, TouchSink& sink) {
     o.split = test ? datasets::Split::kTest : datasets::Split::kTrain;
     o.resplit = hash;
     TLV_ASSIGN_OR_RETURN(auto loader, datasets::open_touch_and_go(data.touch_dir, o));
+    if (data.problems != nullptr) loader->report().on_problem = data.problems->callback();
     sim::TouchSample s;
     for (;;) {
       TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
       if (!more || sink.full(test)) break;
       TLV_TRY(sink.add(s, loader->key(), test, s.material.class_id >= 0));
     }
-    summary += std::string(summary.empty() ? "" : "; ") + (test ? "test: " : "train: ") +
+      summary += std::string(summary.empty() ? "" : "; ") + (test ? "test: " : "train: ") +
                loader->report().summary();
   }
   sink.out.split.source = internal::split_source(hash);
@@ -162,6 +164,7 @@ Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
     auto loader = format == GraspFormat::kFeelHdf5 ? datasets::open_feel(data.grasp_dir, o)
                                                    : datasets::open_feel_repacked(data.grasp_dir, o);
     if (!loader.ok()) return loader.error();
+    if (data.problems != nullptr) (*loader)->report().on_problem = data.problems->callback();
     sim::GraspEpisode e;
     int64_t taken = 0;
     for (;;) {
@@ -185,7 +188,7 @@ Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
       ++taken;
       progress.add();
     }
-    summary += std::string(summary.empty() ? "" : "; ") + (test ? "test: " : "train: ") +
+      summary += std::string(summary.empty() ? "" : "; ") + (test ? "test: " : "train: ") +
                (*loader)->report().summary();
   }
   if (options.progress) progress.finish();

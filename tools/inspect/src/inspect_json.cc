@@ -35,6 +35,15 @@ json trust_json(const HeadTrust& t) {
   return j;
 }
 
+json integrity_json(const ModelIntegrity& integrity) {
+  char hash[65], key[17];
+  to_hex(integrity.hash, hash, sizeof hash);
+  to_hex(integrity.key_id, key, sizeof key);
+  json j = {{"hash", "blake2b-256:" + std::string(hash)}, {"signed", integrity.is_signed}};
+  if (integrity.is_signed) j["key_id"] = key;
+  return j;
+}
+
 json metadata_json(const Model& model) {
   const Metadata& m = model.metadata();
   const InputSpec& in = m.input;
@@ -82,7 +91,8 @@ json metadata_json(const Model& model) {
             {"created_utc", m.provenance.created_utc},
             {"training", m.provenance.training},
             {"quantization", m.provenance.quantization},
-            {"content_checksum", m.provenance.content_checksum}}}};
+            {"content_checksum", m.provenance.content_checksum}}},
+          {"integrity", integrity_json(model.integrity())}};
 }
 
 }  // namespace

@@ -24,9 +24,14 @@ void print_metadata(std::string& out, const Model& model) {
   const Provenance& p = m.provenance;
   appendf(out, "model        %.*s  (schema %u, %s)\n", static_cast<int>(m.name.size()),
               m.name.data(), model.schema_version(), tools::human_bytes(model.bytes().size()).c_str());
-  appendf(out, "producer     %.*s, created %.*s, checksum %016" PRIx64 "\n",
-              static_cast<int>(p.producer.size()), p.producer.data(),
-              static_cast<int>(p.created_utc.size()), p.created_utc.data(), p.content_checksum);
+  appendf(out, "producer     %.*s, created %.*s\n", static_cast<int>(p.producer.size()),
+              p.producer.data(), static_cast<int>(p.created_utc.size()), p.created_utc.data());
+  const ModelIntegrity& integrity = model.integrity();
+  char hash[65], key[17];
+  to_hex(integrity.hash, hash, sizeof hash);
+  to_hex(integrity.key_id, key, sizeof key);
+  appendf(out, "integrity    BLAKE2b-256 %s, %s%s\n", hash,
+              integrity.is_signed ? "signed by key " : "unsigned", integrity.is_signed ? key : "");
   appendf(out, "training     %.*s\n", static_cast<int>(p.training.size()), p.training.data());
   appendf(out, "quantization %.*s\n", static_cast<int>(p.quantization.size()),
               p.quantization.data());

@@ -7,8 +7,9 @@
 namespace tlvlink::tools {
 namespace {
 
-// Largest JPEG file read_jpeg accepts: an 8 MP MJPEG frame is a few MB even at q=100.
-constexpr size_t kMaxJpegFileBytes = size_t{256} << 20;
+// Largest JPEG file read_jpeg accepts: the pixel cap's RGB size (image/decode_budget.h); an
+// 8 MP MJPEG frame is a few MB even at q=100.
+constexpr size_t kMaxJpegFileBytes = size_t{48} << 20;
 
 }  // namespace
 

@@ -2,10 +2,9 @@
 
 namespace tlvlink::tools {
 
+// Model::load_file already names the path in every error (and opens regular files only).
 Result<std::unique_ptr<Model>> load_model(const std::string& path) {
-  auto model = Model::load_file(path.c_str());
-  if (!model.ok()) return model.error().with_context("%s", path.c_str());
-  return std::move(model).value();
+  return Model::load_file(path.c_str());
 }
 
 }  // namespace tlvlink::tools

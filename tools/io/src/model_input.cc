@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "tlvlink/image/decode_budget.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/image/preprocess.h"
 #include "tlvlink/io/file.h"
@@ -97,8 +98,11 @@ Status model_input_from_bytes(std::span<const std::byte> bytes, const std::strin
 }
 
 Status load_model_input(const std::string& path, const Model& model, std::span<std::byte> dst) {
-  TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes,
-                       read_file(path, kMaxNpyDataBytes + kMaxNpyHeaderBytes + 16));
+  // The largest file that can feed the model: a tensor of its input's size, or an image within
+  // the decode budget (the pixel cap's RGB bytes as raw .npy / PNM, the largest case).
+  const size_t image_limit = static_cast<size_t>(image::kMaxImagePixels) * 3;
+  const size_t limit = std::max(dst.size(), image_limit) + kMaxNpyHeaderBytes;
+  TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, read_file(path, limit));
   return model_input_from_bytes(bytes, path, model, dst);
 }
 

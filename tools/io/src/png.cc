@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "tlvlink/image/decode_budget.h"
 #include "tlvlink/io/file.h"
 
 namespace tlvlink::tools {
@@ -21,6 +22,14 @@ Result<Image> decode_png(std::span<const std::byte> bytes, const std::string& na
     png_image_free(&png);
     return Error::make(ErrorCode::kFormat, "%s: PNG size %ux%u outside 1..%d", name.c_str(),
                        png.width, png.height, kMaxPngSide);
+  }
+  // Before the pixel buffer is sized from the header (a 780 KB PNG can declare 800 MB).
+  const Status budget = image::check_decode_budget(png.width, png.height, gray ? 1 : 3,
+                                                   bytes.size(), image::kPngMaxRatio, "PNG",
+                                                   name.c_str());
+  if (!budget.ok()) {
+    png_image_free(&png);
+    return budget.error();
   }
   png.format = gray ? PNG_FORMAT_GRAY : PNG_FORMAT_RGB;  // alpha dropped (composited on black)
   Image image;

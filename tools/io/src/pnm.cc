@@ -3,6 +3,7 @@
 #include <cstring>
 #include <string_view>
 
+#include "tlvlink/image/decode_budget.h"
 #include "tlvlink/io/file.h"
 
 namespace tlvlink::tools {
@@ -82,13 +83,17 @@ Result<Image> parse_pnm(std::span<const std::byte> bytes, const std::string& nam
              "%s: pixel data is %zu bytes, %dx%dx%d needs %zu (%s)", name.c_str(), have, img.width,
              img.height, img.channels, need,
              have < need ? "truncated" : "trailing bytes; multi-image files are not supported");
+  // The pixel cap as for JPEG and PNG (the pixels are in the file, so the ratio holds at 1).
+  TLV_TRY(image::check_decode_budget(img.width, img.height, img.channels, bytes.size(),
+                                     /*max_ratio=*/1, "PPM/PGM", name.c_str()));
   img.pixels.resize(need);
   std::memcpy(img.pixels.data(), bytes.data() + offset, need);
   return img;
 }
 
 Result<Image> read_pnm(const std::string& path) {
-  const size_t limit = static_cast<size_t>(kMaxImageSide) * kMaxImageSide * 3 + 4096;
+  // A file over the pixel cap's RGB size plus a header cannot be a PNM the decoder accepts.
+  const size_t limit = static_cast<size_t>(image::kMaxImagePixels) * 3 + 4096;
   TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, read_file(path, limit));
   return parse_pnm(bytes, path);
 }

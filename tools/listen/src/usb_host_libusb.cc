@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -56,7 +57,6 @@ class UsbHostTransport final : public transport::Transport {
     std::snprintf(name, sizeof(name), "usb:%04x:%04x%s%s", selector_.vendor, selector_.product,
                   selector_.serial.empty() ? "" : ",serial=", selector_.serial.c_str());
     name_ = name;
-    init_rc_ = libusb_init(&context_);
     rx_transfer_ = libusb_alloc_transfer(0);
     tx_transfer_ = libusb_alloc_transfer(0);
   }
@@ -70,11 +70,23 @@ class UsbHostTransport final : public transport::Transport {
   std::string_view name() const override { return name_; }
   bool is_open() const override { return handle_ != nullptr; }
   void interrupt() override {
+    std::lock_guard lock(context_mutex_);
     if (context_) libusb_interrupt_event_handler(context_);
   }
 
   Status open() override {
     close();
+    // A fresh context for every attempt: its device list is read from sysfs now. A context kept
+    // from before learns of new devices only through hotplug events, which do not always arrive
+    // (seen in the emulated board: the board's gadget bound after the client started was never
+    // listed; containers often have no uevents at all).
+    {
+      std::lock_guard lock(context_mutex_);
+      if (context_) libusb_exit(context_);
+      context_ = nullptr;
+      init_rc_ = libusb_init(&context_);
+      if (init_rc_ != 0) context_ = nullptr;
+    }
     if (init_rc_ != 0) return usb_error(ErrorCode::kTransportUnavailable, "init", init_rc_);
     libusb_device** list = nullptr;
     const ssize_t n = libusb_get_device_list(context_, &list);
@@ -228,6 +240,7 @@ class UsbHostTransport final : public transport::Transport {
 
   UsbSelector selector_;
   std::string name_;
+  std::mutex context_mutex_;  // interrupt() may come from another thread while open() renews it
   libusb_context* context_ = nullptr;
   int init_rc_ = 0;
   libusb_device_handle* handle_ = nullptr;

@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <set>
+
+#include "tlvlink/io/line_reader.h"
 
 namespace tlvlink::score {
 namespace {
@@ -39,10 +41,13 @@ std::string lower(std::string s) {
 // Reads a JSON-lines file, calling `each` per object; errors name the file and line.
 template <typename Each>
 Status read_lines(const std::string& path, Each each) {
-  std::ifstream in(path);
-  TLV_ENSURE(in.good(), ErrorCode::kIo, "cannot read %s", path.c_str());
+  tools::LineReader in;
+  TLV_TRY(in.open(path));
   std::string line;
-  for (int64_t n = 1; std::getline(in, line); ++n) {
+  while (in.next(line)) {
+    const int64_t n = in.line_number();
+    TLV_ENSURE(!in.too_long(), ErrorCode::kFormat, "%s:%lld: line longer than %zu bytes",
+               path.c_str(), static_cast<long long>(n), tools::kMaxLineBytes);
     if (line.empty()) continue;
     json j = json::parse(line, nullptr, false);
     TLV_ENSURE(!j.is_discarded() && j.is_object(), ErrorCode::kFormat,
@@ -50,7 +55,7 @@ Status read_lines(const std::string& path, Each each) {
     Status st = each(j);
     if (!st.ok()) return st.error().with_context("%s:%lld", path.c_str(), static_cast<long long>(n));
   }
-  return {};
+  return in.error();
 }
 
 Result<Truth> read_truth(const std::string& path) {
@@ -98,6 +103,15 @@ Result<Truth> read_truth(const std::string& path) {
 
 }  // namespace
 
+Interval wilson95(const Ratio& r) {
+  if (r.total <= 0) return {};
+  constexpr double z = 1.959963984540054;
+  const double n = static_cast<double>(r.total), p = r.rate(), z2n = z * z / n;
+  const double centre = (p + z2n / 2) / (1 + z2n);
+  const double half = z * std::sqrt(p * (1 - p) / n + z2n / (4 * n)) / (1 + z2n);
+  return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
 Result<ScoreReport> score_live_run(const std::string& truth_path, const std::string& predictions_path,
                                    const std::vector<std::string>& fingers) {
   TLV_ENSURE(fingers.size() == 2, ErrorCode::kInvalidArgument,
@@ -107,6 +121,7 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
   r.truth_frames = truth.frames;
   // Per head: frame hits; the last label per (event, finger).
   std::map<std::string, Ratio> head_frames;
+  std::map<std::string, int64_t> head_no_contact;
   std::map<std::string, std::map<std::pair<int32_t, int32_t>, std::string>> last_label;
   std::set<int32_t> events_seen_contact, events_played;
   TLV_TRY(read_lines(predictions_path, [&](const json& j) -> Status {
@@ -151,6 +166,10 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
       for (const auto& [head, pred] : j["heads"].items()) {
         auto want = ev.labels.find(head);
         if (want == ev.labels.end() || want->second.empty()) continue;
+        if (!tf.contact) {  // nothing on the gel: a label of the gate's false contact, not of the object
+          ++head_no_contact[head];
+          continue;
+        }
         const std::string got = lower(pred.value("label", ""));
         Ratio& hr = head_frames[head];
         ++hr.total;
@@ -196,10 +215,12 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
   r.grasp_majority = r.truth_grasps > 0 ? static_cast<double>(std::max(successes, r.truth_grasps - successes)) /
                                               r.truth_grasps
                                         : 0.0;
+  for (const auto& [head, n] : head_no_contact) head_frames.try_emplace(head);
   for (const auto& [head, frames] : head_frames) {
     HeadScore h;
     h.head = head;
     h.frames = frames;
+    h.without_contact = head_no_contact.count(head) > 0 ? head_no_contact.at(head) : 0;
     std::map<std::string, int64_t> counts;
     for (const auto& [key, got] : last_label[head]) {
       const std::string& want = truth.events[static_cast<size_t>(key.first)].labels.at(head);
@@ -238,22 +259,31 @@ std::string format_score(const ScoreReport& r) {
     out += line;
   }
   for (const HeadScore& h : r.heads) {
+    const Interval ci = wilson95(h.events);
     std::snprintf(line, sizeof(line),
-                  "%-13s per frame %5.1f %% (%lld/%lld)   per event %5.1f %% (%lld/%lld; majority "
-                  "%.1f %%)\n",
+                  "%-13s per frame %5.1f %% (%lld/%lld)   per event %5.1f %% (%lld/%lld, 95 %% CI "
+                  "%.1f-%.1f; majority %.1f %%)\n",
                   h.head.c_str(), pct(h.frames), static_cast<long long>(h.frames.hits),
                   static_cast<long long>(h.frames.total), pct(h.events),
                   static_cast<long long>(h.events.hits), static_cast<long long>(h.events.total),
-                  100.0 * h.majority);
+                  100.0 * ci.low, 100.0 * ci.high, 100.0 * h.majority);
     out += line;
+    if (h.without_contact > 0) {
+      std::snprintf(line, sizeof(line),
+                    "  %s: %lld labelled frames without contact not scored\n",
+                    h.head.c_str(), static_cast<long long>(h.without_contact));
+      out += line;
+    }
   }
   std::snprintf(line, sizeof(line),
                 "grasps: %d scripted, %d records: %d computed (%d matched to no grasp), %d not "
-                "computed; success predicted right %lld/%lld (%.1f %%; majority %.1f %%)\n",
+                "computed; success predicted right %lld/%lld (%.1f %%, 95 %% CI %.1f-%.1f; "
+                "majority %.1f %%)\n",
                 r.truth_grasps, r.grasp_records, r.grasps_computed + r.grasps_unmatched,
                 r.grasps_unmatched, r.grasps_not_computed,
                 static_cast<long long>(r.grasp_accuracy.hits),
                 static_cast<long long>(r.grasp_accuracy.total), pct(r.grasp_accuracy),
+                100.0 * wilson95(r.grasp_accuracy).low, 100.0 * wilson95(r.grasp_accuracy).high,
                 100.0 * r.grasp_majority);
   out += line;
   for (const auto& [reason, n] : r.not_computed_reasons) {
@@ -275,14 +305,18 @@ std::string format_score_json(const ScoreReport& r) {
   for (const auto& [kind, m] : r.missed_by_kind)
     j["contact"]["missed_by_kind"][kind] = {{"missed", m.hits}, {"frames", m.total}};
   for (const HeadScore& h : r.heads) {
+    const Interval ci = wilson95(h.events);
     j["heads"][h.head] = {{"frame_hits", h.frames.hits}, {"frames", h.frames.total},
+                          {"without_contact", h.without_contact},
                           {"event_hits", h.events.hits}, {"events", h.events.total},
-                          {"majority", h.majority}};
+                          {"event_ci95", {ci.low, ci.high}}, {"majority", h.majority}};
   }
   j["grasps"] = {{"scripted", r.truth_grasps}, {"records", r.grasp_records},
                  {"computed", r.grasps_computed}, {"unmatched", r.grasps_unmatched},
                  {"not_computed", r.grasps_not_computed}, {"hits", r.grasp_accuracy.hits},
-                 {"scored", r.grasp_accuracy.total}, {"majority", r.grasp_majority},
+                 {"scored", r.grasp_accuracy.total},
+                 {"ci95", {wilson95(r.grasp_accuracy).low, wilson95(r.grasp_accuracy).high}},
+                 {"majority", r.grasp_majority},
                  {"reasons", r.not_computed_reasons}};
   return j.dump();
 }

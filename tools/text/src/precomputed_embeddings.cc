@@ -2,11 +2,11 @@
 // text_encoder.h and looked up by sample key or prompt text.
 
 #include <cstdio>
-#include <fstream>
 #include <string>
 #include <unordered_map>
 #include <vector>
 
+#include "tlvlink/io/line_reader.h"
 #include "tlvlink/io/npy.h"
 #include "vector_math.h"
 #include "tlvlink/text/text_encoder.h"
@@ -21,14 +21,16 @@ struct Table {
 };
 
 Result<std::vector<std::string>> read_lines(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) return Error::make(ErrorCode::kIo, "%s: cannot open", path.c_str());
+  tools::LineReader in;
+  TLV_TRY(in.open(path));
   std::vector<std::string> lines;
   std::string line;
-  while (std::getline(in, line)) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+  while (in.next(line)) {
+    TLV_ENSURE(!in.too_long(), ErrorCode::kFormat, "%s:%lld: line longer than %zu bytes",
+               path.c_str(), static_cast<long long>(in.line_number()), tools::kMaxLineBytes);
     lines.push_back(line);
   }
+  TLV_TRY(in.error());
   return lines;
 }
 

@@ -6,7 +6,10 @@
 #include <torch/serialize/output-archive.h>
 
 #include <cstdio>
+#include <sstream>
 #include <sys/stat.h>
+
+#include "tlvlink/atomic_file.h"
 
 namespace tlvlink::trainer {
 
@@ -22,7 +25,10 @@ Result<ArchSpec> arch_from_meta(const nlohmann::ordered_json& meta) {
 
 Status save_checkpoint(const std::string& path, const TrainState& state,
                        const torch::optim::Optimizer* optimizer) {
-  const std::string tmp = path + ".tmp";
+  // Serialized in memory, then written with the project's atomic writer (temporary in the same
+  // directory, fsync, rename, directory fsync): a crash or a full disk never leaves a torn
+  // checkpoint, and the previous one stays until the new one is complete.
+  std::ostringstream bytes;
   try {
     torch::serialize::OutputArchive archive;
     archive.write("meta", c10::IValue(state.meta.dump()));
@@ -48,15 +54,14 @@ Status save_checkpoint(const std::string& path, const TrainState& state,
       optimizer->save(opt);
       archive.write("optimizer", opt);
     }
-    archive.save_to(tmp);
+    archive.save_to(bytes);
   } catch (const std::exception& e) {
-    std::remove(tmp.c_str());
     return Error::make(ErrorCode::kIo, "writing checkpoint %s: %s", path.c_str(),
                        first_line(e.what()).c_str());
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    return Error::make(ErrorCode::kIo, "renaming %s to %s failed", tmp.c_str(), path.c_str());
-  }
+  const std::string data = std::move(bytes).str();
+  Status s = write_file_atomic(path.c_str(), std::as_bytes(std::span<const char>(data)));
+  if (!s.ok()) return s.error().with_context("writing checkpoint %s", path.c_str());
   return {};
 }
 

@@ -20,8 +20,9 @@ enum class ErrorCode : uint16_t {
   kModelInvalidTensor,     // a tensor's shape, dtype, quantization or data is inconsistent
   kModelInvalidOperator,   // an operator's inputs, outputs or options are inconsistent
   kModelInvalidMetadata,   // input spec, heads or provenance inconsistent
-  kModelChecksum,          // constant data does not match the recorded checksum
+  kModelChecksum,          // the file's bytes do not match its recorded hash (or it has none)
   kModelUnsupported,       // valid model using something this build cannot execute
+  kModelSignature,         // a signature is required and is absent, by another key, or wrong
   // Runtime / executors: 200s.
   kBackend = 200,          // XNNPACK (or another backend) refused or failed
   kNonFiniteValue,         // NaN/Inf in a float input or output

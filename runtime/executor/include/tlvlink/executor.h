@@ -10,6 +10,7 @@
 //   if (auto s = (*exec)->invoke(); !s.ok()) log(s.error().message());
 //   use((*exec)->output(0));
 
+#include <cfloat>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -42,8 +43,9 @@ class Executor {
   // Buffer holding graph output i after a successful invoke(). Stable address.
   virtual std::span<const std::byte> output(size_t i) const = 0;
 
-  // Runs the graph. Float inputs containing NaN/Inf are rejected before anything runs
-  // (ErrorCode::kNonFiniteValue naming the input); with check_outputs, so are float outputs.
+  // Runs the graph. Float inputs containing NaN/Inf, or a magnitude beyond float_input_limit,
+  // are rejected before anything runs (ErrorCode::kNonFiniteValue naming the input, the same
+  // message on every executor); with check_outputs, so are non-finite float outputs.
   virtual Status invoke() = 0;
   // The same without the input scan, for inputs finite by construction: a frame written by a
   // preprocessing plan from uint8 pixels (image::PreprocessPlan::outputs_finite()). The camera
@@ -68,5 +70,23 @@ Result<std::unique_ptr<Executor>> make_executor(const Model& model, ExecutorKind
 // is branch-free over the exponent bits (vectorised by the compiler); only a failing tensor is
 // walked again to name the first bad element.
 Status check_finite(std::span<const float> values, std::string_view what);
+
+// The largest magnitude a float graph input may hold with no float value inside the graph able
+// to overflow float32 to Inf (and from there to NaN): interval bounds from the weights (a conv /
+// FC multiplies a bound by max_c sum|w_c|, clamps and int8 tensors cap it), with a 2x margin for
+// summation order. FLT_MAX when nothing can overflow (e.g. a Quantize first). Both executors
+// compute it at creation and check inputs against it in invoke(): overflow is detected before it
+// happens, in the same place and with the same message on both, where checking after the fact
+// cannot agree (XNNPACK's fused clamps turn an overflowed NaN into a finite value on x86, the
+// reference's keep it, and ARM kernels differ again).
+struct FloatInputLimit {
+  float limit = FLT_MAX;
+  int32_t op = -1;  // the first operator that could overflow just above the limit (-1: none)
+};
+FloatInputLimit float_input_limit(const Graph& graph);
+// check_finite, and |x| <= limit (kNonFiniteValue naming the element, its value, the limit and
+// the operator that would overflow first).
+Status check_float_input(std::span<const float> values, const FloatInputLimit& limit,
+                         const Graph& graph, std::string_view what);
 
 }  // namespace tlvlink

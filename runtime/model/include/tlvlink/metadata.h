@@ -67,6 +67,9 @@ struct Provenance {
 struct GoldenPair {
   std::span<const std::byte> input;   // shaped like graph input 0
   std::span<const std::byte> output;  // shaped like graph output 0
+  // Expected probabilities of every linear head, then every zero-shot head (in file order,
+  // back to back) on `output` read as the embedding; empty in files written before them.
+  std::span<const float> head_probabilities;
 };
 
 struct Metadata {
@@ -79,6 +82,10 @@ struct Metadata {
   GraspHead grasp_head;
   Provenance provenance;
   std::vector<GoldenPair> golden;
+  // Expected grasp p(success) with golden output k as the grasp layout's feature k (pairs
+  // reused in turn when fewer); absent (false) without a grasp head or in older files.
+  bool has_golden_grasp = false;
+  float golden_grasp = 0;
 };
 
 }  // namespace tlvlink

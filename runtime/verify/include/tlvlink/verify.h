@@ -4,3 +4,4 @@
 #include "tlvlink/verify/compare.h"
 #include "tlvlink/verify/executors.h"
 #include "tlvlink/verify/golden.h"
+#include "tlvlink/verify/golden_heads.h"

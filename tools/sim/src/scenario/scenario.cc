@@ -6,6 +6,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <unistd.h>
+
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -288,8 +290,11 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
     report.file_bytes += static_cast<int64_t>(w.file_bytes());
     TLV_TRY(w.close());
   }
-  TLV_ENSURE(std::fflush(truth.get()) == 0 && !std::ferror(truth.get()), ErrorCode::kIo,
-             "scenario: writing %s failed", files[2].temp_path.c_str());
+  // Durable before the renames (the recordings sync themselves on close): a crash after the
+  // renames must not leave a truth file shorter than its recordings.
+  TLV_ENSURE(std::fflush(truth.get()) == 0 && !std::ferror(truth.get()) &&
+                 ::fsync(::fileno(truth.get())) == 0,
+             ErrorCode::kIo, "scenario: writing %s failed", files[2].temp_path.c_str());
   truth.reset();
   for (const Staged& s : files) {
     TLV_ENSURE(std::rename(s.temp_path.c_str(), s.final_path.c_str()) == 0, ErrorCode::kIo,

@@ -48,6 +48,9 @@ struct DaemonConfig {
   std::string executor = "xnnpack";
   int32_t threads = 1;
   bool verify_model = true;       // run the model's golden pairs before streaming
+  // A public key file (tlvlink keygen's BASE.pub): when set, the model must be signed by it
+  // (runtime/model model_integrity.h); empty: signatures are not required.
+  std::string model_public_key;
   // Where records go, one or more of: jsonl:- (stdout), jsonl:FILE, and one stream link
   // serial:PATH[,baud=N][,flow=rtscts], pty:LINK or usb[...] (runtime/transport).
   std::vector<std::string> outputs = {"jsonl:-"};

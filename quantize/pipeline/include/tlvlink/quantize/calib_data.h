@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "tlvlink/datasets/detect.h"
+#include "tlvlink/datasets/report.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/error.h"
 #include "tlvlink/metadata.h"
@@ -57,6 +58,9 @@ struct CalibDataOptions {
   // Called with "skipping <why>" for each unreadable image of an image folder (it is counted in
   // the summary either way).
   std::function<void(const std::string& note)> on_note;
+  // Receives every load problem of the dataset loaders (the command shows and logs them);
+  // borrowed for the call, may be null.
+  datasets::ProblemEcho* problems = nullptr;
 };
 
 struct CalibData {

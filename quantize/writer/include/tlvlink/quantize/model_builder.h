@@ -21,6 +21,10 @@
 #include "tlvlink/graph.h"
 #include "tlvlink/metadata.h"
 
+namespace tlvlink::verify {
+struct GoldenHeadOutputs;
+}
+
 namespace tlvlink::quantize {
 
 struct QuantSpec {
@@ -107,10 +111,13 @@ class ModelBuilder {
 
   size_t tensor_count() const { return tensors_.size(); }
 
-  // Serialises the model; computes the content checksum unless overridden.
+  // Serialises the model: the flatbuffer (with the legacy content checksum unless overridden,
+  // and the golden pairs' head outputs when the loader accepts it) followed by its integrity
+  // trailer (tlvlink/model_integrity.h, unsigned).
   std::vector<std::byte> finish() const;
 
  private:
+  std::vector<std::byte> serialize(const verify::GoldenHeadOutputs* heads) const;
   struct TensorDef {
     std::string name;
     DType dtype;

@@ -18,9 +18,11 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 
+#include "tlvlink/atomic_file.h"
 #include "tlvlink/error.h"
 #include "tlvlink/image/pixel_format.h"
 
@@ -66,12 +68,15 @@ struct WriterOptions {
   bool overwrite = false;  // replace an existing file (else an existing file is an error)
 };
 
-// Appends frames to a new recording. Every append is one write() of the whole record, so a
-// process that dies leaves at most a truncated final record, which readers skip. append() does
+// Appends frames to a new recording, in a temporary beside `path` until close() renames it into
+// place, so an existing file is replaced only by a complete recording. Every append is one
+// write() of the whole record: a process that dies leaves the temporary
+// (".NAME.tmp-XXXXXX") with at most a truncated final record, which readers skip. append() does
 // not allocate. Not thread-safe; non-copyable (owns the file).
 class RecordingWriter {
  public:
-  // Creates `path` and writes the file header. Errors name the path.
+  // Starts `path` as a temporary beside it (tlvlink/atomic_file.h) and writes the file header;
+  // close() (or the destructor) renames it into place. Errors name the path.
   static Result<RecordingWriter> create(const std::string& path, const RecordingFormat& format,
                                         const WriterOptions& options = {});
   RecordingWriter(RecordingWriter&& other) noexcept;
@@ -92,7 +97,7 @@ class RecordingWriter {
 
   // fdatasync(): survives a power loss, not only a process death.
   Status sync();
-  // Syncs and closes; later appends fail. Idempotent.
+  // Syncs, closes and renames the recording into place; later appends fail. Idempotent.
   Status close();
 
   uint64_t frames() const { return frames_; }
@@ -105,7 +110,8 @@ class RecordingWriter {
   Result<int64_t> offset_of(int64_t timestamp_ns);
 
   std::string path_;
-  int fd_ = -1;
+  std::optional<AtomicFile> file_;  // the temporary until close()
+  int fd_ = -1;                     // file_'s descriptor while open
   uint64_t end_ = 0;
   uint64_t frames_ = 0;
   int64_t origin_ns_ = -1;

@@ -4,9 +4,14 @@
 // problems in full (path, line, reason) and hand every problem to an optional callback.
 
 #include <cstdint>
+#include <cstdio>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "tlvlink/atomic_file.h"
+#include "tlvlink/error.h"
 
 namespace tlvlink::datasets {
 
@@ -55,6 +60,33 @@ class LoadReport {
   int64_t loaded_ = 0;
   int64_t counts_[kKinds] = {};
   std::vector<LoadProblem> problems_;
+};
+
+// What a command shows of the problems met while loading (one object per run, shared by every
+// loader of the run): each of the first `shown` problems on `out` as it is met, "PREFIX:
+// path:line: kind: reason"; with a `log_path`, every problem also goes to that file (replaced
+// atomically at finish()). Install on a loader with `report.on_problem = echo.callback()`.
+class ProblemEcho {
+ public:
+  ProblemEcho(std::string prefix, std::FILE* out, size_t shown = 10, std::string log_path = {});
+  // `index_lines` false: skip malformed lines (a second pass over an index already reported).
+  std::function<void(const LoadProblem&)> callback(bool index_lines = true);
+  // Prints "PREFIX: N load problems (the first K above), all in PATH" and commits the log; a
+  // failed log write is the error. Without a log_path, more problems than `shown` go to
+  // $TMPDIR/PREFIX-problems-PID.txt (all of them), so none is only counted.
+  Status finish();
+  size_t seen() const { return seen_; }
+
+ private:
+  void add(const LoadProblem& p);
+  std::string prefix_;
+  std::FILE* out_;
+  size_t shown_;
+  std::string log_path_;              // --problems FILE, or our own file once past shown_
+  std::vector<std::string> first_;    // the lines shown, until a file is opened for them
+  std::optional<AtomicFile> log_;
+  Status log_status_;
+  size_t seen_ = 0;
 };
 
 }  // namespace tlvlink::datasets

@@ -17,6 +17,7 @@
 
 #include "tlvlink/datasets/detect.h"
 #include "tlvlink/datasets/split.h"
+#include "tlvlink/datasets/report.h"
 #include "tlvlink/error.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/model.h"
@@ -45,6 +46,8 @@ struct EvalData {
   // Caps per split (train and test each), for quick runs; 0 = all. Items beyond are not read.
   int64_t max_touch_samples = 0;
   int64_t max_grasp_episodes = 0;
+  // Receives every load problem (the command shows and logs them); borrowed, may be null.
+  datasets::ProblemEcho* problems = nullptr;
 };
 
 struct EmbedderOptions {

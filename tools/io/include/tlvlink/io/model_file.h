@@ -1,5 +1,6 @@
 #pragma once
-// Loading a model file for a host tool: Model::load_file with the path in every error.
+// Loading a model file for a host tool: Model::load_file (regular files only, size and
+// identifier checked before reading; the path in every error).
 
 #include <memory>
 #include <string>

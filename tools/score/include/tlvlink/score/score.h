@@ -5,8 +5,13 @@
 //
 //   contact gating   per frame: the gate's decision against the renderer's contact (a missed
 //                    contact is worse than a wasted inference), and the encoder runs it saved
-//   per-frame heads  in contact, each head's label against the event's material labels: per
-//                    frame, and per event at its last predicted frame (the smoothed answer)
+//   per-frame heads  in contact (the renderer's), each head's label against the event's material
+//                    labels: per frame, and per event at its last predicted frame (the smoothed
+//                    answer). Labels the daemon gave frames the renderer shows without contact
+//                    (the gate's false contacts inside an event) are counted apart, not scored.
+//                    Frames of one event are one object under one grip, so they are not
+//                    independent: the event and grasp figures carry a 95 % interval (Wilson),
+//                    the per-frame ones do not (read them with the event count).
 //   grasps           each grasp record matched to the scripted grasp its "during" frame falls
 //                    in: computed or not (with the reason), success predicted against the label
 
@@ -24,9 +29,16 @@ struct Ratio {
   double rate() const { return total > 0 ? static_cast<double>(hits) / static_cast<double>(total) : 0.0; }
 };
 
+// The Wilson score interval of a binomial rate at z = 1.96 (95 %): {0, 1} for an empty ratio.
+struct Interval {
+  double low = 0, high = 1;
+};
+Interval wilson95(const Ratio& r);
+
 struct HeadScore {
   std::string head;    // "material", "hard_soft", "rough_smooth"
   Ratio frames;        // frames in contact with a prediction and a defined label
+  int64_t without_contact = 0;  // labelled frames of an event the renderer shows without contact
   Ratio events;        // the last prediction of each event
   double majority = 0;  // accuracy of always answering the events' most common label
 };

@@ -1,0 +1,88 @@
+// Head outputs on the golden pairs' stored embeddings (golden_heads.h).
+
+#include "tlvlink/verify/golden_heads.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "tlvlink/heads.h"
+#include "tlvlink/verify/compare.h"
+
+namespace tlvlink::verify {
+namespace {
+
+// Golden output `pair` as the embedding: floats, int8 dequantized (what the board feeds the heads).
+void embedding_of(const Model& model, size_t pair, std::vector<float>& out) {
+  const Tensor& t = model.graph().tensor(model.graph().outputs[0]);
+  const std::span<const std::byte> bytes = model.metadata().golden[pair].output;
+  out.resize(bytes.size() / dtype_size(t.dtype));
+  for (size_t i = 0; i < out.size(); ++i) out[i] = output_value(t, bytes, i);
+}
+
+}  // namespace
+
+bool golden_heads_apply(const Model& model) {
+  const Metadata& m = model.metadata();
+  const bool any_head = !m.linear_heads.empty() || !m.zero_shot_heads.empty() || m.grasp_head.present;
+  const Tensor& out = model.graph().tensor(model.graph().outputs[0]);
+  return !m.golden.empty() && any_head && m.embedding_output == 0 && m.embedding_dim > 0 &&
+         out.shape.elements() == static_cast<size_t>(m.embedding_dim);
+}
+
+Result<GoldenHeadOutputs> golden_head_outputs(const Model& model) {
+  GoldenHeadOutputs out;
+  if (!golden_heads_apply(model)) return out;
+  TLV_ASSIGN_OR_RETURN(heads::HeadEvaluator eval, heads::HeadEvaluator::create(model.metadata()));
+  const size_t n = model.metadata().golden.size();
+  std::vector<std::vector<float>> embeddings(n);
+  for (size_t p = 0; p < n; ++p) {
+    embedding_of(model, p, embeddings[p]);
+    TLV_TRY(eval.evaluate(embeddings[p]));
+    std::vector<float> probabilities;
+    for (const heads::HeadResult& r : eval.results()) {
+      probabilities.insert(probabilities.end(), r.probabilities.begin(), r.probabilities.end());
+    }
+    out.pairs.push_back(std::move(probabilities));
+  }
+  if (eval.has_grasp()) {
+    std::vector<std::span<const float>> features;
+    for (size_t k = 0; k < eval.grasp_layout().size(); ++k) features.emplace_back(embeddings[k % n]);
+    TLV_ASSIGN_OR_RETURN(out.grasp, eval.grasp_probability(features));
+    out.has_grasp = true;
+  }
+  return out;
+}
+
+Result<HeadCheck> check_golden_heads(const Model& model) {
+  const Metadata& m = model.metadata();
+  HeadCheck c;
+  for (const GoldenPair& p : m.golden) c.stored = c.stored || !p.head_probabilities.empty();
+  c.stored = c.stored || m.has_golden_grasp;
+  if (!c.stored) return c;
+  TLV_ENSURE(golden_heads_apply(model), ErrorCode::kModelInvalidMetadata,
+             "the model stores golden head outputs but its embedding is not graph output 0");
+  TLV_ASSIGN_OR_RETURN(GoldenHeadOutputs want, golden_head_outputs(model));
+  const auto worse = [&c](double got, double stored) {
+    // A NaN must fail, never compare as "not greater".
+    const double e = std::fabs(got - stored);
+    c.max_abs_error = std::isfinite(e) ? std::max(c.max_abs_error, e)
+                                         : std::numeric_limits<double>::infinity();
+  };
+  for (size_t p = 0; p < m.golden.size(); ++p) {
+    const std::span<const float> stored = m.golden[p].head_probabilities;
+    TLV_ENSURE(stored.size() == want.pairs[p].size(), ErrorCode::kModelInvalidMetadata,
+               "golden pair %zu stores %zu head probabilities, the heads give %zu", p,
+               stored.size(), want.pairs[p].size());
+    for (size_t i = 0; i < stored.size(); ++i)
+      worse(static_cast<double>(want.pairs[p][i]), static_cast<double>(stored[i]));
+  }
+  TLV_ENSURE(m.has_golden_grasp == want.has_grasp, ErrorCode::kModelInvalidMetadata,
+             "the golden grasp output is %s but the model %s a grasp head",
+             m.has_golden_grasp ? "stored" : "missing", want.has_grasp ? "has" : "has no");
+  if (want.has_grasp) worse(static_cast<double>(want.grasp), static_cast<double>(m.golden_grasp));
+  c.pass = c.max_abs_error <= c.tolerance;
+  return c;
+}
+
+}  // namespace tlvlink::verify

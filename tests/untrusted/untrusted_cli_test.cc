@@ -1,0 +1,213 @@
+// The `tlvlink` binary on hostile or careless input (issue 12), end to end: FIFOs and devices
+// where files are expected, out-of-range labels in a sidecar, a set without its index or with
+// nothing usable, a file-size limit while replacing a good model. Every run is wrapped in
+// `timeout 30` (exit 124 = it hung) besides the CTest timeout.
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <regex>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "support/cli_run.h"
+#include "support/temp_dir.h"
+
+namespace tlvlink {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::CliRun;
+using testing::run_cli;
+
+CliRun tlvlink(const std::string& args) {
+  return run_cli("timeout 30 " TLVLINK_CLI_BINARY, args);
+}
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+void spit(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+bool contains(const CliRun& r, const std::string& text) {
+  return r.out.find(text) != std::string::npos;
+}
+
+class UntrustedCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new testing::TempDir("untrusted");
+    const std::string d = dir_->path();
+    ASSERT_RUN(tlvlink("gen-reference -o " + d + "/int8.tlvm --resolution 96 --calib-frames 2"), 0);
+    ASSERT_RUN(tlvlink("gen-reference -o " + d + "/fp32.tlvm --resolution 96 --dtype fp32"), 0);
+    ASSERT_RUN(tlvlink("sim touch100k -o " + d +
+                       "/t100k --sessions 4 --frames-per-session 3 "
+                       "--seed 3"),
+               0);
+  }
+  static void TearDownTestSuite() { delete dir_; }
+
+  static std::string path(const std::string& rel) { return (*dir_) / rel; }
+  // A copy of the generated set to damage.
+  static std::string copy_set(const std::string& name) {
+    fs::remove_all(path(name));
+    fs::copy(path("t100k"), path(name), fs::copy_options::recursive);
+    return path(name);
+  }
+  // Sets the material class_id of the first test-split sidecar line; returns its line number.
+  static int set_class_id(const std::string& set, int class_id) {
+    const fs::path sidecar = fs::path(set) / "tlvlink_sim_samples.jsonl";
+    std::ifstream in(sidecar);
+    std::string line, out;
+    int n = 0, changed = 0;
+    while (std::getline(in, line)) {
+      ++n;
+      if (changed == 0 && line.find("\"split\":\"test\"") != std::string::npos) {
+        line = std::regex_replace(line, std::regex("\"class_id\":[0-9]+"),
+                                  "\"class_id\":" + std::to_string(class_id),
+                                  std::regex_constants::format_first_only);
+        changed = n;
+      }
+      out += line + "\n";
+    }
+    spit(sidecar, out);
+    return changed;
+  }
+
+  static testing::TempDir* dir_;
+};
+testing::TempDir* UntrustedCli::dir_ = nullptr;
+
+TEST_F(UntrustedCli, FifoAsModelOrInputIsNotARegularFile) {
+  const std::string fifo = path("fifo");
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  CliRun r = tlvlink("inspect " + fifo);
+  EXPECT_RUN(r, 1);
+  EXPECT_TRUE(contains(r, fifo + ": not a regular file (FIFO)")) << r.out;
+  r = tlvlink("infer " + path("int8.tlvm") + " -i " + fifo);
+  EXPECT_RUN(r, 1);
+  EXPECT_TRUE(contains(r, fifo + ": not a regular file (FIFO)")) << r.out;
+  r = tlvlink("infer " + path("int8.tlvm") + " -i /dev/zero");
+  EXPECT_RUN(r, 1);
+  EXPECT_TRUE(contains(r, "/dev/zero: not a regular file (character device)")) << r.out;
+}
+
+// A FIFO inside a dataset is one unreadable image: counted and named, the run goes on.
+TEST_F(UntrustedCli, FifoAsADatasetImageIsSkippedAndNamed) {
+  const std::string set = copy_set("fifo_set");
+  fs::path image;
+  for (const auto& e : fs::recursive_directory_iterator(fs::path(set) / "touch"))
+    if (e.path().extension() == ".jpg") image = e.path();
+  ASSERT_FALSE(image.empty());
+  fs::remove(image);
+  ASSERT_EQ(::mkfifo(image.c_str(), 0600), 0);
+  CliRun r = tlvlink("eval " + path("int8.tlvm") + " --touch " + set);
+  EXPECT_NE(r.exit_code, 124) << "eval hung on a FIFO";
+  EXPECT_TRUE(contains(r, image.string() + ": not a regular file (FIFO)")) << r.out;
+}
+
+// Labels are range-checked at load: the sample is skipped and named by file:line, in every
+// split mode; -5 is not "unlabelled".
+TEST_F(UntrustedCli, SidecarClassIdOutOfRangeIsSkippedWithFileLine) {
+  for (int bad : {9999, -5}) {
+    const std::string set = copy_set("cls" + std::to_string(bad));
+    const int line = set_class_id(set, bad);
+    ASSERT_GT(line, 0);
+    const std::string where = set + "/tlvlink_sim_samples.jsonl:" + std::to_string(line) + ":";
+    for (const std::string extra : {"", " --resplit 0.5"}) {
+      CliRun r = tlvlink("eval " + path("int8.tlvm") + " --touch " + set + extra);
+      EXPECT_RUN(r, 0);
+      EXPECT_TRUE(contains(r, where)) << r.out;
+      EXPECT_TRUE(contains(r, "class_id " + std::to_string(bad) + " outside 0..19")) << r.out;
+    }
+  }
+}
+
+TEST_F(UntrustedCli, QuantizeWithoutDataListIsAnErrorNamingIt) {
+  const std::string set = copy_set("nolist");
+  fs::remove(fs::path(set) / "data_list.json");
+  const std::string counts = " --calib-count 4 --heldout-count 2 -q";
+  CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + set + " -o " +
+                     path("nolist.tlvm") + counts);
+  EXPECT_RUN(r, 1);
+  EXPECT_TRUE(contains(r, set + "/data_list.json: not found")) << r.out;
+  EXPECT_FALSE(fs::exists(path("nolist.tlvm")));
+  // Asked for explicitly, the image files are a source.
+  r = tlvlink("quantize " + path("fp32.tlvm") + " --calib-images " + set + " -o " +
+              path("nolist.tlvm") + counts);
+  EXPECT_RUN(r, 0);
+  EXPECT_RUN(tlvlink("quantize " + path("fp32.tlvm") + " --calib " + set + " --calib-images " +
+                     set + " -o " + path("x.tlvm")),
+             2);
+}
+
+// Nothing usable is a data error, exit 1, in quantize and eval alike.
+TEST_F(UntrustedCli, AllMalformedSetIsExitOneEverywhere) {
+  const std::string set = copy_set("allbad");
+  std::string text;
+  for (int i = 0; i < 12; ++i) text += "not json\n";
+  spit(fs::path(set) / "data_list.json", text);
+  CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + set + " -o " +
+                     path("allbad.tlvm") + " --calib-count 4 --heldout-count 2 -q");
+  EXPECT_RUN(r, 1);
+  EXPECT_TRUE(contains(r, set + "/data_list.json:1:")) << r.out;
+  // The first 10 problems on stderr; all of them in a report file of tlvlink's own when no
+  // --problems FILE is named (none is only counted).
+  EXPECT_TRUE(contains(r, "12 load problems (the first 10 above), all in ")) << r.out;
+  const size_t at = r.out.find("all in ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const std::string own = r.out.substr(at + 7, r.out.find('\n', at) - at - 7);
+  EXPECT_NE(own.find("tlvlink-quantize-problems-"), std::string::npos) << own;
+  const std::string own_text = slurp(own);
+  EXPECT_EQ(std::count(own_text.begin(), own_text.end(), '\n'), 12) << own_text;
+  std::remove(own.c_str());
+  const std::string log = path("problems.txt");
+  r = tlvlink("eval " + path("int8.tlvm") + " --touch " + set + " --problems " + log);
+  EXPECT_RUN(r, 1);
+  EXPECT_TRUE(contains(r, set + "/data_list.json:1:")) << r.out;
+  EXPECT_TRUE(contains(r, "12 load problems (the first 10 above), all in " + log)) << r.out;
+  const std::string logged = slurp(log);
+  EXPECT_EQ(std::count(logged.begin(), logged.end(), '\n'), 12) << logged;
+  EXPECT_NE(logged.find(set + "/data_list.json:12: malformed line"), std::string::npos) << logged;
+}
+
+// A line far over kMaxLineBytes is skipped and named; the other lines still load.
+TEST_F(UntrustedCli, OverLongIndexLineIsSkippedWithFileLine) {
+  const std::string set = copy_set("longline");
+  const fs::path index = fs::path(set) / "data_list.json";
+  const std::string rest = slurp(index);
+  spit(index, "{\"img\":\"" + std::string(size_t{3} << 20, 'a') + "\"}\n" + rest);
+  CliRun r = tlvlink("quantize " + path("fp32.tlvm") + " --calib " + set + " -o " +
+                     path("long.tlvm") + " --calib-count 4 --heldout-count 2 -q");
+  EXPECT_RUN(r, 0);
+  EXPECT_TRUE(contains(r, index.string() + ":1:")) << r.out.substr(0, 2000);
+  EXPECT_TRUE(contains(r, "line longer than 1048576 bytes")) << r.out.substr(0, 2000);
+}
+
+// ulimit -f while `quantize -o EXISTING` writes: exit 1 naming the limit, the old model
+// byte-identical, no temporary left.
+TEST_F(UntrustedCli, FileSizeLimitKeepsTheExistingModel) {
+  const std::string out = path("existing.tlvm");
+  fs::copy_file(path("int8.tlvm"), out, fs::copy_options::overwrite_existing);
+  const std::string before = slurp(out);
+  CliRun r = run_cli("bash -c 'ulimit -f 64; exec timeout 30 " TLVLINK_CLI_BINARY,
+                     "quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " + out +
+                         " --calib-count 4 --heldout-count 2 -q'");
+  EXPECT_RUN(r, 1);
+  EXPECT_TRUE(contains(r, out + ": write failed: file size limit reached")) << r.out;
+  EXPECT_EQ(slurp(out), before);
+  for (const auto& e : fs::directory_iterator(dir_->path()))
+    EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+}
+
+}  // namespace
+}  // namespace tlvlink
