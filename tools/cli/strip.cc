@@ -11,7 +11,7 @@ namespace tlvlink::cli {
 namespace {
 
 struct StripOptions {
-  std::string model, scene, scenes_dir = "boards/scenes", out;
+  std::string model, scene, scenes_dir = "boards/scenes", out, key;
 };
 
 int run_strip(const StripOptions& o) {
@@ -19,7 +19,7 @@ int run_strip(const StripOptions& o) {
   const bool is_path = o.scene.size() > 5 && o.scene.compare(o.scene.size() - 5, 5, ".toml") == 0;
   auto scene = is_path ? daemon::load_scene(o.scene) : daemon::find_scene(o.scenes_dir, o.scene);
   if (!scene.ok()) return report_error("strip", scene.error());
-  auto r = boards::strip_model(o.model, *scene, o.out);
+  auto r = boards::strip_model(o.model, *scene, o.out, o.key);
   if (!r.ok()) return report_error("strip", r.error());
   std::string kept, removed;
   for (const std::string& h : r->kept) kept += (kept.empty() ? "" : ", ") + h;
@@ -30,6 +30,12 @@ int run_strip(const StripOptions& o) {
   std::printf("  heads kept: %s\n  heads removed: %s\n", kept.empty() ? "none" : kept.c_str(),
               removed.empty() ? "none" : removed.c_str());
   std::printf("  golden pairs: %zu of %zu kept, verified: PASS\n", r->golden_after, r->golden_before);
+  if (r->signed_copy) {
+    std::printf("  signed with %s\n", o.key.c_str());
+  } else if (!r->source_key_id.empty()) {
+    std::printf("  warning: the source was signed (key %s); this copy is not: pass --key to sign "
+                "it, or a daemon with model_public_key refuses it\n", r->source_key_id.c_str());
+  }
   return kExitOk;
 }
 
@@ -43,6 +49,7 @@ void add_strip_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--scene", o->scene, "Scene name (in --scenes-dir) or a scene .toml file")->required();
   cmd->add_option("--scenes-dir", o->scenes_dir, "Where scene names are looked up")->capture_default_str();
   cmd->add_option("-o,--output", o->out, "The stripped model")->required();
+  cmd->add_option("--key", o->key, "Secret key file (tlvlink keygen): sign the stripped copy");
   cmd->footer(kExitCodeFooter);
   cmd->callback([o, &exit_code] { exit_code = run_strip(*o); });
 }

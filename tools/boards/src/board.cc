@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 namespace tlvlink::boards {
@@ -85,14 +86,17 @@ Result<Board> load_board(const std::string& dir, const std::string& name) {
   TLV_TRY(merge(dir, file, p, b));
   const json& v = p["vendor"]["tlvlink/board"];
   const std::string where = dir + "/" + file + ": vendor \"tlvlink/board\"";
-  for (const char* key : {"cpu", "arch", "xnnpack_kernels", "threads", "cpu_features"})
+  for (const char* key : {"cpu", "arch", "xnnpack_kernels", "threads"})
     TLV_ENSURE(v.contains(key), ErrorCode::kFormat, "%s: no '%s'", where.c_str(), key);
   b.cpu = v.value("cpu", "");
   b.arch = v.value("arch", "");
   b.xnnpack_kernels = v.value("xnnpack_kernels", "");
   b.threads = v.value("threads", 1);
   b.cpu_affinity = v.value("cpu_affinity", "");
-  for (const json& f : v["cpu_features"]) b.cpu_features.push_back(f.get<std::string>());
+  b.emulated = v.value("emulated", false);
+  // The CPU features the build needs: the cache variable tlvlinkd's start-up check is built with.
+  std::istringstream features(b.option("TLVLINK_TARGET_FEATURES"));
+  for (std::string f; features >> f;) b.cpu_features.push_back(f);
   TLV_ENSURE(b.arch == "arm64" || b.arch == "amd64", ErrorCode::kFormat,
              "%s: arch '%s' (arm64 or amd64)", where.c_str(), b.arch.c_str());
   return b;

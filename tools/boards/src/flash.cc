@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 
+
 namespace tlvlink::boards {
 namespace {
 
@@ -45,6 +46,20 @@ std::string sysroot_stamp(const std::string& build_dir) {
   return dir + "/.tlvlink-sysroot-stamp";
 }
 
+// The emulated board boots the package's own files: the staged root copied into the rig's
+// initramfs, with the start-up script standing in for dpkg's postinst and systemd.
+Status write_emulated_image(const std::string& source, const std::string& root,
+                            const std::string& dir) {
+  const std::string cmd = "python3 " + shell_quote(source + "/tools/rig/rig.py") +
+                          " image --rootfs " + shell_quote(root) + " --script " +
+                          shell_quote(source + "/firmware/package/qemu-virt-boot.sh") +
+                          " --out " + shell_quote(dir) + " >" + shell_quote(dir + ".log") + " 2>&1";
+  TLV_TRY(run_command("mkdir -p " + shell_quote(dir)));
+  Status s = run_command(cmd);
+  if (!s.ok()) return s.error().with_context("emulated board image (log: %s.log)", dir.c_str());
+  return {};
+}
+
 }  // namespace
 
 Result<FlashReport> flash(const FlashOptions& o) {
@@ -57,10 +72,15 @@ Result<FlashReport> flash(const FlashOptions& o) {
 
   // The model first: a scene that does not fit the model fails before a long build.
   const std::string model = work + "/" + r.scene.name + ".tlvm";
-  TLV_ASSIGN_OR_RETURN(r.strip, strip_model(o.source_dir + "/" + o.model, r.scene, model));
+  const std::string source_model =
+      o.model.empty() ? o.source_dir + "/firmware/models/touch-tiny-int8.tlvm" : o.model;
+  TLV_ASSIGN_OR_RETURN(r.strip, strip_model(source_model, r.scene, model, o.sign_key));
 
-  const std::string build = o.build_dir.empty() ? work + "/build" : absolute(o.build_dir);
-  if (o.build_dir.empty()) TLV_TRY(build_daemon(o, r.board, r.plan, build));
+  // One build tree per board, shared by its scenes: another scene rebuilds only what its options
+  // change (the transports, the daemon).
+  const std::string build =
+      absolute(o.build_dir.empty() ? o.out_dir + "/" + r.board.name + "-build" : o.build_dir);
+  TLV_TRY(build_daemon(o, r.board, r.plan, build));
   const std::string daemon = build + "/firmware/tlvlinkd/tlvlinkd";
   TLV_ENSURE(size_of(daemon) > 0, ErrorCode::kIo, "%s: no tlvlinkd in the build", daemon.c_str());
 
@@ -84,6 +104,10 @@ Result<FlashReport> flash(const FlashOptions& o) {
     TLV_ASSIGN_OR_RETURN(r.artefact, build_deb(in, work, work));
     r.artefact_bytes = size_of(r.artefact);
     TLV_ASSIGN_OR_RETURN(r.files, stage_root(in, work + "/root"));
+    if (r.board.emulated) {
+      r.image_dir = work + "/image";
+      TLV_TRY(write_emulated_image(in.source_dir, work + "/root", r.image_dir));
+    }
   }
   for (const StagedFile& f : r.files)
     if (f.path == "/usr/bin/tlvlinkd") r.daemon_bytes = f.bytes;

@@ -85,13 +85,15 @@ struct SonamePackage {
 // Debian 12's packages for every library tlvlinkd may load (checked with dpkg-deb -c on the
 // arm64 .debs make_sysroot.sh downloads). libc6 / libstdc++6 / libgcc-s1: Debian 12's
 // toolchain (glibc 2.36, GCC 12) builds against them.
-constexpr std::array<SonamePackage, 12> kSonames{{
+constexpr std::array<SonamePackage, 14> kSonames{{
     {"libXNNPACK.so.0", "libxnnpack0", ""},
     {"libpthreadpool.so.0", "libpthreadpool0", ""},
     {"libcpuinfo.so.0", "libcpuinfo0", ""},
     {"libturbojpeg.so.0", "libturbojpeg0", ""},
     {"libjpeg.so.62", "libjpeg62-turbo", ""},
     {"libusb-1.0.so.0", "libusb-1.0-0", ""},
+    {"libsodium.so.23", "libsodium23", ""},
+    {"libudev.so.1", "libudev1", ""},
     {"libcamera.so.0.0", "libcamera0.0.3", ""},
     {"libcamera-base.so.0.0", "libcamera0.0.3", ""},
     {"libstdc++.so.6", "libstdc++6", "12"},

@@ -6,10 +6,13 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "tlvlink/atomic_file.h"
 #include "tlvlink/daemon/config.h"
 #include "tlvlink/daemon/model_check.h"
 #include "tlvlink/model.h"
+#include "tlvlink/model_integrity.h"
 #include "tlvlink/quantize/model_copy.h"
+#include "tlvlink/quantize/model_sign.h"
 
 namespace tlvlink::boards {
 namespace {
@@ -25,18 +28,14 @@ uint64_t file_size(const std::string& path) {
   return ::stat(path.c_str(), &st) == 0 ? static_cast<uint64_t>(st.st_size) : 0;
 }
 
-Status write_file(const std::string& path, const std::vector<std::byte>& bytes) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  TLV_ENSURE(f != nullptr, ErrorCode::kIo, "%s: cannot write", path.c_str());
-  const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
-  TLV_ENSURE(std::fclose(f) == 0 && ok, ErrorCode::kIo, "%s: write failed", path.c_str());
-  return {};
-}
-
 }  // namespace
 
 Result<StripReport> strip_model(const std::string& model_path, const daemon::Scene& scene,
-                                const std::string& out_path) {
+                                const std::string& out_path, const std::string& secret_key_file) {
+  SecretKey key;
+  if (!secret_key_file.empty()) {
+    TLV_ASSIGN_OR_RETURN(key, quantize::read_secret_key_file(secret_key_file));
+  }
   auto loaded = Model::load_file(model_path.c_str());
   if (!loaded.ok()) return loaded.error().with_context("model %s", model_path.c_str());
   const Model& model = **loaded;
@@ -98,22 +97,34 @@ Result<StripReport> strip_model(const std::string& model_path, const daemon::Sce
                              std::vector<std::byte>(g.output.begin(), g.output.end()));
   }
   TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder, quantize::rebuild_with_metadata(model, spec));
-  TLV_TRY(write_file(out_path, builder.finish()));
-  report.bytes_after = file_size(out_path);
-
-  // The written file, judged as the board will: loader, golden pairs, the scene's sensors and
-  // heads (the reference executor: the host has no opinion on the board's kernels).
-  const std::string toml = daemon::scene_config_toml(scene, out_path, 1, "strip check");
-  auto config = daemon::parse_config(toml, scene.path + " (as a tlvlinkd configuration)");
-  if (config.ok()) config->executor = "reference";
-  auto check = config.ok() ? daemon::check_model(*config) : Result<daemon::ModelCheck>(config.error());
-  if (!check.ok() || !check->golden_pass) {
-    ::unlink(out_path.c_str());
-    if (!check.ok()) return check.error();
-    return Error::make(ErrorCode::kModelChecksum,
-                       "%s: golden pairs of the stripped copy do not hold (max error %.4g > %.4g)",
-                       out_path.c_str(), check->max_error, check->tolerance);
+  std::vector<std::byte> bytes = builder.finish();
+  if (!secret_key_file.empty()) {
+    TLV_ASSIGN_OR_RETURN(bytes, quantize::sign_model(bytes, key));
+    report.signed_copy = true;
   }
+  if (model.integrity().is_signed) {
+    for (uint8_t b : model.integrity().key_id) {
+      char hex[3];
+      std::snprintf(hex, sizeof hex, "%02x", b);
+      report.source_key_id += hex;
+    }
+  }
+
+  // Written beside out_path and judged as the board will (loader, golden pairs, the scene's
+  // sensors and heads; the reference executor: the host has no opinion on the board's
+  // kernels) before it replaces out_path.
+  TLV_ASSIGN_OR_RETURN(AtomicFile file, AtomicFile::create(out_path.c_str()));
+  TLV_TRY(file.write(bytes));
+  const std::string toml = daemon::scene_config_toml(scene, file.temp_path(), 1, "strip check");
+  auto config = daemon::parse_config(toml, scene.path + " (as a tlvlinkd configuration)");
+  if (!config.ok()) return config.error();
+  config->executor = "reference";
+  TLV_ASSIGN_OR_RETURN(const daemon::ModelCheck check, daemon::check_model(*config));
+  TLV_ENSURE(check.golden_pass, ErrorCode::kModelChecksum,
+             "%s: golden pairs of the stripped copy do not hold (max error %.4g > %.4g)",
+             out_path.c_str(), check.max_error, check.tolerance);
+  TLV_TRY(file.commit());
+  report.bytes_after = bytes.size();
   report.golden_pass = true;
   return report;
 }

@@ -20,9 +20,11 @@ struct Board {
   bool cross = false;        // a toolchain file (aarch64) is set
   std::string cpu, arch;     // "4x Cortex-A76 @ 2.4 GHz", Debian architecture ("arm64")
   std::vector<std::string> cpu_features;  // /proc/cpuinfo "Features" the build needs
+                                          // (cache variable TLVLINK_TARGET_FEATURES)
   std::string xnnpack_kernels;
   int32_t threads = 1;       // encoder threads in the scene's daemon configuration
   std::string cpu_affinity;  // systemd CPUAffinity= for tlvlinkd ("" = any CPU)
+  bool emulated = false;     // the emulated board (tools/rig): flash also writes kernel + initramfs
 
   std::string option(const std::string& key) const;  // a cache variable, "" when unset
 };

@@ -2,8 +2,8 @@
 // `tlvlink flash --board NAME [--scene S] [-o DIR] [--install-to ROOTFS]`: build tlvlinkd for
 // the board without what the scene does not use (build_options.h), strip the model to the
 // scene's heads (strip.h), and make the board package (package.h) or write its files into a
-// root filesystem. The emulated board (qemu-virt-a76) gets the same package; its initramfs is
-// not assembled here yet.
+// root filesystem. The emulated board (qemu-virt-a76) gets the same package, and a kernel +
+// initramfs holding the package's files (tools/rig `rig.py image --rootfs`) with boot.sh.
 
 #include <string>
 #include <vector>
@@ -18,10 +18,12 @@ struct FlashOptions {
   std::string board;
   std::string scene = "grasp-two-mini";
   std::string source_dir = ".";     // the repository: boards/, firmware/, runtime/
-  std::string model = "firmware/models/touch-tiny-int8.tlvm";  // relative to source_dir
-  std::string out_dir = "build/flash";  // DIR/<board>-<scene>/ gets the build, model and .deb
+  std::string model;                // "" = the shipped model (source_dir/firmware/models/...)
+  std::string out_dir = "build/flash";  // DIR/<board>-<scene>/ gets the model, root and .deb
   std::string install_to;           // non-empty: write the files into this root instead
-  std::string build_dir;            // non-empty: an existing build of the board to reuse
+  std::string build_dir;            // the board's build tree (configured and built there with the
+                                    // scene's options; incremental); "" = DIR/<board>-build
+  std::string sign_key;             // a secret key file (`tlvlink keygen`): signs the stripped model
   int jobs = 2;
 };
 
@@ -31,6 +33,7 @@ struct FlashReport {
   BuildPlan plan;
   StripReport strip;
   std::string artefact;             // the .deb, or the root filesystem written
+  std::string image_dir;            // emulated board: vmlinuz, initramfs.cpio, boot.sh
   uint64_t artefact_bytes = 0, daemon_bytes = 0;
   std::vector<StagedFile> files;
 };

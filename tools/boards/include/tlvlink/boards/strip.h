@@ -20,13 +20,19 @@ struct StripReport {
   size_t golden_before = 0, golden_after = 0;
   uint64_t bytes_before = 0, bytes_after = 0;
   bool golden_pass = false;
+  std::string source_key_id;  // hex key id when the source model was signed, else ""
+  bool signed_copy = false;   // the copy was signed with secret_key_file
 };
 
-// Errors (nothing is left at out_path): the model does not load; the scene names a head the
+// The copy is unsigned (a changed file needs a new signature) unless `secret_key_file` names a
+// key (`tlvlink keygen`): it is then signed with it, so a daemon with `model_public_key` accepts
+// it. A signed source with no key given is reported (source_key_id) so the caller can warn.
+// Errors (out_path keeps what it held before): the model does not load; the scene names a head the
 // model lacks (listing the model's heads) or predicts grasps with a model without a grasp head;
 // a sensor of the scene whose frames cannot feed the model's input (naming the sensor); the
 // golden pairs of the written copy do not hold.
 Result<StripReport> strip_model(const std::string& model_path, const daemon::Scene& scene,
-                                const std::string& out_path);
+                                const std::string& out_path,
+                                const std::string& secret_key_file = "");
 
 }  // namespace tlvlink::boards
