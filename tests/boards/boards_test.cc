@@ -16,7 +16,9 @@
 #include "tlvlink/daemon/config.h"
 #include "tlvlink/daemon/scene.h"
 #include "tlvlink/model.h"
+#include "tlvlink/model_integrity.h"
 #include "tlvlink/quantize/model_copy.h"
+#include "tlvlink/quantize/model_sign.h"
 
 namespace tlvlink {
 namespace {
@@ -210,6 +212,84 @@ TEST(Strip, ModelWhoseInputTheSensorCannotFeedIsAnErrorNamingTheSensor) {
   const std::string m = r.error().message();
   EXPECT_TRUE(contains(m, "sensor 'probe'")) << m;
   EXPECT_TRUE(contains(m, "cannot feed the model")) << m;
+}
+
+// A stripped copy is a new file: unsigned unless a key is given, then signed so a daemon with
+// model_public_key accepts it; a signed source without a key is reported, not silently unsigned.
+TEST(Strip, SignsTheCopyWithTheGivenKeyAndReportsALostSignature) {
+  testing::TempDir dir("strip_sign");
+  auto keys = quantize::generate_keypair();
+  ASSERT_TRUE(keys.ok());
+  ASSERT_TRUE(quantize::write_key_files(dir / "k", *keys).ok());
+  auto scene = daemon::find_scene(kScenes, "material-sort-mini");
+  ASSERT_TRUE(scene.ok());
+  auto r = boards::strip_model(kModel, *scene, dir / "signed.tlvm", dir / "k.key");
+  ASSERT_TRUE(r.ok()) << r.error().message();
+  EXPECT_TRUE(r->signed_copy);
+  LoadOptions with_key;
+  const PublicKey pub = public_half(keys->secret);
+  with_key.public_key = &pub;
+  auto m = Model::load_file((dir / "signed.tlvm").c_str(), with_key);
+  ASSERT_TRUE(m.ok()) << m.error().message();
+  EXPECT_TRUE((*m)->integrity().is_signed);
+
+  // The signed copy stripped again without a key: unsigned, and the lost key is named.
+  auto again = boards::strip_model(dir / "signed.tlvm", *scene, dir / "unsigned.tlvm");
+  ASSERT_TRUE(again.ok()) << again.error().message();
+  EXPECT_FALSE(again->signed_copy);
+  EXPECT_EQ(again->source_key_id.size(), 16u);
+  auto refused = Model::load_file((dir / "unsigned.tlvm").c_str(), with_key);
+  EXPECT_FALSE(refused.ok());
+
+  // A key file that is not one: an error naming it, nothing written.
+  std::ofstream(dir / "bad.key") << "not a key\n";
+  auto bad = boards::strip_model(kModel, *scene, dir / "x.tlvm", dir / "bad.key");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_TRUE(contains(bad.error().message(), "bad.key")) << bad.error().message();
+  EXPECT_FALSE(std::ifstream(dir / "x.tlvm").good());
+}
+
+// A failed strip leaves what was at the output path untouched (written beside it, renamed last).
+TEST(Strip, FailureKeepsTheExistingOutput) {
+  testing::TempDir dir("strip_keep");
+  auto scene = daemon::find_scene(kScenes, "material-sort-mini");
+  ASSERT_TRUE(scene.ok());
+  ASSERT_TRUE(boards::strip_model(kModel, *scene, dir / "out.tlvm").ok());
+  std::ifstream before_in(dir / "out.tlvm", std::ios::binary);
+  const std::string before((std::istreambuf_iterator<char>(before_in)), std::istreambuf_iterator<char>());
+  scene->heads.push_back("texture");  // the model has no such head
+  ASSERT_FALSE(boards::strip_model(kModel, *scene, dir / "out.tlvm").ok());
+  std::ifstream after_in(dir / "out.tlvm", std::ios::binary);
+  const std::string after((std::istreambuf_iterator<char>(after_in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(before, after);
+}
+
+// The staged root holds what the scene needs (the USB gadget only for USB scenes) and the
+// configuration the daemon accepts, pointing at the installed model.
+TEST(Package, StagedRootHoldsTheScenesFiles) {
+  testing::TempDir dir("stage");
+  for (const char* name : {"grasp-two-mini", "material-sort-mini"}) {
+    boards::PackageInput in;
+    auto b = boards::load_board(kBoards, "host-x86_64");  // strips with the host's strip
+    auto s = daemon::find_scene(kScenes, name);
+    ASSERT_TRUE(b.ok() && s.ok());
+    in.board = *b;
+    in.scene = *s;
+    in.source_dir = kSource;
+    in.daemon_binary = "/bin/true";  // any ELF: staged as it is (stripped)
+    in.model_path = kModel;
+    const std::string root = dir / name;
+    auto files = boards::stage_root(in, root);
+    ASSERT_TRUE(files.ok()) << files.error().message();
+    const bool usb = std::string(name) == "grasp-two-mini";
+    EXPECT_EQ(std::ifstream(root + "/usr/libexec/tlvlink/usb_gadget.sh").good(), usb) << name;
+    EXPECT_EQ(std::ifstream(root + "/lib/systemd/system/tlvlink-usb-gadget.service").good(), usb) << name;
+    EXPECT_TRUE(std::ifstream(root + boards::installed_model_path(in)).good()) << name;
+    std::ifstream toml(root + "/etc/tlvlink/tlvlinkd.toml");
+    const std::string text((std::istreambuf_iterator<char>(toml)), std::istreambuf_iterator<char>());
+    EXPECT_TRUE(contains(text, boards::installed_model_path(in))) << text;
+    EXPECT_TRUE(daemon::parse_config(text, name).ok()) << text;
+  }
 }
 
 // The package's preinst on a Pi 4 (no asimddp) refuses an A76 build with a message, and accepts
