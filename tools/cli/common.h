@@ -61,5 +61,7 @@ void add_listen_command(CLI::App& app, int& exit_code);  // listen.cc or listen_
 void add_score_command(CLI::App& app, int& exit_code);   // score.cc
 void add_record_command(CLI::App& app, int& exit_code);  // record.cc (with runtime/capture)
 void add_replay_command(CLI::App& app, int& exit_code);  // listen.cc or listen_unavailable.cc
+void add_strip_command(CLI::App& app, int& exit_code);   // strip.cc (with tools/boards)
+void add_flash_command(CLI::App& app, int& exit_code);   // flash.cc (with tools/boards)
 
 }  // namespace tlvlink::cli

@@ -4,12 +4,16 @@
   rig.py prepare [--modules GROUPS]                 fetch + cache the kernel, modules, busybox
   rig.py run --script T.sh [--program BIN] [--file F] [options]   build the initramfs, boot, report
   rig.py shell [--program BIN] [--file F] [options]               boot to a shell on this terminal
+  rig.py image --out DIR [--rootfs ROOT] [--script T.sh] [options]  write the kernel, the initramfs
+                                                                   and boot.sh into DIR, no boot
 
 Exit status of `run`: 0 when every test passed or was skipped and the script returned 0;
 1 on any failure, a missed bound or a guest that did not finish; 2 on bad arguments/set-up."""
 
 import argparse
 import os
+import shlex
+import shutil
 import signal
 import sys
 import time
@@ -28,7 +32,7 @@ def default_sysroot():
 def parse(argv):
     p = argparse.ArgumentParser(prog="rig.py", description=__doc__,
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("command", choices=["prepare", "run", "shell"])
+    p.add_argument("command", choices=["prepare", "run", "shell", "image"])
     g = p.add_argument_group("image")
     g.add_argument("--modules", default=",".join(kernel.DEFAULT_GROUPS),
                    help=f"module groups: {', '.join(kernel.MODULE_GROUPS)} (default: all)")
@@ -38,6 +42,9 @@ def parse(argv):
                    help="arm64 program (stripped, its libraries added); default DEST /bin/NAME")
     g.add_argument("--file", action="append", default=[], metavar="PATH[:DEST]",
                    help="data file or directory, copied as is; default DEST /payload/NAME")
+    g.add_argument("--rootfs", action="append", default=[], metavar="DIR",
+                   help="a directory copied onto the guest's / (e.g. a board package's staged root; "
+                        "its ELF programs get their libraries)")
     g.add_argument("--env", action="append", default=[], metavar="NAME=VALUE",
                    help="exported in the guest before the script runs")
     g.add_argument("--sysroot", default=default_sysroot(),
@@ -76,6 +83,8 @@ def build_image(args, log):
         payload.add_program(spec)
     for spec in args.file:
         payload.add_file(spec)
+    for root in args.rootfs:
+        payload.add_rootfs(root)
     payload.script = args.script
     for kv in args.env:
         name, eq, value = kv.partition("=")
@@ -88,6 +97,34 @@ def build_image(args, log):
     what = initramfs.build(image, k, payload, lib_dirs, compress=args.gzip)
     log(f"rig: kernel {k.version} ({k.package}); initramfs {what}; built in {time.monotonic() - t:.1f}s")
     return k, image
+
+
+def write_boot_files(args, k, image, log):
+    """`image`: the kernel beside the initramfs and a boot.sh that starts them (auto mode: the
+    script's tests run and the guest powers off; `boot.sh shell` opens a shell instead)."""
+    vmlinuz = os.path.join(args.out, "vmlinuz")
+    shutil.copyfile(k.image, vmlinuz)
+    cfg = qemu.RunConfig()
+    cfg.kernel, cfg.initrd, cfg.cpu, cfg.smp, cfg.mem_mb = k, image, args.cpu, args.smp, args.mem
+    cfg.append = args.append
+    cfg.ports = []  # no host reader: the rig's data ports are left out
+    initrd = os.path.basename(image)
+
+    def line(interactive):
+        cfg.interactive = interactive
+        return " ".join(shlex.quote({k.image: "vmlinuz", image: initrd}.get(c, c))
+                        for c in qemu.command(cfg, "/nonexistent"))
+    boot = os.path.join(args.out, "boot.sh")
+    with open(boot, "w") as f:
+        f.write("#!/bin/sh\n# The emulated board (tools/rig/README.md): boots this directory's kernel and\n"
+                "# initramfs under QEMU TCG. `boot.sh` runs the image's script and powers off;\n"
+                "# `boot.sh shell` opens a shell on this terminal ('poweroff -f' ends it).\n"
+                'cd "$(dirname "$0")"\n'
+                f'[ "${{1:-}}" = shell ] && exec {line(True)}\nexec {line(False)}\n')
+    os.chmod(boot, 0o755)
+    log(f"rig: image in {args.out}: vmlinuz ({os.path.getsize(vmlinuz) / 1048576:.1f} MB), "
+        f"{os.path.basename(image)} ({os.path.getsize(image) / 1048576:.1f} MB), boot.sh")
+    return 0
 
 
 def _terminate(signum, _frame):
@@ -105,6 +142,8 @@ def main(argv):
             log(f"rig: kernel {k.version}: {k.image}\nrig: busybox: {initramfs.busybox()}")
             return 0
         k, image = build_image(args, log)
+        if args.command == "image":
+            return write_boot_files(args, k, image, log)
         cfg = qemu.RunConfig()
         cfg.kernel, cfg.initrd, cfg.cpu, cfg.smp, cfg.mem_mb = k, image, args.cpu, args.smp, args.mem
         cfg.append, cfg.ports, cfg.host_ports = args.append, ["rig.data"] + args.port, args.host_port

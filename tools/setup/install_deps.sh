@@ -9,7 +9,8 @@
 #         (the ONNX import tests export their models with /usr/bin/python3), libtorch-dev
 #         (the trainer, TLVLINK_BUILD_TRAINER in the host preset); the Python stream client's
 #         dependencies and test runner (python3-serial, python3-usb, python3-pytest: tools/python)
-# cross : aarch64 cross compiler + qemu-user (the arm64 sysroot is tools/setup/make_sysroot.sh)
+# cross : aarch64 cross compiler + qemu-user (the arm64 sysroot is tools/setup/make_sysroot.sh),
+#         lintian (checks the board packages of `tlvlink flash`)
 # rig   : cross + the emulated board (tools/rig): qemu-system-aarch64, kmod (depmod/modinfo for
 #         the kernel module subset), python3; the arm64 kernel and busybox are fetched by the rig
 #         itself with `apt-get download` (never installed)
@@ -28,7 +29,7 @@ core_pkgs=(build-essential cmake ninja-build pkg-config
 test_pkgs=(libgtest-dev libgmock-dev clang libclang-rt-14-dev llvm
   python3-torch python3-onnx python3-numpy libtorch-dev
   python3-serial python3-usb python3-pytest)
-cross_pkgs=(g++-aarch64-linux-gnu qemu-user)
+cross_pkgs=(g++-aarch64-linux-gnu qemu-user lintian)  # lintian: the board packages (tools/boards)
 rig_pkgs=(qemu-system-arm kmod python3)
 # bench: the Python peer of the pipeline benchmark (OpenCV + PyTorch reading the same model).
 bench_pkgs=(python3-opencv python3-flatbuffers python3-torch python3-numpy)

@@ -1,12 +1,5 @@
 #include "tlvlink/daemon/config.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstring>
-
 #include "tlvlink/capture/device_select.h"
 #include "tlvlink/capture/frame_source.h"
 #include "toml_reader.h"
@@ -17,7 +10,6 @@ namespace {
 using internal::TableReader;
 
 constexpr int64_t kMs = 1'000'000;
-constexpr size_t kMaxConfigBytes = 1 << 20;  // a configuration is a few hundred bytes
 
 Status read_contact(TableReader& r, pipeline::ProcessorOptions& p) {
   TLV_TRY(r.flag("enabled", p.contact_gating));
@@ -234,22 +226,7 @@ Result<DaemonConfig> parse_config(std::string_view text, const std::string& name
 }
 
 Result<DaemonConfig> load_config(const std::string& path) {
-  // A regular file only (a FIFO or device would block or never end), read whole.
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-  TLV_ENSURE(fd >= 0, ErrorCode::kIo, "%s: cannot open the configuration: %s", path.c_str(),
-             std::strerror(errno));
-  struct stat st {};
-  const bool regular = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
-  if (!regular || static_cast<size_t>(st.st_size) > kMaxConfigBytes) {
-    ::close(fd);
-    return Error::make(ErrorCode::kInvalidArgument, "%s: %s", path.c_str(),
-                       regular ? "larger than 1 MiB: not a configuration" : "not a regular file");
-  }
-  std::string text(static_cast<size_t>(st.st_size), '\0');
-  const ssize_t n = ::pread(fd, text.data(), text.size(), 0);
-  ::close(fd);
-  TLV_ENSURE(n == static_cast<ssize_t>(text.size()), ErrorCode::kIo, "%s: read failed",
-             path.c_str());
+  TLV_ASSIGN_OR_RETURN(const std::string text, internal::read_toml_file(path, "configuration"));
   return parse_config(text, path);
 }
 

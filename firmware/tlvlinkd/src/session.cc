@@ -15,6 +15,7 @@
 #endif
 #include "sources.h"
 #include "tlvlink/capture/sensor_models.h"
+#include "tlvlink/daemon/model_check.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/log.h"
 #include "tlvlink/model.h"
@@ -97,23 +98,7 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
   auto impl = std::make_unique<Impl>();
   Impl& s = *impl;
   s.config = config;
-  LoadOptions load;
-  PublicKey key;
-  if (!config.model_public_key.empty()) {
-    auto read = read_public_key_file(config.model_public_key.c_str());
-    if (!read.ok()) return read.error().with_context("model_public_key");
-    key = *read;
-    load.public_key = &key;
-  }
-  auto model = Model::load_file(config.model.c_str(), load);
-  if (!model.ok()) {
-    if (load.public_key != nullptr && model.error().code() == ErrorCode::kModelSignature) {
-      return model.error().with_context("model %s, model_public_key %s", config.model.c_str(),
-                                        config.model_public_key.c_str());
-    }
-    return model.error().with_context("model %s", config.model.c_str());
-  }
-  s.model = std::move(model).value();
+  TLV_ASSIGN_OR_RETURN(s.model, load_config_model(config));
   TLV_ASSIGN_OR_RETURN(s.executor, make(*s.model, config));
   if (config.verify_model) {
     // The start-up self-test: the model's golden pairs on this board's executor.

@@ -1,6 +1,12 @@
 #include "toml_reader.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 
 namespace tlvlink::daemon::internal {
 namespace {
@@ -18,6 +24,26 @@ const char* type_name(const toml::node& n) {
 }
 
 }  // namespace
+
+Result<std::string> read_toml_file(const std::string& path, const char* what) {
+  constexpr size_t kMaxBytes = 1 << 20;  // a configuration or scene is a few hundred bytes
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  TLV_ENSURE(fd >= 0, ErrorCode::kIo, "%s: cannot open the %s: %s", path.c_str(), what,
+             std::strerror(errno));
+  struct stat st {};
+  const bool regular = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+  if (!regular || static_cast<size_t>(st.st_size) > kMaxBytes) {
+    ::close(fd);
+    return Error::make(ErrorCode::kInvalidArgument, "%s: %s", path.c_str(),
+                       regular ? "larger than 1 MiB: not a TOML file" : "not a regular file");
+  }
+  std::string text(static_cast<size_t>(st.st_size), '\0');
+  const ssize_t n = ::pread(fd, text.data(), text.size(), 0);
+  ::close(fd);
+  TLV_ENSURE(n == static_cast<ssize_t>(text.size()), ErrorCode::kIo, "%s: read failed",
+             path.c_str());
+  return text;
+}
 
 TableReader::TableReader(const toml::table& table, std::string file, std::string prefix)
     : table_(table), file_(std::move(file)), prefix_(std::move(prefix)) {}

@@ -20,6 +20,10 @@
 
 namespace tlvlink::daemon::internal {
 
+// A TOML file read whole: a regular file of at most 1 MiB (a FIFO or device would block or never
+// end). `what` names it in errors ("configuration", "scene").
+Result<std::string> read_toml_file(const std::string& path, const char* what);
+
 class TableReader {
  public:
   TableReader(const toml::table& table, std::string file, std::string prefix);

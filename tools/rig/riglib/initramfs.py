@@ -25,10 +25,28 @@ class Payload:
         self.files = []      # (host path, guest path): copied as they are (directories recursively)
         self.script = None   # host path of the test script, run by /init as /rig/test.sh
         self.env = {}        # exported in the guest before the script runs
+        self.rootfs = []     # host directories copied onto the guest's / (a staged package root);
+                             # the ELF programs in them get their libraries like --program's
 
     def add_program(self, spec):
         src, dest = _split(spec, "/bin")
         self.programs.append((src, dest))
+
+    def add_rootfs(self, path):
+        if not os.path.isdir(path):
+            raise RigError(f"rootfs '{path}' is not a directory")
+        self.rootfs.append(path)
+
+    def rootfs_programs(self):
+        """(host path, guest path) of every ELF file under the rootfs directories."""
+        found = []
+        for root in self.rootfs:
+            for base, _, names in os.walk(root):
+                for n in names:
+                    host = os.path.join(base, n)
+                    if os.path.isfile(host) and not os.path.islink(host) and elf.is_elf(host):
+                        found.append((host, "/" + os.path.relpath(host, root)))
+        return found
 
     def add_file(self, spec):
         src, dest = _split(spec, "/payload")
@@ -77,7 +95,9 @@ class _Tree:
         self.entries[path] = (kind, value, perm)
 
     def add_host(self, src, dest):
-        if os.path.isdir(src):
+        if os.path.islink(src):  # kept as a link (a unit's wants link points at a guest path)
+            self.add(dest, "symlink", os.readlink(src))
+        elif os.path.isdir(src):
             for base, _, names in os.walk(src):
                 for n in names:
                     host = os.path.join(base, n)
@@ -118,7 +138,8 @@ def build(out_path, kernel, payload, lib_dirs, compress=False):
             tree.add_host(host, os.path.join("lib/modules", kernel.version,
                                              os.path.relpath(host, kernel.modules_dir)))
 
-    programs = [src for src, _ in payload.programs]
+    rootfs_programs = payload.rootfs_programs()
+    programs = [src for src, _ in payload.programs + rootfs_programs]
     for src in programs:
         if not elf.is_elf(src):
             raise RigError(f"{src} is not an ELF program (use --file for data and scripts)")
@@ -129,6 +150,8 @@ def build(out_path, kernel, payload, lib_dirs, compress=False):
         tree.add_host(host, guest)
     for src, dest in payload.programs:
         tree.add(dest, "file", _stripped(src), 0o755)
+    for root in payload.rootfs:  # as they are: the package's files, already stripped
+        tree.add_host(root, "/")
     for src, dest in payload.files:
         tree.add_host(src, dest)
     if payload.script:

@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# The boards part of the board stage (run_tests.sh board, after board_test.sh): every board's
+# package built by `tlvlink flash` and checked.
+#   1. size_table.sh: every ARM board with grasp-two-mini and rpi5-a76 with every scene; the
+#      table is printed with each row's growth against the committed one (boards/README.md);
+#   2. lintian on every package built: errors fail, warnings are printed;
+#   3. --install-to: the rpi5-a76 files written into an empty root filesystem, checked;
+#   4. the emulated board: qemu-virt-a76's kernel + initramfs (the package's files) boot under
+#      QEMU and run `tlvlinkd --verify` and `--check` on the A76's XNNPACK kernels.
+# Needs build/host's tlvlink (the host stage builds it), the cross toolchain and sysroot, lintian
+# and qemu-system-aarch64 (install_deps.sh rig).
+set -uo pipefail
+cd "$(dirname "$0")/../.."
+cli=${TLVLINK_CLI:-build/host/tools/cli/tlvlink}
+t0=$(date +%s) rc=0
+fail() { echo "ci_boards: FAIL: $*" >&2; rc=1; }
+
+bash tools/boards/size_table.sh || fail "a board package did not build (size table above)"
+
+debs=(build/flash/*/tlvlink_*.deb)
+[ -e "${debs[0]}" ] || fail "no package was built"
+for deb in "${debs[@]}"; do
+  [ -e "$deb" ] || continue
+  out=$(lintian --tag-display-limit 0 "$deb" 2>&1 | grep -v "running with root privileges"); lrc=$?
+  errors=$(echo "$out" | grep -c '^E:')
+  warnings=$(echo "$out" | grep -c '^W:')
+  echo "lintian ${deb#build/flash/}: $errors errors, $warnings warnings"
+  [ -n "$out" ] && echo "$out" | sed 's/^/  /'
+  [ "$errors" -eq 0 ] || fail "lintian errors in $deb"
+done
+
+sd=build/flash/sdcard-rpi5-a76
+rm -rf "$sd" && mkdir -p "$sd"
+if "$cli" flash --board rpi5-a76 --scene grasp-two-mini -o build/flash --install-to "$sd" >build/flash/install-to.log 2>&1; then
+  for f in usr/bin/tlvlinkd etc/tlvlink/tlvlinkd.toml usr/share/tlvlink/models/grasp-two-mini.tlvm \
+           lib/systemd/system/tlvlinkd.service usr/lib/sysusers.d/tlvlink.conf \
+           etc/systemd/system/multi-user.target.wants/tlvlinkd.service; do
+    [ -e "$sd/$f" ] || [ -L "$sd/$f" ] || fail "--install-to did not write /$f"
+  done
+  echo "install-to: $(find "$sd" -type f | wc -l) files, $(find "$sd" -type l | wc -l) unit links in $sd"
+else
+  tail -5 build/flash/install-to.log; fail "tlvlink flash --install-to"
+fi
+
+image=build/flash/qemu-virt-a76-grasp-two-mini/image
+if [ -x "$image/boot.sh" ]; then
+  tb=$(date +%s.%N)
+  timeout 300 "$image/boot.sh" </dev/null >build/flash/qemu-virt-boot.log 2>&1
+  grep -E '^RIG-(INIT|NOTE|PASS|FAIL|DONE)' build/flash/qemu-virt-boot.log | sed 's/^/  /'
+  if grep -q '^RIG-DONE 0' build/flash/qemu-virt-boot.log && ! grep -q '^RIG-FAIL' build/flash/qemu-virt-boot.log; then
+    echo "emulated board: booted the package's files and verified the model in $(awk -v a="$tb" -v b="$(date +%s.%N)" 'BEGIN {printf "%.1f", b - a}') s"
+  else
+    tail -40 build/flash/qemu-virt-boot.log; fail "the emulated board image did not verify"
+  fi
+else
+  fail "no emulated board image ($image/boot.sh)"
+fi
+echo "ci_boards: $(( $(date +%s) - t0 ))s; $([ $rc -eq 0 ] && echo PASS || echo FAIL)"
+exit $rc
