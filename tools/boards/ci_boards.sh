@@ -9,11 +9,22 @@
 #      QEMU and run `tlvlinkd --verify` and `--check` on the A76's XNNPACK kernels.
 # Needs build/host's tlvlink (the host stage builds it), the cross toolchain and sysroot, lintian
 # and qemu-system-aarch64 (install_deps.sh rig).
+#   ci_boards.sh --prebuild: only the compiler targets no other stage builds (jetson-orin-nano's
+#   cortex-a78ae, rk3588's cortex-a76.cortex-a55), niced: run_tests.sh starts it beside the
+#   emulated board's tests, whose waits leave the cores idle much of the time.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 cli=${TLVLINK_CLI:-build/host/tools/cli/tlvlink}
 t0=$(date +%s) rc=0
 fail() { echo "ci_boards: FAIL: $*" >&2; rc=1; }
+if [ "${1:-}" = --prebuild ]; then
+  for b in jetson-orin-nano rk3588; do
+    nice -n 15 "$cli" flash --board "$b" --scene grasp-two-mini -o build/flash >/dev/null 2>&1 ||
+      echo "ci_boards --prebuild: $b did not build (the main run reports it)"
+  done
+  echo "ci_boards --prebuild: $(( $(date +%s) - t0 ))s"
+  exit 0
+fi
 
 bash tools/boards/size_table.sh || fail "a board package did not build (size table above)"
 

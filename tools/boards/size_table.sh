@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Size table of the board packages (boards/README.md, between the size-table markers): for each
-# board x scene, the stripped tlvlinkd, the runtime + daemon libraries (text+data), the stripped
+# board x scene, tlvlinkd's code and data (text+data), the runtime + daemon libraries (text+data), the stripped
 # model, the .deb, and what the scene's build leaves out. Each row comes from `tlvlink flash`
 # (build/host's CLI), which builds one tree per board and rebuilds only what a scene's options
 # change.
 #   tools/boards/size_table.sh [--all] [--write]
-# Default (CI): every board with grasp-two-mini, and rpi5-a76 with every scene (8 packages,
-# 5 board trees). --all: every board x scene (20). Each row is compared with the committed table:
+# Default (CI): every board with grasp-two-mini, and rpi5-a76 with every scene (8 packages;
+# 4 compiler targets, two of them the cross stage's trees when present). --all: every board x scene (20). Each row is compared with the committed table:
 # the last column says how much it grew or shrank, so growth is visible in every CI log.
 # --write: replace the rows built in boards/README.md (the others stay as committed).
 # Environment: TLVLINK_JOBS (default 2), TLVLINK_CLI (default build/host/tools/cli/tlvlink).
@@ -29,6 +29,15 @@ for b in "${arm_boards[@]}"; do
   done
 done
 
+# The cross stage's trees have the same compiler settings as these boards (generic-a76: -mcpu
+# cortex-a76; rpi4-a72): when they exist (CI), the packages are built in them and only the
+# daemon and the options a scene changes are recompiled. flash refuses a tree for another -mcpu.
+reuse_tree() {
+  case "$1" in
+    rpi5-a76|qemu-virt-a76) [ -f build/generic-a76/CMakeCache.txt ] && echo build/generic-a76 ;;
+    rpi4-a72) [ -f build/rpi4-a72/CMakeCache.txt ] && echo build/rpi4-a72 ;;
+  esac
+}
 kb() { awk -v b="$1" 'BEGIN {printf "%.1f KB", b / 1024}'; }
 # The committed row's tlvlinkd size in bytes (column 3, "N.N KB"), for the growth column.
 committed() {
@@ -39,13 +48,16 @@ for p in "${pairs[@]}"; do
   read -r board scene <<<"$p"
   out=build/flash/$board-$scene
   t0=$(date +%s)
-  if ! log=$("$cli" flash --board "$board" --scene "$scene" -o build/flash -j "$jobs" 2>&1); then
+  tree=$(reuse_tree "$board")
+  if ! log=$("$cli" flash --board "$board" --scene "$scene" -o build/flash -j "$jobs" ${tree:+--build-dir "$tree"} 2>&1); then
     echo "$log" | tail -8 >&2
     rows+=("| $board | $scene | FAILED | | | | | |"); failed=1; continue
   fi
-  daemon=$(stat -c %s "$out/root/usr/bin/tlvlinkd")
+  # text+data: the file size moves in 64 KiB steps (the segments' alignment on arm64).
+  daemon=$(aarch64-linux-gnu-size "$out/root/usr/bin/tlvlinkd" | awk 'END {print $1 + $2}')
   libs=0
-  for a in build/flash/$board-build/runtime/*/libtlvlink_*.a build/flash/$board-build/firmware/tlvlinkd/libtlvlink_daemon.a; do
+  dir=$(echo "$log" | sed -n 's/^build tree: //p')
+  for a in "$dir"/runtime/*/libtlvlink_*.a "$dir"/firmware/tlvlinkd/libtlvlink_daemon.a; do
     [ -f "$a" ] && libs=$(( libs + $(aarch64-linux-gnu-size -t "$a" | awk 'END {print $1 + $2}') ))
   done
   model=$(stat -c %s "$out/$scene.tlvm")
@@ -59,7 +71,7 @@ for p in "${pairs[@]}"; do
   echo "size_table: $board x $scene in $(( $(date +%s) - t0 ))s" >&2
 done
 
-header="| board | scene | tlvlinkd (stripped) | runtime + daemon libraries (text+data) | model (stripped) | .deb | left out (besides tests, host tools, trainer, benchmarks, fuzzers) | tlvlinkd vs the committed table |"
+header="| board | scene | tlvlinkd (text+data) | runtime + daemon libraries (text+data) | model (stripped) | .deb | left out (besides tests, host tools, trainer, benchmarks, fuzzers) | tlvlinkd vs the committed table |"
 printf '%s\n' "$header" "|---|---|---|---|---|---|---|---|" "${rows[@]}"
 echo "size_table: ${#pairs[@]} packages in $(( $(date +%s) - t_all ))s"
 if [ $write -eq 1 ]; then

@@ -22,6 +22,7 @@ int run_flash(const boards::FlashOptions& o) {
   if (!r.ok()) return report_error("flash", r.error());
   std::printf("board %s (%s; XNNPACK %s), scene %s\n", r->board.name.c_str(), r->board.cpu.c_str(),
               r->board.xnnpack_kernels.c_str(), r->scene.name.c_str());
+  std::printf("build tree: %s\n", r->build_dir.c_str());
   std::printf("built: %s (%s)\n", r->artefact.c_str(),
               r->artefact_bytes ? human(r->artefact_bytes).c_str() : "directory tree");
   std::printf("  tlvlinkd %s (stripped); model %s -> %s\n", human(r->daemon_bytes).c_str(),
@@ -59,7 +60,7 @@ void add_flash_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--key", o->sign_key, "Secret key file (tlvlink keygen): sign the stripped model");
   cmd->add_option("--source", o->source_dir, "The tlvlink source tree")->capture_default_str();
   cmd->add_option("--build-dir", o->build_dir,
-                  "The board's build tree (configured with the scene's options, built incrementally)");
+                  "Build tree (default: OUTPUT/<mcpu>-build; configured with the board and scene, built incrementally)");
   cmd->add_option("-j,--jobs", o->jobs, "Build jobs")->capture_default_str();
   cmd->footer(kExitCodeFooter);
   cmd->callback([o, &exit_code] { exit_code = run_flash(*o); });

@@ -36,6 +36,28 @@ Status build_daemon(const FlashOptions& o, const Board& b, const BuildPlan& plan
   return {};
 }
 
+// One tree per compiler target (-mcpu), shared by the boards and scenes built for it: another
+// board with the same -mcpu, or another scene, rebuilds only what its options change.
+std::string default_build_dir(const FlashOptions& o, const Board& b) {
+  const std::string cpu = b.option("TLVLINK_TARGET_CPU");
+  return o.out_dir + "/" + (cpu.empty() ? b.name : cpu) + "-build";
+}
+
+// An existing tree configured for another -mcpu is refused: reusing its objects would put one
+// CPU's code into another board's package.
+Status check_tree_cpu(const std::string& dir, const Board& b) {
+  auto line = command_output("sed -n 's/^TLVLINK_TARGET_CPU:[A-Z]*=//p' " +
+                             shell_quote(dir + "/CMakeCache.txt") + " 2>/dev/null");
+  if (!line.ok() || line->empty()) return {};  // a new tree, or one without a target CPU
+  std::string cpu = *line;
+  while (!cpu.empty() && (cpu.back() == '\n' || cpu.back() == '\r')) cpu.pop_back();
+  TLV_ENSURE(cpu == b.option("TLVLINK_TARGET_CPU"), ErrorCode::kInvalidArgument,
+             "build tree %s is configured for -mcpu=%s; board '%s' needs -mcpu=%s (use another "
+             "--build-dir)", dir.c_str(), cpu.c_str(), b.name.c_str(),
+             b.option("TLVLINK_TARGET_CPU").c_str());
+  return {};
+}
+
 // make_sysroot.sh's stamp, from the build's TLVLINK_SYSROOT (arm64 package versions).
 std::string sysroot_stamp(const std::string& build_dir) {
   auto line = command_output("sed -n 's/^TLVLINK_SYSROOT:PATH=//p' " +
@@ -76,11 +98,10 @@ Result<FlashReport> flash(const FlashOptions& o) {
       o.model.empty() ? o.source_dir + "/firmware/models/touch-tiny-int8.tlvm" : o.model;
   TLV_ASSIGN_OR_RETURN(r.strip, strip_model(source_model, r.scene, model, o.sign_key));
 
-  // One build tree per board, shared by its scenes: another scene rebuilds only what its options
-  // change (the transports, the daemon).
-  const std::string build =
-      absolute(o.build_dir.empty() ? o.out_dir + "/" + r.board.name + "-build" : o.build_dir);
+  const std::string build = absolute(o.build_dir.empty() ? default_build_dir(o, r.board) : o.build_dir);
+  TLV_TRY(check_tree_cpu(build, r.board));
   TLV_TRY(build_daemon(o, r.board, r.plan, build));
+  r.build_dir = build;
   const std::string daemon = build + "/firmware/tlvlinkd/tlvlinkd";
   TLV_ENSURE(size_of(daemon) > 0, ErrorCode::kIo, "%s: no tlvlinkd in the build", daemon.c_str());
 
