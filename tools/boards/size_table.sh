@@ -57,8 +57,10 @@ for p in "${pairs[@]}"; do
   daemon=$(aarch64-linux-gnu-size "$out/root/usr/bin/tlvlinkd" | awk 'END {print $1 + $2}')
   libs=0
   dir=$(echo "$log" | sed -n 's/^build tree: //p')
-  for a in "$dir"/runtime/*/libtlvlink_*.a "$dir"/firmware/tlvlinkd/libtlvlink_daemon.a; do
-    [ -f "$a" ] && libs=$(( libs + $(aarch64-linux-gnu-size -t "$a" | awk 'END {print $1 + $2}') ))
+  # The archives on tlvlinkd's link line (a tree keeps the archives of earlier scenes' options).
+  for a in $(ninja -C "$dir" -t commands firmware/tlvlinkd/tlvlinkd | tail -1 | tr ' ' '\n' |
+             grep -E '^(runtime|firmware)/.*libtlvlink_[a-z_]*\.a$'); do
+    libs=$(( libs + $(aarch64-linux-gnu-size -t "$dir/$a" | awk 'END {print $1 + $2}') ))
   done
   model=$(stat -c %s "$out/$scene.tlvm")
   deb=$(stat -c %s "$out"/tlvlink_*.deb)
