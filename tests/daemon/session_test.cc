@@ -90,11 +90,17 @@ TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
   ASSERT_TRUE(config.ok()) << config.error().message();
   auto session = Session::start_with_sources(*config, sources());
   ASSERT_TRUE(session.ok()) << session.error().message();
-  while ((*session)->frames_processed() < static_cast<uint64_t>(kWarmup))
+  // Bounded waits: a stuck session fails here, naming the frame count, instead of hanging ctest.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(240);
+  while ((*session)->frames_processed() < static_cast<uint64_t>(kWarmup) &&
+         std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   testing::start_counting_allocations();
-  while (!(*session)->limit_reached()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  while (!(*session)->limit_reached() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   const size_t allocations = testing::stop_counting_allocations();
+  ASSERT_TRUE((*session)->limit_reached())
+      << (*session)->frames_processed() << " of " << kWarmup + kCounted << " frames in 240 s";
   const SessionTotals t = (*session)->stop();
   EXPECT_EQ(allocations, 0u) << "heap allocations while " << kCounted << " frames went through";
   EXPECT_GE(t.frames, static_cast<uint64_t>(kWarmup + kCounted));
@@ -152,21 +158,62 @@ TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
 // `embedding = true`: every encoded frame carries the encoder's embedding and the int8 tensor it
 // comes from (the host-vs-board comparison of tests/hil reads them), still without allocating
 // per frame; a frame's values depend on its bytes only (the sources repeat four JPEGs).
+// Cameras faster than the encoder (unpaced YUYV sources, gating off): there is always another frame.
+// The inference thread still publishes its counters and applies commands every few frames;
+// before the fix its loop never ended while frames kept coming, so the counters read 0.
+TEST(DaemonSession, CountersKeepUpWhenTheEncoderIsBehind) {
+  testing::TempDir dir;
+  const std::string out = dir.path() + "/predictions.jsonl";
+  // Two DIGITs (YUYV 320x240: next to nothing to decode), so the cameras outrun the encoder even
+  // on a fast host.
+  std::string text = config_text(out, 0);
+  text.replace(text.find("[contact]\n"), 10, "[contact]\nenabled = false\n");
+  for (size_t p; (p = text.find("gelsight-mini")) != std::string::npos;) text.replace(p, 13, "digit");
+  for (size_t p; (p = text.find("width = 640\nheight = 480")) != std::string::npos;)
+    text.replace(p, 24, "width = 320\nheight = 240");
+  auto config = parse_config(text, "test.toml");
+  ASSERT_TRUE(config.ok()) << config.error().message();
+  const image::FrameFormat f{image::PixelFormat::kYuyv, 320, 240, 0};
+  std::vector<std::vector<uint8_t>> yuyv;
+  for (uint8_t v : {90, 120, 150}) yuyv.emplace_back(size_t{320 * 240 * 2}, v);
+  std::vector<std::unique_ptr<capture::FrameSource>> unpaced;
+  unpaced.push_back(std::make_unique<testing::MemorySource>("left", f, yuyv, 0));
+  unpaced.push_back(std::make_unique<testing::MemorySource>("right", f, yuyv, 0));
+  auto session = Session::start_with_sources(*config, std::move(unpaced));
+  ASSERT_TRUE(session.ok()) << session.error().message();
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while ((*session)->frames_processed() < 20 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_GE((*session)->frames_processed(), 20u) << "the inference thread's counters never moved";
+  EXPECT_TRUE((*session)->command("rezero")) << "commands are still taken while it is behind";
+  const SessionTotals t = (*session)->stop();
+  EXPECT_GT(t.drops_queue, 0u) << "the encoder was behind: frames waiting were replaced";
+  EXPECT_GE(t.encoded, 20u) << "frames " << t.frames << ", bad " << t.bad_frames << ", decode errors " << t.decode_errors << ", inference errors " << t.inference_errors;
+}
+
 TEST(DaemonSession, ReportsTheEmbeddingAndItsInt8Tensor) {
   testing::TempDir dir;
   const std::string out = dir.path() + "/predictions.jsonl";
-  constexpr int64_t kWarmup = 100, kCounted = 300;
+  // Every frame is encoded here (gating off): few enough frames for qemu-aarch64 in the cross
+  // stage, where one encode takes hundreds of milliseconds.
+  constexpr int64_t kWarmup = 10, kCounted = 40;
   std::string text = config_text(out, kWarmup + kCounted);
   text.replace(text.find("[contact]\n"), 10, "embedding = true\nsmoothing_ms = 0\n[contact]\nenabled = false\n");
   auto config = parse_config(text, "test.toml");
   ASSERT_TRUE(config.ok()) << config.error().message();
   auto session = Session::start_with_sources(*config, sources());
   ASSERT_TRUE(session.ok()) << session.error().message();
-  while ((*session)->frames_processed() < static_cast<uint64_t>(kWarmup))
+  // Bounded waits: a stuck session fails here, naming the frame count, instead of hanging ctest.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(240);
+  while ((*session)->frames_processed() < static_cast<uint64_t>(kWarmup) &&
+         std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   testing::start_counting_allocations();
-  while (!(*session)->limit_reached()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  while (!(*session)->limit_reached() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   const size_t allocations = testing::stop_counting_allocations();
+  ASSERT_TRUE((*session)->limit_reached())
+      << (*session)->frames_processed() << " of " << kWarmup + kCounted << " frames in 240 s";
   const SessionTotals t = (*session)->stop();
   EXPECT_EQ(allocations, 0u) << "heap allocations while " << kCounted << " frames went through";
   EXPECT_EQ(t.encoded, t.frames) << "gating is off: every frame is encoded";
@@ -190,7 +237,7 @@ TEST(DaemonSession, ReportsTheEmbeddingAndItsInt8Tensor) {
     }
   }
   EXPECT_EQ(frames, t.frames);
-  EXPECT_GE(by_int8.size(), 2u) << "pressed and idle frames must differ";
+  EXPECT_GE(by_int8.size(), 2u) << "distinct frames must give distinct int8 tensors";
   EXPECT_LE(by_int8.size(), 4u) << "four distinct frames, one int8 tensor each";
 }
 

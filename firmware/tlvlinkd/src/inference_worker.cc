@@ -12,6 +12,7 @@ namespace {
 
 TLV_LOG_CATEGORY(kLogInference, "inference");
 constexpr int32_t kWaitMs = 50;  // wake at least this often: stop flag, grasp timeouts
+constexpr int32_t kFramesPerTurn = 8;  // then commands, grasp timing and counters get their turn
 
 }  // namespace
 
@@ -81,19 +82,27 @@ bool InferenceWorker::process_one() {
 
 void InferenceWorker::run() {
   cpu_clock_ = this_thread_cpu_clock();
+  bool backlog = false;  // frames were left waiting at the end of the last turn
   for (;;) {
     {
       std::unique_lock lock(doorbell_.mutex);
-      doorbell_.cv.wait_for(lock, std::chrono::milliseconds(kWaitMs),
-                            [&] { return doorbell_.rings > 0 || stop_.load(); });
+      if (!backlog) {
+        doorbell_.cv.wait_for(lock, std::chrono::milliseconds(kWaitMs),
+                              [&] { return doorbell_.rings > 0 || stop_.load(); });
+      }
       doorbell_.rings = 0;
     }
     Command c;
     while (commands_.pop(c)) apply(c);
-    while (process_one()) {
+    // A bounded turn: when the encoder is slower than the cameras there is always another frame,
+    // and an unbounded loop would never apply commands, time grasps or publish the counters.
+    backlog = false;
+    for (int32_t n = 0; n < kFramesPerTurn; ++n) {
+      if (!process_one()) break;
       if (max_frames_ > 0 && static_cast<int64_t>(processor_.counters().frames) >= max_frames_) {
         limit_hit_ = true;
       }
+      backlog = n + 1 == kFramesPerTurn;
     }
     processor_.tick(monotonic_ns());
     drain_grasps();
@@ -102,7 +111,7 @@ void InferenceWorker::run() {
       counters_ = processor_.counters();
     }
     // Stop only once the capture threads have stopped and every decoded frame is processed.
-    if (stop_.load()) break;
+    if (stop_.load() && !backlog) break;
   }
   final_cpu_ns_ = thread_cpu_ns(cpu_clock_.load());
 }
