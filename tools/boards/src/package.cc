@@ -247,9 +247,9 @@ Result<std::string> build_deb(const PackageInput& in, const std::string& work_di
   control += "Description: tactile sensor inference daemon for " + in.board.name + "\n";
   control += " tlvlinkd turns the frames of GelSight-type tactile sensors into predictions\n"
              " (int8 touch encoder on XNNPACK) and streams them over a serial or USB link\n"
-             " or as JSON lines.\n .\n This package is built for " + in.board.name + " (" +
-             in.board.cpu + ") and the\n scene " + in.scene.name +
-             "; it refuses to install on a CPU without the\n features the build needs.\n";
+             " or as JSON lines.\n .\n Board: " + in.board.name + "\n CPU: " + in.board.cpu +
+             "\n Scene: " + in.scene.name +
+             "\n .\n It refuses to install on a CPU without the features the build needs.\n";
   TLV_TRY(write_text(root + "/DEBIAN/control", control, 0644));
   TLV_TRY(write_text(root + "/DEBIAN/conffiles", "/etc/tlvlink/tlvlinkd.toml\n", 0644));
   for (const char* script : {"preinst", "postinst", "prerm", "postrm"}) {
