@@ -11,6 +11,7 @@
 #include "support/temp_dir.h"
 #include "tlvlink/boards/board.h"
 #include "tlvlink/boards/build_options.h"
+#include "tlvlink/boards/flash.h"
 #include "tlvlink/boards/package.h"
 #include "tlvlink/boards/strip.h"
 #include "tlvlink/daemon/config.h"
@@ -290,6 +291,27 @@ TEST(Package, StagedRootHoldsTheScenesFiles) {
     EXPECT_TRUE(contains(text, boards::installed_model_path(in))) << text;
     EXPECT_TRUE(daemon::parse_config(text, name).ok()) << text;
   }
+}
+
+// A build tree configured for another -mcpu is refused before anything is built in it: its
+// objects would put one CPU's code into another board's package.
+TEST(Flash, BuildTreeForAnotherCpuIsRefused) {
+  testing::TempDir dir("flash_tree");
+  const std::string tree = dir / "tree";
+  ASSERT_EQ(std::system(("mkdir -p " + tree).c_str()), 0);
+  std::ofstream(tree + "/CMakeCache.txt") << "TLVLINK_TARGET_CPU:STRING=cortex-a72\n";
+  boards::FlashOptions o;
+  o.board = "rpi5-a76";
+  o.scene = "grasp-two-mini";
+  o.source_dir = kSource;
+  o.out_dir = dir / "out";
+  o.build_dir = tree;
+  auto r = boards::flash(o);
+  ASSERT_FALSE(r.ok());
+  const std::string m = r.error().message();
+  EXPECT_TRUE(contains(m, "-mcpu=cortex-a72")) << m;
+  EXPECT_TRUE(contains(m, "needs -mcpu=cortex-a76")) << m;
+  EXPECT_FALSE(std::ifstream(tree + "/build.ninja").good()) << "nothing was configured there";
 }
 
 // The package's preinst on a Pi 4 (no asimddp) refuses an A76 build with a message, and accepts
