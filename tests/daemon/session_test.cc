@@ -82,6 +82,29 @@ std::vector<std::unique_ptr<capture::FrameSource>> sources() {
   return s;
 }
 
+// Waits for `warmup` frames, then counts heap allocations until the session's max_frames. Bounded
+// waits: a stuck session fails its test (limit_reached false, with the frame count) instead of
+// hanging ctest.
+struct Counted {
+  bool limit_reached = false;
+  uint64_t frames = 0;
+  size_t allocations = 0;
+};
+Counted count_allocations_after_warmup(Session& session, int64_t warmup) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(240);
+  while (session.frames_processed() < static_cast<uint64_t>(warmup) &&
+         std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  testing::start_counting_allocations();
+  while (!session.limit_reached() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  Counted c;
+  c.allocations = testing::stop_counting_allocations();
+  c.limit_reached = session.limit_reached();
+  c.frames = session.frames_processed();
+  return c;
+}
+
 TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
   testing::TempDir dir;
   const std::string out = dir.path() + "/predictions.jsonl";
@@ -90,17 +113,10 @@ TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
   ASSERT_TRUE(config.ok()) << config.error().message();
   auto session = Session::start_with_sources(*config, sources());
   ASSERT_TRUE(session.ok()) << session.error().message();
-  // Bounded waits: a stuck session fails here, naming the frame count, instead of hanging ctest.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(240);
-  while ((*session)->frames_processed() < static_cast<uint64_t>(kWarmup) &&
-         std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  testing::start_counting_allocations();
-  while (!(*session)->limit_reached() && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  const size_t allocations = testing::stop_counting_allocations();
-  ASSERT_TRUE((*session)->limit_reached())
-      << (*session)->frames_processed() << " of " << kWarmup + kCounted << " frames in 240 s";
+  const Counted counted = count_allocations_after_warmup(**session, kWarmup);
+  ASSERT_TRUE(counted.limit_reached)
+      << counted.frames << " of " << kWarmup + kCounted << " frames in 240 s";
+  const size_t allocations = counted.allocations;
   const SessionTotals t = (*session)->stop();
   EXPECT_EQ(allocations, 0u) << "heap allocations while " << kCounted << " frames went through";
   EXPECT_GE(t.frames, static_cast<uint64_t>(kWarmup + kCounted));
@@ -203,17 +219,10 @@ TEST(DaemonSession, ReportsTheEmbeddingAndItsInt8Tensor) {
   ASSERT_TRUE(config.ok()) << config.error().message();
   auto session = Session::start_with_sources(*config, sources());
   ASSERT_TRUE(session.ok()) << session.error().message();
-  // Bounded waits: a stuck session fails here, naming the frame count, instead of hanging ctest.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(240);
-  while ((*session)->frames_processed() < static_cast<uint64_t>(kWarmup) &&
-         std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  testing::start_counting_allocations();
-  while (!(*session)->limit_reached() && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  const size_t allocations = testing::stop_counting_allocations();
-  ASSERT_TRUE((*session)->limit_reached())
-      << (*session)->frames_processed() << " of " << kWarmup + kCounted << " frames in 240 s";
+  const Counted counted = count_allocations_after_warmup(**session, kWarmup);
+  ASSERT_TRUE(counted.limit_reached)
+      << counted.frames << " of " << kWarmup + kCounted << " frames in 240 s";
+  const size_t allocations = counted.allocations;
   const SessionTotals t = (*session)->stop();
   EXPECT_EQ(allocations, 0u) << "heap allocations while " << kCounted << " frames went through";
   EXPECT_EQ(t.encoded, t.frames) << "gating is off: every frame is encoded";
