@@ -26,18 +26,8 @@ namespace {
 
 constexpr char kLink[] = "/tmp/vivid-loop-cam";
 
-double cpu_seconds() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
-}
-
-bool write_sysfs(const char* path, const char* text) {
-  std::ofstream f(path);
-  f << text;
-  f.flush();
-  return static_cast<bool>(f);
-}
+using vivid::cpu_seconds;
+using vivid::write_sysfs;
 
 class VividLoopReload : public ::testing::Test {
  protected:

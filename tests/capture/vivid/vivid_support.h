@@ -39,5 +39,9 @@ V4l2Config capture_config(const Nodes& nodes, image::PixelFormat format, int32_t
 
 // Monotonic now, for frame ages.
 int64_t now_ns();
+// This process's CPU time in seconds (CLOCK_PROCESS_CPUTIME_ID): a spinning loop shows here.
+double cpu_seconds();
+// Writes `text` to a sysfs file (unbind / bind a driver); false when the kernel refused it.
+bool write_sysfs(const char* path, const char* text);
 
 }  // namespace tlvlink::capture::vivid
