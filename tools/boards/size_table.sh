@@ -2,7 +2,7 @@
 # Size table of the board packages (boards/README.md, between the size-table markers): for each
 # board x scene, tlvlinkd's code and data (text+data), the runtime + daemon libraries (text+data), the stripped
 # model, the .deb, and what the scene's build leaves out. Each row comes from `tlvlink flash`
-# (build/host's CLI), which builds one tree per board and rebuilds only what a scene's options
+# (build/host's CLI), which builds one tree per -mcpu and rebuilds only what a scene's options
 # change.
 #   tools/boards/size_table.sh [--all] [--write]
 # Default (CI): every board with grasp-two-mini, and rpi5-a76 with every scene (8 packages;
