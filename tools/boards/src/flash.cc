@@ -36,6 +36,15 @@ Status build_daemon(const FlashOptions& o, const Board& b, const BuildPlan& plan
   return {};
 }
 
+// A cache variable of an existing build tree ("" when the tree or the variable is not there).
+std::string cache_value(const std::string& dir, const char* name) {
+  auto line = command_output("sed -n 's/^" + std::string(name) + ":[A-Z]*=//p' " +
+                             shell_quote(dir + "/CMakeCache.txt") + " 2>/dev/null");
+  std::string value = line.ok() ? *line : "";
+  while (!value.empty() && (value.back() == '\n' || value.back() == '\r')) value.pop_back();
+  return value;
+}
+
 // One tree per compiler target (-mcpu), shared by the boards and scenes built for it: another
 // board with the same -mcpu, or another scene, rebuilds only what its options change.
 std::string default_build_dir(const FlashOptions& o, const Board& b) {
@@ -46,11 +55,8 @@ std::string default_build_dir(const FlashOptions& o, const Board& b) {
 // An existing tree configured for another -mcpu is refused: reusing its objects would put one
 // CPU's code into another board's package.
 Status check_tree_cpu(const std::string& dir, const Board& b) {
-  auto line = command_output("sed -n 's/^TLVLINK_TARGET_CPU:[A-Z]*=//p' " +
-                             shell_quote(dir + "/CMakeCache.txt") + " 2>/dev/null");
-  if (!line.ok() || line->empty()) return {};  // a new tree, or one without a target CPU
-  std::string cpu = *line;
-  while (!cpu.empty() && (cpu.back() == '\n' || cpu.back() == '\r')) cpu.pop_back();
+  const std::string cpu = cache_value(dir, "TLVLINK_TARGET_CPU");
+  if (cpu.empty()) return {};  // a new tree, or one without a target CPU
   TLV_ENSURE(cpu == b.option("TLVLINK_TARGET_CPU"), ErrorCode::kInvalidArgument,
              "build tree %s is configured for -mcpu=%s; board '%s' needs -mcpu=%s (use another "
              "--build-dir)", dir.c_str(), cpu.c_str(), b.name.c_str(),
@@ -60,12 +66,8 @@ Status check_tree_cpu(const std::string& dir, const Board& b) {
 
 // make_sysroot.sh's stamp, from the build's TLVLINK_SYSROOT (arm64 package versions).
 std::string sysroot_stamp(const std::string& build_dir) {
-  auto line = command_output("sed -n 's/^TLVLINK_SYSROOT:PATH=//p' " +
-                             shell_quote(build_dir + "/CMakeCache.txt"));
-  if (!line.ok() || line->empty()) return "";
-  std::string dir = *line;
-  while (!dir.empty() && (dir.back() == '\n' || dir.back() == '\r')) dir.pop_back();
-  return dir + "/.tlvlink-sysroot-stamp";
+  const std::string dir = cache_value(build_dir, "TLVLINK_SYSROOT");
+  return dir.empty() ? "" : dir + "/.tlvlink-sysroot-stamp";
 }
 
 // The emulated board boots the package's own files: the staged root copied into the rig's
