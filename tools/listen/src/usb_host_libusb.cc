@@ -57,13 +57,9 @@ class UsbHostTransport final : public transport::Transport {
     std::snprintf(name, sizeof(name), "usb:%04x:%04x%s%s", selector_.vendor, selector_.product,
                   selector_.serial.empty() ? "" : ",serial=", selector_.serial.c_str());
     name_ = name;
-    rx_transfer_ = libusb_alloc_transfer(0);
-    tx_transfer_ = libusb_alloc_transfer(0);
   }
   ~UsbHostTransport() override {
     close();
-    libusb_free_transfer(rx_transfer_);
-    libusb_free_transfer(tx_transfer_);
     if (context_) libusb_exit(context_);
   }
 
@@ -135,6 +131,14 @@ class UsbHostTransport final : public transport::Transport {
     for (int tries = 0; (rx_pending_ || tx_pending_) && tries < 20; ++tries) {
       libusb_handle_events_timeout_completed(context_, &tv, nullptr);
     }
+    // A transfer holds a reference to the device it was last submitted on (libusb 1.0.26), so it
+    // is freed here, while that device's context is alive; reusing it after open() renewed the
+    // context made its next submit destroy a device of the freed context (a crash on replug).
+    // One still in flight after the drain cannot be freed safely: it is abandoned (a few hundred
+    // bytes; the kernel cancels its URB when the handle closes).
+    if (!rx_pending_) libusb_free_transfer(rx_transfer_);
+    if (!tx_pending_) libusb_free_transfer(tx_transfer_);
+    rx_transfer_ = tx_transfer_ = nullptr;
     libusb_release_interface(handle_, interface_);
     libusb_close(handle_);
     handle_ = nullptr;
@@ -196,6 +200,13 @@ class UsbHostTransport final : public transport::Transport {
     }
     interface_ = s.number, in_endpoint_ = s.in, out_endpoint_ = s.out;
     failed_ = false;
+    // Transfers belong to one connection (see close()).
+    rx_transfer_ = libusb_alloc_transfer(0);
+    tx_transfer_ = libusb_alloc_transfer(0);
+    if (!rx_transfer_ || !tx_transfer_) {
+      close();
+      return Error::make(ErrorCode::kOutOfMemory, "%s: libusb could not allocate a transfer", name_.c_str());
+    }
     return submit_read();
   }
 
