@@ -13,6 +13,7 @@
 #include <fstream>
 #include <memory>
 
+#include "data_cache.h"
 #include "tlvlink/io/npy.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/model.h"
@@ -191,6 +192,64 @@ TEST_F(Trainer, MultiTaskWithAugmentationIsReproducibleAndResumes) {
   auto rp = train(plain);
   ASSERT_TRUE(rp.ok());
   EXPECT_NE(rp->final_loss, rw->final_loss);
+}
+
+TEST_F(Trainer, ContactRegressionReadsTheSidecarTrainsAndResumes) {
+  // The cache carries each frame's ln(force) and friction from the sidecar (the targets).
+  CacheOptions co;
+  co.dir = data();
+  co.load_vision = false;
+  auto cache = load_cache(co);
+  ASSERT_TRUE(cache.ok()) << cache.error().message();
+  ASSERT_EQ(cache->log_force.size(), cache->keys.size());
+  ASSERT_EQ(cache->friction.size(), cache->keys.size());
+  int64_t with_targets = 0;
+  for (size_t i = 0; i < cache->keys.size(); ++i) {
+    if (!std::isfinite(cache->log_force[i])) continue;
+    ++with_targets;
+    // Simulated presses: 1-15 N, friction 0.15-1.2 (tools/sim/src/gen: touch_generator.cc,
+    // materials.cc), with a margin.
+    EXPECT_GT(cache->log_force[i], std::log(0.5f)) << cache->keys[i];
+    EXPECT_LT(cache->log_force[i], std::log(40.0f)) << cache->keys[i];
+    EXPECT_GT(cache->friction[i], 0.1f) << cache->keys[i];
+    EXPECT_LT(cache->friction[i], 1.5f) << cache->keys[i];
+  }
+  EXPECT_GT(with_targets, 0);
+
+  // The term is in the loss (a squared error of O(1) added to the first epoch), it is off at
+  // weight 0, and a run that uses it resumes exactly (the checkpoint keeps its layer).
+  TempDir out("contact");
+  auto options = [&](const std::string& name, double contact) {
+    TrainOptions o = quick_options(data(), out / name);
+    o.objective = Objective::kSupervised;
+    o.beta.schedule = BetaSchedule::kNone;
+    o.contact_weight = contact;
+    o.epochs = 3;
+    return o;
+  };
+  TrainOptions whole = options("whole.ckpt", 1.0);
+  whole.checkpoint_dir = out.path();
+  whole.checkpoint_every = 5;
+  auto with = train(whole);
+  auto without = train(options("off.ckpt", 0.0));
+  ASSERT_TRUE(with.ok()) << with.error().message();
+  ASSERT_TRUE(without.ok()) << without.error().message();
+  EXPECT_GT(with->first_epoch_loss, without->first_epoch_loss);
+  EXPECT_LT(with->last_epoch_loss, with->first_epoch_loss);
+  TrainOptions resumed;
+  resumed.data_dir = data();
+  resumed.output = out / "resumed.ckpt";
+  resumed.resume = out / "step_0000005.ckpt";
+  auto rr = train(resumed);
+  ASSERT_TRUE(rr.ok()) << rr.error().message();
+  EXPECT_EQ(rr->final_loss, with->final_loss);
+  // A weight outside [0, 100] is refused before any work.
+  TrainOptions bad = options("bad.ckpt", -1.0);
+  auto rb = train(bad);
+  ASSERT_FALSE(rb.ok());
+  EXPECT_EQ(rb.error().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(std::string(rb.error().message()).find("contact weight"), std::string::npos)
+      << rb.error().message();
 }
 
 TEST_F(Trainer, ExportedModelMatchesLibtorch) {

@@ -144,6 +144,12 @@ void add_train_command(CLI::App& app, int& exit_code) {
   setting(cmd->add_option("--supervised-weight", o.supervised_weight,
                           "tlv-link+supervised: weight of the cross-entropy term")
               ->capture_default_str());
+  setting(cmd->add_option("--contact-weight", o.contact_weight,
+                          "supervised objectives: weight of the contact regression (the frame's "
+                          "log force and the material's friction, read linearly from the "
+                          "embedding; 0 = off)")
+              ->check(CLI::Range(0.0, 100.0))
+              ->capture_default_str());
   setting(cmd->add_option("--augment-gain", o.augment.gain_sigma,
                           "Augmentation: per-channel gain exp(N(0, s)) around the frame mean "
                           "(0 = off)")

@@ -101,7 +101,11 @@ Result<TrainState> load_checkpoint(const std::string& path) {
     }
     torch::serialize::InputArchive heads;
     if (archive.try_read("supervised", heads)) {
-      state.heads = SupervisedHeads(state.meta.at("arch").at("embedding_dim").get<int64_t>());
+      // The contact regression exists when the run's settings ask for it (checkpoints written
+      // before it existed have none).
+      const bool contact = state.meta.contains("settings") &&
+                           state.meta.at("settings").value("contact_weight", 0.0) > 0;
+      state.heads = SupervisedHeads(state.meta.at("arch").at("embedding_dim").get<int64_t>(), contact);
       state.heads->load(heads);
     }
   } catch (const nlohmann::json::exception& e) {

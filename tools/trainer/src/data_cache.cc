@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <mutex>
 #include <thread>
 
@@ -21,6 +22,8 @@
 
 namespace tlvlink::trainer {
 namespace {
+
+constexpr float kNoTarget = std::numeric_limits<float>::quiet_NaN();
 
 std::string join_phrases(const std::vector<std::string>& phrases) {
   std::string s;
@@ -41,6 +44,7 @@ Status load_resized(const std::string& path, int32_t height, int32_t width, uint
 struct Pending {
   std::string key, sentence, phrases;
   int32_t material = -1, hard = -1, rough = -1;
+  float log_force = kNoTarget, friction = kNoTarget;
 };
 
 }  // namespace
@@ -122,9 +126,13 @@ Result<DataCache> load_cache(const CacheOptions& o) {
     if (o.max_samples > 0 && static_cast<int64_t>(pending.size()) >= o.max_samples) continue;
     // Labels exist only where the simulator's sidecar recorded the material (class id >= 0).
     const bool labelled = s.material.class_id >= 0;
+    const bool touching = labelled && s.contact.in_contact && s.contact.force_n > 0 &&
+                          std::isfinite(s.contact.force_n) && s.material.friction > 0;
     pending.push_back({key, s.sentence_desc, join_phrases(s.phrases), s.material.class_id,
                        labelled ? (s.material.hard ? 1 : 0) : -1,
-                       labelled ? s.material.rough : -1});
+                       labelled ? s.material.rough : -1,
+                       touching ? static_cast<float>(std::log(s.contact.force_n)) : kNoTarget,
+                       touching ? static_cast<float>(s.material.friction) : kNoTarget});
   }
   const char* split_name = o.split == SplitChoice::kTrain ? "train" : "test";
   TLV_ENSURE(!pending.empty(), ErrorCode::kInvalidArgument,
@@ -203,6 +211,8 @@ Result<DataCache> load_cache(const CacheOptions& o) {
     cache.material.push_back(pending[i].material);
     cache.hard.push_back(pending[i].hard);
     cache.rough.push_back(pending[i].rough);
+    cache.log_force.push_back(pending[i].log_force);
+    cache.friction.push_back(pending[i].friction);
     ++kept;
   }
   cache.touch.resize(kept * cache.touch_stride());

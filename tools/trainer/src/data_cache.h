@@ -40,6 +40,10 @@ struct DataCache {
   std::vector<int32_t> material;            // class id, -1 unknown (no sidecar)
   std::vector<int32_t> hard;                // 1 hard, 0 soft, -1 unknown (no sidecar)
   std::vector<int32_t> rough;               // 1 rough, 0 smooth, -1 in between or unknown
+  // The contact regression's targets (supervised.h), NaN where the sidecar records no contact
+  // (no sidecar, or the frame is not in contact): ln(normal force / 1 N), friction coefficient.
+  std::vector<float> log_force;
+  std::vector<float> friction;
   std::string split_source;                 // "sidecar" or "session hash (test fraction f)"
   std::string load_summary;                 // the loader's LoadReport summary
   int64_t skipped_other_split = 0;

@@ -50,6 +50,8 @@ Status validate(const TrainOptions& o) {
                  o.supervised_weight <= 100,
              ErrorCode::kInvalidArgument, "supervised weight %g outside (0, 100]",
              o.supervised_weight);
+  TLV_ENSURE(std::isfinite(o.contact_weight) && o.contact_weight >= 0 && o.contact_weight <= 100,
+             ErrorCode::kInvalidArgument, "contact weight %g outside [0, 100]", o.contact_weight);
   const AugmentOptions& a = o.augment;
   TLV_ENSURE(a.gain_sigma >= 0 && a.gain_sigma <= 1 && a.exposure_sigma >= 0 &&
                  a.exposure_sigma <= 1 && a.noise_dn >= 0 && a.noise_dn <= 50,
@@ -130,6 +132,7 @@ nlohmann::ordered_json options_to_json(const TrainOptions& o) {
                 {"span", o.beta.span}, {"beta_min", o.beta.beta_min}}},
       {"objective", objective_name(o.objective)},
       {"supervised_weight", o.supervised_weight},
+      {"contact_weight", o.contact_weight},
       {"augment", {{"gain_sigma", o.augment.gain_sigma},
                    {"exposure_sigma", o.augment.exposure_sigma},
                    {"noise_dn", o.augment.noise_dn}}},
@@ -181,6 +184,7 @@ Status options_from_json(const nlohmann::ordered_json& j, TrainOptions& o) {
     // without augmentation.
     TLV_ASSIGN_OR_RETURN(o.objective, parse_objective(j.value("objective", "tlv-link")));
     o.supervised_weight = j.value("supervised_weight", 1.0);
+    o.contact_weight = j.value("contact_weight", 0.0);  // added later still: none before
     if (j.contains("augment")) {
       o.augment.gain_sigma = j.at("augment").at("gain_sigma").get<double>();
       o.augment.exposure_sigma = j.at("augment").at("exposure_sigma").get<double>();

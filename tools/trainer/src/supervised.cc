@@ -17,10 +17,23 @@ torch::Tensor masked_ce(const torch::Tensor& logits, const torch::Tensor& labels
 
 }  // namespace
 
-SupervisedHeadsImpl::SupervisedHeadsImpl(int64_t dim) {
+SupervisedHeadsImpl::SupervisedHeadsImpl(int64_t dim, bool with_contact) {
   material = register_module("material", torch::nn::Linear(dim, kMaterialClasses));
   hard = register_module("hard", torch::nn::Linear(dim, 2));
   rough = register_module("rough", torch::nn::Linear(dim, 2));
+  if (with_contact) contact = register_module("contact", torch::nn::Linear(dim, 2));
+}
+
+torch::Tensor SupervisedHeadsImpl::contact_loss(const torch::Tensor& e, const torch::Tensor& log_force,
+                                                const torch::Tensor& friction) {
+  const torch::Tensor target = torch::stack({(log_force - kLogForceMean) / kLogForceScale,
+                                             (friction - kFrictionMean) / kFrictionScale}, 1);
+  const torch::Tensor known = torch::isfinite(target);
+  const int64_t n = known.sum().item<int64_t>();
+  if (n == 0) return torch::zeros({}, e.options());
+  const torch::Tensor diff = torch::where(known, contact->forward(e) - torch::nan_to_num(target),
+                                          torch::zeros({}, e.options()));
+  return diff.pow(2).sum() / static_cast<double>(n);
 }
 
 torch::Tensor SupervisedHeadsImpl::loss(const torch::Tensor& e, const torch::Tensor& m,
@@ -33,6 +46,13 @@ torch::Tensor label_batch(const std::vector<int32_t>& labels, const std::vector<
   torch::Tensor t = torch::empty({static_cast<int64_t>(idx.size())}, torch::kLong);
   auto* p = t.data_ptr<int64_t>();
   for (size_t i = 0; i < idx.size(); ++i) p[i] = labels[static_cast<size_t>(idx[i])];
+  return t;
+}
+
+torch::Tensor target_batch(const std::vector<float>& targets, const std::vector<int64_t>& idx) {
+  torch::Tensor t = torch::empty({static_cast<int64_t>(idx.size())}, torch::kFloat);
+  auto* p = t.data_ptr<float>();
+  for (size_t i = 0; i < idx.size(); ++i) p[i] = targets[static_cast<size_t>(idx[i])];
   return t;
 }
 

@@ -211,6 +211,16 @@ Result<TrainSummary> train(const TrainOptions& requested) {
                "%s: objective %s needs labels, and no training sample has any (only a simulated "
                "set's sidecar records material, hard/soft and rough/smooth)",
                o.data_dir.c_str(), objective_name(o.objective));
+    if (o.contact_weight > 0) {
+      const auto with_contact = std::count_if(cache.log_force.begin(), cache.log_force.end(),
+                                              [](float f) { return std::isfinite(f); });
+      TLV_ENSURE(with_contact > 0, ErrorCode::kInvalidArgument,
+                 "%s: the contact regression (--contact-weight %g) needs the frames' force and "
+                 "friction, and no training sample's sidecar records a contact; pass "
+                 "--contact-weight 0", o.data_dir.c_str(), o.contact_weight);
+      TLV_LOG(kLogTrain, kInfo, "contact regression: %lld of %lld samples record force and friction",
+              static_cast<long long>(with_contact), static_cast<long long>(n));
+    }
   }
   TLV_ASSIGN_OR_RETURN(const torch::Tensor text, text_features(*encoder, cache));
 
@@ -230,7 +240,7 @@ Result<TrainSummary> train(const TrainOptions& requested) {
   } else {
     state.student = EncoderNet(arch);
     state.logit_scale = torch::full({}, std::log(1.0 / o.init_temperature), torch::kFloat32);
-    if (supervised) state.heads = SupervisedHeads(o.text.dim);
+    if (supervised) state.heads = SupervisedHeads(o.text.dim, o.contact_weight > 0);
     if (curriculum) {
       const auto tt = Clock::now();
       auto teacher = torchscript_teacher ? run_torchscript_teacher(cache, o)
@@ -366,6 +376,11 @@ Result<TrainSummary> train(const TrainOptions& requested) {
       loss = loss + w * state.heads->loss(touch, label_batch(cache.material, idx),
                                           label_batch(cache.hard, idx),
                                           label_batch(cache.rough, idx));
+      if (state.heads->has_contact()) {
+        loss = loss + w * o.contact_weight *
+                          state.heads->contact_loss(touch, target_batch(cache.log_force, idx),
+                                                    target_batch(cache.friction, idx));
+      }
     }
     optimizer->zero_grad();
     loss.backward();

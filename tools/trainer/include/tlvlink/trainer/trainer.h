@@ -60,6 +60,8 @@ struct TeacherOptions {
 //                       teacher. The supervised upper bound of the issue-16 tables.
 //   kTlvLinkSupervised  both: InfoNCE + supervised_weight * cross-entropy (a multi-task
 //                       objective beside TLV-Link; the curriculum applies to the InfoNCE part).
+// Both supervised objectives add contact_weight * the contact regression (log force, friction)
+// where the sidecar records them.
 enum class Objective : uint8_t { kTlvLink = 0, kSupervised, kTlvLinkSupervised };
 const char* objective_name(Objective objective);  // "tlv-link", "supervised", "tlv-link+supervised"
 Result<Objective> parse_objective(std::string_view name);
@@ -92,6 +94,12 @@ struct TrainOptions {
   BetaOptions beta;             // schedule kNone = --no-curriculum (no teacher needed)
   Objective objective = Objective::kTlvLink;
   double supervised_weight = 1;  // kTlvLinkSupervised: weight of the cross-entropy term
+  // With the supervised heads (kSupervised, kTlvLinkSupervised): weight of the contact
+  // regression beside the cross-entropy, a linear read-out of the frame's log normal force and
+  // the material's friction coefficient from the embedding (supervised.h). 0 = off. The grasp
+  // head needs both linearly in the embedding: success is mostly friction x grip force against
+  // the object's weight (firmware/models/README.md "Grasp and the contact regression").
+  double contact_weight = 1;
   AugmentOptions augment;
 
   LrOptions lr;
