@@ -138,6 +138,11 @@ TEST(GraspGenerator, OracleFromThePublicApi) {
   ASSERT_TRUE(r.ok());
   EXPECT_GT(r.value().accuracy, 0.6);
   EXPECT_LT(r.value().accuracy, 0.98);
+  // Less known of the friction, less accuracy: exact mu >= mu via the class >= mu unknown, up
+  // to the Monte Carlo noise of 600 episodes and 4,000 hidden draws (~2 points).
+  EXPECT_LE(r.value().class_friction_accuracy, r.value().accuracy + 0.02);
+  EXPECT_LE(r.value().prior_friction_accuracy, r.value().class_friction_accuracy + 0.02);
+  EXPECT_GT(r.value().prior_friction_accuracy, r.value().majority_rate - 0.02);
   EXPECT_EQ(grasp_oracle_accuracy(o, 600), r.value().accuracy);
   o.sensor = "no-such-sensor";
   EXPECT_EQ(grasp_oracle_accuracy(o, 100), 0);

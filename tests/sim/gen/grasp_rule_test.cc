@@ -175,6 +175,32 @@ TEST(GraspPrior, SamplingIsDeterministicAndSuccessProbabilityIsSane) {
   missing.finger_in_contact[1] = false;
   EXPECT_EQ(internal::success_probability(missing, hidden), 0);
   EXPECT_EQ(internal::oracle_report(GelContactModel{}, 1, 0).samples, 0);
+
+  // Friction marginalised over a list of values: one value is the exact-mu estimate (the same
+  // draws), a slippery and a grippy value land between the two.
+  const double mu_weak[] = {0.2}, mu_strong[] = {1.2}, mu_both[] = {0.2, 1.2};
+  GraspVariables mid = held_grasp();
+  mid.grip_force_n = 15;
+  mid.contact_area_mm2[0] = mid.contact_area_mm2[1] = 100;
+  mid.friction = 0.2;
+  const double p_weak = internal::success_probability(mid, hidden);
+  mid.friction = 1.2;
+  const double p_strong = internal::success_probability(mid, hidden);
+  EXPECT_EQ(internal::success_probability_over_friction(mid, mu_weak, hidden), p_weak);
+  EXPECT_EQ(internal::success_probability_over_friction(mid, mu_strong, hidden), p_strong);
+  ASSERT_LT(p_weak, p_strong);
+  const double p_both = internal::success_probability_over_friction(mid, mu_both, hidden);
+  EXPECT_GT(p_both, p_weak);
+  EXPECT_LT(p_both, p_strong);
+  EXPECT_EQ(internal::success_probability_over_friction(mid, {}, hidden), 0);
+  // The prior's values: 16 slices of each graspable class's range.
+  const std::vector<double> prior = internal::prior_friction_values();
+  EXPECT_EQ(prior.size(),
+            internal::graspable_classes().size() * static_cast<size_t>(internal::kOracleFrictionDraws));
+  for (double mu : prior) {
+    EXPECT_GT(mu, 0.1);
+    EXPECT_LT(mu, 1.25);
+  }
 }
 
 }  // namespace

@@ -171,8 +171,8 @@ std::optional<GraspOracle> oracle_for(const GraspEmbeddings& g, int64_t samples)
   o.seed = j.value("seed", o.seed);
   auto r = sim::grasp_oracle_report(o, samples);
   if (!r.ok()) return std::nullopt;
-  return GraspOracle{r->accuracy, r->class_friction_accuracy, r->success_rate, r->majority_rate,
-                     r->samples};
+  return GraspOracle{r->accuracy, r->class_friction_accuracy, r->prior_friction_accuracy,
+                     r->success_rate, r->majority_rate, r->samples};
 }
 
 Status evaluate_probes(const EmbeddingSet& set, const FittedHeads& fit, EvalReport& rep) {

@@ -152,6 +152,8 @@ std::string format_table(std::span<const EvalReport* const> reports, bool paper_
                static_cast<long long>(first.oracle->samples));
     out += pad("grasp oracle (mu via class only)", kLabelWidth) + pad("", 3 * kCellWidth) +
            fmt("%.1f\n", 100 * first.oracle->class_friction_accuracy);
+    out += pad("grasp oracle (mu unknown)", kLabelWidth) + pad("", 3 * kCellWidth) +
+           fmt("%.1f\n", 100 * first.oracle->prior_friction_accuracy);
   }
   for (const BoundRow& b : first.bounds) {
     out += pad("bound: " + b.label, kLabelWidth);
@@ -251,6 +253,7 @@ std::string report_json(std::span<const EvalReport* const> reports) {
     if (r->oracle) {
       j["grasp_oracle"] = {{"accuracy", r->oracle->accuracy},
                            {"class_friction_accuracy", r->oracle->class_friction_accuracy},
+                           {"prior_friction_accuracy", r->oracle->prior_friction_accuracy},
                            {"success_rate", r->oracle->success_rate},
                            {"majority_rate", r->oracle->majority_rate},
                            {"samples", r->oracle->samples}};

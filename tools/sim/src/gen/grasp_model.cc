@@ -21,6 +21,8 @@ constexpr double kFlatLocalRadiusMm = 30.0;  // L_o of a flat face in the compli
 
 }  // namespace
 
+std::span<const int32_t> graspable_classes() { return kGraspableClasses; }
+
 double sample_mass(Rng& rng) {
   return rng.log_uniform(kMassMinKg, kMassMaxKg);
 }

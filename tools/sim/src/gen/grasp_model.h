@@ -4,6 +4,7 @@
 // the reasons for them: tools/sim/REFERENCE.md ("Grasp episodes").
 
 #include <cstdint>
+#include <span>
 
 #include "gen/contact_area.h"
 #include "gen/rng.h"
@@ -22,6 +23,9 @@ inline constexpr double kLiftAccelMax = 3.0;                 // m/s^2, uniform [
 inline constexpr int32_t kGripMinN = 5, kGripMaxN = 35;      // Feel: random integer
 inline constexpr double kMissingFingerProb = 0.05;
 inline constexpr double kFingerOffsetMm = 2.0;  // contact position jitter
+
+// The material classes grasp objects are drawn from, each equally likely.
+std::span<const int32_t> graspable_classes();
 
 // One graspable object: material, shape and (hidden) mass.
 struct GraspObject {

@@ -2,6 +2,7 @@
 // The Bayes-optimal grasp predictor from the visible variables alone, and its accuracy.
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "gen/contact_area.h"
@@ -23,10 +24,19 @@ HiddenDraws draw_hidden(uint64_t seed, int64_t count);
 
 // P(success | visible part of v), by Monte Carlo over `hidden` (v's hidden fields are ignored).
 double success_probability(const GraspVariables& v, const HiddenDraws& hidden);
-// The same with v.friction replaced by kOracleFrictionDraws values spread over `range` (each
-// with every `stride`-th hidden draw, offset by its index, so all draws are used once).
+// The same with v.friction replaced by each of `frictions` in turn, value j with every k-th
+// hidden draw from draw j mod n on (k = frictions.size(), n = the draws; when k <= n every draw
+// is used once), i.e. mu marginalised over those values with equal weights.
+double success_probability_over_friction(const GraspVariables& v,
+                                         std::span<const double> frictions,
+                                         const HiddenDraws& hidden);
+// mu known only through the material class: kOracleFrictionDraws values spread over `range`
+// (mid-points of equal slices of the class's uniform range).
 double success_probability_class_friction(const GraspVariables& v, Range range,
                                           const HiddenDraws& hidden);
+// mu known not at all: the grasp prior's friction (every graspable class, equally likely, each
+// as kOracleFrictionDraws slices of its range).
+std::vector<double> prior_friction_values();
 
 // The oracle's accuracy on `samples` fresh episodes drawn from the grasp prior with `seed`.
 GraspOracleReport oracle_report(const GelContactModel& gel, uint64_t seed, int64_t samples);

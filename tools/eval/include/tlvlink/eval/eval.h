@@ -73,6 +73,7 @@ struct TaskResult {
 struct GraspOracle {
   double accuracy = 0;      // Bayes-optimal on visible variables (tlvlink/sim/generate.h)
   double class_friction_accuracy = 0;  // the same with mu known only through the class
+  double prior_friction_accuracy = 0;  // the same with mu not known at all (the grasp prior's)
   double success_rate = 0;
   double majority_rate = 0;
   int64_t samples = 0;

@@ -121,6 +121,11 @@ struct GraspOracleReport {
   // the class's range, kOracleFrictionDraws values. Closer to what a model of the frames can
   // reach; the exact-mu figure above is the task's ceiling.
   double class_friction_accuracy = 0;
+  // The same when the frames tell nothing of the material: mu marginalised over the grasp
+  // prior's friction (every graspable class's range). What force, contact areas and finger
+  // contact alone support; it ignores what the contact areas say of the material (its
+  // stiffness), so a model may beat it slightly.
+  double prior_friction_accuracy = 0;
 };
 Result<GraspOracleReport> grasp_oracle_report(const GraspSetOptions& options, int64_t samples);
 
