@@ -148,7 +148,7 @@ TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
       EXPECT_EQ(j.contains("heads"), j.at("encoded") && j.at("contact") != "none") << line;
       if (j.contains("heads")) {
         // The default output: the model's probe heads except those its trust records mark
-        // untrusted (the shipped model's hard_soft head does not beat its majority class).
+        // untrusted (none in the shipped model today; its hard_soft head was, before 2026-11-25).
         EXPECT_EQ(j.at("heads").size(), default_heads.size()) << line;
         for (const std::string& name : default_heads) {
           const double p = j.at("heads").at(name).at("p");

@@ -98,7 +98,7 @@ struct TrainOptions {
   // regression beside the cross-entropy, a linear read-out of the frame's log normal force and
   // the material's friction coefficient from the embedding (supervised.h). 0 = off. The grasp
   // head needs both linearly in the embedding: success is mostly friction x grip force against
-  // the object's weight (firmware/models/README.md "Grasp and the contact regression").
+  // the object's weight (firmware/models/README.md "Accuracy and ceilings", the grasp target).
   double contact_weight = 1;
   AugmentOptions augment;
 
