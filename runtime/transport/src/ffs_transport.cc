@@ -67,6 +67,17 @@ class FfsTransport final : public Transport {
     rx_pending_ = tx_pending_ = false;
   }
 
+  // A bulk IN transfer completes when the host reads it; close() cancels one still pending, and
+  // its bytes (the stream's last frame at a stop) never reach the host. So the Sender's flush
+  // waits here, bounded, for the host to take it.
+  void drain(int timeout_ms) override {
+    for (int waited = 0; open_ && tx_pending_ && waited < timeout_ms; waited += 10) {
+      pollfd fd{aio_.event_fd(), POLLIN, 0};
+      if (::poll(&fd, 1, std::min(10, timeout_ms - waited)) < 0 && errno != EINTR) return;
+      if (!reap().ok()) return;  // the link failed: nothing more will be read
+    }
+  }
+
   Result<Readiness> wait(bool want_write, int timeout_ms) override {
     TLV_ENSURE(open_, ErrorCode::kInvalidState, "%s: wait() on a closed link", name_.c_str());
     TLV_TRY(reap());
