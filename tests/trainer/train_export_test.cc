@@ -76,6 +76,15 @@ std::vector<float> embed(const std::string& ckpt, const std::vector<float>& fram
   return e.ok() ? std::move(e).value() : std::vector<float>{};
 }
 
+// A run resumed from `checkpoint` in `out` with the settings it recorded, into resumed.ckpt.
+Result<TrainSummary> resume(const std::string& data_dir, const TempDir& out, const char* checkpoint) {
+  TrainOptions o;
+  o.data_dir = data_dir;
+  o.output = out / "resumed.ckpt";
+  o.resume = out / checkpoint;
+  return train(o);
+}
+
 TEST_F(Trainer, SameSeedSameModel) {
   TempDir out("seed");
   int64_t n = 0;
@@ -179,11 +188,7 @@ TEST_F(Trainer, MultiTaskWithAugmentationIsReproducibleAndResumes) {
   auto again = train(options("again.ckpt"));
   ASSERT_TRUE(again.ok());
   EXPECT_EQ(again->final_loss, rw->final_loss);
-  TrainOptions resumed;
-  resumed.data_dir = data();
-  resumed.output = out / "resumed.ckpt";
-  resumed.resume = out / "step_0000005.ckpt";
-  auto rr = train(resumed);
+  auto rr = resume(data(), out, "step_0000005.ckpt");
   ASSERT_TRUE(rr.ok()) << rr.error().message();
   EXPECT_EQ(rr->final_loss, rw->final_loss);
   // Without augmentation the run differs (the augmentation did something).
@@ -236,11 +241,7 @@ TEST_F(Trainer, ContactRegressionReadsTheSidecarTrainsAndResumes) {
   ASSERT_TRUE(without.ok()) << without.error().message();
   EXPECT_GT(with->first_epoch_loss, without->first_epoch_loss);
   EXPECT_LT(with->last_epoch_loss, with->first_epoch_loss);
-  TrainOptions resumed;
-  resumed.data_dir = data();
-  resumed.output = out / "resumed.ckpt";
-  resumed.resume = out / "step_0000005.ckpt";
-  auto rr = train(resumed);
+  auto rr = resume(data(), out, "step_0000005.ckpt");
   ASSERT_TRUE(rr.ok()) << rr.error().message();
   EXPECT_EQ(rr->final_loss, with->final_loss);
   // A weight outside [0, 100] is refused before any work.
