@@ -171,9 +171,6 @@ TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
   EXPECT_EQ(summaries, 1u);
 }
 
-// `embedding = true`: every encoded frame carries the encoder's embedding and the int8 tensor it
-// comes from (the host-vs-board comparison of tests/hil reads them), still without allocating
-// per frame; a frame's values depend on its bytes only (the sources repeat four JPEGs).
 // Cameras faster than the encoder (unpaced YUYV sources, gating off): there is always another frame.
 // The inference thread still publishes its counters and applies commands every few frames;
 // before the fix its loop never ended while frames kept coming, so the counters read 0.
@@ -207,6 +204,9 @@ TEST(DaemonSession, CountersKeepUpWhenTheEncoderIsBehind) {
   EXPECT_GE(t.encoded, 20u) << "frames " << t.frames << ", bad " << t.bad_frames << ", decode errors " << t.decode_errors << ", inference errors " << t.inference_errors;
 }
 
+// `embedding = true`: every encoded frame carries the encoder's embedding and the int8 tensor it
+// comes from (the host-vs-board comparison of tests/hil reads them), still without allocating
+// per frame; a frame's values depend on its bytes only (the sources repeat four JPEGs).
 TEST(DaemonSession, ReportsTheEmbeddingAndItsInt8Tensor) {
   testing::TempDir dir;
   const std::string out = dir.path() + "/predictions.jsonl";
