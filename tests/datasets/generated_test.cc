@@ -147,6 +147,7 @@ TEST(Generated, GraspEpisodesLoadBackFromHdf5AndRepacked) {
   gen.vision_width = 32;
   gen.seed = 5;
   gen.sensor_instances = 3;
+  gen.sensor = "gelsight-mini,digit";  // a mixed set: landscape and portrait frames in one set
   auto generator = sim::GraspEpisodeGenerator::create(gen);
   ASSERT_TRUE(generator.ok()) << generator.error().message();
   FeelWriterOptions wo;
@@ -176,7 +177,9 @@ TEST(Generated, GraspEpisodesLoadBackFromHdf5AndRepacked) {
     EXPECT_DOUBLE_EQ(got.variables.mass_kg, w.variables.mass_kg);
     EXPECT_EQ(got.sensor_instance[0], w.sensor_instance[0]);  // from the tlvlink_sim attribute
     EXPECT_EQ(got.sensor_instance[1], w.sensor_instance[1]);
+    EXPECT_EQ(got.sensor, w.sensor);
     EXPECT_EQ(got.frames[1][1].width, w.frames[1][1].width);
+    EXPECT_EQ(got.frames[1][1].height, w.frames[1][1].height);
     EXPECT_EQ(got.vision[2].width, 32);
   }
   EXPECT_EQ((*loader)->report().problem_count(), 0) << (*loader)->report().summary();
@@ -184,16 +187,20 @@ TEST(Generated, GraspEpisodesLoadBackFromHdf5AndRepacked) {
   auto rl = open_feel_repacked(tmp / "repacked", all);
   ASSERT_TRUE(rl.ok());
   // The repacked loader gives the train split first: compare as sets of (episode, instances).
-  using Key = std::tuple<std::string, double, int32_t, int32_t>;
+  using Key = std::tuple<std::string, double, int32_t, int32_t, std::string>;
   std::multiset<Key> wrote, loaded;
-  for (const auto& w : want)
+  std::set<std::string> profiles;
+  for (const auto& w : want) {
     wrote.emplace(w.object_name, w.variables.com_offset_mm, w.sensor_instance[0],
-                  w.sensor_instance[1]);
+                  w.sensor_instance[1], w.sensor);
+    profiles.insert(w.sensor);
+  }
+  EXPECT_EQ(profiles.size(), 2u) << "seed 5's three objects draw both profiles";
   int n = 0;
   while ((*rl)->next(got).value()) {
     ++n;
     loaded.emplace(got.object_name, got.variables.com_offset_mm, got.sensor_instance[0],
-                   got.sensor_instance[1]);  // instances from the sidecar
+                   got.sensor_instance[1], got.sensor);  // instances and profile from the sidecar
   }
   EXPECT_EQ(loaded, wrote);
   EXPECT_EQ(n, 6);

@@ -1,6 +1,7 @@
 // tlvlink sim feel -o DIR: generated grasp episodes in Feel's HDF5 files or, with --repacked,
 // TLV-Link's jpg + info JSON-lines layout.
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -20,6 +21,7 @@ struct FeelFlags {
   std::string sensor = "gelsight-mini";
   int vision_height = 240, vision_width = 320;
   bool no_markers = false;
+  double markers_fraction = -1;  // unset: every gel has markers unless --no-markers
   int sensor_instances = 1;
   bool repacked = false;
   int records_per_file = 100;
@@ -42,7 +44,8 @@ int run_feel(const FeelFlags& f) {
   gen.sensor = f.sensor;
   gen.vision_height = f.vision_height;
   gen.vision_width = f.vision_width;
-  gen.markers = !f.no_markers;
+  gen.markers = !f.no_markers && f.markers_fraction < 0;
+  gen.markers_fraction = std::max(f.markers_fraction, 0.0);
   gen.seed = f.seed;
   gen.sensor_instances = f.sensor_instances;
   datasets::FeelWriterOptions& wo = job.writer;
@@ -96,14 +99,23 @@ void add_sim_feel_command(CLI::App& sim, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("-s,--seed", f->seed, "Seed; episode i depends only on (seed, i)")
       ->capture_default_str();
-  cmd->add_option("--sensor", f->sensor, "Sensor profile")->capture_default_str();
+  cmd->add_option("--sensor", f->sensor,
+                  "Sensor profile, or several separated by commas (\"gelsight-mini,digit\"): "
+                  "then each object's grasps are recorded on one, drawn per object")
+      ->capture_default_str();
   cmd->add_option("--vision-height", f->vision_height, "kinectA_rgb height")
       ->check(CLI::Range(1, 8192))
       ->capture_default_str();
   cmd->add_option("--vision-width", f->vision_width, "kinectA_rgb width")
       ->check(CLI::Range(1, 8192))
       ->capture_default_str();
-  cmd->add_flag("--no-markers", f->no_markers, "Render without the marker grid");
+  CLI::Option* no_markers =
+      cmd->add_flag("--no-markers", f->no_markers, "Render without the marker grid");
+  cmd->add_option("--markers-fraction", f->markers_fraction,
+                  "Share of objects whose grasps are recorded on gels with markers, drawn per "
+                  "object (default: all of them)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->excludes(no_markers);
   cmd->add_option("--sensor-instances", f->sensor_instances,
                   "Simulated sensor instances to randomize over: each differs in LED gains "
                   "(+-15 %), background non-uniformity, white balance and exposure; fingers A and "

@@ -6,8 +6,9 @@
 #    gels), TLV-Link training of `tiny` (built-in teacher, curriculum) with the supervised term
 #    beside it (tools/trainer/README.md "Objectives"), export to OUT_DIR/tiny.tlvm.
 # 2. The heads' own sets, never seen by the encoder: a touch set (3000 objects x 2 frames,
-#    seed 3, same mix) and a simulated Feel set (1200 objects x 4 grasps, seed 2027, 64 sensor
-#    instances; GelSight Mini only: the Feel generator renders one profile per set).
+#    seed 3, same mix) and a simulated Feel set (2400 objects x 4 grasps, seed 2027, 64 sensor
+#    instances, each object on a GelSight Mini or a DIGIT gripper, half of them on marked gels:
+#    one grasp head for both sensor types and for gels with and without markers).
 # 3. `tlvlink heads fit`: linear probes (material, hard/soft, rough/smooth) on the training split
 #    of the heads' touch set and the grasp head on the Feel set, on the runtime's own embeddings;
 #    each head records its test accuracy (trust) -> OUT_DIR/touch-tiny-fp32.tlvm. Zero-shot heads
@@ -50,11 +51,14 @@ if ! generated "$heads" sessions=3000 frames_per_session=2 seed=3 sensor_instanc
     --vision-height 24 --vision-width 32
 fi
 feel=$out/feel
-if ! generated "$feel" objects=1200 grasps_per_object=4 seed=2027 sensor_instances=64; then
+if ! generated "$feel" objects=2400 grasps_per_object=4 seed=2027 sensor_instances=64 \
+    'sensor="gelsight-mini,digit"' markers=false markers_fraction=0.5; then
   rm -rf "$feel"
-  echo "== Feel set (grasp head): 1200 objects x 4 grasps, 64 sensor instances, seed 2027 -> $feel"
-  "$tlvlink" sim feel -o "$feel" --objects 1200 --grasps-per-object 4 --repacked --seed 2027 \
-    --sensor-instances 64 --vision-height 24 --vision-width 32 --threads 2
+  echo "== Feel set (grasp head): 2400 objects x 4 grasps (GelSight Mini and DIGIT, markers on" \
+       "half), 64 sensor instances, seed 2027 -> $feel"
+  "$tlvlink" sim feel -o "$feel" --objects 2400 --grasps-per-object 4 --repacked --seed 2027 \
+    --sensor gelsight-mini,digit --markers-fraction 0.5 --sensor-instances 64 \
+    --vision-height 24 --vision-width 32 --threads 2
 fi
 
 echo "== heads fit -> $out/touch-tiny-fp32.tlvm"

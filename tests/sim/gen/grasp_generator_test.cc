@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
+#include <string>
 
 #include "support/random.h"
 #include "tlvlink/sim/generate.h"
@@ -147,6 +149,88 @@ TEST(GraspGenerator, OracleFromThePublicApi) {
   o.sensor = "no-such-sensor";
   EXPECT_EQ(grasp_oracle_accuracy(o, 100), 0);
   EXPECT_FALSE(grasp_oracle_report(o, 100).ok());
+}
+
+TEST(GraspGenerator, MixedProfileSetsDrawAProfilePerObject) {
+  // "gelsight-mini,digit": every grasp of an object on one profile, both fingers alike; an
+  // object's Mini episodes are the bytes (and the variables) a Mini-only set of the seed gives.
+  GraspSetOptions mixed = small_options(5);
+  mixed.objects = 10;
+  mixed.grasps_per_object = 2;
+  mixed.sensor = "gelsight-mini,digit";
+  GraspSetOptions mini = mixed;
+  mini.sensor = "gelsight-mini";
+  auto g = make(mixed), m = make(mini);
+  ASSERT_NE(g, nullptr);
+  ASSERT_NE(m, nullptr);
+  std::set<std::string> seen;
+  GraspEpisode e, t, first;
+  for (int64_t i = 0; i < g->size(); ++i) {
+    ASSERT_TRUE(g->generate(i, e).ok());
+    seen.insert(e.sensor);
+    if (i % 2 == 1) {
+      ASSERT_TRUE(g->generate(i - 1, first).ok());
+      EXPECT_EQ(first.sensor, e.sensor) << "episode " << i;
+    }
+    if (e.sensor == "gelsight-mini") {
+      ASSERT_TRUE(m->generate(i, t).ok());
+      EXPECT_EQ(t.sensor, "gelsight-mini");
+      EXPECT_EQ(e.is_gripping, t.is_gripping);
+      EXPECT_EQ(e.variables.contact_area_mm2[0], t.variables.contact_area_mm2[0]);
+      for (int f = 0; f < kFingers; ++f)
+        for (int k = 0; k < kMoments; ++k) EXPECT_EQ(e.frames[f][k].rgb, t.frames[f][k].rgb);
+    } else {
+      EXPECT_EQ(e.sensor, "digit");
+      for (int f = 0; f < kFingers; ++f) {  // DIGIT frames are portrait (tools/sim/REFERENCE.md)
+        EXPECT_EQ(e.frames[f][0].height, 320);
+        EXPECT_EQ(e.frames[f][0].width, 240);
+      }
+    }
+  }
+  EXPECT_EQ(seen.size(), 2u) << "10 objects should draw both profiles";
+  // The oracle of a mixed set lies between its profiles' (the average of the two).
+  const auto both = grasp_oracle_report(mixed, 2000), one = grasp_oracle_report(mini, 1000);
+  GraspSetOptions digit = mixed;
+  digit.sensor = "digit";
+  const auto other = grasp_oracle_report(digit, 1000);
+  ASSERT_TRUE(both.ok() && one.ok() && other.ok());
+  EXPECT_EQ(both->samples, 2000);
+  EXPECT_NEAR(both->accuracy, (one->accuracy + other->accuracy) / 2, 1e-9);
+  mixed.sensor = "gelsight-mini,nosuch";
+  EXPECT_FALSE(GraspEpisodeGenerator::create(mixed).ok());
+  EXPECT_FALSE(grasp_oracle_report(mixed, 100).ok());
+}
+
+TEST(GraspGenerator, MarkersFractionDrawsMarkedGelsPerObject) {
+  // Half the objects on gels with markers: their frames differ from the unmarked set's, the
+  // others' are the same bytes; every grasp of an object agrees.
+  GraspSetOptions half = small_options(9);
+  half.objects = 12;
+  half.grasps_per_object = 2;
+  half.markers = false;
+  half.markers_fraction = 0.5;
+  GraspSetOptions none = half;
+  none.markers_fraction = 0;
+  auto g = make(half), n = make(none);
+  ASSERT_NE(g, nullptr);
+  ASSERT_NE(n, nullptr);
+  int marked = 0;
+  GraspEpisode a, b;
+  for (int64_t object = 0; object < half.objects; ++object) {
+    bool differs[2];
+    for (int64_t k = 0; k < 2; ++k) {
+      ASSERT_TRUE(g->generate(object * 2 + k, a).ok());
+      ASSERT_TRUE(n->generate(object * 2 + k, b).ok());
+      differs[k] = a.frames[0][0].rgb != b.frames[0][0].rgb;  // the open gel shows the grid
+      EXPECT_EQ(a.is_gripping, b.is_gripping);
+    }
+    EXPECT_EQ(differs[0], differs[1]) << "object " << object;
+    marked += differs[0] ? 1 : 0;
+  }
+  EXPECT_GT(marked, 0);
+  EXPECT_LT(marked, half.objects);
+  half.markers_fraction = 1.5;
+  EXPECT_EQ(GraspEpisodeGenerator::create(half).error().code(), ErrorCode::kInvalidArgument);
 }
 
 TEST(GraspGenerator, BadOptionsAndIndicesAreErrors) {

@@ -43,6 +43,7 @@ void reset_episode(sim::GraspEpisode& e) {
   e.object_name.clear();
   e.object_id = -1;
   for (int32_t& k : e.sensor_instance) k = -1;  // unknown unless the metadata says
+  e.sensor.clear();
   e.material = sim::MaterialSample{};
   e.material.class_id = -1;
   e.variables = sim::GraspVariables{};

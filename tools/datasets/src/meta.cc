@@ -146,6 +146,7 @@ OrderedJson grasp_meta(const sim::GraspEpisode& e, const std::string& key, bool 
           {"object_name", e.object_name},
           {"object_id", e.object_id},
           {"sensor_instance", {e.sensor_instance[0], e.sensor_instance[1]}},
+          {"sensor", e.sensor},
           {"is_gripping", e.is_gripping},
           {"material", material_json(e.material)},
           {"variables", variables_json(e.variables)},
@@ -170,6 +171,7 @@ bool apply_grasp_meta(const Json& meta, sim::GraspEpisode& out, std::string& why
   try {
     out.object_id = meta.at("object_id").get<int32_t>();
     for (int f = 0; f < heads::kFingers; ++f) out.sensor_instance[f] = read_instance(meta, f);
+    out.sensor = meta.value("sensor", std::string());  // recorded since mixed-profile sets
     read_material(meta.at("material"), out.material);
     read_variables(meta.at("variables"), out.variables);
     const Json& states = meta.at("states");

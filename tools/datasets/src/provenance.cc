@@ -43,6 +43,7 @@ std::string grasp_set_options_json(const sim::GraspSetOptions& o) {
                    {"vision_height", o.vision_height},
                    {"vision_width", o.vision_width},
                    {"markers", o.markers},
+                   {"markers_fraction", o.markers_fraction},
                    {"seed", o.seed},
                    {"sensor_instances", o.sensor_instances}};
   return j.dump();

@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "gen/grasp_model.h"
 #include "gen/grasp_profile.h"
@@ -48,6 +50,8 @@ Status validate(const GraspSetOptions& o) {
   TLV_ENSURE(o.sensor_instances >= 1 && o.sensor_instances <= kMaxSensorInstances,
              ErrorCode::kInvalidArgument, "grasp set: sensor_instances = %d is outside 1..%d",
              o.sensor_instances, kMaxSensorInstances);
+  TLV_ENSURE(o.markers_fraction >= 0 && o.markers_fraction <= 1, ErrorCode::kInvalidArgument,
+             "grasp set: markers_fraction = %g is outside [0, 1]", o.markers_fraction);
   return {};
 }
 
@@ -67,13 +71,17 @@ FingerRatio finger_ratio(const GraspVariables& v, int32_t f) {
   return r;
 }
 
+// One sensor profile of the set: its sensor instances and the gel the grasp physics uses.
+struct ProfileSensors {
+  std::unique_ptr<internal::RendererCache> renderers;
+  internal::GelContactModel gel;
+};
+
 class GraspGenerator final : public GraspEpisodeGenerator {
  public:
-  GraspGenerator(const GraspSetOptions& o, std::unique_ptr<internal::RendererCache> r)
-      : options_(o),
-        renderers_(std::move(r)),
-        gel_(internal::gel_contact_model(renderers_->profile())) {
-    options_.sensor = renderers_->profile().name;  // the caller's string may not outlive us
+  GraspGenerator(const GraspSetOptions& o, std::vector<ProfileSensors> profiles)
+      : options_(o), profiles_(std::move(profiles)) {
+    options_.sensor = {};  // the caller's string may not outlive us; profiles are in profiles_
   }
 
   int64_t size() const override {
@@ -96,7 +104,11 @@ class GraspGenerator final : public GraspEpisodeGenerator {
     const int64_t object_index = index / options_.grasps_per_object;
     const internal::GraspObject object = internal::sample_grasp_object(seed, object_index);
     const internal::GraspSetup setup = internal::sample_grasp_setup(seed, index);
-    out.variables = internal::grasp_variables(object, setup, gel_);
+    // The object's sensor type: a gripper carries one, so both fingers and every grasp of the
+    // object share it (a single-profile set draws nothing: same bytes).
+    ProfileSensors& sensors = profiles_[internal::item_profile(seed, object_index, profiles_.size())];
+    out.sensor = sensors.renderers->profile().name;
+    out.variables = internal::grasp_variables(object, setup, sensors.gel);
     out.is_gripping = grasp_succeeds(out.variables);
     out.object_name = internal::object_name(object.material.class_id, object_index);
     out.object_id = static_cast<int32_t>(object_index);
@@ -110,10 +122,11 @@ class GraspGenerator final : public GraspEpisodeGenerator {
     const bool dropped = !both || out.variables.slip_ratio >= kDropRatio;
     const double slip_mm = rng.uniform(kSlipMinMm, kSlipMaxMm);
     RenderOptions render;
-    render.markers = options_.markers;
+    render.markers =
+        options_.markers || internal::item_has_markers(seed, object_index, options_.markers_fraction);
     for (int32_t f = 0; f < kFingers; ++f) {
       // Finger f's sensor; the cache keeps both fingers' Renderers.
-      TLV_ASSIGN_OR_RETURN(Renderer * renderer, renderers_->get(out.sensor_instance[f]));
+      TLV_ASSIGN_OR_RETURN(Renderer * renderer, sensors.renderers->get(out.sensor_instance[f]));
       ContactScene scene = base_scene(object, setup, f);
       auto noise = [&](Moment m) {
         return derive_seed(seed, {tag(Stream::kRender), static_cast<uint64_t>(index),
@@ -211,8 +224,7 @@ class GraspGenerator final : public GraspEpisodeGenerator {
   }
 
   GraspSetOptions options_;
-  std::unique_ptr<internal::RendererCache> renderers_;
-  internal::GelContactModel gel_;
+  std::vector<ProfileSensors> profiles_;  // one per profile of options.sensor, in order
   Frame frame_;
 };
 
@@ -221,11 +233,16 @@ class GraspGenerator final : public GraspEpisodeGenerator {
 Result<std::unique_ptr<GraspEpisodeGenerator>> GraspEpisodeGenerator::create(
     const GraspSetOptions& options) {
   TLV_TRY(validate(options));
-  TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(options.sensor));
-  TLV_ASSIGN_OR_RETURN(
-      std::unique_ptr<internal::RendererCache> renderers,
-      internal::RendererCache::create(profile, options.seed, options.sensor_instances));
-  return std::unique_ptr<GraspEpisodeGenerator>(new GraspGenerator(options, std::move(renderers)));
+  std::vector<ProfileSensors> profiles;
+  for (const std::string& name : internal::profile_names(options.sensor)) {
+    TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(name));
+    ProfileSensors p;
+    p.gel = internal::gel_contact_model(profile);
+    TLV_ASSIGN_OR_RETURN(
+        p.renderers, internal::RendererCache::create(profile, options.seed, options.sensor_instances));
+    profiles.push_back(std::move(p));
+  }
+  return std::unique_ptr<GraspEpisodeGenerator>(new GraspGenerator(options, std::move(profiles)));
 }
 
 }  // namespace tlvlink::sim

@@ -1,11 +1,14 @@
-// The public oracle entry points: look the sensor up, then run the Monte Carlo of
+// The public oracle entry points: look the sensor (or each profile of a mixed set) up, then run the Monte Carlo of
 // grasp_oracle.cc on its gel.
 
 #include "gen/grasp_profile.h"
 
 #include <algorithm>
+#include <string>
+#include <vector>
 
 #include "gen/grasp_oracle.h"
+#include "gen/sensor_instances.h"
 #include "tlvlink/sim/generate.h"
 
 namespace tlvlink::sim {
@@ -30,8 +33,38 @@ GelContactModel gel_contact_model(const SensorProfile& p) {
 Result<GraspOracleReport> grasp_oracle_report(const GraspSetOptions& options, int64_t samples) {
   TLV_ENSURE(samples >= 0, ErrorCode::kInvalidArgument, "oracle: samples = %lld must be >= 0",
              static_cast<long long>(samples));
-  TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(options.sensor));
-  return internal::oracle_report(internal::gel_contact_model(profile), options.seed, samples);
+  const std::vector<std::string> names = internal::profile_names(options.sensor);
+  if (names.size() == 1) {
+    TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(names[0]));
+    return internal::oracle_report(internal::gel_contact_model(profile), options.seed, samples);
+  }
+  // A mixed-profile set draws each object's profile uniformly, and a frame shows its profile
+  // (the frame size), so the oracle is each profile's, weighted by its share of the samples.
+  GraspOracleReport mixed;
+  const auto n = static_cast<int64_t>(names.size());
+  for (int64_t k = 0; k < n; ++k) {
+    TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(names[static_cast<size_t>(k)]));
+    const int64_t share = samples / n + (k < samples % n ? 1 : 0);
+    if (share == 0) continue;
+    const GraspOracleReport r =
+        internal::oracle_report(internal::gel_contact_model(profile), options.seed, share);
+    const auto w = static_cast<double>(r.samples);
+    mixed.samples += r.samples;
+    mixed.accuracy += w * r.accuracy;
+    mixed.success_rate += w * r.success_rate;
+    mixed.class_friction_accuracy += w * r.class_friction_accuracy;
+    mixed.prior_friction_accuracy += w * r.prior_friction_accuracy;
+    mixed.hidden_draws = r.hidden_draws;
+  }
+  if (mixed.samples > 0) {
+    const auto total = static_cast<double>(mixed.samples);
+    mixed.accuracy /= total;
+    mixed.success_rate /= total;
+    mixed.class_friction_accuracy /= total;
+    mixed.prior_friction_accuracy /= total;
+    mixed.majority_rate = std::max(mixed.success_rate, 1 - mixed.success_rate);
+  }
+  return mixed;
 }
 
 double grasp_oracle_accuracy(const GraspSetOptions& options, int64_t samples) {

@@ -42,8 +42,8 @@ enum class Stream : uint64_t {
   kHidden,
   kTexture,
   kSensorInstance,  // which sensor instance draws a session / a finger (appended: tags never move)
-  kSensorProfile,   // which profile of a mixed-profile touch set records a session (appended)
-  kMarkers,         // whether a touch session's gel has markers (markers_fraction; appended)
+  kSensorProfile,   // which profile of a mixed-profile set records a session / object (appended)
+  kMarkers,         // whether a session's / object's gel has markers (markers_fraction; appended)
 };
 inline constexpr uint64_t tag(Stream s) {
   return static_cast<uint64_t>(s);

@@ -15,6 +15,29 @@ uint64_t sensor_instance_seed(uint64_t seed, int32_t instance) {
 
 namespace internal {
 
+std::vector<std::string> profile_names(std::string_view sensor) {
+  std::vector<std::string> out;
+  while (true) {
+    const size_t comma = sensor.find(',');
+    out.emplace_back(sensor.substr(0, comma));
+    if (comma == std::string_view::npos) break;
+    sensor.remove_prefix(comma + 1);
+  }
+  return out;
+}
+
+size_t item_profile(uint64_t seed, int64_t item, size_t profiles) {
+  if (profiles <= 1) return 0;
+  return static_cast<size_t>(
+      derive_seed(seed, {tag(Stream::kSensorProfile), static_cast<uint64_t>(item)}) % profiles);
+}
+
+bool item_has_markers(uint64_t seed, int64_t item, double fraction) {
+  if (!(fraction > 0)) return false;
+  const uint64_t h = derive_seed(seed, {tag(Stream::kMarkers), static_cast<uint64_t>(item)});
+  return static_cast<double>(h >> 11) * 0x1.0p-53 < fraction;
+}
+
 // The modulo bias is below instances / 2^64 < 2^-47: negligible.
 int32_t touch_session_instance(uint64_t seed, int64_t session, int32_t instances) {
   if (instances <= 1) return 0;

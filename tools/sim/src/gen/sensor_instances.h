@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "tlvlink/error.h"
 #include "tlvlink/sim/renderer.h"
@@ -19,6 +21,16 @@ int32_t touch_session_instance(uint64_t seed, int64_t session, int32_t instances
 // The instance of finger `finger` in grasp episode `episode`: hashed from (seed, episode,
 // finger), independently for the two fingers (two physical sensors).
 int32_t grasp_finger_instance(uint64_t seed, int64_t episode, int32_t finger, int32_t instances);
+
+// The profile names of a set's sensor option: one name, or several separated by commas
+// ("gelsight-mini,digit": a mixed-profile set), in order.
+std::vector<std::string> profile_names(std::string_view sensor);
+// Which of `profiles` (>= 1) records item `item` (a touch session, a grasp object): hashed from
+// (seed, item); 0 without a draw when there is one profile (a single-profile set keeps its bytes).
+size_t item_profile(uint64_t seed, int64_t item, size_t profiles);
+// Whether item `item`'s gel has markers: a uniform draw from (seed, item) below `fraction`
+// (false at 0 without a draw).
+bool item_has_markers(uint64_t seed, int64_t item, double fraction);
 
 // The Renderers of a generator's sensor instances, at most kCapacity alive, least recently used
 // evicted. Building one costs the sensor tables (background, vignetting, gains, ...) and its

@@ -60,18 +60,6 @@ Status validate(const TouchSetOptions& o) {
   return {};
 }
 
-// The profile names of a (comma-separated) sensor option, in order.
-std::vector<std::string> profile_names(std::string_view sensor) {
-  std::vector<std::string> out;
-  while (true) {
-    const size_t comma = sensor.find(',');
-    out.emplace_back(sensor.substr(0, comma));
-    if (comma == std::string_view::npos) break;
-    sensor.remove_prefix(comma + 1);
-  }
-  return out;
-}
-
 class TouchGenerator final : public TouchSampleGenerator {
  public:
   TouchGenerator(const TouchSetOptions& o,
@@ -101,12 +89,7 @@ class TouchGenerator final : public TouchSampleGenerator {
     out.object_id = static_cast<int32_t>(session);
     // The session's sensor: consecutive frames of a session reuse the kept Renderer. A mixed
     // set draws the profile per session too (a single profile draws nothing: same bytes).
-    const size_t profile =
-        renderers_.size() == 1
-            ? 0
-            : static_cast<size_t>(derive_seed(seed, {tag(Stream::kSensorProfile),
-                                                     static_cast<uint64_t>(session)}) %
-                                  renderers_.size());
+    const size_t profile = internal::item_profile(seed, session, renderers_.size());
     internal::RendererCache& cache = *renderers_[profile];
     out.sensor = cache.profile().name;
     out.sensor_instance =
@@ -118,7 +101,8 @@ class TouchGenerator final : public TouchSampleGenerator {
     ContactScene scene;
     const Press press = make_press(out.material, texture_seed, rng, scene);
     RenderOptions render;
-    render.markers = options_.markers || session_has_markers(session);
+    render.markers =
+        options_.markers || internal::item_has_markers(seed, session, options_.markers_fraction);
     TLV_TRY(renderer->render(
         scene, render, derive_seed(seed, {tag(Stream::kRender), static_cast<uint64_t>(index)}),
         frame_));
@@ -196,14 +180,6 @@ class TouchGenerator final : public TouchSampleGenerator {
     return p;
   }
 
-  // markers_fraction: a uniform draw per session below the fraction (none at 0).
-  bool session_has_markers(int64_t session) const {
-    if (!(options_.markers_fraction > 0)) return false;
-    const uint64_t h =
-        derive_seed(options_.seed, {tag(Stream::kMarkers), static_cast<uint64_t>(session)});
-    return static_cast<double>(h >> 11) * 0x1.0p-53 < options_.markers_fraction;
-  }
-
   TouchSetOptions options_;
   std::vector<std::unique_ptr<internal::RendererCache>> renderers_;  // one per profile
   std::shared_ptr<const Describer> describer_;
@@ -218,7 +194,7 @@ Result<std::unique_ptr<TouchSampleGenerator>> TouchSampleGenerator::create(
   TLV_TRY(validate(options));
   // The set's sensor instances of each profile; their backgrounds are fixed by the dataset seed.
   std::vector<std::unique_ptr<internal::RendererCache>> renderers;
-  for (const std::string& name : profile_names(options.sensor)) {
+  for (const std::string& name : internal::profile_names(options.sensor)) {
     TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(name));
     TLV_ASSIGN_OR_RETURN(
         std::unique_ptr<internal::RendererCache> cache,

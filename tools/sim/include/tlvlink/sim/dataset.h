@@ -69,6 +69,7 @@ struct GraspEpisode {
   int32_t object_id = 0;
   // The simulated sensor of each finger ([gelsightA, gelsightB]), as TouchSample's.
   int32_t sensor_instance[kFingers] = {0, 0};
+  std::string sensor;               // the profile both fingers carry ("" = not recorded)
   MaterialSample material;
   GraspVariables variables;
   bool is_gripping = false;         // label: still held after the lift

@@ -60,9 +60,17 @@ class TouchSampleGenerator {
 struct GraspSetOptions {
   int32_t objects = 20;
   int32_t grasps_per_object = 10;
+  // A profile name, or several separated by commas ("gelsight-mini,digit"): then each object's
+  // grasps are recorded on one of them (both fingers alike, as a gripper carries one sensor
+  // type), drawn by hashing (seed, object); GraspEpisode::sensor says which. An object's
+  // episodes on a profile are the bytes a single-profile set of that seed gives.
   std::string_view sensor = "gelsight-mini";
   int32_t vision_height = 240, vision_width = 320;
   bool markers = true;              // shear shows in the marker field
+  // With markers false: the share of objects whose grasps are recorded on gels with markers,
+  // [0, 1], drawn per object by hashing (seed, object) (real grippers come with and without;
+  // a grasp head meant for both should see both). 0 = none.
+  double markers_fraction = 0;
   uint64_t seed = 1;
   // 1..kMaxSensorInstances simulated sensors; fingers A and B are two physical sensors, so each
   // episode draws one instance per finger, independently, by hashing (seed, episode, finger).
