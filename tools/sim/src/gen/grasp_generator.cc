@@ -106,7 +106,8 @@ class GraspGenerator final : public GraspEpisodeGenerator {
     const internal::GraspSetup setup = internal::sample_grasp_setup(seed, index);
     // The object's sensor type: a gripper carries one, so both fingers and every grasp of the
     // object share it (a single-profile set draws nothing: same bytes).
-    ProfileSensors& sensors = profiles_[internal::item_profile(seed, object_index, profiles_.size())];
+    ProfileSensors& sensors =
+        profiles_[internal::item_profile(seed, object_index, profiles_.size())];
     out.sensor = sensors.renderers->profile().name;
     out.variables = internal::grasp_variables(object, setup, sensors.gel);
     out.is_gripping = grasp_succeeds(out.variables);
@@ -122,8 +123,8 @@ class GraspGenerator final : public GraspEpisodeGenerator {
     const bool dropped = !both || out.variables.slip_ratio >= kDropRatio;
     const double slip_mm = rng.uniform(kSlipMinMm, kSlipMaxMm);
     RenderOptions render;
-    render.markers =
-        options_.markers || internal::item_has_markers(seed, object_index, options_.markers_fraction);
+    render.markers = options_.markers ||
+                     internal::item_has_markers(seed, object_index, options_.markers_fraction);
     for (int32_t f = 0; f < kFingers; ++f) {
       // Finger f's sensor; the cache keeps both fingers' Renderers.
       TLV_ASSIGN_OR_RETURN(Renderer * renderer, sensors.renderers->get(out.sensor_instance[f]));
@@ -238,8 +239,8 @@ Result<std::unique_ptr<GraspEpisodeGenerator>> GraspEpisodeGenerator::create(
     TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(name));
     ProfileSensors p;
     p.gel = internal::gel_contact_model(profile);
-    TLV_ASSIGN_OR_RETURN(
-        p.renderers, internal::RendererCache::create(profile, options.seed, options.sensor_instances));
+    TLV_ASSIGN_OR_RETURN(p.renderers, internal::RendererCache::create(profile, options.seed,
+                                                                      options.sensor_instances));
     profiles.push_back(std::move(p));
   }
   return std::unique_ptr<GraspEpisodeGenerator>(new GraspGenerator(options, std::move(profiles)));

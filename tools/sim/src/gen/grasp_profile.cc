@@ -1,5 +1,5 @@
-// The public oracle entry points: look the sensor (or each profile of a mixed set) up, then run the Monte Carlo of
-// grasp_oracle.cc on its gel.
+// The public oracle entry points: look the sensor (or each profile of a mixed set) up, then run the
+// Monte Carlo of grasp_oracle.cc on its gel.
 
 #include "gen/grasp_profile.h"
 
@@ -43,7 +43,8 @@ Result<GraspOracleReport> grasp_oracle_report(const GraspSetOptions& options, in
   GraspOracleReport mixed;
   const auto n = static_cast<int64_t>(names.size());
   for (int64_t k = 0; k < n; ++k) {
-    TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(names[static_cast<size_t>(k)]));
+    TLV_ASSIGN_OR_RETURN(const SensorProfile profile,
+                         sensor_profile(names[static_cast<size_t>(k)]));
     const int64_t share = samples / n + (k < samples % n ? 1 : 0);
     if (share == 0) continue;
     const GraspOracleReport r =
