@@ -140,6 +140,8 @@ finish() {  # SCENARIO FEEDS [SECONDS]
   echo "--- relay"; cat "$work/relay-$1.log"
   echo "--- feeder"; cat "$work/feeder.log"
   grep "^relay-summary" "$work/relay-$1.log" | sed 's/^/note: /'
+  # The daemon's stream at stop (posted, sent, dropped, unsent): why a last prediction is missing.
+  grep -E "stream: .*(posted|not sent)" "$work/daemon.log" | sed 's/^.*stream: /note: daemon stream: /'
 }
 
 setup() {

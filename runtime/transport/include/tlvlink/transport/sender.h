@@ -50,7 +50,10 @@ struct SenderConfig {
   int reconnect_min_ms = 50;    // backoff between reopen attempts: doubles up to the max
   int reconnect_max_ms = 1000;
   int stall_ms = 1000;          // no byte accepted for this long while data waits: the link is down
-  int flush_ms = 500;           // stop(): time allowed to send what is still queued
+  // stop(): time allowed to send what is still queued (and for the host to take the last USB
+  // transfer). 500 ms lost the last prediction on an emulated Cortex-A72 at 160 % CPU (HIL,
+  // 2026-11-25): a busy board needs longer; a reader that takes nothing costs this much at stop.
+  int flush_ms = 2000;
   // SCHED_FIFO priority of the link thread only (0: inherit). On a busy board the link thread's
   // wake-up dominates the added latency's tail (tools/listen/README.md "Figures"). Needs
   // CAP_SYS_NICE or an RLIMIT_RTPRIO (systemd: LimitRTPRIO=); when refused the thread runs on
