@@ -136,7 +136,8 @@ void StreamSink::close() {
           "%llu (link down) %llu (stale)", static_cast<unsigned long long>(c.posted),
           static_cast<unsigned long long>(c.frames_sent), static_cast<unsigned long long>(c.dropped_queue_full),
           static_cast<unsigned long long>(c.dropped_link_down), static_cast<unsigned long long>(c.dropped_stale));
-  // What the flush could not send in time is lost with the process: say so, never silently.
+  // What the flush could not send in time is lost with the process: say so (the frame being
+  // written at the deadline has left the queue and is not counted).
   if (c.queue_messages > 0) {
     TLV_LOG(kLogStream, kWarning, "stream: %u queued messages not sent at stop (the link did not take them within "
             "the flush time)", c.queue_messages);
