@@ -207,5 +207,39 @@ TEST(Generated, GraspEpisodesLoadBackFromHdf5AndRepacked) {
   EXPECT_EQ((*rl)->report().problem_count(), 0) << (*rl)->report().summary();
 }
 
+// A live-path set (sim feel --live-path): the stored GelSight frames are the generator's, with no
+// second camera round trip on top (camera_jpeg_quality then reaches the vision frames only), and
+// the provenance says how they were made.
+TEST(Generated, LivePathGraspSetStoresTheLivePathFramesAsTheyAre) {
+  TempDir tmp;
+  sim::GraspSetJob job;
+  job.generator.objects = 2;
+  job.generator.grasps_per_object = 1;
+  job.generator.vision_height = 24;
+  job.generator.vision_width = 32;
+  job.generator.seed = 3;
+  job.generator.live_path = true;
+  job.writer.camera_jpeg_quality = 95;
+  job.dir = tmp / "live";
+  auto written = sim::write_grasp_set(job);
+  ASSERT_TRUE(written.ok()) << written.error().message();
+  auto generator = sim::GraspEpisodeGenerator::create(job.generator);
+  ASSERT_TRUE(generator.ok());
+  auto loader = open_feel(tmp / "live", {});
+  ASSERT_TRUE(loader.ok());
+  sim::GraspEpisode want, got;
+  for (int64_t i = 0; i < 2; ++i) {
+    ASSERT_TRUE((*generator)->generate(i, want).ok());
+    auto more = (*loader)->next(got);
+    ASSERT_TRUE(more.ok() && more.value());
+    EXPECT_EQ(got.frames[0][1].rgb, want.frames[0][1].rgb) << "episode " << i;
+    EXPECT_EQ(got.frames[1][0].rgb, want.frames[1][0].rgb) << "episode " << i;
+    EXPECT_NE(got.vision[1].rgb, want.vision[1].rgb) << "the vision frames keep their round trip";
+  }
+  std::ifstream in(tmp / "live/tlvlink_sim.json");
+  const auto provenance = nlohmann::json::parse(in);
+  EXPECT_EQ(provenance["generator"]["live_path"], true);
+}
+
 }  // namespace
 }  // namespace tlvlink::datasets

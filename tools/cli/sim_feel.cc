@@ -27,6 +27,7 @@ struct FeelFlags {
   int records_per_file = 100;
   int deflate_level = 1;
   int camera_jpeg_quality = 95;
+  bool live_path = false;
   int jpeg_quality = 95;
   int quarter_turns = 0;
   double test_fraction = 0.2;
@@ -48,6 +49,7 @@ int run_feel(const FeelFlags& f) {
   gen.markers_fraction = std::max(f.markers_fraction, 0.0);
   gen.seed = f.seed;
   gen.sensor_instances = f.sensor_instances;
+  gen.live_path = f.live_path;
   datasets::FeelWriterOptions& wo = job.writer;
   wo.jpeg_quality = f.jpeg_quality;
   wo.test_fraction = f.test_fraction;
@@ -136,6 +138,12 @@ void add_sim_feel_command(CLI::App& sim, int& exit_code) {
                   "(0 = none)")
       ->check(CLI::Range(0, 100))
       ->capture_default_str();
+  cmd->add_flag("--live-path", f->live_path,
+                "Every GelSight frame through its sensor's raw camera output and the board's "
+                "decoder, as tlvlinkd sees it (the Mini's MJPEG 3280x2464 decoded at 1/8, DIGIT's "
+                "YUYV) instead of --camera-jpeg-quality's round trip, which then applies to the "
+                "vision frames only. Slower (~30 ms per Mini frame); the HDF5 layout stores the "
+                "frames losslessly, --repacked compresses them again at --jpeg-quality");
   cmd->add_option("--jpeg-quality", f->jpeg_quality, "--repacked: quality of the stored JPEGs")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();

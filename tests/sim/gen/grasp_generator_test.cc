@@ -10,6 +10,7 @@
 
 #include "support/random.h"
 #include "tlvlink/sim/generate.h"
+#include "tlvlink/sim/live_path.h"
 
 namespace tlvlink::sim {
 namespace {
@@ -241,6 +242,47 @@ TEST(GraspGenerator, BadOptionsAndIndicesAreErrors) {
   GraspEpisode e;
   EXPECT_EQ(gen->generate(12, e).error().code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(gen->generate(-1, e).error().code(), ErrorCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace tlvlink::sim
+
+namespace tlvlink::sim {
+namespace {
+
+TEST(GraspGenerator, LivePathFramesAreTheRenderedFramesThroughTheSensorsLivePath) {
+  // Mixed profiles: each object's frames go through its own sensor's path (the Mini's MJPEG,
+  // DIGIT's YUYV); labels, states and vision are those of the default set.
+  GraspSetOptions plain = small_options(11);
+  plain.sensor = "gelsight-mini,digit";
+  plain.objects = 6;
+  plain.grasps_per_object = 1;
+  GraspSetOptions live = plain;
+  live.live_path = true;
+  auto g = make(live), p = make(plain);
+  ASSERT_NE(g, nullptr);
+  ASSERT_NE(p, nullptr);
+  std::set<std::string> sensors;
+  GraspEpisode a, b;
+  for (int64_t i = 0; i < live.objects; ++i) {
+    ASSERT_TRUE(g->generate(i, a).ok());
+    ASSERT_TRUE(p->generate(i, b).ok());
+    sensors.insert(a.sensor);
+    auto path = LivePath::create(sensor_profile(a.sensor).value());
+    ASSERT_TRUE(path.ok());
+    EXPECT_EQ(a.is_gripping, b.is_gripping);
+    for (int f = 0; f < kFingers; ++f) {
+      for (int m = 0; m < kMoments; ++m) {
+        std::vector<uint8_t> expected = b.frames[f][m].rgb;
+        ASSERT_TRUE((*path)->apply(expected).ok());
+        EXPECT_EQ(a.frames[f][m].rgb, expected) << "episode " << i << " finger " << f;
+        EXPECT_NE(a.frames[f][m].rgb, b.frames[f][m].rgb);
+        EXPECT_EQ(a.states[f][m].force_n, b.states[f][m].force_n);
+      }
+      EXPECT_EQ(a.vision[f].rgb, b.vision[f].rgb);
+    }
+  }
+  EXPECT_EQ(sensors.size(), 2u);
 }
 
 }  // namespace

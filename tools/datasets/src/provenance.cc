@@ -44,6 +44,7 @@ std::string grasp_set_options_json(const sim::GraspSetOptions& o) {
                    {"vision_width", o.vision_width},
                    {"markers", o.markers},
                    {"markers_fraction", o.markers_fraction},
+                   {"live_path", o.live_path},
                    {"seed", o.seed},
                    {"sensor_instances", o.sensor_instances}};
   return j.dump();

@@ -18,6 +18,7 @@
 #include "gen/sensor_instances.h"
 #include "gen/session_names.h"
 #include "tlvlink/sim/generate.h"
+#include "tlvlink/sim/live_path.h"
 #include "tlvlink/sim/vision.h"
 
 namespace tlvlink::sim {
@@ -75,6 +76,7 @@ FingerRatio finger_ratio(const GraspVariables& v, int32_t f) {
 struct ProfileSensors {
   std::unique_ptr<internal::RendererCache> renderers;
   internal::GelContactModel gel;
+  std::unique_ptr<LivePath> live;  // GraspSetOptions::live_path: the sensor's raw camera + decoder
 };
 
 class GraspGenerator final : public GraspEpisodeGenerator {
@@ -136,22 +138,25 @@ class GraspGenerator final : public GraspEpisodeGenerator {
       // before: the fingers are open.
       ContactScene open = scene;
       open.geometry.shape = Shape::kNone;
-      TLV_TRY(
-          render_into(*renderer, open, render, noise(Moment::kBefore), out, f, Moment::kBefore));
+      // Every tactile frame of the episode through the same live path (or none).
+      LivePath* live = sensors.live.get();
+      TLV_TRY(render_into(*renderer, live, open, render, noise(Moment::kBefore), out, f,
+                          Moment::kBefore));
       // during: closed on the resting object (a missing finger closes on air).
       ContactScene during = setup.finger_in_contact[f] ? scene : open;
       const double dir = rng.uniform(0, 2 * std::numbers::pi), q = rng.uniform(0, kDuringShearMaxN);
       during.loading.shear_x_n = q * std::cos(dir);
       during.loading.shear_y_n = q * std::sin(dir);
-      TLV_TRY(
-          render_into(*renderer, during, render, noise(Moment::kDuring), out, f, Moment::kDuring));
+      TLV_TRY(render_into(*renderer, live, during, render, noise(Moment::kDuring), out, f,
+                          Moment::kDuring));
       // after: the lift.
       ContactScene after = dropped ? open : scene;
       if (!dropped) {
         set_lift_load(out.variables, f, out.states[f][static_cast<int>(Moment::kDuring)],
                       out.is_gripping, slip_mm, after.loading);
       }
-      TLV_TRY(render_into(*renderer, after, render, noise(Moment::kAfter), out, f, Moment::kAfter));
+      TLV_TRY(render_into(*renderer, live, after, render, noise(Moment::kAfter), out, f,
+                          Moment::kAfter));
       if (scenes != nullptr) {
         scenes->open[f] = open;
         scenes->during[f] = during;
@@ -194,9 +199,11 @@ class GraspGenerator final : public GraspEpisodeGenerator {
     l.slip_mm = held ? 0.0 : slip_mm;
   }
 
-  Status render_into(Renderer& renderer, const ContactScene& scene, const RenderOptions& render,
-                     uint64_t noise, GraspEpisode& out, int32_t f, Moment m) {
+  Status render_into(Renderer& renderer, LivePath* live, const ContactScene& scene,
+                     const RenderOptions& render, uint64_t noise, GraspEpisode& out, int32_t f,
+                     Moment m) {
     TLV_TRY(renderer.render(scene, render, noise, frame_));
+    if (live != nullptr) TLV_TRY(live->apply(frame_.rgb));
     internal::copy_frame(frame_, out.frames[f][static_cast<int>(m)]);
     out.states[f][static_cast<int>(m)] = frame_.state;
     return {};
@@ -241,6 +248,9 @@ Result<std::unique_ptr<GraspEpisodeGenerator>> GraspEpisodeGenerator::create(
     p.gel = internal::gel_contact_model(profile);
     TLV_ASSIGN_OR_RETURN(p.renderers, internal::RendererCache::create(profile, options.seed,
                                                                       options.sensor_instances));
+    if (options.live_path) {
+      TLV_ASSIGN_OR_RETURN(p.live, LivePath::create(profile));
+    }
     profiles.push_back(std::move(p));
   }
   return std::unique_ptr<GraspEpisodeGenerator>(new GraspGenerator(options, std::move(profiles)));

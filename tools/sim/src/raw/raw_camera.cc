@@ -23,6 +23,7 @@ class RawCameraImpl final : public RawCamera {
   Status init(const SensorProfile& profile, uint64_t sensor_seed, const RawOptions& options);
   Status render(const ContactScene& scene, const RenderOptions& options, uint64_t noise_seed,
                 RawFrame& out) override;
+  Status encode_frame(std::span<const uint8_t> processed_rgb, RawFrame& out) override;
   const RawLayout& layout() const override { return layout_; }
   const SensorProfile& profile() const override { return renderer_->profile(); }
 
@@ -30,6 +31,8 @@ class RawCameraImpl final : public RawCamera {
   Status render_periphery(const ContactScene& scene, const RenderOptions& options,
                           uint64_t noise_seed, const Frame& processed);
   void pad_height_map(const ContactScene& scene);
+  void pad_by_repeating_edges(std::span<const uint8_t> processed_rgb);
+  Status encode_source(const uint8_t* source, RawFrame& out);  // rendered size -> raw bytes
   Status encode(const uint8_t* upright, RawFrame& out);
 
   RawLayout layout_;
@@ -41,6 +44,7 @@ class RawCameraImpl final : public RawCamera {
   Frame wide_frame_;
   image::Resampler resampler_;
   std::vector<uint8_t> upright_, oriented_;
+  std::vector<uint8_t> padded_;  // encode_frame: the processed frame with its edges repeated
   image::JpegEncoder jpeg_;
   int32_t jpeg_quality_ = 90;
   size_t jpeg_max_bytes_ = 0;
@@ -165,9 +169,43 @@ Status RawCameraImpl::render(const ContactScene& scene, const RenderOptions& opt
     TLV_TRY(render_periphery(scene, options, noise_seed, out.processed));
     source = &wide_frame_;
   }
-  const uint8_t* upright = source->rgb.data();
+  return encode_source(source->rgb.data(), out);
+}
+
+// The processed frame at [pad, pad + size) of the padded grid, every periphery pixel a copy of
+// the nearest edge pixel.
+void RawCameraImpl::pad_by_repeating_edges(std::span<const uint8_t> processed_rgb) {
+  const SensorProfile& p = renderer_->profile();
+  const size_t w = static_cast<size_t>(p.width), h = static_cast<size_t>(p.height);
+  const size_t px = static_cast<size_t>(pad_.x), py = static_cast<size_t>(pad_.y);
+  const size_t ww = w + 2 * px, wh = h + 2 * py;
+  padded_.resize(ww * wh * 3);
+  for (size_t y = 0; y < wh; ++y) {
+    const size_t sy = std::min(y >= py ? y - py : 0, h - 1);
+    const uint8_t* src = processed_rgb.data() + sy * w * 3;
+    uint8_t* dst = padded_.data() + y * ww * 3;
+    for (size_t x = 0; x < px; ++x) std::memcpy(dst + x * 3, src, 3);
+    std::memcpy(dst + px * 3, src, w * 3);
+    for (size_t x = px + w; x < ww; ++x) std::memcpy(dst + x * 3, src + (w - 1) * 3, 3);
+  }
+}
+
+Status RawCameraImpl::encode_frame(std::span<const uint8_t> processed_rgb, RawFrame& out) {
+  const SensorProfile& p = renderer_->profile();
+  const size_t expected = static_cast<size_t>(p.width) * static_cast<size_t>(p.height) * 3;
+  TLV_ENSURE(processed_rgb.size() == expected, ErrorCode::kShapeMismatch,
+             "%.*s raw frame: %zu bytes of processed RGB; %dx%dx3 is %zu",
+             static_cast<int>(p.name.size()), p.name.data(), processed_rgb.size(), p.width,
+             p.height, expected);
+  if (wide_ == nullptr) return encode_source(processed_rgb.data(), out);
+  pad_by_repeating_edges(processed_rgb);
+  return encode_source(padded_.data(), out);
+}
+
+Status RawCameraImpl::encode_source(const uint8_t* source, RawFrame& out) {
+  const uint8_t* upright = source;
   if (resize_) {
-    resampler_.run(source->rgb.data(), upright_.data());
+    resampler_.run(source, upright_.data());
     upright = upright_.data();
   }
   const Status encoded = encode(upright, out);

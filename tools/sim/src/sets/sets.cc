@@ -62,6 +62,7 @@ Result<GraspSetSummary> write_grasp_set(const GraspSetJob& job) {
                        make_generators<GraspEpisodeGenerator>(job.generator, job.threads));
   datasets::FeelWriterOptions wo = job.writer;
   wo.generator_json = datasets::grasp_set_options_json(job.generator);
+  wo.gelsight_live_path = job.generator.live_path;  // no second camera round trip
   TLV_ASSIGN_OR_RETURN(auto writer, job.repacked
                                         ? datasets::create_feel_repacked_writer(job.dir, wo)
                                         : datasets::create_feel_writer(job.dir, wo));

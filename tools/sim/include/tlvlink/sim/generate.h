@@ -71,6 +71,9 @@ struct GraspSetOptions {
   // [0, 1], drawn per object by hashing (seed, object) (real grippers come with and without;
   // a grasp head meant for both should see both). 0 = none.
   double markers_fraction = 0;
+  // Every tactile frame through its sensor's live image path (LivePath: the raw camera output
+  // recovered by the board's decoder), as tlvlinkd sees it; states and labels are unchanged.
+  bool live_path = false;
   uint64_t seed = 1;
   // 1..kMaxSensorInstances simulated sensors; fingers A and B are two physical sensors, so each
   // episode draws one instance per finger, independently, by hashing (seed, episode, finger).

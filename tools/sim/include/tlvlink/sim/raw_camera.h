@@ -66,6 +66,12 @@ class RawCamera {
   virtual Status render(const ContactScene& scene, const RenderOptions& options,
                         uint64_t noise_seed, RawFrame& out) = 0;
 
+  // An already rendered processed frame (profile height * width * 3 RGB) as the camera's raw
+  // bytes, in out.bytes (out.processed is left alone). The periphery beyond the processed view,
+  // which render() draws, is the frame's edge pixels repeated: RawDecoder crops it away, so only
+  // the resampler's taps and the JPEG blocks at the crop line see the difference.
+  virtual Status encode_frame(std::span<const uint8_t> processed_rgb, RawFrame& out) = 0;
+
   virtual const RawLayout& layout() const = 0;
   virtual const SensorProfile& profile() const = 0;
 };
