@@ -16,6 +16,7 @@
 #include "tlvlink/quantize/frames.h"
 #include "tlvlink/quantize/model_copy.h"
 #include "tlvlink/quantize/reference_encoder.h"
+#include "tlvlink/sim/generate.h"
 #include "tlvlink/sim/materials.h"
 
 namespace tlvlink {
@@ -116,6 +117,94 @@ TEST(Oracle, TouchOraclesFromRecordedVariables) {
     EXPECT_FALSE(o.available);
     EXPECT_FALSE(o.note.empty());
   }
+}
+
+TEST(Oracle, KnnClassWeightsNeverVoteWithTheQuerysOwnObject) {
+  // Rows 0-2: object "a", class 1, right at the query; rows 3-5: object "b", class 4, farther.
+  const std::vector<double> rows = {0, 0, 0.01, 0, 0.02, 0, 5, 0, 5.1, 0, 5.2, 0};
+  const std::vector<int32_t> classes = {1, 1, 1, 4, 4, 4};
+  const std::vector<std::string> groups = {"a", "a", "a", "b", "b", "b"};
+  const std::vector<size_t> queries = {0, 3};
+  const auto w = eval::knn_class_weights_other_groups(rows, classes, groups, queries, 2, 2);
+  ASSERT_EQ(w.size(), 2u);
+  EXPECT_DOUBLE_EQ(w[0][4], 1.0);  // row 0's own object is nearer but never counts
+  EXPECT_DOUBLE_EQ(w[0][1], 0.0);
+  EXPECT_DOUBLE_EQ(w[1][1], 1.0);
+}
+
+// Two graspable-looking classes whose friction ranges do not overlap, and a grip on which the
+// class decides the grasp: the frames estimate equals the class row when the frames tell the
+// classes apart and falls below it when they cannot.
+TEST(Oracle, GraspFramesEstimateReadsMuThroughTheMaterialVote) {
+  const auto cls = sim::material_classes();
+  int32_t slippery = -1, grippy = -1;
+  for (const sim::MaterialClass& c : cls) {
+    if (slippery < 0 || c.friction.hi < cls[static_cast<size_t>(slippery)].friction.hi)
+      slippery = c.id;
+    if (grippy < 0 || c.friction.lo > cls[static_cast<size_t>(grippy)].friction.lo) grippy = c.id;
+  }
+  ASSERT_LT(cls[static_cast<size_t>(slippery)].friction.hi,
+            cls[static_cast<size_t>(grippy)].friction.lo);
+  sim::GraspVariables v;
+  v.contact_area_mm2[0] = v.contact_area_mm2[1] = 120;
+  v.finger_in_contact[0] = v.finger_in_contact[1] = true;
+  // The grip force at which the grippy class holds and the slippery one does not.
+  auto p_of = [&](int32_t c, double force) {
+    v.grip_force_n = force;
+    std::array<double, sim::kMaterialClassCount> one{};
+    one[static_cast<size_t>(c)] = 1;
+    const std::vector<sim::GraspVariables> vs = {v};
+    const std::vector<std::array<double, sim::kMaterialClassCount>> ws = {one};
+    return sim::grasp_success_given_class_weights(vs, ws, 1).value()[0];
+  };
+  double force = 0;
+  for (double f = 5; f <= 35 && force == 0; f += 1)
+    if (p_of(grippy, f) > 0.6 && p_of(slippery, f) < 0.4) force = f;
+  ASSERT_GT(force, 0) << "no grip force separates the two classes";
+  v.grip_force_n = force;
+
+  for (const bool frames_differ : {true, false}) {
+    SCOPED_TRACE(frames_differ ? "frames tell the classes apart" : "frames look alike");
+    eval::GraspEmbeddings g;
+    g.dim = 1;
+    for (int i = 0; i < 80; ++i) {
+      const bool is_grippy = i % 2 == 0;
+      sim::MaterialSample m = centre_of(is_grippy ? grippy : slippery);
+      sim::ContactState c;
+      c.force_n = force / 2 + 0.001 * i;
+      c.contact_area_mm2 = frames_differ && is_grippy ? 150 : 120;
+      c.max_gel_indentation_mm = 0.2;
+      c.kappa = c.texture_kappa = 0;  // no texture shows: only the contact can tell
+      g.values.resize(g.values.size() + eval::kGraspFrames, 0.f);
+      g.label.push_back(is_grippy ? 1 : 0);
+      g.group.push_back("o" + std::to_string(i));
+      g.is_test.push_back(i >= 40 ? 1 : 0);
+      g.keys.push_back("k" + std::to_string(i));
+      g.hidden_variables.push_back(v);
+      g.hidden_material.push_back(m);
+      g.hidden_during.push_back({c, c});
+    }
+    auto o = eval::grasp_frames_oracle(g);
+    ASSERT_TRUE(o.ok()) << o.error().message();
+    ASSERT_TRUE(o->available) << o->note;
+    EXPECT_EQ(o->n, 40);
+    EXPECT_DOUBLE_EQ(o->class_accuracy, 1.0);
+    EXPECT_DOUBLE_EQ(o->majority_rate, 0.5);
+    if (frames_differ) {
+      EXPECT_DOUBLE_EQ(o->frames_accuracy, 1.0);
+    } else {
+      EXPECT_LE(o->frames_accuracy, 0.75);  // a vote over look-alikes is near a coin flip
+    }
+  }
+  // Without recorded variables (real data): unavailable, with a note.
+  eval::GraspEmbeddings none;
+  none.is_test = {1};
+  none.label = {1};
+  none.group = {"x"};
+  auto o = eval::grasp_frames_oracle(none);
+  ASSERT_TRUE(o.ok());
+  EXPECT_FALSE(o->available);
+  EXPECT_FALSE(o->note.empty());
 }
 
 // The seeded reference encoder plus one zero-shot head per task (it has none of its own).

@@ -287,3 +287,41 @@ TEST(GraspGenerator, LivePathFramesAreTheRenderedFramesThroughTheSensorsLivePath
 
 }  // namespace
 }  // namespace tlvlink::sim
+
+namespace tlvlink::sim {
+namespace {
+
+TEST(GraspGenerator, SuccessGivenClassWeightsMixesTheClassOracles) {
+  GraspVariables v;
+  v.grip_force_n = 18;
+  v.contact_area_mm2[0] = v.contact_area_mm2[1] = 150;
+  v.finger_in_contact[0] = v.finger_in_contact[1] = true;
+  std::array<double, kMaterialClassCount> a{}, b{}, mix{};
+  a[3] = 1;
+  b[9] = 1;
+  mix[3] = 0.25;
+  mix[9] = 0.75;
+  const std::vector<GraspVariables> vs = {v, v, v};
+  const std::vector<std::array<double, kMaterialClassCount>> ws = {a, b, mix};
+  auto p = grasp_success_given_class_weights(vs, ws, 1);
+  ASSERT_TRUE(p.ok()) << p.error().message();
+  EXPECT_NEAR((*p)[2], 0.25 * (*p)[0] + 0.75 * (*p)[1], 1e-12);
+  for (const double x : *p) EXPECT_TRUE(x >= 0 && x <= 1);
+  // A missing finger fails whatever the material.
+  GraspVariables miss = v;
+  miss.finger_in_contact[1] = false;
+  const std::vector<GraspVariables> ms = {miss};
+  const std::vector<std::array<double, kMaterialClassCount>> wa = {a};
+  EXPECT_EQ(grasp_success_given_class_weights(ms, wa, 1).value()[0], 0.0);
+  // Weights that are not a distribution, and a length mismatch, are errors.
+  std::array<double, kMaterialClassCount> bad = a;
+  bad[9] = 0.5;
+  const std::vector<std::array<double, kMaterialClassCount>> wbad = {bad};
+  const auto e = grasp_success_given_class_weights(ms, wbad, 1);
+  ASSERT_FALSE(e.ok());
+  EXPECT_NE(std::string(e.error().message()).find("sum to"), std::string::npos);
+  EXPECT_FALSE(grasp_success_given_class_weights(vs, wa, 1).ok());
+}
+
+}  // namespace
+}  // namespace tlvlink::sim

@@ -367,6 +367,10 @@ Result<EvalReport> evaluate_embeddings(const Metadata& metadata, const Embedding
   if (options.model_heads) TLV_TRY(evaluate_model_heads(metadata, set, rep));
   TLV_TRY(evaluate_zero_shot(metadata, set, options, rep));
   if (set.grasp) rep.oracle = oracle_for(*set.grasp, options.oracle_samples);
+  if (set.grasp && options.oracle_samples > 0) {
+    TLV_ASSIGN_OR_RETURN(GraspFramesOracle frames, grasp_frames_oracle(*set.grasp));
+    if (frames.available) rep.grasp_frames_oracle = frames;  // real data: no row, no note
+  }
   if (set.touch && options.touch_oracles) {
     rep.touch_oracles = touch_oracles(*set.touch);
     // A set with no hidden variables at all (real data) gets no oracle rows rather than notes.

@@ -182,6 +182,10 @@ Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
         }
       }
       out.label.push_back(e.is_gripping ? 1 : 0);
+      out.hidden_variables.push_back(e.variables);
+      out.hidden_material.push_back(e.material);
+      out.hidden_during.push_back({e.states[0][static_cast<int>(heads::Moment::kDuring)],
+                                   e.states[1][static_cast<int>(heads::Moment::kDuring)]});
       out.group.push_back(e.object_name);
       out.is_test.push_back(test ? 1 : 0);
       out.keys.push_back((*loader)->key());

@@ -155,6 +155,13 @@ std::string format_table(std::span<const EvalReport* const> reports, bool paper_
     out += pad("grasp oracle (mu unknown)", kLabelWidth) + pad("", 3 * kCellWidth) +
            fmt("%.1f\n", 100 * first.oracle->prior_friction_accuracy);
   }
+  if (first.grasp_frames_oracle) {
+    const GraspFramesOracle& g = *first.grasp_frames_oracle;
+    out += pad("grasp: mu via class, test split", kLabelWidth) + pad("", 3 * kCellWidth) +
+           fmt("%.1f (%lld episodes)\n", 100 * g.class_accuracy, static_cast<long long>(g.n));
+    out += pad("grasp: the frames (estimate)", kLabelWidth) + pad("", 3 * kCellWidth) +
+           fmt("%.1f\n", 100 * g.frames_accuracy);
+  }
   for (const BoundRow& b : first.bounds) {
     out += pad("bound: " + b.label, kLabelWidth);
     for (Task t : kAllTasks) out += pad(cell_text(b.find(t)), kCellWidth);
@@ -201,6 +208,12 @@ std::string format_table(std::span<const EvalReport* const> reports, bool paper_
       out += fmt("oracles%s: hidden = from the simulator's recorded variables (hard/soft and "
                  "rough/smooth are functions of them); one frame = %d-NN on force, contact area, "
                  "gel depth and the texture the gel shows (tools/eval/README.md)\n",
+                 label_of(r, i, reports.size()).c_str(), kFrameOracleNeighbours);
+    if (r.grasp_frames_oracle)
+      out += fmt("grasp oracles%s: visible variables / mu via class / mu unknown on fresh "
+                 "episodes; on the test split, mu via class and the frames = mu through a %d-NN "
+                 "material vote on both fingers' frame features, force and areas as recorded "
+                 "(tools/eval/README.md)\n",
                  label_of(r, i, reports.size()).c_str(), kFrameOracleNeighbours);
     out += fmt("grasp features%s: %s\n", label_of(r, i, reports.size()).c_str(),
                grasp_features_name(r.grasp_features));
@@ -257,6 +270,13 @@ std::string report_json(std::span<const EvalReport* const> reports) {
                            {"success_rate", r->oracle->success_rate},
                            {"majority_rate", r->oracle->majority_rate},
                            {"samples", r->oracle->samples}};
+    }
+    if (r->grasp_frames_oracle) {
+      const GraspFramesOracle& g = *r->grasp_frames_oracle;
+      j["grasp_frames_oracle"] = {{"frames_accuracy", g.frames_accuracy},
+                                  {"class_accuracy", g.class_accuracy},
+                                  {"majority_rate", g.majority_rate},
+                                  {"n", g.n}};
     }
     doc["reports"].push_back(std::move(j));
   }

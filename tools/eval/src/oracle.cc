@@ -8,6 +8,8 @@
 #include <limits>
 #include <numeric>
 
+#include "tlvlink/sim/generate.h"
+
 namespace tlvlink::eval {
 namespace {
 
@@ -104,35 +106,54 @@ int32_t bayes_material_class(const sim::MaterialSample& m, int32_t* tied) {
   return best_class;
 }
 
+namespace {
+
+// Mean and 1 / std of each feature over the reference rows: distances in standard units.
+struct FeatureScale {
+  std::vector<double> mean, scale;
+};
+
+FeatureScale feature_scale(std::span<const double> rows, size_t d) {
+  const size_t n = rows.size() / d;
+  FeatureScale s{std::vector<double>(d, 0.0), std::vector<double>(d, 1.0)};
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j < d; ++j) s.mean[j] += rows[i * d + j];
+  for (size_t j = 0; j < d && n > 0; ++j) s.mean[j] /= static_cast<double>(n);
+  for (size_t j = 0; j < d && n > 1; ++j) {
+    double ss = 0;
+    for (size_t i = 0; i < n; ++i)
+      ss += (rows[i * d + j] - s.mean[j]) * (rows[i * d + j] - s.mean[j]);
+    const double sd = std::sqrt(ss / static_cast<double>(n - 1));
+    s.scale[j] = sd > 0 ? 1.0 / sd : 1.0;  // a constant feature carries nothing: left unscaled
+  }
+  return s;
+}
+
+double squared_distance(const double* a, const double* b, const FeatureScale& s, size_t d) {
+  double sum = 0;
+  for (size_t j = 0; j < d; ++j) {
+    const double v = (a[j] - b[j]) * s.scale[j];
+    sum += v * v;
+  }
+  return sum;
+}
+
+}  // namespace
+
 std::vector<int32_t> knn_predict(std::span<const double> train, std::span<const int32_t> labels,
                                  std::span<const double> query, int32_t dims, int32_t classes,
                                  int32_t k) {
   const auto d = static_cast<size_t>(dims);
   const size_t n = labels.size(), q = query.size() / d;
-  std::vector<double> mean(d, 0.0), scale(d, 1.0);
-  for (size_t i = 0; i < n; ++i)
-    for (size_t j = 0; j < d; ++j) mean[j] += train[i * d + j];
-  for (size_t j = 0; j < d && n > 0; ++j) mean[j] /= static_cast<double>(n);
-  for (size_t j = 0; j < d && n > 1; ++j) {
-    double ss = 0;
-    for (size_t i = 0; i < n; ++i) ss += (train[i * d + j] - mean[j]) * (train[i * d + j] - mean[j]);
-    const double sd = std::sqrt(ss / static_cast<double>(n - 1));
-    scale[j] = sd > 0 ? 1.0 / sd : 1.0;  // a constant feature carries nothing: left unscaled
-  }
+  const FeatureScale scale = feature_scale(train.first(n * d), d);
   const size_t kk = std::min(static_cast<size_t>(std::max(k, 1)), n);
   std::vector<int32_t> out(q, 0);
   std::vector<std::pair<double, int32_t>> dist(n);
   std::vector<int32_t> votes(static_cast<size_t>(classes));
   std::vector<double> near(static_cast<size_t>(classes));
   for (size_t r = 0; r < q && n > 0; ++r) {
-    for (size_t i = 0; i < n; ++i) {
-      double s = 0;
-      for (size_t j = 0; j < d; ++j) {
-        const double v = (train[i * d + j] - query[r * d + j]) * scale[j];
-        s += v * v;
-      }
-      dist[i] = {s, labels[i]};
-    }
+    for (size_t i = 0; i < n; ++i)
+      dist[i] = {squared_distance(&train[i * d], &query[r * d], scale, d), labels[i]};
     std::partial_sort(dist.begin(), dist.begin() + static_cast<std::ptrdiff_t>(kk), dist.end());
     std::fill(votes.begin(), votes.end(), 0);
     std::fill(near.begin(), near.end(), 0.0);
@@ -147,6 +168,33 @@ std::vector<int32_t> knn_predict(std::span<const double> train, std::span<const 
         best = c;
     }
     out[r] = best;
+  }
+  return out;
+}
+
+std::vector<std::array<double, sim::kMaterialClassCount>> knn_class_weights_other_groups(
+    std::span<const double> rows, std::span<const int32_t> classes,
+    std::span<const std::string> groups, std::span<const size_t> queries, int32_t dims,
+    int32_t k) {
+  const auto d = static_cast<size_t>(dims);
+  const size_t n = classes.size();
+  const FeatureScale scale = feature_scale(rows.first(n * d), d);
+  std::vector<std::array<double, sim::kMaterialClassCount>> out(queries.size());
+  std::vector<std::pair<double, int32_t>> dist;
+  dist.reserve(n);
+  for (size_t r = 0; r < queries.size(); ++r) {
+    const size_t q = queries[r];
+    dist.clear();
+    for (size_t i = 0; i < n; ++i) {
+      if (groups[i] == groups[q]) continue;  // never the query's own object
+      dist.emplace_back(squared_distance(&rows[i * d], &rows[q * d], scale, d), classes[i]);
+    }
+    out[r].fill(0.0);
+    const size_t kk = std::min(static_cast<size_t>(std::max(k, 1)), dist.size());
+    if (kk == 0) continue;
+    std::partial_sort(dist.begin(), dist.begin() + static_cast<std::ptrdiff_t>(kk), dist.end());
+    for (size_t i = 0; i < kk; ++i)
+      out[r][static_cast<size_t>(dist[i].second)] += 1.0 / static_cast<double>(kk);
   }
   return out;
 }
@@ -211,6 +259,65 @@ std::vector<TouchOracle> touch_oracles(const TouchEmbeddings& t) {
     out.push_back(o);
   }
   return out;
+}
+
+Result<GraspFramesOracle> grasp_frames_oracle(const GraspEmbeddings& g) {
+  GraspFramesOracle o;
+  const bool recorded = g.hidden_material.size() == g.size() &&
+                        g.hidden_variables.size() == g.size() && g.hidden_during.size() == g.size();
+  std::vector<double> rows;
+  std::vector<int32_t> classes;
+  std::vector<std::string> groups;
+  std::vector<size_t> queries;
+  std::vector<sim::GraspVariables> variables;
+  std::vector<int32_t> labels;
+  constexpr int32_t kDims = heads::kFingers * kFrameFeatures;
+  double f[kDims];
+  for (size_t i = 0; recorded && i < g.size(); ++i) {
+    const sim::MaterialSample& m = g.hidden_material[i];
+    if (m.class_id < 0) continue;
+    for (int32_t finger = 0; finger < heads::kFingers; ++finger)
+      frame_features(m, g.hidden_during[i][static_cast<size_t>(finger)],
+                     f + finger * kFrameFeatures);
+    if (g.is_test[i] != 0) {
+      queries.push_back(classes.size());
+      variables.push_back(g.hidden_variables[i]);
+      labels.push_back(g.label[i]);
+    }
+    rows.insert(rows.end(), f, f + kDims);
+    classes.push_back(m.class_id);
+    groups.push_back(g.group[i]);
+  }
+  o.n = static_cast<int64_t>(queries.size());
+  if (o.n == 0) {
+    o.note = "no test episode with recorded variables";
+    return o;
+  }
+  const auto weights = knn_class_weights_other_groups(rows, classes, groups, queries, kDims,
+                                                      kFrameOracleNeighbours);
+  std::vector<std::array<double, sim::kMaterialClassCount>> truth(queries.size());
+  for (size_t r = 0; r < queries.size(); ++r) {
+    truth[r].fill(0.0);
+    truth[r][static_cast<size_t>(classes[queries[r]])] = 1.0;
+  }
+  constexpr uint64_t kHiddenSeed = 1;  // the hidden variables' draws, as the oracle's
+  TLV_ASSIGN_OR_RETURN(const auto p_frames,
+                       sim::grasp_success_given_class_weights(variables, weights, kHiddenSeed));
+  TLV_ASSIGN_OR_RETURN(const auto p_class,
+                       sim::grasp_success_given_class_weights(variables, truth, kHiddenSeed));
+  int64_t frames_ok = 0, class_ok = 0, successes = 0;
+  for (size_t r = 0; r < labels.size(); ++r) {
+    const bool y = labels[r] == 1;
+    frames_ok += (p_frames[r] > 0.5) == y ? 1 : 0;
+    class_ok += (p_class[r] > 0.5) == y ? 1 : 0;
+    successes += y ? 1 : 0;
+  }
+  const auto n = static_cast<double>(o.n);
+  o.available = true;
+  o.frames_accuracy = static_cast<double>(frames_ok) / n;
+  o.class_accuracy = static_cast<double>(class_ok) / n;
+  o.majority_rate = std::max(static_cast<double>(successes), n - static_cast<double>(successes)) / n;
+  return o;
 }
 
 }  // namespace tlvlink::eval

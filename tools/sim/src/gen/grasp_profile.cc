@@ -4,6 +4,7 @@
 #include "gen/grasp_profile.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -66,6 +67,35 @@ Result<GraspOracleReport> grasp_oracle_report(const GraspSetOptions& options, in
     mixed.majority_rate = std::max(mixed.success_rate, 1 - mixed.success_rate);
   }
   return mixed;
+}
+
+Result<std::vector<double>> grasp_success_given_class_weights(
+    std::span<const GraspVariables> episodes,
+    std::span<const std::array<double, kMaterialClassCount>> class_weights, uint64_t seed) {
+  TLV_ENSURE(episodes.size() == class_weights.size(), ErrorCode::kInvalidArgument,
+             "grasp success: %zu episodes but %zu rows of class weights", episodes.size(),
+             class_weights.size());
+  for (size_t i = 0; i < class_weights.size(); ++i) {
+    double sum = 0;
+    for (const double w : class_weights[i]) {
+      TLV_ENSURE(w >= 0 && std::isfinite(w), ErrorCode::kInvalidArgument,
+                 "grasp success: episode %zu has a class weight %g (must be finite, >= 0)", i, w);
+      sum += w;
+    }
+    TLV_ENSURE(std::fabs(sum - 1) <= 1e-6, ErrorCode::kInvalidArgument,
+               "grasp success: episode %zu's class weights sum to %.9g, not 1", i, sum);
+  }
+  const internal::HiddenDraws hidden = internal::draw_hidden(seed, internal::kOracleHiddenDraws);
+  std::vector<double> out(episodes.size(), 0.0);
+  for (size_t i = 0; i < episodes.size(); ++i) {
+    for (int32_t c = 0; c < kMaterialClassCount; ++c) {
+      const double w = class_weights[i][static_cast<size_t>(c)];
+      if (w <= 0) continue;
+      TLV_ASSIGN_OR_RETURN(const MaterialClass* cls, material_class(c));
+      out[i] += w * internal::success_probability_class_friction(episodes[i], cls->friction, hidden);
+    }
+  }
+  return out;
 }
 
 double grasp_oracle_accuracy(const GraspSetOptions& options, int64_t samples) {

@@ -8,6 +8,7 @@
 //   auto set = extract_embeddings(model, data, eo);   // streams the loaders, one frame in memory
 //   // set->touch.row(i) is sample i's embedding, set->touch.material[i] its label
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -119,6 +120,12 @@ struct GraspEmbeddings {
   std::vector<std::string> group;    // object name
   std::vector<uint8_t> is_test;
   std::vector<std::string> keys;
+  // What the simulator recorded about each episode (its sidecar): the grasp variables, the
+  // object's material and each finger's "during" contact. class_id -1 when the set records none
+  // (oracle.h's frames estimate needs them).
+  std::vector<sim::GraspVariables> hidden_variables;
+  std::vector<sim::MaterialSample> hidden_material;
+  std::vector<std::array<sim::ContactState, heads::kFingers>> hidden_during;
   SplitInfo split;
   std::string format;                // "feel_hdf5" / "feel_repacked"
   std::string load_summary;

@@ -100,6 +100,8 @@ struct EvalReport {
   std::string touch_dir, grasp_dir;        // the data evaluated on (evaluate() fills them)
   std::string touch_load_summary, grasp_load_summary;
   std::optional<GraspOracle> oracle;  // generated grasp sets only
+  // Generated grasp sets with recorded variables only (oracle.h): on this test split.
+  std::optional<GraspFramesOracle> grasp_frames_oracle;
   std::vector<TouchOracle> touch_oracles;  // generated touch sets with hidden variables only
   std::vector<BoundRow> bounds;       // reference models' probe rows (the CLI fills them)
   GraspFeatures grasp_features = GraspFeatures::kBeforeDuring;

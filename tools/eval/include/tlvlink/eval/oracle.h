@@ -21,6 +21,7 @@
 //           few; frames show the features with noise, so a model can fall short of it, and they
 //           also show what the features leave out (shape details), so a model may exceed it.
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -61,5 +62,34 @@ int32_t bayes_material_class(const sim::MaterialSample& m, int32_t* tied = nullp
 std::vector<int32_t> knn_predict(std::span<const double> train, std::span<const int32_t> labels,
                                  std::span<const double> query, int32_t dims, int32_t classes,
                                  int32_t k);
+
+// For each row index in `queries`: the share of each material class among its k nearest rows
+// of another group (features standardised over all rows; the query's own group, i.e. its own
+// object, is never a neighbour). classes[i] in 0..kMaterialClassCount-1.
+std::vector<std::array<double, sim::kMaterialClassCount>> knn_class_weights_other_groups(
+    std::span<const double> rows, std::span<const int32_t> classes,
+    std::span<const std::string> groups, std::span<const size_t> queries, int32_t dims,
+    int32_t k);
+
+// The grasp task's counterpart of the touch tasks' one-frame estimate: how much of the grasp
+// oracle the frames a grasp head receives (both fingers' "during" frames) can carry. The grasp
+// oracle sees the friction coefficient itself; a frame shows it only through the material it
+// recognises. So, on the test split:
+//   frames       P(success) with the grip force and the contact areas as recorded (a frame
+//                shows both: the gel is a calibrated spring) and mu marginalised over the
+//                material classes a k-NN vote gives from both fingers' frame features (the touch
+//                estimate's: force, contact area, gel depth, the texture the gel shows), each
+//                class's mu over its range. The vote's neighbours are every other object's
+//                episodes (both splits; never the episode's own object).
+//   class        the same with the true class (mu via class only), on the same episodes.
+// Generous where frames are noisy (force and areas exact) and short where they show more than
+// the features (a better material reader would do better), like the touch estimate.
+struct GraspFramesOracle {
+  bool available = false;
+  double frames_accuracy = 0, class_accuracy = 0, majority_rate = 0;
+  int64_t n = 0;     // test episodes scored (with recorded variables)
+  std::string note;  // why not available
+};
+Result<GraspFramesOracle> grasp_frames_oracle(const GraspEmbeddings& grasp);
 
 }  // namespace tlvlink::eval

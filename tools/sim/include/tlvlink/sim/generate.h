@@ -4,12 +4,16 @@
 // Item i depends only on (seed, i), so generation can be split across threads and resumed, and
 // the same options always give the same bytes.
 
+#include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string_view>
+#include <vector>
 
 #include "tlvlink/error.h"
 #include "tlvlink/sim/dataset.h"
+#include "tlvlink/sim/materials.h"
 
 namespace tlvlink::sim {
 
@@ -139,5 +143,16 @@ struct GraspOracleReport {
   double prior_friction_accuracy = 0;
 };
 Result<GraspOracleReport> grasp_oracle_report(const GraspSetOptions& options, int64_t samples);
+
+// P(success | the visible variables of each episode) when the friction is known only as a
+// distribution over material classes: class_weights[i][c] for class id c (each row summing to
+// 1), mu within a class marginalised over its range as class_friction_accuracy does. What a
+// predictor reaches that reads grip force and contact areas and recognises the material with
+// that confidence. The hidden variables: the oracle's draws (kOracleHiddenDraws) from `seed`.
+// Rows that are negative or do not sum to 1 (within 1e-6), or a length mismatch, are
+// kInvalidArgument.
+Result<std::vector<double>> grasp_success_given_class_weights(
+    std::span<const GraspVariables> episodes,
+    std::span<const std::array<double, kMaterialClassCount>> class_weights, uint64_t seed);
 
 }  // namespace tlvlink::sim
