@@ -58,7 +58,8 @@ void EvalFlags::add_to(CLI::App& app) {
                  "Built-in hashing text encoder seed (default: the model's recorded encoder, "
                  "else 7)");
   app.add_option("--oracle-samples", oracle_samples,
-                 "Monte Carlo episodes of the grasp oracle for generated sets (0 = skip)")
+                 "Monte Carlo episodes of the grasp oracle for generated sets (0 = skip it and the "
+                 "grasp frames estimate)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_flag("--quiet,-q", quiet, "No progress on stderr");

@@ -51,7 +51,8 @@ struct EvalOptions {
   TextOptions text;
   bool fit_probes = true;              // fit and score linear probes (the "linear probe" row)
   bool model_heads = true;             // also score the heads stored in the model
-  int64_t oracle_samples = 10000;      // grasp oracle Monte Carlo episodes (~3 s); 0 = skip
+  // Grasp oracle Monte Carlo episodes (~3 s); 0 skips it and the grasp frames estimate.
+  int64_t oracle_samples = 10000;
   bool touch_oracles = true;           // oracle.h rows when the touch set records hidden variables
 };
 
