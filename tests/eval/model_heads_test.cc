@@ -126,6 +126,11 @@ eval::EmbeddingSet synthetic_set(int32_t dim, uint64_t seed) {
         g.values.push_back(rng.normal(0, 1) + (during && label == 1 ? 1.5f : 0.0f));
       }
     }
+    // Each finger's difference features: the first one larger when held.
+    for (int32_t f = 0; f < heads::kFingers * heads::kDifferenceFeatures; ++f) {
+      const bool first = f % heads::kDifferenceFeatures == 0;
+      g.difference.push_back(rng.normal(0, 1) + (first && label == 1 ? 1.0f : 0.0f));
+    }
     g.label.push_back(label);
     g.group.push_back("o" + std::to_string(i / 2));
     g.is_test.push_back(i >= 80 ? 1 : 0);
@@ -155,7 +160,9 @@ TEST(ModelHeads, WrittenHeadsAreAppliedByTheRuntimePathIdentically) {
   ASSERT_EQ(m.linear_heads.size(), 3u);
   EXPECT_EQ(m.zero_shot_heads.size(), 4u);
   EXPECT_TRUE(m.grasp_head.present);
-  EXPECT_EQ(m.grasp_head.feature_layout, "A.before,A.during,B.before,B.during");
+  EXPECT_EQ(m.grasp_head.feature_layout,
+            "A.before,A.during,A.difference,B.before,B.during,B.difference");
+  EXPECT_EQ(m.grasp_head.weight.size(), 4u * static_cast<size_t>(dim) + 2u * heads::kDifferenceFeatures);
   EXPECT_NE(m.provenance.training.find("heads_fit"), std::string_view::npos);
   expect_same_outputs(*original, *model);
 
@@ -174,6 +181,18 @@ TEST(ModelHeads, WrittenHeadsAreAppliedByTheRuntimePathIdentically) {
       EXPECT_TRUE(std::equal(logits.begin(), logits.end(), p[h].logits.begin(), p[h].logits.end()))
           << "head " << p[h].name << " row " << i;
     }
+  }
+  // The grasp head with its difference features: the runtime's probability is eval's logit.
+  const eval::GraspEmbeddings& g = *set.grasp;
+  for (size_t i = 0; i < g.size(); i += 7) {
+    std::vector<std::span<const float>> features;
+    for (const heads::GraspFeature& f : evaluator->grasp_layout()) features.push_back(g.feature(i, f));
+    auto p = evaluator->grasp_probability(features);
+    ASSERT_TRUE(p.ok()) << p.error().message();
+    auto logit = eval::grasp_head_logit(m.grasp_head.weight, m.grasp_head.bias,
+                                        m.grasp_head.feature_layout, g, i);
+    ASSERT_TRUE(logit.ok()) << logit.error().message();
+    EXPECT_EQ(*p, heads::sigmoid(*logit)) << "episode " << i;
   }
   // Scoring the stored heads reproduces the fitted probes' test results exactly.
   eval::EvalOptions o;

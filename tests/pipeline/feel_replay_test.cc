@@ -2,7 +2,8 @@
 // each finger's frames go through contact gating, preprocessing, the shipped int8 encoder and
 // the grasp tracker with the controller's "closed" / "lifting" marks. Every grasp prediction must
 // be exactly the model's grasp head on the episode's before and during frames, computed here
-// independently (preprocess, invoke, sigmoid(w . f + b)): the board predicts what eval scores.
+// independently (preprocess, invoke, the difference statistics of the model's crop and resize in
+// DN, sigmoid(w . f + b)): the board predicts what eval scores.
 #include <cmath>
 #include <cstring>
 #include <vector>
@@ -11,6 +12,7 @@
 
 #include "tlvlink/executor.h"
 #include "tlvlink/heads/evaluator.h"
+#include "tlvlink/heads/grasp_difference.h"
 #include "tlvlink/heads/head_math.h"
 #include "tlvlink/image/preprocess.h"
 #include "tlvlink/model.h"
@@ -101,8 +103,20 @@ TEST(PipelineFeelReplay, GraspPredictionsAreTheGraspHeadOnTheEpisodesFrames) {
     // The same frames through the allocating host path and the grasp head, in layout order.
     std::vector<std::vector<float>> e;
     std::vector<std::span<const float>> features;
-    for (const heads::GraspFeature& f : heads->grasp_layout())
-      e.push_back(embed(m, **check_exec, ep.frames[f.finger][static_cast<int>(f.moment)]));
+    for (const heads::GraspFeature& f : heads->grasp_layout()) {
+      if (f.kind == heads::FeatureKind::kEmbedding) {
+        e.push_back(embed(m, **check_exec, ep.frames[f.finger][static_cast<int>(f.moment)]));
+        continue;
+      }
+      const InputSpec dn = heads::difference_input_spec(m.metadata().input);
+      auto open_gel = image::preprocess(view_of(ep.frames[f.finger][0]), dn);
+      auto grip = image::preprocess(view_of(ep.frames[f.finger][1]), dn);
+      auto stats = heads::GraspDifference::create(m.metadata().input.height,
+                                                  m.metadata().input.width, 3);
+      ASSERT_TRUE(open_gel.ok() && grip.ok() && stats.ok());
+      e.emplace_back(heads::kDifferenceFeatures);
+      ASSERT_TRUE(stats->compute(*open_gel, *grip, e.back()).ok());
+    }
     for (const auto& v : e) features.emplace_back(v);
     auto want = heads->grasp_probability(features);
     ASSERT_TRUE(want.ok());

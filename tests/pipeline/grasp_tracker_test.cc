@@ -1,6 +1,7 @@
 // The grasp tracker's phases in both modes on scripted frame streams: which frames it takes, the
 // reasons a grasp is not computed, and that it never invents a value.
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -226,8 +227,95 @@ TEST(GraspTracker, BadOptionsAndLayoutsAreErrors) {
   o.settle_ns = -1;
   EXPECT_NE(std::string(GraspTracker::create(kLayout, kDim, o).error().message()).find("grasp.settle_ms"),
             std::string::npos);
-  const std::vector<GraspFeature> seven(7, GraspFeature{0, Moment::kBefore});
-  EXPECT_EQ(GraspTracker::create(seven, kDim, {}).error().code(), ErrorCode::kModelUnsupported);
+  const std::vector<GraspFeature> nine(kMaxGraspFeatures + 1, GraspFeature{0, Moment::kBefore});
+  EXPECT_EQ(GraspTracker::create(nine, kDim, {}).error().code(), ErrorCode::kModelUnsupported);
+  // A difference feature needs images the statistics can read.
+  const std::vector<GraspFeature> diff = {{0, Moment::kDuring, heads::FeatureKind::kDifference}};
+  EXPECT_EQ(GraspTracker::create(diff, kDim, {}).error().code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(GraspTracker::create(diff, kDim, {}, {8, 8, 1}).error().code(),
+            ErrorCode::kModelUnsupported);
+}
+
+// Difference layouts: each finger's open-gel and settled-grip images, passed beside the
+// embeddings, become the finger's 16 statistics. Finger f's frame k is a uniform image of
+// f * 100 + k DN, so the difference is the frames' sequence gap.
+const std::vector<GraspFeature> kDifferenceLayout = {
+    {0, Moment::kBefore}, {0, Moment::kDuring}, {0, Moment::kDuring, heads::FeatureKind::kDifference},
+    {1, Moment::kBefore}, {1, Moment::kDuring}, {1, Moment::kDuring, heads::FeatureKind::kDifference}};
+constexpr GraspImageShape kImage{8, 8, 3};
+
+struct DifferenceRun {
+  std::vector<GraspPrediction> done;
+  std::vector<std::vector<float>> features;  // of the last computed grasp
+};
+
+// Contact on both fingers from frame 10 to 60; images passed when `with_image(f, contact)`.
+template <typename WithImage>
+DifferenceRun run_difference(WithImage with_image) {
+  auto t = GraspTracker::create(kDifferenceLayout, kDim, {}, kImage);
+  EXPECT_TRUE(t.ok()) << t.error().message();
+  DifferenceRun r;
+  for (uint64_t k = 0; k < 80; ++k) {
+    for (int32_t f = 0; f < 2; ++f) {
+      const int64_t t_ns = static_cast<int64_t>(k) * kPeriod + (f == 1 ? 7 * kMs : 0);
+      const bool contact = k >= 10 && k < 60;
+      EXPECT_TRUE(t->wants_image(f));
+      const std::vector<float> e = emb(f, k);
+      const std::vector<float> image(t->image_values(), static_cast<float>(f * 100) + k);
+      t->on_frame(f, k, t_ns, contact, e,
+                  with_image(f, contact) ? std::span<const float>(image) : std::span<const float>());
+      GraspPrediction p;
+      std::span<const float> feats[kMaxGraspFeatures];
+      while (t->take_finished(p, feats)) {
+        r.done.push_back(p);
+        if (!p.computed) continue;
+        r.features.clear();
+        for (int32_t i = 0; i < p.feature_count; ++i) r.features.emplace_back(feats[i].begin(), feats[i].end());
+      }
+    }
+  }
+  return r;
+}
+
+TEST(GraspTracker, DifferenceFeaturesAreTheStatisticsOfEachFingersBeforeAndDuringImages) {
+  const DifferenceRun r = run_difference([](int32_t, bool) { return true; });
+  ASSERT_EQ(r.done.size(), 1u);
+  const GraspPrediction& p = r.done[0];
+  ASSERT_TRUE(p.computed) << p.reason.data();
+  EXPECT_EQ(p.feature_count, 6);
+  ASSERT_EQ(p.frame_count, 4);  // each frame once: A before, A during, B before, B during
+  ASSERT_EQ(r.features.size(), 6u);
+  for (int32_t k : {0, 1, 3, 4}) EXPECT_EQ(r.features[static_cast<size_t>(k)].size(), static_cast<size_t>(kDim));
+  for (int32_t finger : {0, 1}) {
+    const GraspFrameRef& before = p.frames[static_cast<size_t>(finger * 2)];
+    const GraspFrameRef& during = p.frames[static_cast<size_t>(finger * 2 + 1)];
+    ASSERT_EQ(before.moment, static_cast<uint8_t>(Moment::kBefore));
+    ASSERT_EQ(during.moment, static_cast<uint8_t>(Moment::kDuring));
+    const double gap = static_cast<double>(during.sequence - before.sequence);
+    EXPECT_GT(gap, 0);
+    const std::vector<float>& d = r.features[static_cast<size_t>(finger * 3 + 2)];
+    ASSERT_EQ(d.size(), static_cast<size_t>(heads::kDifferenceFeatures));
+    EXPECT_NEAR(d[0], std::log1p(gap), 1e-5) << "finger " << finger;       // mean |d|
+    EXPECT_NEAR(d[10], std::log1p(gap), 1e-5) << "finger " << finger;      // mean d, channel 0
+    // The embeddings beside it are the same frames'.
+    EXPECT_EQ(r.features[static_cast<size_t>(finger * 3)], emb(finger, before.sequence));
+    EXPECT_EQ(r.features[static_cast<size_t>(finger * 3 + 1)], emb(finger, during.sequence));
+  }
+}
+
+TEST(GraspTracker, DifferenceWithoutItsImagesIsNotComputedAndSaysWhy) {
+  // Finger B's open-gel frames come without images: B has no "before" to compare against.
+  DifferenceRun r = run_difference([](int32_t f, bool) { return f == 0; });
+  ASSERT_EQ(r.done.size(), 1u);
+  EXPECT_FALSE(r.done[0].computed);
+  EXPECT_NE(std::string(r.done[0].reason.data()).find("finger B has no frame of its open gel"),
+            std::string::npos) << r.done[0].reason.data();
+  // B's grip frames come without images: its "during" cannot be compared.
+  r = run_difference([](int32_t f, bool contact) { return f == 0 || !contact; });
+  ASSERT_EQ(r.done.size(), 1u);
+  EXPECT_FALSE(r.done[0].computed);
+  EXPECT_NE(std::string(r.done[0].reason.data()).find("without the image"), std::string::npos)
+      << r.done[0].reason.data();
 }
 
 }  // namespace

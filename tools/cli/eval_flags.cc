@@ -38,9 +38,10 @@ void EvalFlags::add_to(CLI::App& app) {
       ->check(CLI::Range(0, 3))
       ->capture_default_str();
   app.add_option("--grasp-features", grasp_features,
-                 "Grasp probe features: before-during (A/B before + during, Calandra) or "
-                 "before-after (TLV-Link parity)")
-      ->check(CLI::IsMember({"before-during", "before-after"}))
+                 "Grasp probe features: before-during-difference (before + during embeddings "
+                 "and how each finger's image changed between them), before-during (A/B "
+                 "before + during, Calandra) or before-after (TLV-Link parity)")
+      ->check(CLI::IsMember({"before-during-difference", "before-during", "before-after"}))
       ->capture_default_str();
   app.add_option("--l2", l2_grid,
                  "Comma-separated L2 strengths to choose from on a validation split by "

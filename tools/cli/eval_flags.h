@@ -22,7 +22,7 @@ struct EvalFlags {
   int64_t max_touch = 0, max_grasp = 0;
   int jpeg_scale = 1;
   int quarter_turns = 0;
-  std::string grasp_features = "before-during";
+  std::string grasp_features = "before-during-difference";
   std::string l2_grid;  // comma-separated; empty: the library's default grid
   int max_iterations = 300;
   std::string zero_shot = "auto";

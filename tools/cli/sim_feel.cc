@@ -28,6 +28,7 @@ struct FeelFlags {
   int deflate_level = 1;
   int camera_jpeg_quality = 95;
   bool live_path = false;
+  double live_path_fraction = 0;
   int jpeg_quality = 95;
   int quarter_turns = 0;
   double test_fraction = 0.2;
@@ -50,6 +51,7 @@ int run_feel(const FeelFlags& f) {
   gen.seed = f.seed;
   gen.sensor_instances = f.sensor_instances;
   gen.live_path = f.live_path;
+  gen.live_path_fraction = f.live_path_fraction;
   datasets::FeelWriterOptions& wo = job.writer;
   wo.jpeg_quality = f.jpeg_quality;
   wo.test_fraction = f.test_fraction;
@@ -138,12 +140,20 @@ void add_sim_feel_command(CLI::App& sim, int& exit_code) {
                   "(0 = none)")
       ->check(CLI::Range(0, 100))
       ->capture_default_str();
-  cmd->add_flag("--live-path", f->live_path,
+  CLI::Option* live_path = cmd->add_flag("--live-path", f->live_path,
                 "Every GelSight frame through its sensor's raw camera output and the board's "
                 "decoder, as tlvlinkd sees it (the Mini's MJPEG 3280x2464 decoded at 1/8, DIGIT's "
                 "YUYV) instead of --camera-jpeg-quality's round trip, which then applies to the "
                 "vision frames only. Slower (~30 ms per Mini frame); the HDF5 layout stores the "
                 "frames losslessly, --repacked compresses them again at --jpeg-quality");
+  cmd->add_option("--live-path-fraction", f->live_path_fraction,
+                  "Share of objects whose GelSight frames take --live-path's route, drawn per "
+                  "object (independently of --markers-fraction); the others take "
+                  "--camera-jpeg-quality's round trip. A grasp head fitted on both reads the "
+                  "board's frames and the dataset's alike (0 = none)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->excludes(live_path)
+      ->capture_default_str();
   cmd->add_option("--jpeg-quality", f->jpeg_quality, "--repacked: quality of the stored JPEGs")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();

@@ -1,16 +1,22 @@
 #!/usr/bin/env bash
 # Reproduces the shipped default models, firmware/models/touch-tiny-{fp32,int8}.tlvm:
-#   tools/setup/make_default_models.sh [--install] [OUT_DIR]      (OUT_DIR: /tmp/tlvlink-default)
+#   tools/setup/make_default_models.sh [--install] [--encoder MODEL] [OUT_DIR]
+#   (OUT_DIR: /tmp/tlvlink-default; --encoder: skip step 1's training and take the encoder, and
+#   the zero-shot heads, from MODEL, e.g. firmware/models/touch-tiny-fp32.tlvm to re-make only
+#   the heads; the simulator set of step 1 is still made, for calibration and eval)
 # 1. tools/trainer/train_default.sh: simulator set (18,000 Touch100k-format samples of 9000
 #    objects, seed 1, GelSight Mini and DIGIT, 64 simulated sensor instances, half on marked
 #    gels), TLV-Link training of `tiny` (built-in teacher, curriculum) with the supervised term
 #    beside it (tools/trainer/README.md "Objectives"), export to OUT_DIR/tiny.tlvm.
 # 2. The heads' own sets, never seen by the encoder: a touch set (3000 objects x 2 frames,
 #    seed 3, same mix) and a simulated Feel set (2400 objects x 4 grasps, seed 2027, 64 sensor
-#    instances, each object on a GelSight Mini or a DIGIT gripper, half of them on marked gels:
-#    one grasp head for both sensor types and for gels with and without markers).
+#    instances, each object on a GelSight Mini or a DIGIT gripper, half of them on marked gels,
+#    and half of the objects' frames through the sensor's live path (the raw camera output and
+#    the board's decoder, what tlvlinkd reads) instead of the dataset's JPEG round trip: one
+#    grasp head for both sensor types, gels with and without markers, and both image paths).
 # 3. `tlvlink heads fit`: linear probes (material, hard/soft, rough/smooth) on the training split
-#    of the heads' touch set and the grasp head on the Feel set, on the runtime's own embeddings;
+#    of the heads' touch set and the grasp head on the Feel set, on the runtime's own embeddings
+#    and each finger's before-to-during difference statistics (runtime/heads/README.md);
 #    each head records its test accuracy (trust) -> OUT_DIR/touch-tiny-fp32.tlvm. Zero-shot heads
 #    that do not beat the majority class are left out.
 # 4. `tlvlink quantize` (percentile 99.99, 200 calibration frames of the training split; the
@@ -27,13 +33,27 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 install=0
-if [ "${1:-}" = "--install" ]; then install=1; shift; fi
+encoder=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --install) install=1; shift ;;
+    --encoder) encoder=$2; shift 2 ;;
+    *) break ;;
+  esac
+done
 out=${1:-/tmp/tlvlink-default}
 build=${TLVLINK_BUILD:-build/host}
 tlvlink=$build/tools/cli/tlvlink
 t0=$(date +%s)
 
-TLVLINK_BUILD=$build TLVLINK_TRAIN_ARCH=tiny bash tools/trainer/train_default.sh "$out"
+if [ -n "$encoder" ]; then
+  [ -f "$encoder" ] || { echo "make_default_models: --encoder $encoder: no such file" >&2; exit 2; }
+  TLVLINK_BUILD=$build bash tools/trainer/train_default.sh --data-only "$out"
+  cp "$encoder" "$out/tiny.tlvm"
+  echo "== encoder taken from $encoder (not trained)"
+else
+  TLVLINK_BUILD=$build TLVLINK_TRAIN_ARCH=tiny bash tools/trainer/train_default.sh "$out"
+fi
 
 # A set's tlvlink_sim.json holds every generator option: reuse the set when they match.
 generated() {  # dir key=value...
@@ -52,18 +72,18 @@ if ! generated "$heads" sessions=3000 frames_per_session=2 seed=3 sensor_instanc
 fi
 feel=$out/feel
 if ! generated "$feel" objects=2400 grasps_per_object=4 seed=2027 sensor_instances=64 \
-    'sensor="gelsight-mini,digit"' markers=false markers_fraction=0.5; then
+    'sensor="gelsight-mini,digit"' markers=false markers_fraction=0.5 live_path_fraction=0.5; then
   rm -rf "$feel"
   echo "== Feel set (grasp head): 2400 objects x 4 grasps (GelSight Mini and DIGIT, markers on" \
-       "half), 64 sensor instances, seed 2027 -> $feel"
+       "half, live path on half), 64 sensor instances, seed 2027 -> $feel"
   "$tlvlink" sim feel -o "$feel" --objects 2400 --grasps-per-object 4 --repacked --seed 2027 \
-    --sensor gelsight-mini,digit --markers-fraction 0.5 --sensor-instances 64 \
-    --vision-height 24 --vision-width 32 --threads 2
+    --sensor gelsight-mini,digit --markers-fraction 0.5 --live-path-fraction 0.5 \
+    --sensor-instances 64 --vision-height 24 --vision-width 32 --threads 2
 fi
 
 echo "== heads fit -> $out/touch-tiny-fp32.tlvm"
 "$tlvlink" heads fit "$out/tiny.tlvm" --touch "$heads" --grasp "$feel" -q \
-  -o "$out/touch-tiny-fp32.tlvm"
+  --grasp-features before-during-difference -o "$out/touch-tiny-fp32.tlvm"
 
 echo "== quantize -> $out/touch-tiny-int8.tlvm"
 "$tlvlink" quantize "$out/touch-tiny-fp32.tlvm" --calib "$out/data" --calib-split train \

@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Trains the default model: `tiny` with TLV-Link's default settings except the learning rate (see
 # below) on a simulator set, then exports it to a float .tlvm.
-#   tools/trainer/train_default.sh [--no-curriculum] [OUT_DIR] [-- EXTRA TRAIN FLAGS]
+#   tools/trainer/train_default.sh [--no-curriculum | --data-only] [OUT_DIR] [-- EXTRA TRAIN FLAGS]
 #   (OUT_DIR: /tmp/tlvlink-default; extra flags, e.g. `-- --lr 1e-3`, go to `tlvlink train`)
 # Steps: (1) generate the Touch100k-format set with a fixed seed (reused when OUT_DIR/data
 # already holds it), (2) `tlvlink train` (built-in teacher pre-training, then the student),
 # (3) `tlvlink export`. --no-curriculum trains the paper's ablation (beta = 0, no teacher) into
-# OUT_DIR/no-curriculum/ from the same data. Environment: TLVLINK_BUILD (build directory,
+# OUT_DIR/no-curriculum/ from the same data. --data-only stops after (1) (the set is what
+# calibration and eval read when an encoder is reused: make_default_models.sh --encoder). Environment: TLVLINK_BUILD (build directory,
 # default build/host), TLVLINK_TRAIN_THREADS (torch threads, default 1; see README "Threads"),
 # TLVLINK_TRAIN_ARCH (default tiny), TLVLINK_TRAIN_OBJECTIVE (default tlv-link+supervised;
 # tlv-link for the pure method, supervised for the supervised bound: then no teacher either),
@@ -15,7 +16,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 variant=curriculum
+data_only=0
 if [ "${1:-}" = "--no-curriculum" ]; then variant=no-curriculum; shift; fi
+if [ "${1:-}" = "--data-only" ]; then data_only=1; shift; fi
 out=/tmp/tlvlink-default
 if [ $# -gt 0 ] && [ "$1" != "--" ]; then out=$1; shift; fi
 [ "${1:-}" = "--" ] && shift
@@ -68,6 +71,10 @@ else
     --threads 2 --vision-height 96 --vision-width 128
 fi
 t1=$(date +%s)
+if [ $data_only -eq 1 ]; then
+  echo "train_default: data only ($((t1 - t0))s) -> $data"
+  exit 0
+fi
 
 dir=$out
 flags=(--objective "$objective")

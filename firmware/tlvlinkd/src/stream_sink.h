@@ -51,7 +51,7 @@ class StreamSink final : public OutputSink {
   // Per-record scratch (no allocation per record).
   std::array<protocol::HeadOutput, pipeline::kMaxHeads> head_outputs_{};
   std::array<uint32_t, 8> stage_ns_{};
-  std::array<protocol::GraspFrame, pipeline::kMaxGraspFeatures> grasp_frames_{};
+  std::array<protocol::GraspFrame, pipeline::kMaxGraspFrames> grasp_frames_{};
   std::array<protocol::SensorStats, pipeline::kMaxSensors> sensor_stats_{};
   std::array<protocol::DropCount, 8> drops_{};
 };

@@ -59,11 +59,21 @@ Result<HeadEvaluator> HeadEvaluator::create(const Metadata& m) {
   for (const ZeroShotHead& z : m.zero_shot_heads) add(z.name, HeadKind::kZeroShot, z.class_names, z.trust);
   if (m.grasp_head.present) {
     TLV_ASSIGN_OR_RETURN(h.grasp_layout_, parse_grasp_layout(m.grasp_head.feature_layout));
-    TLV_ENSURE(m.grasp_head.weight.size() == h.grasp_layout_.size() * dim,
-               ErrorCode::kModelInvalidMetadata,
+    size_t needs = 0;
+    for (const GraspFeature& f : h.grasp_layout_)
+      needs += static_cast<size_t>(feature_values(f, m.embedding_dim));
+    TLV_ENSURE(m.grasp_head.weight.size() == needs, ErrorCode::kModelInvalidMetadata,
                "grasp head has %zu weights; layout '%.*s' with embedding dim %zu needs %zu",
                m.grasp_head.weight.size(), static_cast<int>(m.grasp_head.feature_layout.size()),
-               m.grasp_head.feature_layout.data(), dim, h.grasp_layout_.size() * dim);
+               m.grasp_head.feature_layout.data(), dim, needs);
+    if (has_difference(h.grasp_layout_)) {
+      // The features are statistics of the model's 3-channel input (grasp_difference.h).
+      TLV_ENSURE(m.input.channels == 3, ErrorCode::kModelInvalidMetadata,
+                 "grasp layout '%.*s' reads difference features, which need a 3-channel "
+                 "input; the model reads %d",
+                 static_cast<int>(m.grasp_head.feature_layout.size()),
+                 m.grasp_head.feature_layout.data(), m.input.channels);
+    }
   }
   return h;
 }
@@ -97,12 +107,14 @@ Result<float> HeadEvaluator::grasp_probability(
     std::span<const std::span<const float>> features) const {
   TLV_ENSURE(has_grasp(), ErrorCode::kInvalidState, "the model has no grasp head");
   TLV_ENSURE(features.size() == grasp_layout_.size(), ErrorCode::kShapeMismatch,
-             "grasp head reads %zu embeddings (%.*s), got %zu", grasp_layout_.size(),
+             "grasp head reads %zu features (%.*s), got %zu", grasp_layout_.size(),
              static_cast<int>(metadata_->grasp_head.feature_layout.size()),
              metadata_->grasp_head.feature_layout.data(), features.size());
-  for (const std::span<const float> f : features) {
-    TLV_ENSURE(f.size() == static_cast<size_t>(dim_), ErrorCode::kShapeMismatch,
-               "grasp feature of %zu values, the head reads %d per embedding", f.size(), dim_);
+  for (size_t k = 0; k < features.size(); ++k) {
+    const auto want = static_cast<size_t>(feature_values(grasp_layout_[k], dim_));
+    TLV_ENSURE(features[k].size() == want, ErrorCode::kShapeMismatch,
+               "grasp feature %zu has %zu values, the head reads %zu there", k,
+               features[k].size(), want);
   }
   return sigmoid(grasp_logit(metadata_->grasp_head.weight, metadata_->grasp_head.bias, features));
 }

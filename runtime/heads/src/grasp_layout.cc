@@ -1,5 +1,9 @@
 #include "tlvlink/heads/grasp_layout.h"
 
+#include <algorithm>
+
+#include "tlvlink/heads/grasp_difference.h"
+
 namespace tlvlink::heads {
 namespace {
 
@@ -20,6 +24,24 @@ const char* moment_name(Moment m) {
   return "?";
 }
 
+int32_t feature_values(const GraspFeature& f, int32_t embedding_dim) {
+  return f.kind == FeatureKind::kDifference ? kDifferenceFeatures : embedding_dim;
+}
+
+bool reads_frame(std::span<const GraspFeature> layout, int32_t finger, Moment moment) {
+  return std::any_of(layout.begin(), layout.end(), [&](const GraspFeature& f) {
+    if (f.finger != finger) return false;
+    if (f.kind == FeatureKind::kDifference)
+      return moment == Moment::kBefore || moment == Moment::kDuring;
+    return f.moment == moment;
+  });
+}
+
+bool has_difference(std::span<const GraspFeature> layout) {
+  return std::any_of(layout.begin(), layout.end(),
+                     [](const GraspFeature& f) { return f.kind == FeatureKind::kDifference; });
+}
+
 Result<std::vector<GraspFeature>> parse_grasp_layout(std::string_view layout) {
   std::vector<GraspFeature> out;
   while (!layout.empty()) {
@@ -28,7 +50,7 @@ Result<std::vector<GraspFeature>> parse_grasp_layout(std::string_view layout) {
     layout = comma == std::string_view::npos ? std::string_view() : layout.substr(comma + 1);
     const size_t dot = token.find('.');
     TLV_ENSURE(dot != std::string_view::npos, ErrorCode::kModelInvalidMetadata,
-               "grasp feature '%.*s' is not FINGER.MOMENT (e.g. A.before)",
+               "grasp feature '%.*s' is not FINGER.MOMENT or FINGER.difference (e.g. A.before)",
                static_cast<int>(token.size()), token.data());
     const std::string_view finger = token.substr(0, dot), moment = token.substr(dot + 1);
     int32_t f = -1;
@@ -37,8 +59,11 @@ Result<std::vector<GraspFeature>> parse_grasp_layout(std::string_view layout) {
     TLV_ENSURE(f >= 0, ErrorCode::kModelInvalidMetadata,
                "grasp feature '%.*s': finger must be A, B, finger0 or finger1",
                static_cast<int>(token.size()), token.data());
-    Moment m;
-    if (moment == "before") {
+    Moment m = Moment::kDuring;
+    FeatureKind kind = FeatureKind::kEmbedding;
+    if (moment == "difference") {
+      kind = FeatureKind::kDifference;
+    } else if (moment == "before") {
       m = Moment::kBefore;
     } else if (moment == "during") {
       m = Moment::kDuring;
@@ -46,10 +71,17 @@ Result<std::vector<GraspFeature>> parse_grasp_layout(std::string_view layout) {
       m = Moment::kAfter;
     } else {
       return Error::make(ErrorCode::kModelInvalidMetadata,
-                         "grasp feature '%.*s': moment must be before, during or after",
+                         "grasp feature '%.*s': moment must be before, during, after or difference",
                          static_cast<int>(token.size()), token.data());
     }
-    out.push_back({f, m});
+    const GraspFeature feature{f, m, kind};
+    TLV_ENSURE(std::none_of(out.begin(), out.end(),
+                            [&](const GraspFeature& o) {
+                              return o.finger == f && o.moment == m && o.kind == kind;
+                            }),
+               ErrorCode::kModelInvalidMetadata, "grasp feature '%.*s' is named twice",
+               static_cast<int>(token.size()), token.data());
+    out.push_back(feature);
   }
   TLV_ENSURE(!out.empty(), ErrorCode::kModelInvalidMetadata, "empty grasp feature layout");
   return out;

@@ -117,7 +117,7 @@ Result<std::unique_ptr<FrameProcessor>> FrameProcessor::create(
     }
     auto gate = ContactGate::create(s.width, s.height, s.channels, options.contact);
     if (!gate.ok()) return gate.error().with_context("sensor '%s'", s.name.c_str());
-    Sensor sensor{s, std::move(gate).value(), std::move(plan).value(), {}};
+    Sensor sensor{s, std::move(gate).value(), std::move(plan).value(), {}, std::nullopt};
     for (int16_t h : p->reported_) {
       sensor.smoothers.emplace_back(
           static_cast<int32_t>(p->heads_.results()[static_cast<size_t>(h)].labels.size()),
@@ -132,11 +132,25 @@ Result<std::unique_ptr<FrameProcessor>> FrameProcessor::create(
     p->sensors_.push_back(std::move(sensor));
   }
   if (options.grasp && p->heads_.has_grasp() && fingers[0] >= 0 && fingers[1] >= 0) {
+    const InputSpec& input = model.metadata().input;
     TLV_ASSIGN_OR_RETURN(GraspTracker t,
                          GraspTracker::create(p->heads_.grasp_layout(),
                                               model.metadata().embedding_dim,
-                                              options.grasp_options));
+                                              options.grasp_options,
+                                              {input.height, input.width, input.channels}));
     p->tracker_ = std::make_unique<GraspTracker>(std::move(t));
+    for (int32_t finger : {0, 1}) {
+      if (!p->tracker_->wants_image(finger)) continue;
+      Sensor& s = p->sensors_[static_cast<size_t>(fingers[finger])];
+      auto plan = image::PreprocessPlan::create(heads::difference_input_spec(input), s.setup.width,
+                                                s.setup.height, s.setup.channels);
+      if (!plan.ok()) {
+        return plan.error().with_context("sensor '%s': the grasp head's difference features",
+                                         s.setup.name.c_str());
+      }
+      s.difference_plan = std::move(plan).value();
+      p->difference_image_.assign(p->tracker_->image_values(), 0.0f);
+    }
   }
   return p;
 }
@@ -221,8 +235,17 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
   if (tracker_ != nullptr && finger >= 0) {
     // The tracker's contact is the gate's (calibrating counts as no contact: no grasp before the
     // reference exists).
-    tracker_->on_frame(finger, sequence, in_times.capture_ns,
-                       decision->state == ContactState::kContact, embedding);
+    const bool held = decision->state == ContactState::kContact;
+    std::span<const float> image;
+    // The frames the tracker may keep for a difference: an open gel, or a moment it asked for.
+    if (run && s.difference_plan && (wanted || !held)) {
+      if (Status st = s.difference_plan->run(frame, difference_image_); !st.ok())
+        return st.error().with_context("sensor '%s' frame %llu: grasp difference image",
+                                       s.setup.name.c_str(),
+                                       static_cast<unsigned long long>(sequence));
+      image = difference_image_;
+    }
+    tracker_->on_frame(finger, sequence, in_times.capture_ns, held, embedding, image);
   }
   return {};
 }
@@ -243,7 +266,7 @@ bool FrameProcessor::take_grasp(GraspPrediction& out) {
   if (!tracker_->take_finished(out, features)) return false;
   if (out.computed) {
     auto p = heads_.grasp_probability(std::span<const std::span<const float>>(
-        features, static_cast<size_t>(out.frame_count)));
+        features, static_cast<size_t>(out.feature_count)));
     if (p.ok()) {
       out.probability = *p;
     } else {

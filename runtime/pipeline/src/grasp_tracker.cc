@@ -43,7 +43,8 @@ const char* grasp_mode_name(GraspOptions::Mode m) {
 }
 
 Result<GraspTracker> GraspTracker::create(std::span<const heads::GraspFeature> layout,
-                                          int32_t dim, const GraspOptions& options) {
+                                          int32_t dim, const GraspOptions& options,
+                                          GraspImageShape images) {
   TLV_TRY(validate(options));
   TLV_ENSURE(!layout.empty() && layout.size() <= static_cast<size_t>(kMaxGraspFeatures),
              ErrorCode::kModelUnsupported, "grasp layout of %zu features (1..%d supported)",
@@ -57,17 +58,44 @@ Result<GraspTracker> GraspTracker::create(std::span<const heads::GraspFeature> l
   }
   t.dim_ = dim;
   t.options_ = options;
+  for (const heads::GraspFeature& f : t.layout_) {
+    t.offsets_.push_back(t.feature_values_);
+    t.feature_values_ += static_cast<size_t>(heads::feature_values(f, dim));
+    if (f.kind == heads::FeatureKind::kDifference) t.difference_[f.finger] = true;
+  }
+  if (heads::has_difference(t.layout_)) {
+    TLV_ENSURE(images.height > 0 && images.width > 0 && images.channels > 0,
+               ErrorCode::kInvalidArgument,
+               "the grasp layout reads difference features: the tracker needs their image shape");
+    auto stats = heads::GraspDifference::create(images.height, images.width, images.channels);
+    if (!stats.ok()) return stats.error().with_context("grasp difference features");
+    t.difference_stats_ = std::move(stats).value();
+    t.image_values_ = t.difference_stats_.values();
+    t.images_.assign(static_cast<size_t>(heads::kFingers) * 2 * t.image_values_, 0.0f);
+    t.idle_images_.assign(static_cast<size_t>(heads::kFingers) * t.image_values_, 0.0f);
+  }
   const size_t d = static_cast<size_t>(dim);
   t.embeddings_.assign(static_cast<size_t>(heads::kFingers * heads::kMoments) * d, 0.0f);
   t.idle_.assign(static_cast<size_t>(heads::kFingers) * d, 0.0f);
-  t.finished_features_.assign(static_cast<size_t>(kMaxFinished) * t.layout_.size() * d, 0.0f);
+  t.finished_features_.assign(static_cast<size_t>(kMaxFinished) * t.feature_values_, 0.0f);
   return t;
 }
 
 bool GraspTracker::needed(int32_t finger, Moment moment) const {
-  return std::any_of(layout_.begin(), layout_.end(), [&](const heads::GraspFeature& f) {
-    return f.finger == finger && f.moment == moment;
-  });
+  return heads::reads_frame(layout_, finger, moment);
+}
+
+bool GraspTracker::wants_image(int32_t finger) const {
+  return finger >= 0 && finger < heads::kFingers && difference_[finger];
+}
+
+bool GraspTracker::image_needed(int32_t finger, Moment moment) const {
+  return wants_image(finger) && (moment == Moment::kBefore || moment == Moment::kDuring);
+}
+
+float* GraspTracker::image_slot(int32_t finger, Moment moment) {
+  const size_t slot = static_cast<size_t>(finger) * 2 + (moment == Moment::kDuring ? 1 : 0);
+  return images_.data() + slot * image_values_;
 }
 
 // The time a moment's frames are taken from; -1 while it depends on what has not happened yet.
@@ -144,6 +172,10 @@ void GraspTracker::start(int64_t t_ns) {
     std::memcpy(embeddings_.data() + (static_cast<size_t>(f) * heads::kMoments +
                                       index(Moment::kBefore)) * d,
                 idle_.data() + static_cast<size_t>(f) * d, d * sizeof(float));
+    if (image_needed(f, Moment::kBefore)) {
+      std::memcpy(image_slot(f, Moment::kBefore), idle_images_.data() + static_cast<size_t>(f) * image_values_,
+                  image_values_ * sizeof(float));
+    }
     slots_[f][index(Moment::kBefore)] = idle;
   }
 }
@@ -163,17 +195,36 @@ void GraspTracker::finish(bool computed, int64_t now_ns) {
   r.started_ns = start_ns_;
   r.decided_ns = now_ns;
   if (!computed) std::memcpy(r.reason.data(), reason_.data(), r.reason.size());
-  r.frame_count = static_cast<int32_t>(layout_.size());
+  r.feature_count = static_cast<int32_t>(layout_.size());
+  // The frames read, each once, in layout order (a difference reads "before" and "during").
+  const auto add_frame = [&](int32_t finger, Moment m) {
+    for (int32_t i = 0; i < r.frame_count; ++i) {
+      const GraspFrameRef& ref = r.frames[static_cast<size_t>(i)];
+      if (ref.finger == finger && ref.moment == static_cast<uint8_t>(m)) return;
+    }
+    const Slot& s = slots_[finger][index(m)];
+    r.frames[static_cast<size_t>(r.frame_count++)] = {finger, static_cast<uint8_t>(m), s.sequence, s.t_ns};
+  };
+  for (const heads::GraspFeature& f : layout_) {
+    if (f.kind == heads::FeatureKind::kDifference) {
+      add_frame(f.finger, Moment::kBefore);
+      add_frame(f.finger, Moment::kDuring);
+    } else {
+      add_frame(f.finger, f.moment);
+    }
+  }
   const size_t d = static_cast<size_t>(dim_);
-  float* features = finished_features_.data() + static_cast<size_t>(at) * layout_.size() * d;
-  for (size_t k = 0; k < layout_.size(); ++k) {
+  float* features = finished_features_.data() + static_cast<size_t>(at) * feature_values_;
+  for (size_t k = 0; computed && k < layout_.size(); ++k) {
     const heads::GraspFeature& f = layout_[k];
-    const Slot& s = slots_[f.finger][index(f.moment)];
-    r.frames[k] = {f.finger, static_cast<uint8_t>(f.moment), s.sequence, s.t_ns};
-    if (computed) {
+    if (f.kind == heads::FeatureKind::kDifference) {
+      std::memcpy(features + offsets_[k],
+                  differences_.data() + static_cast<size_t>(f.finger) * heads::kDifferenceFeatures,
+                  heads::kDifferenceFeatures * sizeof(float));
+    } else {
       const float* e = embeddings_.data() +
                        (static_cast<size_t>(f.finger) * heads::kMoments + index(f.moment)) * d;
-      std::memcpy(features + k * d, e, d * sizeof(float));
+      std::memcpy(features + offsets_[k], e, d * sizeof(float));
     }
   }
   phase_ = Phase::kFinished;
@@ -214,19 +265,39 @@ void GraspTracker::check_complete(int64_t now_ns) {
       return;
     }
   }
-  if (all) finish(true, now_ns);
+  if (!all) return;
+  for (int32_t f = 0; f < heads::kFingers; ++f) {
+    if (!difference_[f]) continue;
+    const std::span<float> out(differences_.data() + static_cast<size_t>(f) * heads::kDifferenceFeatures,
+                               heads::kDifferenceFeatures);
+    const Status st = difference_stats_.compute(
+        std::span<const float>(image_slot(f, Moment::kBefore), image_values_),
+        std::span<const float>(image_slot(f, Moment::kDuring), image_values_), out);
+    if (!st.ok()) {
+      fail(now_ns, "finger %c: %s", finger_letter(f), st.error().message());
+      return;
+    }
+  }
+  finish(true, now_ns);
 }
 
 void GraspTracker::on_frame(int32_t finger, uint64_t sequence, int64_t t_ns, bool contact,
-                            std::span<const float> embedding) {
+                            std::span<const float> embedding, std::span<const float> image) {
   if (finger < 0 || finger >= heads::kFingers) return;
   const size_t d = static_cast<size_t>(dim_);
   last_frame_[finger] = t_ns;
   if (contact && !contact_[finger]) onset_[finger] = t_ns;
   if (!contact) onset_[finger] = -1;
   contact_[finger] = contact;
-  if (!contact && phase_ != Phase::kWaiting && embedding.size() == d) {
+  // A finger whose difference is read keeps only open-gel frames that come with their image.
+  const bool has_image = image.size() == image_values_ && image_values_ > 0;
+  if (!contact && phase_ != Phase::kWaiting && embedding.size() == d &&
+      (!difference_[finger] || has_image)) {
     std::memcpy(idle_.data() + static_cast<size_t>(finger) * d, embedding.data(), d * sizeof(float));
+    if (difference_[finger]) {
+      std::memcpy(idle_images_.data() + static_cast<size_t>(finger) * image_values_, image.data(),
+                  image_values_ * sizeof(float));
+    }
     idle_slots_[finger] = {true, sequence, t_ns};
   }
   const bool detected = options_.mode == GraspOptions::Mode::kDetected;
@@ -258,6 +329,15 @@ void GraspTracker::on_frame(int32_t finger, uint64_t sequence, int64_t t_ns, boo
       fail(t_ns, "finger %c frame %llu (its '%s' frame) was not encoded", finger_letter(finger),
            static_cast<unsigned long long>(sequence), heads::moment_name(m));
       return;
+    }
+    if (image_needed(finger, m)) {
+      if (!has_image) {
+        fail(t_ns, "finger %c frame %llu (its '%s' frame) came without the image its difference "
+             "features need", finger_letter(finger), static_cast<unsigned long long>(sequence),
+             heads::moment_name(m));
+        return;
+      }
+      std::memcpy(image_slot(finger, m), image.data(), image_values_ * sizeof(float));
     }
     std::memcpy(embeddings_.data() + (static_cast<size_t>(finger) * heads::kMoments + index(m)) * d,
                 embedding.data(), d * sizeof(float));
@@ -293,11 +373,13 @@ bool GraspTracker::take_finished(GraspPrediction& out,
   finished_head_ = (finished_head_ + 1) % kMaxFinished;
   --finished_count_;
   out = finished_[static_cast<size_t>(at)];
-  const size_t d = static_cast<size_t>(dim_);
-  const float* base = finished_features_.data() + static_cast<size_t>(at) * layout_.size() * d;
+  const float* base = finished_features_.data() + static_cast<size_t>(at) * feature_values_;
   for (size_t k = 0; k < static_cast<size_t>(kMaxGraspFeatures); ++k) {
-    features[k] = out.computed && k < layout_.size() ? std::span<const float>(base + k * d, d)
-                                                     : std::span<const float>();
+    features[k] = out.computed && k < layout_.size()
+                      ? std::span<const float>(
+                            base + offsets_[k],
+                            static_cast<size_t>(heads::feature_values(layout_[k], dim_)))
+                      : std::span<const float>();
   }
   return true;
 }

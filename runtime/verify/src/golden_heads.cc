@@ -47,7 +47,16 @@ Result<GoldenHeadOutputs> golden_head_outputs(const Model& model) {
   }
   if (eval.has_grasp()) {
     std::vector<std::span<const float>> features;
-    for (size_t k = 0; k < eval.grasp_layout().size(); ++k) features.emplace_back(embeddings[k % n]);
+    // Feature k reads pair k % n's embedding; a difference feature its first values (the golden
+    // check is of the head's weights and arithmetic, and needs only fixed inputs).
+    for (size_t k = 0; k < eval.grasp_layout().size(); ++k) {
+      const auto values =
+          static_cast<size_t>(heads::feature_values(eval.grasp_layout()[k], eval.embedding_dim()));
+      TLV_ENSURE(values <= embeddings[k % n].size(), ErrorCode::kModelInvalidMetadata,
+                 "grasp feature %zu reads %zu values, the golden embedding has %zu", k, values,
+                 embeddings[k % n].size());
+      features.emplace_back(embeddings[k % n].data(), values);
+    }
     TLV_ASSIGN_OR_RETURN(out.grasp, eval.grasp_probability(features));
     out.has_grasp = true;
   }

@@ -285,6 +285,44 @@ TEST(GraspGenerator, LivePathFramesAreTheRenderedFramesThroughTheSensorsLivePath
   EXPECT_EQ(sensors.size(), 2u);
 }
 
+TEST(GraspGenerator, LivePathFractionSendsSomeObjectsThroughTheLivePathAndLeavesTheRest) {
+  GraspSetOptions plain = small_options(13);
+  plain.objects = 12;
+  plain.grasps_per_object = 2;
+  GraspSetOptions mixed = plain, live = plain;
+  mixed.live_path_fraction = 0.5;
+  live.live_path = true;
+  auto g = make(mixed), p = make(plain), l = make(live);
+  ASSERT_NE(g, nullptr);
+  ASSERT_NE(p, nullptr);
+  ASSERT_NE(l, nullptr);
+  int live_objects = 0;
+  GraspEpisode a, b, c;
+  for (int64_t object = 0; object < plain.objects; ++object) {
+    bool took[2];
+    for (int64_t k = 0; k < 2; ++k) {
+      const int64_t i = object * 2 + k;
+      ASSERT_TRUE(g->generate(i, a).ok());
+      ASSERT_TRUE(p->generate(i, b).ok());
+      ASSERT_TRUE(l->generate(i, c).ok());
+      took[k] = a.live_path;
+      // Each episode is exactly the all-live or the no-live set's: same labels, same frames.
+      EXPECT_EQ(a.frames[1][1].rgb, (a.live_path ? c : b).frames[1][1].rgb) << "episode " << i;
+      EXPECT_EQ(a.is_gripping, b.is_gripping);
+      EXPECT_FALSE(b.live_path);
+      EXPECT_TRUE(c.live_path);
+    }
+    EXPECT_EQ(took[0], took[1]) << "object " << object;  // drawn per object
+    live_objects += took[0] ? 1 : 0;
+  }
+  EXPECT_GT(live_objects, 0);
+  EXPECT_LT(live_objects, plain.objects);
+  mixed.live_path_fraction = -0.1;
+  EXPECT_EQ(GraspEpisodeGenerator::create(mixed).error().code(), ErrorCode::kInvalidArgument);
+  live.live_path_fraction = 0.5;  // every frame, or a share: not both
+  EXPECT_EQ(GraspEpisodeGenerator::create(live).error().code(), ErrorCode::kInvalidArgument);
+}
+
 }  // namespace
 }  // namespace tlvlink::sim
 

@@ -47,7 +47,7 @@ class FeelRepackedWriter final : public GraspDatasetWriter {
     for (int f = 0; f < heads::kFingers; ++f) {
       for (int m = 0; m < heads::kMoments; ++m) {
         sim::RgbImage image = e.frames[f][m];
-        if (options_.camera_jpeg_quality > 0 && !options_.gelsight_live_path)
+        if (options_.camera_jpeg_quality > 0 && !options_.gelsight_live_path && !e.live_path)
           TLV_TRY(jpeg_round_trip(image, options_.camera_jpeg_quality));
         const std::string path =
             join_path(dir_, "data/" + touch_dir + "/" + gelsight_key(f, m) + ".jpg");

@@ -53,7 +53,7 @@ class FeelWriter final : public GraspDatasetWriter {
     for (int f = 0; f < heads::kFingers; ++f) {
       for (int m = 0; m < heads::kMoments; ++m) {
         sim::RgbImage image = e.frames[f][m];
-        if (options_.camera_jpeg_quality > 0 && !options_.gelsight_live_path)
+        if (options_.camera_jpeg_quality > 0 && !options_.gelsight_live_path && !e.live_path)
           TLV_TRY(jpeg_round_trip(image, options_.camera_jpeg_quality));
         image = rotate_quarter_turns(image, options_.gelsight_quarter_turns);
         const std::string key = gelsight_key(f, m);

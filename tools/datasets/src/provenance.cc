@@ -45,6 +45,7 @@ std::string grasp_set_options_json(const sim::GraspSetOptions& o) {
                    {"markers", o.markers},
                    {"markers_fraction", o.markers_fraction},
                    {"live_path", o.live_path},
+                   {"live_path_fraction", o.live_path_fraction},
                    {"seed", o.seed},
                    {"sensor_instances", o.sensor_instances}};
   return j.dump();

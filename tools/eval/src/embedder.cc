@@ -88,4 +88,18 @@ std::span<const float> GraspEmbeddings::frame(size_t episode, int32_t finger,
   return std::span<const float>(values).subspan((episode * kGraspFrames + f) * d, d);
 }
 
+std::span<const float> GraspEmbeddings::difference_of(size_t episode, int32_t finger) const {
+  if (difference.empty()) return {};
+  constexpr auto n = static_cast<size_t>(heads::kDifferenceFeatures);
+  return std::span<const float>(difference)
+      .subspan((episode * heads::kFingers + static_cast<size_t>(finger)) * n, n);
+}
+
+std::span<const float> GraspEmbeddings::feature(size_t episode, const heads::GraspFeature& f,
+                                                int32_t finger_xor) const {
+  const int32_t finger = f.finger ^ finger_xor;
+  return f.kind == heads::FeatureKind::kDifference ? difference_of(episode, finger)
+                                                   : frame(episode, finger, f.moment);
+}
+
 }  // namespace tlvlink::eval

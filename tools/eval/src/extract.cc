@@ -9,6 +9,7 @@
 #include "tlvlink/datasets/touch100k.h"
 #include "tlvlink/datasets/touch_and_go.h"
 #include "tlvlink/eval/embeddings.h"
+#include "tlvlink/image/preprocess.h"
 
 namespace tlvlink::eval {
 namespace {
@@ -137,8 +138,41 @@ Result<TouchEmbeddings> extract_touch(Embedder& embedder, const EvalData& data,
   return out;
 }
 
+// Each finger's difference features of an episode (grasp_difference.h), on the model's crop and
+// resize in DN, as the daemon's grasp tracker computes them.
+class EpisodeDifference {
+ public:
+  static Result<std::optional<EpisodeDifference>> create(const InputSpec& input) {
+    if (input.channels != 3) return std::optional<EpisodeDifference>();  // no differences
+    EpisodeDifference e;
+    e.spec_ = heads::difference_input_spec(input);
+    TLV_ASSIGN_OR_RETURN(e.stats_,
+                         heads::GraspDifference::create(input.height, input.width, input.channels));
+    return std::optional<EpisodeDifference>(std::move(e));
+  }
+  Status compute(const sim::GraspEpisode& e, std::span<float> out) {
+    constexpr auto n = static_cast<size_t>(heads::kDifferenceFeatures);
+    for (int32_t f = 0; f < heads::kFingers; ++f) {
+      const sim::RgbImage& b = e.frames[f][static_cast<int>(heads::Moment::kBefore)];
+      const sim::RgbImage& d = e.frames[f][static_cast<int>(heads::Moment::kDuring)];
+      TLV_ASSIGN_OR_RETURN(const std::vector<float> before,
+                           image::preprocess(image::ImageView{b.rgb.data(), b.width, b.height, 3, 0}, spec_));
+      TLV_ASSIGN_OR_RETURN(const std::vector<float> during,
+                           image::preprocess(image::ImageView{d.rgb.data(), d.width, d.height, 3, 0}, spec_));
+      TLV_TRY(stats_.compute(before, during, out.subspan(static_cast<size_t>(f) * n, n)));
+    }
+    return {};
+  }
+
+ private:
+  InputSpec spec_;
+  heads::GraspDifference stats_;
+};
+
 Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
                                       const EmbedderOptions& options) {
+  TLV_ASSIGN_OR_RETURN(std::optional<EpisodeDifference> difference,
+                       EpisodeDifference::create(embedder.model().metadata().input));
   TLV_ASSIGN_OR_RETURN(const GraspFormat format,
                        internal::detect_grasp_format(data.grasp_dir, data.grasp_format));
   const std::optional<datasets::HashSplit> hash =
@@ -179,6 +213,15 @@ Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
             return st.error().with_context("grasp episode '%s' finger %d moment %d",
                                            (*loader)->key().c_str(), f, m);
           }
+        }
+      }
+      if (difference) {
+        constexpr auto n = static_cast<size_t>(heads::kFingers * heads::kDifferenceFeatures);
+        out.difference.resize(out.difference.size() + n);
+        if (Status st = difference->compute(
+                e, std::span<float>(out.difference.data() + out.difference.size() - n, n));
+            !st.ok()) {
+          return st.error().with_context("grasp episode '%s'", (*loader)->key().c_str());
         }
       }
       out.label.push_back(e.is_gripping ? 1 : 0);

@@ -57,6 +57,9 @@ Status fit_touch(const TouchEmbeddings& t, const HeadFitOptions& o, FittedHeads&
 Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads& out) {
   const std::string layout_text = grasp_feature_layout(o.grasp_features);
   TLV_ASSIGN_OR_RETURN(const auto layout, heads::parse_grasp_layout(layout_text));
+  TLV_ENSURE(!heads::has_difference(layout) || !g.difference.empty(), ErrorCode::kInvalidArgument,
+             "grasp features '%s' read difference features; the model's input is not 3-channel "
+             "(use --grasp-features before-during)", layout_text.c_str());
   std::vector<float> x;
   std::vector<int32_t> y;
   std::vector<std::string> groups;
@@ -64,8 +67,8 @@ Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads&
     if (g.is_test[i] != 0) continue;
     for (const int32_t swap : {0, 1}) {
       if (swap == 1 && !o.grasp_swap_fingers) break;
-      for (const auto& [finger, moment] : layout) {
-        const std::span<const float> e = g.frame(i, finger ^ swap, moment);
+      for (const heads::GraspFeature& f : layout) {
+        const std::span<const float> e = g.feature(i, f, swap);
         x.insert(x.end(), e.begin(), e.end());
       }
       y.push_back(g.label[i]);
@@ -76,7 +79,8 @@ Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads&
     out.notes.push_back("grasp: not fitted, " + why);
     return {};
   }
-  const auto features = static_cast<int32_t>(layout.size()) * g.dim;
+  int32_t features = 0;
+  for (const heads::GraspFeature& f : layout) features += heads::feature_values(f, g.dim);
   ProbeData data{x, features, y, 2, groups};
   auto probe = fit_probe(data, o.probe);
   if (!probe.ok()) return probe.error().with_context("fitting the grasp probe");

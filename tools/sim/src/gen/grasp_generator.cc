@@ -53,6 +53,11 @@ Status validate(const GraspSetOptions& o) {
              o.sensor_instances, kMaxSensorInstances);
   TLV_ENSURE(o.markers_fraction >= 0 && o.markers_fraction <= 1, ErrorCode::kInvalidArgument,
              "grasp set: markers_fraction = %g is outside [0, 1]", o.markers_fraction);
+  TLV_ENSURE(o.live_path_fraction >= 0 && o.live_path_fraction <= 1, ErrorCode::kInvalidArgument,
+             "grasp set: live_path_fraction = %g is outside [0, 1]", o.live_path_fraction);
+  TLV_ENSURE(!(o.live_path && o.live_path_fraction > 0), ErrorCode::kInvalidArgument,
+             "grasp set: live_path (every frame) and live_path_fraction = %g exclude each other",
+             o.live_path_fraction);
   return {};
 }
 
@@ -127,6 +132,8 @@ class GraspGenerator final : public GraspEpisodeGenerator {
     RenderOptions render;
     render.markers = options_.markers ||
                      internal::item_has_markers(seed, object_index, options_.markers_fraction);
+    out.live_path = options_.live_path ||
+                    internal::item_takes_live_path(seed, object_index, options_.live_path_fraction);
     for (int32_t f = 0; f < kFingers; ++f) {
       // Finger f's sensor; the cache keeps both fingers' Renderers.
       TLV_ASSIGN_OR_RETURN(Renderer * renderer, sensors.renderers->get(out.sensor_instance[f]));
@@ -139,7 +146,7 @@ class GraspGenerator final : public GraspEpisodeGenerator {
       ContactScene open = scene;
       open.geometry.shape = Shape::kNone;
       // Every tactile frame of the episode through the same live path (or none).
-      LivePath* live = sensors.live.get();
+      LivePath* live = out.live_path ? sensors.live.get() : nullptr;
       TLV_TRY(render_into(*renderer, live, open, render, noise(Moment::kBefore), out, f,
                           Moment::kBefore));
       // during: closed on the resting object (a missing finger closes on air).
@@ -248,7 +255,7 @@ Result<std::unique_ptr<GraspEpisodeGenerator>> GraspEpisodeGenerator::create(
     p.gel = internal::gel_contact_model(profile);
     TLV_ASSIGN_OR_RETURN(p.renderers, internal::RendererCache::create(profile, options.seed,
                                                                       options.sensor_instances));
-    if (options.live_path) {
+    if (options.live_path || options.live_path_fraction > 0) {
       TLV_ASSIGN_OR_RETURN(p.live, LivePath::create(profile));
     }
     profiles.push_back(std::move(p));

@@ -44,6 +44,7 @@ enum class Stream : uint64_t {
   kSensorInstance,  // which sensor instance draws a session / a finger (appended: tags never move)
   kSensorProfile,   // which profile of a mixed-profile set records a session / object (appended)
   kMarkers,         // whether a session's / object's gel has markers (markers_fraction; appended)
+  kLivePath,        // whether an object's frames take the live path (live_path_fraction; appended)
 };
 inline constexpr uint64_t tag(Stream s) {
   return static_cast<uint64_t>(s);

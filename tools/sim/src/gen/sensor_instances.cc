@@ -32,10 +32,20 @@ size_t item_profile(uint64_t seed, int64_t item, size_t profiles) {
       derive_seed(seed, {tag(Stream::kSensorProfile), static_cast<uint64_t>(item)}) % profiles);
 }
 
-bool item_has_markers(uint64_t seed, int64_t item, double fraction) {
+namespace {
+bool item_drawn(uint64_t seed, Stream stream, int64_t item, double fraction) {
   if (!(fraction > 0)) return false;
-  const uint64_t h = derive_seed(seed, {tag(Stream::kMarkers), static_cast<uint64_t>(item)});
+  const uint64_t h = derive_seed(seed, {tag(stream), static_cast<uint64_t>(item)});
   return static_cast<double>(h >> 11) * 0x1.0p-53 < fraction;
+}
+}  // namespace
+
+bool item_has_markers(uint64_t seed, int64_t item, double fraction) {
+  return item_drawn(seed, Stream::kMarkers, item, fraction);
+}
+
+bool item_takes_live_path(uint64_t seed, int64_t item, double fraction) {
+  return item_drawn(seed, Stream::kLivePath, item, fraction);
 }
 
 // The modulo bias is below instances / 2^64 < 2^-47: negligible.

@@ -31,6 +31,8 @@ size_t item_profile(uint64_t seed, int64_t item, size_t profiles);
 // Whether item `item`'s gel has markers: a uniform draw from (seed, item) below `fraction`
 // (false at 0 without a draw).
 bool item_has_markers(uint64_t seed, int64_t item, double fraction);
+// Whether an object's frames take the live path (GraspSetOptions::live_path_fraction).
+bool item_takes_live_path(uint64_t seed, int64_t item, double fraction);
 
 // The Renderers of a generator's sensor instances, at most kCapacity alive, least recently used
 // evicted. Building one costs the sensor tables (background, vignetting, gains, ...) and its

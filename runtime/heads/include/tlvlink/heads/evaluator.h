@@ -58,7 +58,8 @@ class HeadEvaluator {
   std::string_view grasp_name() const;
   const HeadTrust& grasp_trust() const { return metadata_->grasp_head.trust; }
   std::span<const GraspFeature> grasp_layout() const { return grasp_layout_; }
-  // p(success) from one embedding per layout entry (each embedding_dim values). No allocation.
+  // p(success) from one feature per layout entry (an embedding of embedding_dim values, or a
+  // finger's kDifferenceFeatures difference statistics). No allocation.
   Result<float> grasp_probability(std::span<const std::span<const float>> features) const;
 
  private:

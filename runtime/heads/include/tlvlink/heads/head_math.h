@@ -4,7 +4,7 @@
 // what the board computes).
 //   linear head   logits = W e + b on the raw embedding e          (W: [labels, dim])
 //   zero-shot     logits = scale * M (e / |e|), |e| in double       (M: [classes, dim])
-//   grasp head    p = sigmoid(w . f + b), f = the embeddings the layout names, concatenated
+//   grasp head    p = sigmoid(w . f + b), f = the features the layout names, concatenated
 
 #include <cstddef>
 #include <cstdint>
@@ -16,7 +16,7 @@ void linear_logits(std::span<const float> weight, std::span<const float> bias,
                    std::span<const float> embedding, std::span<float> logits);
 void zero_shot_logits(std::span<const float> prompt_matrix, float logit_scale,
                       std::span<const float> embedding, std::span<float> logits);
-// w . concat(features) + b; features[k] has weight.size() / features.size() values each.
+// w . concat(features) + b; the features' sizes add up to weight.size() (the caller checks).
 float grasp_logit(std::span<const float> weight, float bias,
                   std::span<const std::span<const float>> features);
 

@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -91,6 +92,9 @@ class FrameProcessor {
     ContactGate gate;
     image::PreprocessPlan plan;
     std::vector<ProbabilitySmoother> smoothers;  // one per reported head
+    // The grasp head's difference features: the model's crop and resize in DN (a finger whose
+    // difference the layout reads; unset otherwise).
+    std::optional<image::PreprocessPlan> difference_plan;
   };
   FrameProcessor(const Model& model, Executor& executor) : model_(model), executor_(executor) {}
   Status embed(Sensor& s, const image::ImageView& frame, FrameTimes& times);
@@ -103,6 +107,7 @@ class FrameProcessor {
   heads::HeadEvaluator heads_;
   std::vector<int16_t> reported_;
   std::vector<float> embedding_;
+  std::vector<float> difference_image_;  // a finger's frame for the tracker (difference_plan)
   int32_t int8_tensor_ = -1;  // report_embedding: the int8 tensor reported (-1: none)
   std::unique_ptr<GraspTracker> tracker_;
   ProcessorCounters counters_;

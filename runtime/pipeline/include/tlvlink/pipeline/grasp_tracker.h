@@ -26,7 +26,11 @@
 // "before", or a grasp superseded by a new "closed" mark. Never a made-up value.
 //
 // The tracker stores the embeddings it needs (wants() tells the caller which frames must be
-// encoded even when contact gating would skip them). Made once; no allocation per frame.
+// encoded even when contact gating would skip them). A layout with a finger's "difference"
+// (heads/grasp_difference.h) also needs that finger's "before" and "during" frames as images:
+// the model's crop and resize in DN, passed beside the embedding (wants_image() says for which
+// fingers); the tracker computes the statistics when the grasp completes. Made once; no
+// allocation per frame.
 
 #include <array>
 #include <cstdint>
@@ -34,6 +38,7 @@
 #include <vector>
 
 #include "tlvlink/error.h"
+#include "tlvlink/heads/grasp_difference.h"
 #include "tlvlink/heads/grasp_layout.h"
 #include "tlvlink/pipeline/predictions.h"
 
@@ -56,18 +61,30 @@ struct GraspOptions {
 Status validate(const GraspOptions& options);
 const char* grasp_mode_name(GraspOptions::Mode mode);  // "detected", "commanded"
 
+// The images a layout's difference features are computed on (height x width x 3, DN).
+struct GraspImageShape {
+  int32_t height = 0, width = 0, channels = 0;
+};
+
 class GraspTracker {
  public:
+  // `images` is needed (and checked) only when the layout has a difference feature.
   static Result<GraspTracker> create(std::span<const heads::GraspFeature> layout,
-                                     int32_t embedding_dim, const GraspOptions& options);
+                                     int32_t embedding_dim, const GraspOptions& options,
+                                     GraspImageShape images = {});
 
   // True when this finger's frame at t_ns will be taken for a moment: encode it.
   bool wants(int32_t finger, int64_t t_ns) const;
+  // True when this finger's encoded frames without contact, and those wants() asks for, must
+  // come with their image (the layout has this finger's difference).
+  bool wants_image(int32_t finger) const;
+  size_t image_values() const { return image_values_; }
 
   // Every frame of both fingers, each finger's in time order. `embedding` is empty when the
-  // encoder did not run; `contact` is the contact gate's decision.
+  // encoder did not run; `contact` is the contact gate's decision; `image` (image_values()
+  // values, or empty) as wants_image() asks.
   void on_frame(int32_t finger, uint64_t sequence, int64_t t_ns, bool contact,
-                std::span<const float> embedding);
+                std::span<const float> embedding, std::span<const float> image = {});
   // Time passes without frames (a camera gone): times out moments that are waiting.
   void tick(int64_t now_ns);
 
@@ -76,8 +93,9 @@ class GraspTracker {
   bool mark_lifting(int64_t t_ns);
 
   // The oldest finished grasp: its record (computed = false with the reason, or true: ready for
-  // the grasp head, probability not yet set) and, when computed, its features in layout order
-  // (spans into the tracker, valid until the next take_finished). False when none is waiting.
+  // the grasp head, probability not yet set) and, when computed, its feature_count features in
+  // layout order (spans into the tracker, valid until the next take_finished). False when none
+  // is waiting.
   // Up to kMaxFinished grasps wait; older ones beyond that are dropped and counted.
   bool take_finished(GraspPrediction& out, std::span<const float> (&features)[kMaxGraspFeatures]);
   static constexpr int32_t kMaxFinished = 4;
@@ -98,10 +116,14 @@ class GraspTracker {
   [[gnu::format(printf, 3, 4)]] void fail(int64_t now_ns, const char* reason_format, ...);
   int64_t target(heads::Moment moment) const;  // -1 while unknown
   bool needed(int32_t finger, heads::Moment moment) const;
+  bool image_needed(int32_t finger, heads::Moment moment) const;
+  float* image_slot(int32_t finger, heads::Moment moment);  // before or during
   void check_complete(int64_t now_ns);
   void reset_grasp();
 
   std::vector<heads::GraspFeature> layout_;
+  std::vector<size_t> offsets_;  // where each feature starts in a finished grasp's values
+  size_t feature_values_ = 0;    // all features' values
   int32_t dim_ = 0;
   GraspOptions options_;
   std::vector<float> embeddings_;  // [finger][moment][dim]
@@ -110,6 +132,13 @@ class GraspTracker {
   // Each finger's latest encoded open-gel frame (the candidate "before"), stored in idle_.
   Slot idle_slots_[heads::kFingers];
   std::vector<float> idle_;  // [finger][dim]
+  // Difference features: the images of "before" and "during" and each finger's idle frame.
+  bool difference_[heads::kFingers] = {false, false};
+  size_t image_values_ = 0;
+  std::vector<float> images_;       // [finger][before, during][image_values_]
+  std::vector<float> idle_images_;  // [finger][image_values_]
+  heads::GraspDifference difference_stats_;
+  std::array<float, heads::kFingers * heads::kDifferenceFeatures> differences_{};
   int64_t onset_[heads::kFingers] = {-1, -1};
   int64_t last_frame_[heads::kFingers] = {-1, -1};
   Phase phase_ = Phase::kIdle;
@@ -119,7 +148,7 @@ class GraspTracker {
   std::array<char, kMaxReason> reason_{};  // the failure fail() is about to record
   // Finished grasps waiting to be taken: a ring of records and their features.
   std::array<GraspPrediction, kMaxFinished> finished_{};
-  std::vector<float> finished_features_;  // [kMaxFinished][layout][dim]
+  std::vector<float> finished_features_;  // [kMaxFinished][feature_values_]
   int32_t finished_head_ = 0, finished_count_ = 0;
   uint64_t finished_dropped_ = 0;
 };

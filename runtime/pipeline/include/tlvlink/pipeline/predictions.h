@@ -11,7 +11,9 @@ namespace tlvlink::pipeline {
 inline constexpr int32_t kMaxSensors = 4;
 inline constexpr int32_t kMaxHeads = 8;          // per-frame heads reported
 inline constexpr int32_t kMaxLabels = 32;        // labels of one head
-inline constexpr int32_t kMaxGraspFeatures = 6;  // embeddings a grasp head reads (2 fingers x 3)
+inline constexpr int32_t kMaxGraspFrames = 6;    // frames a grasp head reads (2 fingers x 3)
+// Features a grasp head reads: an embedding per frame and a difference per finger.
+inline constexpr int32_t kMaxGraspFeatures = kMaxGraspFrames + 2;
 inline constexpr int32_t kMaxReason = 256;       // "not computed" explanations (an Error fits)
 // ProcessorOptions::report_embedding: the embedding and the int8 tensor it comes from, copied
 // into each encoded frame's record (a model with more is refused at start, naming the limit).
@@ -68,8 +70,9 @@ struct GraspPrediction {
   float probability = 0;   // p(success) when computed
   int64_t started_ns = 0;  // contact onset (detected) or the "closed" mark (commanded)
   int64_t decided_ns = 0;  // when the prediction (or the failure) was made
-  int32_t frame_count = 0;
-  std::array<GraspFrameRef, kMaxGraspFeatures> frames{};
+  int32_t frame_count = 0;    // the frames the head read, each once, in layout order
+  int32_t feature_count = 0;  // the features it read (its layout's entries)
+  std::array<GraspFrameRef, kMaxGraspFrames> frames{};
   std::array<char, kMaxReason> reason{};  // why not computed ("" when computed)
 };
 

@@ -21,6 +21,8 @@
 #include "tlvlink/datasets/report.h"
 #include "tlvlink/error.h"
 #include "tlvlink/executor.h"
+#include "tlvlink/heads/grasp_difference.h"
+#include "tlvlink/heads/grasp_layout.h"
 #include "tlvlink/model.h"
 #include "tlvlink/sim/dataset.h"
 
@@ -67,6 +69,7 @@ class Embedder {
                                                   const EmbedderOptions& options);
   ~Embedder();
   int32_t dim() const { return dim_; }
+  const Model& model() const { return *model_; }
   // Preprocesses `frame` per the model's InputSpec, invokes, writes dim() floats into `out`.
   Status embed(const sim::RgbImage& frame, std::span<float> out);
 
@@ -116,6 +119,9 @@ inline constexpr int32_t kGraspFrames = heads::kFingers * heads::kMoments;
 struct GraspEmbeddings {
   int32_t dim = 0;
   std::vector<float> values;         // [size(), kGraspFrames, dim], frame = finger * 3 + moment
+  // Each finger's before-to-during difference features (heads/grasp_difference.h):
+  // [size(), kFingers, kDifferenceFeatures]; empty when the model's input is not 3-channel.
+  std::vector<float> difference;
   std::vector<int32_t> label;        // 1 gripping, 0 not
   std::vector<std::string> group;    // object name
   std::vector<uint8_t> is_test;
@@ -134,6 +140,10 @@ struct GraspEmbeddings {
 
   size_t size() const { return is_test.size(); }
   std::span<const float> frame(size_t episode, int32_t finger, heads::Moment moment) const;
+  std::span<const float> difference_of(size_t episode, int32_t finger) const;
+  // The feature a grasp layout names (an embedding or a difference); empty when the set has no
+  // differences.
+  std::span<const float> feature(size_t episode, const heads::GraspFeature& f, int32_t finger_xor = 0) const;
 };
 
 struct EmbeddingSet {

@@ -105,7 +105,7 @@ struct EvalReport {
   std::optional<GraspFramesOracle> grasp_frames_oracle;
   std::vector<TouchOracle> touch_oracles;  // generated touch sets with hidden variables only
   std::vector<BoundRow> bounds;       // reference models' probe rows (the CLI fills them)
-  GraspFeatures grasp_features = GraspFeatures::kBeforeDuring;
+  GraspFeatures grasp_features = GraspFeatures::kBeforeDuringDifference;
   double extract_seconds = 0, fit_seconds = 0;
   int64_t frames = 0;
   std::vector<std::pair<Task, FittedProbe>> probes;  // diagnostics of each fitted probe

@@ -26,10 +26,14 @@ namespace tlvlink::eval {
 
 // Which frames of a grasp episode feed the grasp probe.
 enum class GraspFeatures : uint8_t {
-  kBeforeDuring = 0,  // "A.before,A.during,B.before,B.during" (Calandra's predictor; default)
+  kBeforeDuring = 0,  // "A.before,A.during,B.before,B.during" (Calandra's predictor)
   kBeforeAfter,       // "A.before,A.after,B.before,B.after" (TLV-Link's released code)
+  // before-during plus each finger's difference statistics (heads/grasp_difference.h): the
+  // default ("A.before,A.during,A.difference,B.before,B.during,B.difference")
+  kBeforeDuringDifference,
 };
-const char* grasp_features_name(GraspFeatures f);  // "before-during" / "before-after"
+// "before-during" / "before-after" / "before-during-difference"
+const char* grasp_features_name(GraspFeatures f);
 Result<GraspFeatures> parse_grasp_features(std::string_view name);
 std::string grasp_feature_layout(GraspFeatures f);
 
@@ -61,7 +65,7 @@ Result<TextHeads> zero_shot_heads_from_text(const Metadata& metadata, const Text
 
 struct HeadFitOptions {
   ProbeOptions probe;
-  GraspFeatures grasp_features = GraspFeatures::kBeforeDuring;
+  GraspFeatures grasp_features = GraspFeatures::kBeforeDuringDifference;
   // The two fingers are alike (the simulator draws each on its own sensor; a real gripper's
   // fingers are interchangeable), so the grasp head is fitted on every training episode twice,
   // once with A and B swapped: the fit then gives both fingers the same weights, half the free

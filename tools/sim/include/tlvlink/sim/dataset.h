@@ -73,6 +73,7 @@ struct GraspEpisode {
   MaterialSample material;
   GraspVariables variables;
   bool is_gripping = false;         // label: still held after the lift
+  bool live_path = false;           // the tactile frames went through the sensor's live path
   RgbImage frames[kFingers][kMoments];   // [finger][heads::Moment]
   ContactState states[kFingers][kMoments];
   RgbImage vision[kMoments];        // kinectA_rgb_{before,during,after} stand-in

@@ -78,6 +78,11 @@ struct GraspSetOptions {
   // Every tactile frame through its sensor's live image path (LivePath: the raw camera output
   // recovered by the board's decoder), as tlvlinkd sees it; states and labels are unchanged.
   bool live_path = false;
+  // With live_path false: the share of objects whose frames go through the live path, [0, 1],
+  // drawn per object by hashing (seed, object), independently of the markers (a head for the
+  // board should learn from the frames the board sees as well as from the dataset's JPEG path;
+  // GraspEpisode::live_path says which). 0 = none.
+  double live_path_fraction = 0;
   uint64_t seed = 1;
   // 1..kMaxSensorInstances simulated sensors; fingers A and B are two physical sensors, so each
   // episode draws one instance per finger, independently, by hashing (seed, episode, finger).
