@@ -124,9 +124,17 @@ TEST(Evaluate, HandMadePromptMatrixAndStoredHeads) {
   eval::EmbeddingSet set;
   set.touch = touch_set();
   set.grasp = grasp_set();
-  auto r = eval::evaluate_embeddings(m, set, model_only_options());
+  // The hand-made grasp set has embeddings only (no difference features): its probe reads them.
+  eval::EvalOptions o = model_only_options();
+  o.heads.grasp_features = eval::GraspFeatures::kBeforeDuring;
+  auto r = eval::evaluate_embeddings(m, set, o);
   ASSERT_TRUE(r.ok()) << r.error().message();
   ASSERT_EQ(r->results.size(), 12u);  // 3 methods x 4 tasks
+  // The default features need the difference statistics, and say so.
+  const auto missing = eval::evaluate_embeddings(m, set, model_only_options());
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(std::string(missing.error().message()).find("--grasp-features before-during"),
+            std::string::npos) << missing.error().message();
   for (size_t i = 0; i < r->results.size(); ++i) {
     EXPECT_EQ(r->results[i].method, static_cast<Method>(i / 4));
     EXPECT_EQ(r->results[i].task, eval::kAllTasks[i % 4]);

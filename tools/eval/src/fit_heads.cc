@@ -58,8 +58,9 @@ Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads&
   const std::string layout_text = grasp_feature_layout(o.grasp_features);
   TLV_ASSIGN_OR_RETURN(const auto layout, heads::parse_grasp_layout(layout_text));
   TLV_ENSURE(!heads::has_difference(layout) || !g.difference.empty(), ErrorCode::kInvalidArgument,
-             "grasp features '%s' read difference features; the model's input is not 3-channel "
-             "(use --grasp-features before-during)", layout_text.c_str());
+             "grasp features '%s' read difference features; the grasp set has none (a model "
+             "whose input is not 3-channel gives none): use --grasp-features before-during",
+             layout_text.c_str());
   std::vector<float> x;
   std::vector<int32_t> y;
   std::vector<std::string> groups;
