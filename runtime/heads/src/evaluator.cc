@@ -59,9 +59,7 @@ Result<HeadEvaluator> HeadEvaluator::create(const Metadata& m) {
   for (const ZeroShotHead& z : m.zero_shot_heads) add(z.name, HeadKind::kZeroShot, z.class_names, z.trust);
   if (m.grasp_head.present) {
     TLV_ASSIGN_OR_RETURN(h.grasp_layout_, parse_grasp_layout(m.grasp_head.feature_layout));
-    size_t needs = 0;
-    for (const GraspFeature& f : h.grasp_layout_)
-      needs += static_cast<size_t>(feature_values(f, m.embedding_dim));
+    const size_t needs = layout_values(h.grasp_layout_, m.embedding_dim);
     TLV_ENSURE(m.grasp_head.weight.size() == needs, ErrorCode::kModelInvalidMetadata,
                "grasp head has %zu weights; layout '%.*s' with embedding dim %zu needs %zu",
                m.grasp_head.weight.size(), static_cast<int>(m.grasp_head.feature_layout.size()),

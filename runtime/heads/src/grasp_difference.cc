@@ -58,7 +58,6 @@ Result<GraspDifference> GraspDifference::create(int32_t height, int32_t width, i
   GraspDifference g;
   g.height_ = height;
   g.width_ = width;
-  g.channels_ = channels;
   g.values_ = static_cast<size_t>(height) * static_cast<size_t>(width) * kChannels;
   g.d_.assign(g.values_, 0.0f);
   g.blurred_.assign(g.values_, 0.0f);

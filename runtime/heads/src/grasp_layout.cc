@@ -28,6 +28,12 @@ int32_t feature_values(const GraspFeature& f, int32_t embedding_dim) {
   return f.kind == FeatureKind::kDifference ? kDifferenceFeatures : embedding_dim;
 }
 
+size_t layout_values(std::span<const GraspFeature> layout, int32_t embedding_dim) {
+  size_t n = 0;
+  for (const GraspFeature& f : layout) n += static_cast<size_t>(feature_values(f, embedding_dim));
+  return n;
+}
+
 bool reads_frame(std::span<const GraspFeature> layout, int32_t finger, Moment moment) {
   return std::any_of(layout.begin(), layout.end(), [&](const GraspFeature& f) {
     if (f.finger != finger) return false;

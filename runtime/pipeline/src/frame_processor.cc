@@ -149,8 +149,8 @@ Result<std::unique_ptr<FrameProcessor>> FrameProcessor::create(
                                          s.setup.name.c_str());
       }
       s.difference_plan = std::move(plan).value();
-      p->difference_image_.assign(p->tracker_->image_values(), 0.0f);
     }
+    p->difference_image_.assign(p->tracker_->image_values(), 0.0f);  // 0 values without one
   }
   return p;
 }

@@ -80,8 +80,7 @@ Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads&
     out.notes.push_back("grasp: not fitted, " + why);
     return {};
   }
-  int32_t features = 0;
-  for (const heads::GraspFeature& f : layout) features += heads::feature_values(f, g.dim);
+  const auto features = static_cast<int32_t>(heads::layout_values(layout, g.dim));
   ProbeData data{x, features, y, 2, groups};
   auto probe = fit_probe(data, o.probe);
   if (!probe.ok()) return probe.error().with_context("fitting the grasp probe");

@@ -42,9 +42,7 @@ Result<float> grasp_head_logit(std::span<const float> weight, float bias,
                                std::string_view feature_layout, const GraspEmbeddings& set,
                                size_t episode) {
   TLV_ASSIGN_OR_RETURN(const auto layout, heads::parse_grasp_layout(feature_layout));
-  size_t needs = 0;
-  for (const heads::GraspFeature& f : layout)
-    needs += static_cast<size_t>(heads::feature_values(f, set.dim));
+  const size_t needs = heads::layout_values(layout, set.dim);
   TLV_ENSURE(weight.size() == needs, ErrorCode::kShapeMismatch,
              "grasp head has %zu weights; layout '%.*s' with embedding dim %d needs %zu",
              weight.size(), static_cast<int>(feature_layout.size()), feature_layout.data(),

@@ -47,7 +47,7 @@ class GraspDifference {
                  std::span<float> out);
 
  private:
-  int32_t height_ = 0, width_ = 0, channels_ = 0;
+  int32_t height_ = 0, width_ = 0;
   size_t values_ = 0;
   std::vector<float> d_, blurred_;  // d, then the blur's row pass, then b
 };

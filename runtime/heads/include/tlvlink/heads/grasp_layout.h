@@ -3,6 +3,7 @@
 // head's feature layout names them ("A.before,A.during,B.before,B.during", and
 // "A.difference": how the finger's image changed from before to during, grasp_difference.h).
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string_view>
@@ -33,6 +34,8 @@ struct GraspFeature {
 
 // Values the feature contributes to the head's input: embedding_dim, or kDifferenceFeatures.
 int32_t feature_values(const GraspFeature& feature, int32_t embedding_dim);
+// The values of all the layout's features: a grasp head's weight count.
+size_t layout_values(std::span<const GraspFeature> layout, int32_t embedding_dim);
 // Whether a layout reads this finger's frame at this moment (a difference reads before and
 // during).
 bool reads_frame(std::span<const GraspFeature> layout, int32_t finger, Moment moment);
