@@ -177,6 +177,68 @@ TEST(Evaluate, HandMadePromptMatrixAndStoredHeads) {
   EXPECT_NE(eval::report_json(reports).find("\"zero-shot\""), std::string::npos);
 }
 
+eval::TaskResult scored(Task task, std::vector<uint8_t> item_correct) {
+  eval::TaskResult r;
+  r.task = task;
+  r.method = Method::kModelHeads;
+  r.available = true;
+  r.n = static_cast<int64_t>(item_correct.size());
+  r.item_correct = std::move(item_correct);
+  return r;
+}
+
+TEST(Evaluate, DiscordanceCountsEachSideAndTestsThemExactly) {
+  // 13 disagreements, 10 vs 3: two-sided exact p = 2 (C(13,0)+C(13,1)+C(13,2)+C(13,3)) / 2^13
+  // = 2 * 378 / 8192, computed in closed form here; the function sums lgamma terms (1e-12).
+  std::vector<uint8_t> a(40, 1), b(40, 1);
+  for (int i = 0; i < 10; ++i) b[static_cast<size_t>(i)] = 0;       // only a right
+  for (int i = 10; i < 13; ++i) a[static_cast<size_t>(i)] = 0;      // only b right
+  a[20] = b[20] = 0;                                                 // both wrong: not counted
+  auto d = eval::discordance(scored(Task::kGrasp, a), scored(Task::kGrasp, b));
+  ASSERT_TRUE(d.ok()) << d.error().message();
+  EXPECT_EQ(d->only_first, 10);
+  EXPECT_EQ(d->only_second, 3);
+  EXPECT_NEAR(d->p, 2.0 * 378.0 / 8192.0, 1e-12);
+  // One-sided 0 vs 5: 2 / 32. No disagreement: 1.
+  std::vector<uint8_t> c(5, 0), e(5, 1);
+  EXPECT_NEAR(eval::discordance(scored(Task::kGrasp, c), scored(Task::kGrasp, e))->p, 0.0625, 1e-12);
+  EXPECT_EQ(eval::discordance(scored(Task::kGrasp, a), scored(Task::kGrasp, a))->p, 1.0);
+  // Large n stays finite (no underflowing term): 5,000 vs 5,000 gives p 1.
+  std::vector<uint8_t> f(10000, 0), g(10000, 0);
+  for (size_t i = 0; i < 5000; ++i) f[i] = 1;
+  for (size_t i = 5000; i < 10000; ++i) g[i] = 1;
+  const auto big = eval::discordance(scored(Task::kGrasp, f), scored(Task::kGrasp, g));
+  ASSERT_TRUE(big.ok());
+  EXPECT_NEAR(big->p, 1.0, 1e-9);
+  // Different items or tasks: an error naming the task.
+  const auto sizes = eval::discordance(scored(Task::kGrasp, a), scored(Task::kGrasp, c));
+  ASSERT_FALSE(sizes.ok());
+  EXPECT_NE(std::string(sizes.error().message()).find("different test items"), std::string::npos)
+      << sizes.error().message();
+  EXPECT_FALSE(eval::discordance(scored(Task::kGrasp, a), scored(Task::kHard, a)).ok());
+}
+
+TEST(Evaluate, ComparisonTablePrintsWhereTheModelsDisagree) {
+  Heads h;
+  eval::EmbeddingSet set;
+  set.touch = touch_set();
+  set.grasp = grasp_set();
+  eval::EvalOptions o = model_only_options();
+  o.heads.grasp_features = eval::GraspFeatures::kBeforeDuring;
+  auto r = eval::evaluate_embeddings(h.metadata(), set, o);
+  ASSERT_TRUE(r.ok()) << r.error().message();
+  const eval::TaskResult* hard = r->find(Task::kHard, Method::kModelHeads);
+  ASSERT_TRUE(hard->available);
+  EXPECT_EQ(hard->item_correct.size(), static_cast<size_t>(hard->n));
+  const eval::EvalReport* same[] = {&*r, &*r};
+  const std::string table = eval::format_table(same, false);
+  EXPECT_NE(table.find("right only in [1] / [2] (p)"), std::string::npos) << table;
+  EXPECT_NE(table.find("0/0 (1.00)"), std::string::npos) << table;
+  EXPECT_NE(eval::report_json(same).find("\"mcnemar_p\""), std::string::npos);
+  const eval::EvalReport* one[] = {&*r};
+  EXPECT_EQ(eval::format_table(one, false).find("right only in"), std::string::npos);
+}
+
 TEST(Evaluate, TaskConventions) {
   EXPECT_EQ(eval::task_class_index(Task::kHard, "HARD").value(), 1);
   EXPECT_EQ(eval::task_class_index(Task::kHard, "soft").value(), 0);

@@ -15,6 +15,7 @@ namespace {
 // Tallies predictions of one cell.
 struct Tally {
   std::vector<int64_t> per_class;
+  std::vector<uint8_t> item_correct;
   int64_t n = 0, correct = 0, unlabelled = 0;
   explicit Tally(Task task) : per_class(static_cast<size_t>(task_class_count(task)), 0) {}
   void add(int32_t label, int32_t predicted) {
@@ -25,6 +26,7 @@ struct Tally {
     ++n;
     ++per_class[static_cast<size_t>(label)];
     correct += label == predicted ? 1 : 0;
+    item_correct.push_back(label == predicted ? 1 : 0);
   }
 };
 
@@ -45,6 +47,7 @@ TaskResult unavailable(Task task, Method method, std::string note) {
 void finish(TaskResult& r, const Tally& t, std::string source) {
   r.n = t.n;
   r.correct = t.correct;
+  r.item_correct = t.item_correct;
   r.unlabelled = t.unlabelled;
   r.source = std::move(source);
   r.available = t.n > 0;

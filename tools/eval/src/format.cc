@@ -3,6 +3,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "tlvlink/eval/eval.h"
@@ -52,6 +53,32 @@ std::string split_line(const char* what, const std::string& format,
              what, format.c_str(), s->source.c_str(), static_cast<long long>(s->train_items),
              static_cast<long long>(s->train_groups), static_cast<long long>(s->test_items),
              static_cast<long long>(s->test_groups), load.c_str());
+}
+
+std::optional<Discordance> discordance_of(const EvalReport& first, const EvalReport& second,
+                                          Task t, Method m) {
+  const TaskResult* a = first.find(t, m);
+  const TaskResult* b = second.find(t, m);
+  if (a == nullptr || b == nullptr) return std::nullopt;
+  auto d = discordance(*a, *b);
+  if (!d.ok()) return std::nullopt;
+  return *d;
+}
+
+// Under a comparison's difference row: on how many test items only [1] / only [2] was right,
+// and the exact McNemar p of that split (eval.h discordance()).
+std::string disagreement_row(const EvalReport& first, const EvalReport& second, Method m) {
+  std::string row = pad(std::string("  right only in [1] / [2] (p)"), kLabelWidth);
+  bool any = false;
+  for (Task t : kAllTasks) {
+    const std::optional<Discordance> d = discordance_of(first, second, t, m);
+    any = any || d.has_value();
+    row += pad(d ? fmt("%lld/%lld (%.2f)", static_cast<long long>(d->only_first),
+                       static_cast<long long>(d->only_second), d->p)
+                 : "-",
+               kCellWidth);
+  }
+  return any ? row + "\n" : std::string();
 }
 
 nlohmann::json result_json(const TaskResult& r) {
@@ -116,7 +143,7 @@ std::string format_table(std::span<const EvalReport* const> reports, bool paper_
         any = any || ok;
         row += pad(ok ? fmt("%+.1f", 100.0 * (b->accuracy - a->accuracy)) : "-", kCellWidth);
       }
-      if (any) out += row + "\n";
+      if (any) out += row + "\n" + disagreement_row(*reports[0], *reports[1], m);
     }
   }
   const EvalReport& first = *reports[0];
@@ -223,6 +250,19 @@ std::string format_table(std::span<const EvalReport* const> reports, bool paper_
 
 std::string report_json(std::span<const EvalReport* const> reports) {
   nlohmann::json doc = {{"reports", nlohmann::json::array()}, {"paper", nlohmann::json::array()}};
+  if (reports.size() == 2) {  // where [1] and [2] disagree, per cell both scored
+    doc["disagreement"] = nlohmann::json::array();
+    for (Method m : {Method::kProbe, Method::kModelHeads, Method::kZeroShot}) {
+      for (Task t : kAllTasks) {
+        if (const auto d = discordance_of(*reports[0], *reports[1], t, m)) {
+          doc["disagreement"].push_back({{"task", task_name(t)}, {"method", method_name(m)},
+                                         {"right_only_first", d->only_first},
+                                         {"right_only_second", d->only_second},
+                                         {"mcnemar_p", d->p}});
+        }
+      }
+    }
+  }
   for (const EvalReport* r : reports) {
     nlohmann::json j = {{"model_name", r->model_name},
                         {"model_path", r->model_path},

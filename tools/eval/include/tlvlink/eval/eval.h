@@ -64,6 +64,7 @@ struct TaskResult {
   double accuracy = 0;      // correct / n on the test split, in [0, 1]
   int64_t n = 0;            // test items scored
   int64_t correct = 0;
+  std::vector<uint8_t> item_correct;  // 1 where labelled test item i (split order) was right
   int64_t unlabelled = 0;   // test items without a label for this task (not scored)
   double chance = 0;        // 1 / classes (the paper's chance row)
   double majority = 0;      // accuracy of always predicting the test split's commonest class
@@ -117,6 +118,17 @@ struct EvalReport {
 Result<EvalReport> evaluate_embeddings(const Metadata& metadata, const EmbeddingSet& set,
                                        const EvalOptions& options);
 Result<EvalReport> evaluate(const Model& model, const EvalData& data, const EvalOptions& options);
+
+// How two cells scored on the same test items disagree (e.g. fp32 vs int8): the items only the
+// first / only the second got right, and the exact two-sided McNemar p of that split (the
+// chance of a split at least this uneven if neither were better; 1 when they never disagree).
+// An accuracy difference is 100 * (only_second - only_first) / n points: this says whether the
+// items behind it are more than a coin could give. Fails when the cells scored different items.
+struct Discordance {
+  int64_t only_first = 0, only_second = 0;
+  double p = 1;
+};
+Result<Discordance> discordance(const TaskResult& first, const TaskResult& second);
 
 // The paper's Table 2 (real data), for the reference row. Accuracy in [0, 1].
 struct PaperRow {
