@@ -178,6 +178,7 @@ TEST(Generated, GraspEpisodesLoadBackFromHdf5AndRepacked) {
     EXPECT_EQ(got.sensor_instance[0], w.sensor_instance[0]);  // from the tlvlink_sim attribute
     EXPECT_EQ(got.sensor_instance[1], w.sensor_instance[1]);
     EXPECT_EQ(got.sensor, w.sensor);
+    EXPECT_FALSE(got.live_path);
     EXPECT_EQ(got.frames[1][1].width, w.frames[1][1].width);
     EXPECT_EQ(got.frames[1][1].height, w.frames[1][1].height);
     EXPECT_EQ(got.vision[2].width, 32);
@@ -235,6 +236,7 @@ TEST(Generated, LivePathGraspSetStoresTheLivePathFramesAsTheyAre) {
     EXPECT_EQ(got.frames[0][1].rgb, want.frames[0][1].rgb) << "episode " << i;
     EXPECT_EQ(got.frames[1][0].rgb, want.frames[1][0].rgb) << "episode " << i;
     EXPECT_NE(got.vision[1].rgb, want.vision[1].rgb) << "the vision frames keep their round trip";
+    EXPECT_TRUE(got.live_path) << "the sidecar says which path the episode took";
   }
   std::ifstream in(tmp / "live/tlvlink_sim.json");
   const auto provenance = nlohmann::json::parse(in);

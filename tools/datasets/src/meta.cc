@@ -148,6 +148,7 @@ OrderedJson grasp_meta(const sim::GraspEpisode& e, const std::string& key, bool 
           {"sensor_instance", {e.sensor_instance[0], e.sensor_instance[1]}},
           {"sensor", e.sensor},
           {"is_gripping", e.is_gripping},
+          {"live_path", e.live_path},
           {"material", material_json(e.material)},
           {"variables", variables_json(e.variables)},
           {"states", std::move(states)}};
@@ -172,6 +173,7 @@ bool apply_grasp_meta(const Json& meta, sim::GraspEpisode& out, std::string& why
     out.object_id = meta.at("object_id").get<int32_t>();
     for (int f = 0; f < heads::kFingers; ++f) out.sensor_instance[f] = read_instance(meta, f);
     out.sensor = meta.value("sensor", std::string());  // recorded since mixed-profile sets
+    out.live_path = meta.value("live_path", false);     // recorded since live-path shares
     read_material(meta.at("material"), out.material);
     read_variables(meta.at("variables"), out.variables);
     const Json& states = meta.at("states");
