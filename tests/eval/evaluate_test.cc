@@ -2,7 +2,9 @@
 // scale, labels matched by name), the grasp zero-shot average over A/B x before/after, the
 // model's stored heads, the table's structure, task conventions.
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -237,6 +239,35 @@ TEST(Evaluate, ComparisonTablePrintsWhereTheModelsDisagree) {
   EXPECT_NE(eval::report_json(same).find("\"mcnemar_p\""), std::string::npos);
   const eval::EvalReport* one[] = {&*r};
   EXPECT_EQ(eval::format_table(one, false).find("right only in"), std::string::npos);
+}
+
+TEST(Evaluate, MixedImagePathSetsReportEachPath) {
+  Heads h;
+  eval::EmbeddingSet set;
+  set.grasp = grasp_set();
+  eval::EvalOptions o = model_only_options();
+  o.heads.grasp_features = eval::GraspFeatures::kBeforeDuring;
+  auto jpeg_only = eval::evaluate_embeddings(h.metadata(), set, o);
+  ASSERT_TRUE(jpeg_only.ok()) << jpeg_only.error().message();
+  for (const std::string& n : jpeg_only->notes)
+    EXPECT_EQ(n.find("by image path"), std::string::npos) << "one path: no note; " << n;
+  // Test episodes 4..7: the first and the last take the live path.
+  set.grasp->live_path = {0, 0, 0, 0, 1, 0, 0, 1};
+  auto mixed = eval::evaluate_embeddings(h.metadata(), set, o);
+  ASSERT_TRUE(mixed.ok()) << mixed.error().message();
+  const eval::TaskResult* probe = mixed->find(Task::kGrasp, Method::kProbe);
+  ASSERT_TRUE(probe->available);
+  ASSERT_EQ(probe->item_correct.size(), 4u);
+  const int live_hits = probe->item_correct[0] + probe->item_correct[3];
+  const int jpeg_hits = probe->item_correct[1] + probe->item_correct[2];
+  char want[160];
+  std::snprintf(want, sizeof want,
+                "grasp linear probe by image path: live path %.1f %% (n=2), dataset JPEG path "
+                "%.1f %% (n=2)",
+                50.0 * live_hits, 50.0 * jpeg_hits);
+  EXPECT_NE(std::find(mixed->notes.begin(), mixed->notes.end(), std::string(want)),
+            mixed->notes.end())
+      << want;
 }
 
 TEST(Evaluate, TaskConventions) {

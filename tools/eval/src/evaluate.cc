@@ -313,6 +313,34 @@ Status evaluate_zero_shot(const Metadata& m, const EmbeddingSet& set, const Eval
   return {};
 }
 
+// A test split holding episodes of both image paths (sim feel --live-path-fraction): each
+// grasp cell's accuracy on either path, as a note (the daemon reads the live path).
+void add_image_path_notes(const GraspEmbeddings& g, EvalReport& rep) {
+  std::vector<uint8_t> test_live;
+  for (size_t i = 0; i < g.size(); ++i)
+    if (g.is_test[i] != 0) test_live.push_back(i < g.live_path.size() ? g.live_path[i] : 0);
+  const auto live = std::count(test_live.begin(), test_live.end(), uint8_t{1});
+  if (live == 0 || live == static_cast<std::ptrdiff_t>(test_live.size())) return;
+  for (Method m : {Method::kProbe, Method::kModelHeads}) {
+    const TaskResult* r = rep.find(Task::kGrasp, m);
+    if (r == nullptr || !r->available || r->item_correct.size() != test_live.size()) continue;
+    int64_t n[2] = {0, 0}, hits[2] = {0, 0};
+    for (size_t i = 0; i < test_live.size(); ++i) {
+      ++n[test_live[i]];
+      hits[test_live[i]] += r->item_correct[i];
+    }
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "grasp %s by image path: live path %.1f %% (n=%lld), dataset JPEG path %.1f %% "
+                  "(n=%lld)",
+                  method_title(m), 100.0 * static_cast<double>(hits[1]) / static_cast<double>(n[1]),
+                  static_cast<long long>(n[1]),
+                  100.0 * static_cast<double>(hits[0]) / static_cast<double>(n[0]),
+                  static_cast<long long>(n[0]));
+    rep.notes.emplace_back(buf);
+  }
+}
+
 }  // namespace
 
 const char* method_name(Method m) {
@@ -369,6 +397,7 @@ Result<EvalReport> evaluate_embeddings(const Metadata& metadata, const Embedding
   }
   if (options.model_heads) TLV_TRY(evaluate_model_heads(metadata, set, rep));
   TLV_TRY(evaluate_zero_shot(metadata, set, options, rep));
+  if (set.grasp) add_image_path_notes(*set.grasp, rep);
   if (set.grasp) rep.oracle = oracle_for(*set.grasp, options.oracle_samples);
   if (set.grasp && options.oracle_samples > 0) {
     TLV_ASSIGN_OR_RETURN(GraspFramesOracle frames, grasp_frames_oracle(*set.grasp));

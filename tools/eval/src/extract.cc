@@ -225,6 +225,7 @@ Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
         }
       }
       out.label.push_back(e.is_gripping ? 1 : 0);
+      out.live_path.push_back(e.live_path ? 1 : 0);
       out.hidden_variables.push_back(e.variables);
       out.hidden_material.push_back(e.material);
       out.hidden_during.push_back({e.states[0][static_cast<int>(heads::Moment::kDuring)],

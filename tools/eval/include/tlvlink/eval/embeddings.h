@@ -123,6 +123,9 @@ struct GraspEmbeddings {
   // [size(), kFingers, kDifferenceFeatures]; empty when the model's input is not 3-channel.
   std::vector<float> difference;
   std::vector<int32_t> label;        // 1 gripping, 0 not
+  // 1 where the episode's frames took the sensor's live path (sim feel --live-path[-fraction],
+  // from its sidecar); 0 for the dataset's JPEG path and for sets that do not record it.
+  std::vector<uint8_t> live_path;
   std::vector<std::string> group;    // object name
   std::vector<uint8_t> is_test;
   std::vector<std::string> keys;
