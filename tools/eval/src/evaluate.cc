@@ -15,17 +15,15 @@ namespace {
 // Tallies predictions of one cell.
 struct Tally {
   std::vector<int64_t> per_class;
-  std::vector<uint8_t> item_correct;
-  int64_t n = 0, correct = 0, unlabelled = 0;
+  std::vector<uint8_t> item_correct;  // one per labelled item: n and correct follow from it
+  int64_t unlabelled = 0;
   explicit Tally(Task task) : per_class(static_cast<size_t>(task_class_count(task)), 0) {}
   void add(int32_t label, int32_t predicted) {
     if (label < 0) {
       ++unlabelled;
       return;
     }
-    ++n;
     ++per_class[static_cast<size_t>(label)];
-    correct += label == predicted ? 1 : 0;
     item_correct.push_back(label == predicted ? 1 : 0);
   }
 };
@@ -44,20 +42,20 @@ TaskResult unavailable(Task task, Method method, std::string note) {
   return r;
 }
 
-void finish(TaskResult& r, const Tally& t, std::string source) {
-  r.n = t.n;
-  r.correct = t.correct;
-  r.item_correct = t.item_correct;
+void finish(TaskResult& r, Tally&& t, std::string source) {
+  r.n = static_cast<int64_t>(t.item_correct.size());
+  r.correct = std::count(t.item_correct.begin(), t.item_correct.end(), uint8_t{1});
+  r.item_correct = std::move(t.item_correct);
   r.unlabelled = t.unlabelled;
   r.source = std::move(source);
-  r.available = t.n > 0;
-  if (t.n == 0) {
+  r.available = r.n > 0;
+  if (r.n == 0) {
     r.note = "no labelled test item";
     return;
   }
-  r.accuracy = static_cast<double>(t.correct) / static_cast<double>(t.n);
+  r.accuracy = static_cast<double>(r.correct) / static_cast<double>(r.n);
   r.majority = static_cast<double>(*std::max_element(t.per_class.begin(), t.per_class.end())) /
-               static_cast<double>(t.n);
+               static_cast<double>(r.n);
 }
 
 const std::vector<int32_t>& touch_labels(const TouchEmbeddings& t, Task task) {
@@ -105,7 +103,7 @@ TaskResult score_touch(const TouchEmbeddings& t, Task task, Method method, const
     else heads::linear_logits(h.weight, h.bias, t.row(i), logits);
     tally.add(labels[i], h.classes[static_cast<size_t>(heads::argmax(logits))]);
   }
-  finish(r, tally, std::move(source));
+  finish(r, std::move(tally), std::move(source));
   return r;
 }
 
@@ -119,7 +117,7 @@ Result<TaskResult> score_grasp_head(const GraspEmbeddings& g, Method method,
     TLV_ASSIGN_OR_RETURN(const float logit, grasp_head_logit(w, b, layout, g, i));
     tally.add(g.label[i], logit > 0 ? 1 : 0);
   }
-  finish(r, tally, std::move(source));
+  finish(r, std::move(tally), std::move(source));
   return r;
 }
 
@@ -144,7 +142,7 @@ TaskResult score_grasp_zero_shot(const GraspEmbeddings& g, const HeadView& h, st
     }
     tally.add(g.label[i], h.classes[static_cast<size_t>(heads::argmax(mean))]);
   }
-  finish(r, tally, std::move(source));
+  finish(r, std::move(tally), std::move(source));
   return r;
 }
 
