@@ -17,6 +17,7 @@ option(TLVLINK_BUILD_BENCHMARKS "Build the benchmark programs that print figures
 option(TLVLINK_BUILD_TESTS    "Build the GoogleTest suites" ON)
 option(TLVLINK_BUILD_FUZZERS  "Build libFuzzer targets (needs clang)" OFF)
 option(TLVLINK_WERROR         "Treat compiler warnings as errors (CI sets this)" OFF)
+option(TLVLINK_DEBUG_LINES    "RelWithDebInfo keeps line tables only (-g1): backtraces and sanitizer reports still name file:line, not local variables; builds ~25 % faster (the test command sets this)" OFF)
 set(TLVLINK_SANITIZE "" CACHE STRING "Sanitizers to build with, e.g. address,undefined (empty = none)")
 set(TLVLINK_BOARD "host" CACHE STRING "Board definition this build targets (see boards/)")
 
