@@ -71,7 +71,7 @@ int posix_memalign(void** out, size_t a, size_t n) {
 #endif
 
 // The replacements pair operator new with malloc and operator delete with free. Defined in this
-// file, g++ 12 at -O1 inlines the delete into GoogleTest's `new TestClass` and reports free() on
+// file, g++ 12 at -O1/-Og inlines the delete into GoogleTest's `new TestClass` and reports free() on
 // a pointer from operator new (-Wmismatched-new-delete): it does not see that both are replaced.
 #pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 void* operator new(size_t size) {

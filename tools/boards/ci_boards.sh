@@ -19,6 +19,12 @@ t0=$(date +%s) rc=0
 fail() { echo "ci_boards: FAIL: $*" >&2; rc=1; }
 if [ "${1:-}" = --prebuild ]; then
   for b in jetson-orin-nano rk3588; do
+    # The tree `tlvlink flash` uses for this -mcpu, configured first with line tables only (-g1,
+    # as every tree of the test command): flash keeps the cache, and a stripped package is the
+    # same either way (g++ does not let -g change the code it generates).
+    cpu=$(sed -n 's/.*"TLVLINK_TARGET_CPU": "\([^"]*\)".*/\1/p' "boards/$b.json")
+    nice -n 15 cmake --preset "$b" -B "build/flash/$cpu-build" -DTLVLINK_DEBUG_LINES=ON >/dev/null 2>&1 ||
+      echo "ci_boards --prebuild: $b did not configure (the main run reports it)"
     nice -n 15 "$cli" flash --board "$b" --scene grasp-two-mini -o build/flash >/dev/null 2>&1 ||
       echo "ci_boards --prebuild: $b did not build (the main run reports it)"
   done

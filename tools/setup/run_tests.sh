@@ -11,7 +11,7 @@ set -uo pipefail
 cd "$(dirname "$0")/../.."
 root=$(pwd)
 stages=("$@")
-# asan and fuzz after board: their builds overlap the board stage (start_later_builds).
+# asan and fuzz last: their trees compile from the start, niced (start_later_builds).
 [ ${#stages[@]} -eq 0 ] && stages=(host minimal cross board asan fuzz)
 jobs=${TLVLINK_JOBS:-$(nproc)}
 fuzz_seconds=${TLVLINK_FUZZ_SECONDS:-60}
@@ -44,16 +44,17 @@ build_fuzz() {
 }
 
 # The board stage mostly waits on the emulated board's clock (its USB and capture scenarios run
-# at camera rates: measured ~25 % of the 2 cores), so the builds of the stages after it (asan,
-# fuzz) compile meanwhile at the lowest priority; those stages then find their trees built and
-# run their tests at full speed. A failed background build is simply built again, visibly, by
-# its own stage.
+# at camera rates: measured ~25 % of the 2 cores), and the stages before it leave the cores idle
+# now and then (ctest's tails, configure and link steps). So the trees of the last two stages
+# (asan, fuzz) compile from the start at the lowest priority, in whatever CPU the others leave;
+# those stages then find their trees built and run their tests at full speed. A failed
+# background build is simply built again, visibly, by its own stage.
 later_builds_pid=
-start_later_builds() {  # stage names after board
+start_later_builds() {  # the stages of this run
   local s todo=()
   for s in "$@"; do case "$s" in asan|fuzz) todo+=("$s") ;; esac; done
   [ ${#todo[@]} -gt 0 ] || return 0
-  echo "run_tests: building ${todo[*]} in the background (niced) while the board stage runs"
+  echo "run_tests: building ${todo[*]} in the background (niced) while the other stages run"
   ( renice -n 19 -p "$BASHPID" >/dev/null
     for s in "${todo[@]}"; do
       case "$s" in asan) build_preset host-asan ;; fuzz) build_fuzz ;; esac
@@ -87,13 +88,12 @@ run_fuzz() {
   # Memory limits = the documented budgets (tools/cli/README.md "Memory budgets"): a model load
   # holds two copies of the file (2 x kMaxModelBytes = 512 MiB, the largest single allocation);
   # RSS adds libFuzzer's own (corpus, coverage maps). A bigger allocation is a finding.
+  # Each fuzzer is one process on one core: the loader's half of the budget runs beside the
+  # other two (one after the other), so the stage takes half its budget on two cores.
   "$dir/tests/fuzz/model_loader_fuzz" -max_total_time="$loader_seconds" -max_len=1048576 -timeout=10 \
     -rss_limit_mb=1024 -malloc_limit_mb=512 -artifact_prefix="$dir/artifacts/" -print_final_stats=1 \
-    "$dir/corpus" 2>"$dir/fuzz.log"
-  local rc=$?
-  echo "model_loader_fuzz (${loader_seconds}s):"
-  grep -E "stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs|ERROR|SUMMARY" "$dir/fuzz.log" | head -20
-  [ $rc -eq 0 ] || { tail -60 "$dir/fuzz.log"; ls "$dir/artifacts"; }
+    "$dir/corpus" 2>"$dir/fuzz.log" &
+  local loader_pid=$!
   # The stream decoder allocates nothing per frame: tight limits make a runaway allocation a
   # finding. -max_len covers two largest wire frames.
   "$dir/tests/fuzz/stream_decoder_fuzz" -max_total_time="$stream_seconds" -max_len=33000 -timeout=10 \
@@ -117,6 +117,11 @@ run_fuzz() {
   grep -E "stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs|cov: .* ft:|ERROR|SUMMARY" \
     "$dir/parser_fuzz.log" | tail -6
   [ $parser_rc -eq 0 ] || { tail -60 "$dir/parser_fuzz.log"; ls "$dir/artifacts"; }
+  wait "$loader_pid"
+  local rc=$?
+  echo "model_loader_fuzz (${loader_seconds}s):"
+  grep -E "stat::number_of_executed_units|stat::peak_rss_mb|Done [0-9]+ runs|ERROR|SUMMARY" "$dir/fuzz.log" | head -20
+  [ $rc -eq 0 ] || { tail -60 "$dir/fuzz.log"; ls "$dir/artifacts"; }
   [ $rc -eq 0 ] && [ $stream_rc -eq 0 ] && [ $parser_rc -eq 0 ]
 }
 
@@ -148,9 +153,9 @@ run_minimal() {
 t0=$(date +%s)
 mkdir -p build/logs
 tests_passed=0; tests_failed=0
+start_later_builds "${stages[@]}"
 for i in "${!stages[@]}"; do
   s=${stages[$i]}
-  [ "$s" = board ] && start_later_builds "${stages[@]:i+1}"
   [ "$s" = asan ] || [ "$s" = fuzz ] && wait_later_builds
   stage_start "$s"
   log="build/logs/$s.log"
