@@ -86,6 +86,17 @@ rig_wait_for() {
   [ -e "$1" ]
 }
 
+# rig_wait_raw TTY SECONDS: wait (in 50 ms steps) until TTY opens and takes `stty raw -echo`.
+# cdc-acm creates /dev/ttyACM<n> at probe, but opening it fails with EIO until the gadget has
+# answered the line-state request: seen once in the self-test with the host's cores busy.
+rig_wait_raw() {
+  local n=$(( $2 * 20 ))
+  until stty -F "$1" raw -echo 2>/dev/null; do
+    [ $n -gt 0 ] || { stty -F "$1" raw -echo; return 1; }  # once more, to show the error
+    sleep 0.05; n=$((n - 1))
+  done
+}
+
 # The device node of a named virtio-serial port (the host names them with --port), e.g.
 #   echo hello >"$(rig_port rig.data)"
 rig_port() {

@@ -11,7 +11,7 @@ rig_run rig.vivid_reload 30 sh -c 'rig rig_vivid_load && rig rig_vivid_node cap 
 rig_run rig.usb_acm 30 sh -c '
   rig rig_usb_load && rig rig_gadget_acm g1 0x1d6b 0x0104 RIGSELFTEST dummy_udc.0 &&
   rig rig_wait_for /dev/ttyACM0 5 && test "$(cat /sys/bus/usb/devices/1-1/serial)" = RIGSELFTEST &&
-  stty -F /dev/ttyGS0 raw -echo && stty -F /dev/ttyACM0 raw -echo &&
+  stty -F /dev/ttyGS0 raw -echo && rig rig_wait_raw /dev/ttyACM0 5 &&
   { timeout 5 head -c 11 /dev/ttyACM0 >/tmp/acm.got & } && sleep 0.2 && printf "hello board" >/dev/ttyGS0 &&
   wait && test "$(cat /tmp/acm.got)" = "hello board" &&
   rig rig_gadget_unbind g1 && sleep 0.5 && test ! -e /dev/ttyACM0 &&
