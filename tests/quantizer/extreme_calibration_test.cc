@@ -30,14 +30,14 @@ TEST(ExtremeCalibration, ReferenceEncoderQuantizesFullyWithEveryMethod) {
   ASSERT_NE(fp32, nullptr);
 
   quantize::CalibDataOptions d;
-  d.path = "extreme";
+  d.paths = {"extreme"};
   d.calib_count = 24;
   d.heldout_count = 8;
   d.seed = 3;
   d.progress = false;
   auto data = quantize::load_calib_data(d, fp32->metadata().input);
   ASSERT_TRUE(data.ok()) << data.error().message();
-  EXPECT_EQ(data->format, quantize::CalibFormat::kExtreme);
+  EXPECT_EQ(data->formats, std::vector<quantize::CalibFormat>{quantize::CalibFormat::kExtreme});
   ASSERT_EQ(data->calibration.size(), 24u);
   ASSERT_EQ(data->heldout.size(), 8u);
 

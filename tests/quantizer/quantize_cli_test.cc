@@ -191,6 +191,37 @@ TEST_F(QuantizeCli, TouchAndGoAndFeelSetsAreDetectedAndRead) {
                      path("bad.tlvm") + kCounts), 1);
 }
 
+TEST_F(QuantizeCli, SeveralSourcesShareTheCountsAndAreRecorded) {
+  ASSERT_RUN(run_tlvlink("sim feel -o " + path("feel2") +
+                         " --objects 4 --grasps-per-object 2 --seed 6 --repacked"), 0);
+  CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") +
+                         " --calib " + path("feel2") + " -o " + path("two.tlvm") +
+                         " --calib-count 7 --heldout-count 4 -q");
+  ASSERT_RUN(r, 0);
+  const size_t touch = r.out.find("data         touch100k "), feel = r.out.find("feel-repacked ");
+  ASSERT_NE(touch, std::string::npos) << r.out;
+  ASSERT_NE(feel, std::string::npos) << r.out;
+  EXPECT_LT(touch, feel);
+  EXPECT_NE(r.out.find("calibration 4 frames", touch), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("calibration 3 frames", feel), std::string::npos) << r.out;
+  // The second source's line continues under the first, aligned.
+  EXPECT_NE(r.out.find("\n               feel-repacked "), std::string::npos) << r.out;
+  CliRun inspect = run_tlvlink("inspect " + path("two.tlvm"));
+  ASSERT_RUN(inspect, 0);
+  EXPECT_NE(inspect.out.find("\"calibration\":\"touch100k+feel-repacked\",\"frames\":7"),
+            std::string::npos)
+      << inspect.out;
+  // Nine sources are one too many: a usage error naming the limit.
+  std::string nine;
+  for (int i = 0; i < 9; ++i) nine += " --calib extreme";
+  r = run_tlvlink("quantize " + path("fp32.tlvm") + nine + " -o " + path("nine.tlvm") + kCounts);
+  EXPECT_RUN(r, 2);
+  EXPECT_NE(r.out.find("1..8"), std::string::npos) << r.out;
+  // --calib takes one path: the model positional after it is still the model.
+  EXPECT_RUN(run_tlvlink("quantize --calib extreme " + path("fp32.tlvm") + " -o " +
+                         path("order.tlvm") + kCounts), 0);
+}
+
 TEST_F(QuantizeCli, ImageFolderOfPpmJpegAndPng) {
   const fs::path images = path("images");
   fs::create_directories(images / "sessionA");

@@ -36,10 +36,12 @@ std::vector<std::string> parity_models() {
 
 TEST(QuantizeOnnx, EveryParityModelQuantizesAndTracksFloat) {
   const std::vector<std::string> names = parity_models();
-  ASSERT_FALSE(names.empty()) << "no manifest in " << TLVLINK_ONNX_MODELS << " (fixture onnx.make_models)";
+  ASSERT_FALSE(names.empty()) << "no manifest in " << TLVLINK_ONNX_MODELS
+                              << " (fixture onnx.make_models)";
   for (const std::string& name : names) {
     SCOPED_TRACE(name);
-    auto bytes = tools::read_file((fs::path(TLVLINK_ONNX_MODELS) / (name + ".onnx")).string(), 1 << 26);
+    auto bytes =
+        tools::read_file((fs::path(TLVLINK_ONNX_MODELS) / (name + ".onnx")).string(), 1 << 26);
     ASSERT_TRUE(bytes.ok()) << bytes.error().message();
     quantize::OnnxImportOptions io;
     io.source_name = name + ".onnx";
@@ -48,7 +50,7 @@ TEST(QuantizeOnnx, EveryParityModelQuantizesAndTracksFloat) {
     auto fp32 = testing::load_model(imported->model);
     ASSERT_NE(fp32, nullptr);
     quantize::CalibDataOptions d;
-    d.path = "extreme";
+    d.paths = {"extreme"};
     d.calib_count = 16;
     d.heldout_count = 6;
     d.progress = false;

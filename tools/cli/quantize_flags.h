@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include <string>
+#include <vector>
 
 #include "tlvlink/quantize/calib_data.h"
 #include "tlvlink/quantize/observer.h"
@@ -12,9 +13,9 @@
 namespace tlvlink::cli {
 
 struct QuantizeDataFlags {
-  std::string calib;
-  std::string calib_images;  // --calib-images DIR: format images, explicitly
-  std::string problems;      // --problems FILE: every load problem
+  std::vector<std::string> calib;  // --calib, repeatable: several sources share the counts
+  std::string calib_images;        // --calib-images DIR: format images, explicitly
+  std::string problems;            // --problems FILE: every load problem
   std::string calib_format = "auto";
   std::string calib_split = "all";
   int64_t calib_count = 200;

@@ -35,7 +35,8 @@ struct Selection {
 std::vector<size_t> take_ranked(const std::vector<Item>& items, const std::vector<size_t>& pool,
                                 int64_t count, uint64_t seed) {
   std::vector<std::pair<double, size_t>> ranked;
-  for (size_t i : pool) ranked.emplace_back(datasets::split_hash_unit(items[i].id(), seed ^ kItemSalt), i);
+  for (size_t i : pool)
+    ranked.emplace_back(datasets::split_hash_unit(items[i].id(), seed ^ kItemSalt), i);
   std::sort(ranked.begin(), ranked.end());
   std::vector<size_t> out;
   for (size_t k = 0; k < ranked.size() && static_cast<int64_t>(out.size()) < count; ++k)
@@ -125,9 +126,9 @@ const char* calib_format_name(CalibFormat format) {
 }
 
 Result<CalibFormat> parse_calib_format(const std::string& name) {
-  for (CalibFormat f : {CalibFormat::kAuto, CalibFormat::kTouch100k, CalibFormat::kTag,
-                        CalibFormat::kFeel, CalibFormat::kFeelRepacked, CalibFormat::kImages,
-                        CalibFormat::kExtreme}) {
+  for (CalibFormat f :
+       {CalibFormat::kAuto, CalibFormat::kTouch100k, CalibFormat::kTag, CalibFormat::kFeel,
+        CalibFormat::kFeelRepacked, CalibFormat::kImages, CalibFormat::kExtreme}) {
     if (name == calib_format_name(f)) return f;
   }
   return Error::make(ErrorCode::kInvalidArgument, "unknown calibration format '%s'", name.c_str());
@@ -152,7 +153,8 @@ Result<CalibFormat> detect_calib_format(const std::string& path) {
   // its touch/ and vision/ images as a plain folder would silently change the data source.
   const fs::path p(path);
   std::error_code ec;
-  const bool touch100k_layout = fs::is_directory(p / "touch", ec) || fs::is_directory(p / "vision", ec);
+  const bool touch100k_layout =
+      fs::is_directory(p / "touch", ec) || fs::is_directory(p / "vision", ec);
   TLV_ENSURE(!touch100k_layout, ErrorCode::kFormat,
              "%s: not found; '%s' has a Touch100k layout (touch/, vision/) but no index. To "
              "calibrate on its image files as a plain folder, pass --calib-images %s",
@@ -166,9 +168,10 @@ Result<CalibFormat> detect_calib_format(const std::string& path) {
   }
   bool any_image = false;
   for (const fs::directory_entry& e : fs::directory_iterator(p, ec)) {
-    any_image = any_image ||
-                (e.is_regular_file() && calib_sources::is_image_file(e.path().filename().string())) ||
-                e.is_directory();
+    any_image =
+        any_image ||
+        (e.is_regular_file() && calib_sources::is_image_file(e.path().filename().string())) ||
+        e.is_directory();
   }
   TLV_ENSURE(any_image, ErrorCode::kFormat,
              "cannot tell the format of '%s': no data_list.json (Touch100k), train.txt / test.txt "
@@ -178,29 +181,28 @@ Result<CalibFormat> detect_calib_format(const std::string& path) {
   return CalibFormat::kImages;
 }
 
-Result<CalibData> load_calib_data(const CalibDataOptions& o, const InputSpec& spec) {
-  TLV_ENSURE(o.calib_count >= 1 && o.calib_count <= kMaxCalibrationFrames &&
-                 o.heldout_count >= 0 && o.heldout_count <= kMaxCalibrationFrames,
-             ErrorCode::kInvalidArgument,
-             "calibration count %lld / held-out count %lld outside 1..%lld / 0..%lld",
-             static_cast<long long>(o.calib_count), static_cast<long long>(o.heldout_count),
-             static_cast<long long>(kMaxCalibrationFrames), static_cast<long long>(kMaxCalibrationFrames));
+namespace {
+
+// One source: o.paths holds exactly it, the counts are its share.
+Result<CalibData> load_source(const CalibDataOptions& o, const InputSpec& spec) {
+  const std::string& path = o.paths.front();
   CalibData out;
-  out.format = o.format;
-  if (out.format == CalibFormat::kAuto) {
-    TLV_ASSIGN_OR_RETURN(out.format, detect_calib_format(o.path));
+  CalibFormat format = o.format;
+  if (format == CalibFormat::kAuto) {
+    TLV_ASSIGN_OR_RETURN(format, detect_calib_format(path));
   }
-  if (out.format == CalibFormat::kExtreme) {
+  out.formats = {format};
+  if (format == CalibFormat::kExtreme) {
     TLV_ENSURE(o.split == datasets::Split::kAll, ErrorCode::kInvalidArgument,
                "the extreme set has no train/test split (use --calib-split all)");
     TLV_TRY(render_extreme(o, spec, out));
     return out;
   }
-  auto listed = calib_sources::list_items(out.format, o.path, o.split, o.problems);
-  if (!listed.ok()) return listed.error().with_context("%s", o.path.c_str());
+  auto listed = calib_sources::list_items(format, path, o.split, o.problems);
+  if (!listed.ok()) return listed.error().with_context("%s", path.c_str());
   const std::vector<Item>& items = *listed;
-  TLV_ENSURE(!items.empty(), ErrorCode::kFormat, "%s (%s): no frames found", o.path.c_str(),
-             calib_format_name(out.format));
+  TLV_ENSURE(!items.empty(), ErrorCode::kFormat, "%s (%s): no frames found", path.c_str(),
+             calib_format_name(format));
   const Selection sel = select(items, o);
   std::unordered_set<std::string> wanted = sel.calibration;
   wanted.insert(sel.heldout.begin(), sel.heldout.end());
@@ -208,7 +210,7 @@ Result<CalibData> load_calib_data(const CalibDataOptions& o, const InputSpec& sp
                            o.progress ? tools::ProgressMode::kAuto : tools::ProgressMode::kQuiet);
   std::string load_summary;
   Status read = calib_sources::read_frames(
-      out.format, o.path, wanted,
+      format, path, wanted,
       [&](const Item& item, const tools::Image& image) -> Status {
         auto x = image::preprocess(image, spec);
         if (!x.ok()) return x.error().with_context("preprocessing %s", item.id().c_str());
@@ -219,17 +221,79 @@ Result<CalibData> load_calib_data(const CalibDataOptions& o, const InputSpec& sp
       },
       load_summary, [&] { progress.add(); }, o.on_note, o.problems);
   progress.finish();
-  if (!read.ok()) return read.error().with_context("%s", o.path.c_str());
+  if (!read.ok()) return read.error().with_context("%s", path.c_str());
   TLV_ENSURE(!out.calibration.empty(), ErrorCode::kFormat,
-             "%s: none of the %zu selected calibration frames could be loaded (%s)", o.path.c_str(),
+             "%s: none of the %zu selected calibration frames could be loaded (%s)", path.c_str(),
              sel.calibration.size(), load_summary.c_str());
-  out.summary = std::string(calib_format_name(out.format)) + " " + o.path + " (" +
-                datasets::split_name(o.split) + " split): " + std::to_string(items.size()) + " frames in " + std::to_string(sel.groups) +
-                " groups (" + load_summary + "); calibration " + std::to_string(out.calibration.size()) +
-                " frames, held-out " + std::to_string(out.heldout.size()) + " frames from " +
+  out.summary = std::string(calib_format_name(format)) + " " + path + " (" +
+                datasets::split_name(o.split) + " split): " + std::to_string(items.size()) +
+                " frames in " + std::to_string(sel.groups) + " groups (" + load_summary +
+                "); calibration " + std::to_string(out.calibration.size()) + " frames, held-out " +
+                std::to_string(out.heldout.size()) + " frames from " +
                 (sel.shared_group ? std::string("the same single group (no other exists)")
                                   : std::to_string(sel.heldout_groups) + " other groups") +
                 ", seed " + std::to_string(o.seed);
+  return out;
+}
+
+// A's frames and keys, then B's, ... -> A0 B0 A1 B1 ...: every prefix draws on every source.
+void interleave(std::vector<CalibData>& parts, std::vector<std::vector<float>> CalibData::*frames,
+                std::vector<std::string> CalibData::*keys, CalibData& out) {
+  size_t longest = 0;
+  for (const CalibData& p : parts) longest = std::max(longest, (p.*frames).size());
+  for (size_t i = 0; i < longest; ++i) {
+    for (CalibData& p : parts) {
+      if (i >= (p.*frames).size()) continue;
+      (out.*frames).push_back(std::move((p.*frames)[i]));
+      (out.*keys).push_back(std::move((p.*keys)[i]));
+    }
+  }
+}
+
+}  // namespace
+
+std::string calib_formats_name(const std::vector<CalibFormat>& formats) {
+  std::string name;
+  for (CalibFormat f : formats)
+    name += (name.empty() ? "" : "+") + std::string(calib_format_name(f));
+  return name;
+}
+
+Result<CalibData> load_calib_data(const CalibDataOptions& o, const InputSpec& spec) {
+  TLV_ENSURE(o.calib_count >= 1 && o.calib_count <= kMaxCalibrationFrames && o.heldout_count >= 0 &&
+                 o.heldout_count <= kMaxCalibrationFrames,
+             ErrorCode::kInvalidArgument,
+             "calibration count %lld / held-out count %lld outside 1..%lld / 0..%lld",
+             static_cast<long long>(o.calib_count), static_cast<long long>(o.heldout_count),
+             static_cast<long long>(kMaxCalibrationFrames),
+             static_cast<long long>(kMaxCalibrationFrames));
+  const auto sources = static_cast<int64_t>(o.paths.size());
+  TLV_ENSURE(sources >= 1 && o.paths.size() <= kMaxCalibrationSources, ErrorCode::kInvalidArgument,
+             "%zu calibration sources; 1..%zu are allowed", o.paths.size(), kMaxCalibrationSources);
+  TLV_ENSURE(sources <= o.calib_count, ErrorCode::kInvalidArgument,
+             "%lld calibration sources but %lld calibration frames: each source needs one",
+             static_cast<long long>(sources), static_cast<long long>(o.calib_count));
+  if (sources == 1) return load_source(o, spec);
+  std::vector<CalibData> parts;
+  for (int64_t k = 0; k < sources; ++k) {
+    CalibDataOptions one = o;
+    one.paths = {o.paths[static_cast<size_t>(k)]};
+    one.calib_count = o.calib_count / sources + (k < o.calib_count % sources ? 1 : 0);
+    one.heldout_count = o.heldout_count / sources + (k < o.heldout_count % sources ? 1 : 0);
+    auto part = load_source(one, spec);
+    if (!part.ok())
+      return part.error().with_context("calibration source %lld of %lld",
+                                       static_cast<long long>(k + 1),
+                                       static_cast<long long>(sources));
+    parts.push_back(std::move(part).value());
+  }
+  CalibData out;
+  for (CalibData& p : parts) {
+    out.formats.push_back(p.formats.front());
+    out.summary += (out.summary.empty() ? "" : "\n") + p.summary;
+  }
+  interleave(parts, &CalibData::calibration, &CalibData::calibration_keys, out);
+  interleave(parts, &CalibData::heldout, &CalibData::heldout_keys, out);
   return out;
 }
 

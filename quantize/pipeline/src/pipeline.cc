@@ -63,7 +63,7 @@ std::string quantization_json(const QuantizeOptions& o, const CalibData& data,
                   {"content_checksum", source.content_checksum}}},
       {"method", calibration_method_name(o.calibration.method)},
       {"percentile", o.calibration.percentile},
-      {"calibration", calib_format_name(data.format)},
+      {"calibration", calib_formats_name(data.formats)},
       {"frames", data.calibration.size()},
       {"seed", o.data.seed},
       {"activations", "int8 per-tensor asymmetric"},
@@ -145,8 +145,7 @@ Result<QuantizeRun> run_quantize(const QuantizeOptions& o) {
 
   t0 = Clock::now();
   TLV_ASSIGN_OR_RETURN(const CalibrationStats stats,
-                       calibrate_frames(fp32, data->calibration, o.averaging_constant,
-                                        o.progress));
+                       calibrate_frames(fp32, data->calibration, o.averaging_constant, o.progress));
   run.timing.emplace_back("calibrate", seconds_since(t0));
 
   t0 = Clock::now();
@@ -179,8 +178,8 @@ Result<QuantizeRun> run_quantize(const QuantizeOptions& o) {
 
   t0 = Clock::now();
   if (!data->heldout.empty()) {
-    tools::Progress p("quantize: error report", static_cast<int64_t>(data->heldout.size()),
-                      stderr, progress_mode(o.progress));
+    tools::Progress p("quantize: error report", static_cast<int64_t>(data->heldout.size()), stderr,
+                      progress_mode(o.progress));
     CompareOptions co;
     co.on_frame = [&p](uint64_t done) { p.set(static_cast<int64_t>(done)); };
     auto e = compare_models(fp32, **int8, data->heldout, co);

@@ -64,9 +64,13 @@ std::string format_summary(const QuantizeRun& run) {
   const quantize::QuantizedModel& q = run.quantized;
   std::string s;
   char line[512];
+  // One labelled entry; a text of several lines (one per calibration source) continues under
+  // the first, aligned.
   auto add = [&](const char* label, const std::string& text) {
-    std::snprintf(line, sizeof(line), "  %-12s %s\n", label, text.c_str());
-    s += line;
+    std::snprintf(line, sizeof(line), "  %-12s ", label);
+    std::string entry = line;
+    for (char c : text) entry += c == '\n' ? "\n" + std::string(15, ' ') : std::string(1, c);
+    s += entry + "\n";
   };
   s += "tlvlink quantize: " + run.input_path + " -> " + run.output_path + "\n";
   add("data", run.data_summary);

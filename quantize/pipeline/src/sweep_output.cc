@@ -38,7 +38,7 @@ nlohmann::json sweep_json(const SweepOptions& o, const SweepResult& result) {
   j["warmup"] = o.warmup;
   j["executor"] = "xnnpack";
   j["error_reference"] = "fp32 model on the reference executor, held-out frames";
-  j["calibration"] = {{"data", o.data.path}, {"frames", o.data.calib_count},
+  j["calibration"] = {{"data", o.data.paths}, {"frames", o.data.calib_count},
                       {"heldout_frames", o.data.heldout_count}, {"seed", o.data.seed},
                       {"percentile", o.percentile}};
   j["rows"] = nlohmann::json::array();

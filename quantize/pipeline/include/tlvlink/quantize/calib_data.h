@@ -12,6 +12,13 @@
 // of a hash of (key, seed). The extreme set renders the named scenes with `seed` for
 // calibration and with other seeds (other sensor instance and noise) for the held-out frames.
 //
+// Several sources (`--calib A --calib B`: e.g. the encoder's training set and the grasp episodes
+// the heads read, so the ranges and the bias correction see every kind of frame the board will):
+// each source gives an equal share of both counts (the first sources one more when they do not
+// divide), selected within it as above, and the frames are interleaved source by source
+// (A0 B0 A1 B1 ...) so that any prefix, such as bias correction's first N frames, draws on every
+// source alike.
+//
 // Memory: the selected frames are kept preprocessed, (calib + heldout) x H x W x C floats
 // (250 frames at 128x128x3: 49 MB); counts are capped at kMaxCalibrationFrames.
 
@@ -31,6 +38,8 @@
 namespace tlvlink::quantize {
 
 inline constexpr int64_t kMaxCalibrationFrames = 4096;
+// Sources per run (`--calib` given this many times at most).
+inline constexpr size_t kMaxCalibrationSources = 8;
 
 enum class CalibFormat : uint8_t {
   kAuto = 0, kTouch100k, kTag, kFeel, kFeelRepacked, kImages, kExtreme
@@ -45,9 +54,10 @@ CalibFormat calib_format_of(datasets::DatasetFormat format);
 Result<CalibFormat> detect_calib_format(const std::string& path);
 
 struct CalibDataOptions {
-  std::string path;  // dataset or image dir, or "extreme"
-  CalibFormat format = CalibFormat::kAuto;
-  int64_t calib_count = 200;
+  // Datasets or image dirs, or "extreme": 1..kMaxCalibrationSources sources.
+  std::vector<std::string> paths;
+  CalibFormat format = CalibFormat::kAuto;  // of every source (kAuto: each its own)
+  int64_t calib_count = 200;                // over all sources
   int64_t heldout_count = 50;
   uint64_t seed = 1;
   // Which split of a dataset to draw from, by the datasets' rule (tlvlink/datasets/detect.h:
@@ -64,16 +74,20 @@ struct CalibDataOptions {
 };
 
 struct CalibData {
-  CalibFormat format = CalibFormat::kAuto;
+  std::vector<CalibFormat> formats;             // one per source, in `paths` order
   std::vector<std::vector<float>> calibration;  // preprocessed graph-input-0 frames
   std::vector<std::vector<float>> heldout;
   std::vector<std::string> calibration_keys, heldout_keys;
-  std::string summary;  // one paragraph: source, items, groups, selection, load problems
+  std::string summary;  // one paragraph per source: items, groups, selection, load problems
 };
+
+// "touch100k", or "touch100k+feel-repacked" for several sources.
+std::string calib_formats_name(const std::vector<CalibFormat>& formats);
 
 // Errors: missing (kIo) or undetectable (kFormat) data, no usable frame (kFormat), a
 // preprocessing failure (naming the item), counts outside [1, kMaxCalibrationFrames] (heldout
-// may be 0; kInvalidArgument).
+// may be 0; kInvalidArgument), no source, more than kMaxCalibrationSources or more sources than
+// calibration frames (kInvalidArgument). Errors of a source name its path.
 Result<CalibData> load_calib_data(const CalibDataOptions& options, const InputSpec& spec);
 
 // quantize::calibrate over in-memory frames with a "quantize: calibrating" progress line (one
