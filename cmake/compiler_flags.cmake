@@ -21,6 +21,15 @@ if(TLVLINK_DEBUG_LINES)
   add_compile_options($<$<CONFIG:RelWithDebInfo>:-g1>)
 endif()
 
+# Unity build: CMAKE_UNITY_BUILD gives every target created after this its UNITY_BUILD property.
+# Names in anonymous namespaces must then differ between the files of one target (a clash is a
+# compile error, never a silent change; tools/setup/README.md says how to resolve one). A build
+# without it compiles every file on its own: the minimal and fuzz trees of the test command do.
+if(TLVLINK_UNITY_BUILD)
+  set(CMAKE_UNITY_BUILD ON)
+  set(CMAKE_UNITY_BUILD_BATCH_SIZE 8)
+endif()
+
 if(TLVLINK_SANITIZE)
   add_compile_options(-fsanitize=${TLVLINK_SANITIZE} -fno-omit-frame-pointer -fno-sanitize-recover=all)
   add_link_options(-fsanitize=${TLVLINK_SANITIZE})

@@ -18,6 +18,7 @@ option(TLVLINK_BUILD_TESTS    "Build the GoogleTest suites" ON)
 option(TLVLINK_BUILD_FUZZERS  "Build libFuzzer targets (needs clang)" OFF)
 option(TLVLINK_WERROR         "Treat compiler warnings as errors (CI sets this)" OFF)
 option(TLVLINK_DEBUG_LINES    "RelWithDebInfo keeps line tables only (-g1): backtraces and sanitizer reports still name file:line, not local variables; builds ~25 % faster (the test command sets this)" OFF)
+option(TLVLINK_UNITY_BUILD    "Compile each target's sources in batches of 8 per translation unit (CMake's unity build): the shared headers are parsed once per batch, not once per file; the test command sets this for its large trees (tools/setup/README.md)" OFF)
 set(TLVLINK_SANITIZE "" CACHE STRING "Sanitizers to build with, e.g. address,undefined (empty = none)")
 set(TLVLINK_BOARD "host" CACHE STRING "Board definition this build targets (see boards/)")
 

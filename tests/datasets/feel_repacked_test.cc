@@ -15,7 +15,7 @@ namespace {
 using testing::TempDir;
 
 // q=95 by default for this layout; double compression (camera q=95 first) adds a little.
-constexpr double kJpegMeanTolerance = 3.0;
+constexpr double kRepackedJpegMeanTolerance = 3.0;
 
 void write_repacked(const std::string& dir, int32_t objects, int32_t grasps,
                     FeelWriterOptions o = {}) {
@@ -29,8 +29,8 @@ void write_repacked(const std::string& dir, int32_t objects, int32_t grasps,
   ASSERT_TRUE((*writer)->finish().ok());
 }
 
-std::vector<sim::GraspEpisode> load(const std::string& dir, FeelLoaderOptions o,
-                                    LoadReport* report = nullptr) {
+std::vector<sim::GraspEpisode> load_repacked(const std::string& dir, FeelLoaderOptions o,
+                                             LoadReport* report = nullptr) {
   std::vector<sim::GraspEpisode> out;
   auto loader = open_feel_repacked(dir, o);
   EXPECT_TRUE(loader.ok()) << loader.error().message();
@@ -62,10 +62,10 @@ TEST(FeelRepacked, RoundTripAndObjectSplit) {
   FeelLoaderOptions o;
   o.split = Split::kTrain;
   LoadReport report;
-  const auto train = load(tmp.path(), o, &report);
+  const auto train = load_repacked(tmp.path(), o, &report);
   EXPECT_EQ(report.problem_count(), 0) << report.summary();
   o.split = Split::kTest;
-  const auto test = load(tmp.path(), o);
+  const auto test = load_repacked(tmp.path(), o);
   ASSERT_EQ(train.size(), 8u);
   ASSERT_EQ(test.size(), 2u);
   std::set<std::string> train_objects;
@@ -78,7 +78,7 @@ TEST(FeelRepacked, RoundTripAndObjectSplit) {
   for (int f = 0; f < heads::kFingers; ++f)
     for (int m = 0; m < heads::kMoments; ++m)
       EXPECT_LE(testing::image_diff(train[1].frames[f][m], want.frames[f][m]).mean,
-                kJpegMeanTolerance);
+                kRepackedJpegMeanTolerance);
   EXPECT_TRUE(train[1].vision[0].rgb.empty());
 }
 
@@ -93,7 +93,7 @@ TEST(FeelRepacked, ProblemsAreCountedAndLoadingGoesOn) {
   FeelLoaderOptions o;
   o.split = Split::kTrain;
   LoadReport report;
-  const auto train = load(tmp.path(), o, &report);
+  const auto train = load_repacked(tmp.path(), o, &report);
   EXPECT_EQ(train.size(), 8u);  // 8 - 1 missing + 1 valid extra line
   EXPECT_EQ(report.missing_files(), 1);
   EXPECT_EQ(report.malformed_lines(), 1);

@@ -35,14 +35,14 @@ void write_h5(const std::string& dir, const std::vector<sim::GraspEpisode>& eps,
   EXPECT_EQ((*writer)->summary().items, static_cast<int64_t>(eps.size()));
 }
 
-struct Loaded {
+struct LoadedFeel {
   std::vector<sim::GraspEpisode> episodes;
   std::vector<std::string> keys;
   LoadReport report;
 };
 
-Loaded load(const std::string& path, FeelLoaderOptions o = {}) {
-  Loaded out;
+LoadedFeel load_feel(const std::string& path, FeelLoaderOptions o = {}) {
+  LoadedFeel out;
   auto loader = open_feel(path, o);
   EXPECT_TRUE(loader.ok()) << loader.error().message();
   if (!loader.ok()) return out;
@@ -66,7 +66,7 @@ TEST(FeelHdf5, RoundTripIsExact) {
        {"calandra_corl2017_000.h5", "calandra_corl2017_001.h5", "calandra_corl2017_002.h5"})
     EXPECT_TRUE(std::filesystem::exists(tmp / f)) << f;
   EXPECT_FALSE(std::filesystem::exists(tmp / "calandra_corl2017_003.h5"));
-  const Loaded l = load(tmp.path());
+  const LoadedFeel l = load_feel(tmp.path());
   ASSERT_EQ(l.episodes.size(), eps.size());
   EXPECT_EQ(l.report.problem_count(), 0) << l.report.summary();
   EXPECT_EQ(l.keys[6], "calandra_corl2017_001.h5:/0001");
@@ -95,10 +95,10 @@ TEST(FeelHdf5, RecordedSplitIsByObject) {
   FeelLoaderOptions o;
   o.split = Split::kTrain;
   std::set<std::string> train;
-  const Loaded tr = load(tmp.path(), o);
+  const LoadedFeel tr = load_feel(tmp.path(), o);
   for (const auto& e : tr.episodes) train.insert(e.object_name);
   o.split = Split::kTest;
-  const Loaded te = load(tmp.path(), o);
+  const LoadedFeel te = load_feel(tmp.path(), o);
   std::set<std::string> test;
   for (const auto& e : te.episodes) test.insert(e.object_name);
   EXPECT_EQ(train.size(), 6u);
@@ -107,8 +107,8 @@ TEST(FeelHdf5, RecordedSplitIsByObject) {
   EXPECT_EQ(tr.episodes.size() + te.episodes.size(), 24u);
   // Re-split by object hash: deterministic, disjoint.
   o.resplit = HashSplit{0.5, 3};
-  const Loaded a = load(tmp.path(), o);
-  const Loaded b = load(tmp.path(), o);
+  const LoadedFeel a = load_feel(tmp.path(), o);
+  const LoadedFeel b = load_feel(tmp.path(), o);
   EXPECT_EQ(a.keys, b.keys);
   for (const auto& e : a.episodes) EXPECT_TRUE(hash_split_is_test(e.object_name, *o.resplit));
 }
@@ -119,12 +119,12 @@ TEST(FeelHdf5, QuarterTurnsAreUndoneByTheLoader) {
   FeelWriterOptions w;
   w.gelsight_quarter_turns = 1;
   write_h5(tmp.path(), eps, w);
-  const Loaded stored = load(tmp.path());  // as stored: rotated
+  const LoadedFeel stored = load_feel(tmp.path());  // as stored: rotated
   ASSERT_EQ(stored.episodes.size(), 2u);
   EXPECT_EQ(stored.episodes[0].frames[0][0].width, eps[0].frames[0][0].height);
   FeelLoaderOptions o;
   o.gelsight_quarter_turns = 1;
-  const Loaded back = load(tmp.path(), o);
+  const LoadedFeel back = load_feel(tmp.path(), o);
   ASSERT_EQ(back.episodes.size(), 2u);
   EXPECT_EQ(back.episodes[1].frames[1][2].rgb, eps[1].frames[1][2].rgb);
   EXPECT_EQ(back.episodes[1].vision[0].rgb, eps[1].vision[0].rgb);  // kinect is not rotated
@@ -137,7 +137,7 @@ TEST(FeelHdf5, TruncatedAndForeignFilesAreCountedWithAClearReason) {
   std::filesystem::resize_file(truncated, std::filesystem::file_size(truncated) / 2);
   const std::string foreign = tmp / "calandra_corl2017_002.h5";
   std::ofstream(foreign, std::ios::trunc) << "not an HDF5 file at all";
-  const Loaded l = load(tmp.path());
+  const LoadedFeel l = load_feel(tmp.path());
   EXPECT_EQ(l.episodes.size(), 5u);
   EXPECT_EQ(l.report.corrupt_files(), 2);
   ASSERT_EQ(l.report.problems().size(), 2u);
@@ -146,10 +146,10 @@ TEST(FeelHdf5, TruncatedAndForeignFilesAreCountedWithAClearReason) {
       << l.report.problems()[0].reason;
   EXPECT_EQ(l.report.problems()[1].path, foreign);
   // One truncated file given on its own: nothing loads, the problem says why.
-  const Loaded one = load(truncated);
+  const LoadedFeel one = load_feel(truncated);
   EXPECT_TRUE(one.episodes.empty());
   EXPECT_EQ(one.report.corrupt_files(), 1);
-  const Loaded absent = load(tmp / "calandra_corl2017_999.h5");
+  const LoadedFeel absent = load_feel(tmp / "calandra_corl2017_999.h5");
   EXPECT_EQ(absent.report.missing_files(), 1);
   std::filesystem::create_directory(tmp / "empty");
   EXPECT_EQ(open_feel(tmp / "empty", {}).error().code(), ErrorCode::kIo);
@@ -163,7 +163,7 @@ TEST(FeelHdf5, RecordWithoutADocumentedKeyIsSkipped) {
   ASSERT_GE(file, 0);
   ASSERT_GE(H5Ldelete(file, "0001/gelsightB_during", H5P_DEFAULT), 0);
   H5Fclose(file);
-  const Loaded l = load(tmp.path());
+  const LoadedFeel l = load_feel(tmp.path());
   EXPECT_EQ(l.episodes.size(), 2u);
   EXPECT_EQ(l.report.count(ProblemKind::kMalformedRecord), 1);
   ASSERT_EQ(l.report.problems().size(), 1u);

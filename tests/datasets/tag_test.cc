@@ -20,10 +20,10 @@ namespace {
 
 using testing::TempDir;
 
-constexpr double kJpegMeanTolerance = 3.0;  // q=90 on smooth images (see touch100k_test)
+constexpr double kTagJpegMeanTolerance = 3.0;  // q=90 on smooth images (see touch100k_test)
 
-void write_set(const std::string& dir, const std::vector<sim::TouchSample>& samples,
-               double test_fraction = 0.3) {
+void write_tag_set(const std::string& dir, const std::vector<sim::TouchSample>& samples,
+                   double test_fraction = 0.3) {
   WriterOptions o;
   o.test_fraction = test_fraction;
   auto writer = create_tag_writer(dir, o);
@@ -65,7 +65,7 @@ std::set<std::string> sessions_in(const std::string& label_file) {
 TEST(TouchAndGo, RoundTripWithLabels) {
   TempDir tmp;
   const auto samples = testing::touch_set(10, 3);
-  write_set(tmp.path(), samples);
+  write_tag_set(tmp.path(), samples);
   EXPECT_TRUE(std::filesystem::exists(tmp / "20220101_000000/gelsight_frame/0000000003.jpg"));
   EXPECT_TRUE(std::filesystem::exists(tmp / "20220101_000000/video_frame/0000000003.jpg"));
   const auto train = testing::read_lines(tmp / "train.txt");
@@ -93,8 +93,8 @@ TEST(TouchAndGo, RoundTripWithLabels) {
     EXPECT_EQ(got.material.rough, want.material.rough);
     EXPECT_EQ(got.object_id, want.object_id);  // sidecar
     EXPECT_DOUBLE_EQ(got.contact.force_n, want.contact.force_n);
-    EXPECT_LE(testing::image_diff(got.touch, want.touch).mean, kJpegMeanTolerance);
-    EXPECT_LE(testing::image_diff(got.vision, want.vision).mean, kJpegMeanTolerance);
+    EXPECT_LE(testing::image_diff(got.touch, want.touch).mean, kTagJpegMeanTolerance);
+    EXPECT_LE(testing::image_diff(got.vision, want.vision).mean, kTagJpegMeanTolerance);
   }
   // Frames whose roughness is in between are not in the rough files.
   const size_t rough_lines = testing::read_lines(tmp / "train_rough.txt").size() +
@@ -104,7 +104,7 @@ TEST(TouchAndGo, RoundTripWithLabels) {
 
 TEST(TouchAndGo, SplitsNeverShareASessionOrObject) {
   TempDir tmp;
-  write_set(tmp.path(), testing::touch_set(10, 3), 0.3);
+  write_tag_set(tmp.path(), testing::touch_set(10, 3), 0.3);
   const auto train = sessions_in(tmp / "train.txt");
   const auto test = sessions_in(tmp / "test.txt");
   EXPECT_EQ(train.size(), 7u);
@@ -126,7 +126,7 @@ TEST(TouchAndGo, SplitsNeverShareASessionOrObject) {
 
 TEST(TouchAndGo, ResplitBySessionIsDeterministicAndDisjoint) {
   TempDir tmp;
-  write_set(tmp.path(), testing::touch_set(12, 2));
+  write_tag_set(tmp.path(), testing::touch_set(12, 2));
   TagLoaderOptions o;
   o.resplit = HashSplit{0.4, 9};
   o.split = Split::kTrain;
@@ -147,7 +147,7 @@ TEST(TouchAndGo, ResplitBySessionIsDeterministicAndDisjoint) {
 
 TEST(TouchAndGo, MalformedLabelLinesAreRejectedWithFileAndLine) {
   TempDir tmp;
-  write_set(tmp.path(), testing::touch_set(2, 2), 0.0);
+  write_tag_set(tmp.path(), testing::touch_set(2, 2), 0.0);
   auto lines = testing::read_lines(tmp / "train.txt");
   ASSERT_EQ(lines.size(), 4u);
   lines.insert(lines.begin() + 1, "no comma here");                      // line 2
@@ -196,7 +196,7 @@ size_t truncate_in_scan_data(const std::string& path) {
 
 TEST(TouchAndGo, MissingAndCorruptImagesAreCountedWithPaths) {
   TempDir tmp;
-  write_set(tmp.path(), testing::touch_set(2, 3), 0.0);  // all six frames in train.txt
+  write_tag_set(tmp.path(), testing::touch_set(2, 3), 0.0);  // all six frames in train.txt
   // train.txt lists session 0 frames 3, 10, 17, then session 1's: the truncated touch image is
   // met first, the missing camera image second.
   const std::string corrupt = tmp / "20220101_000000/gelsight_frame/0000000010.jpg";
@@ -248,7 +248,7 @@ TEST(TouchAndGo, MissingAndCorruptImagesAreCountedWithPaths) {
 // one after an error, the next valid image read as 0x0 and one bad file cost two samples.
 TEST(TouchAndGo, JpegCutInsideItsHeaderDoesNotSpoilTheNextImage) {
   TempDir tmp;
-  write_set(tmp.path(), testing::touch_set(1, 3), 0.0);
+  write_tag_set(tmp.path(), testing::touch_set(1, 3), 0.0);
   const std::string corrupt = tmp / "20220101_000000/gelsight_frame/0000000010.jpg";
   std::filesystem::resize_file(corrupt, 300);  // inside the quantisation/Huffman tables
   TagLoaderOptions o;
@@ -260,7 +260,7 @@ TEST(TouchAndGo, JpegCutInsideItsHeaderDoesNotSpoilTheNextImage) {
 
 TEST(TouchAndGo, MissingLabelFiles) {
   TempDir tmp;
-  write_set(tmp.path(), testing::touch_set(2, 3), 0.0);
+  write_tag_set(tmp.path(), testing::touch_set(2, 3), 0.0);
   std::filesystem::remove(tmp / "train_hard.txt");
   std::filesystem::remove(tmp / "train_rough.txt");
   TagLoaderOptions o;

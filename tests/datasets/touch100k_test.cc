@@ -19,11 +19,11 @@ namespace {
 using testing::TempDir;
 
 // Writer default q=90 on the smooth test images: mean error ~1 DN, single pixels a few more.
-constexpr double kJpegMeanTolerance = 3.0;
+constexpr double kTouch100kJpegMeanTolerance = 3.0;
 constexpr int kJpegMaxTolerance = 40;
 
-void write_set(const std::string& dir, const std::vector<sim::TouchSample>& samples,
-               WriterOptions options = {}) {
+void write_touch100k_set(const std::string& dir, const std::vector<sim::TouchSample>& samples,
+                         WriterOptions options = {}) {
   options.generator_json = R"({"seed": 7, "sessions": 3})";
   auto writer = create_touch100k_writer(dir, options);
   ASSERT_TRUE(writer.ok()) << writer.error().message();
@@ -52,7 +52,7 @@ std::vector<sim::TouchSample> load_all(const std::string& dir, LoadReport* repor
 TEST(Touch100k, RoundTrip) {
   TempDir tmp;
   const auto samples = testing::touch_set(3, 4);
-  write_set(tmp.path(), samples);
+  write_touch100k_set(tmp.path(), samples);
 
   // The index is exactly the released format.
   const auto lines = testing::read_lines(tmp / "data_list.json");
@@ -87,9 +87,9 @@ TEST(Touch100k, RoundTrip) {
     EXPECT_EQ(b.contact.markers_deviating, a.contact.markers_deviating);
     const auto dt = testing::image_diff(a.touch, b.touch);
     const auto dv = testing::image_diff(a.vision, b.vision);
-    EXPECT_LE(dt.mean, kJpegMeanTolerance);
+    EXPECT_LE(dt.mean, kTouch100kJpegMeanTolerance);
     EXPECT_LE(dt.max, kJpegMaxTolerance);
-    EXPECT_LE(dv.mean, kJpegMeanTolerance);
+    EXPECT_LE(dv.mean, kTouch100kJpegMeanTolerance);
     EXPECT_LE(dv.max, kJpegMaxTolerance);
   }
 }
@@ -98,7 +98,7 @@ TEST(Touch100k, WithoutSidecarOnlyTheFormatsFields) {
   TempDir tmp;
   WriterOptions o;
   o.sidecar = false;
-  write_set(tmp.path(), testing::touch_set(1, 2), o);
+  write_touch100k_set(tmp.path(), testing::touch_set(1, 2), o);
   EXPECT_FALSE(std::filesystem::exists(tmp / "tlvlink_sim_samples.jsonl"));
   const auto loaded = load_all(tmp.path());
   ASSERT_EQ(loaded.size(), 2u);
@@ -112,7 +112,7 @@ TEST(Touch100k, RecordedSplitFromTheSidecar) {
   TempDir tmp;
   WriterOptions o;
   o.test_fraction = 0.5;
-  write_set(tmp.path(), testing::touch_set(4, 2), o);
+  write_touch100k_set(tmp.path(), testing::touch_set(4, 2), o);
   Touch100kLoaderOptions lo;
   lo.load_images = false;
   auto loader = open_touch100k(tmp.path(), lo);
@@ -158,7 +158,7 @@ TEST(Touch100k, RecordedSplitFromTheSidecar) {
 
 TEST(Touch100k, MissingAndCorruptImagesAreCountedWithPaths) {
   TempDir tmp;
-  write_set(tmp.path(), testing::touch_set(2, 3));
+  write_touch100k_set(tmp.path(), testing::touch_set(2, 3));
   const std::string missing = tmp / "touch/20220101_000001/0000000010.jpg";
   const std::string corrupt = tmp / "vision/20220101_000000/0000000003.jpg";
   std::filesystem::remove(missing);
@@ -184,7 +184,7 @@ TEST(Touch100k, MissingAndCorruptImagesAreCountedWithPaths) {
 
 TEST(Touch100k, MalformedLinesAreRejectedWithFileAndLine) {
   TempDir tmp;
-  write_set(tmp.path(), testing::touch_set(1, 3));
+  write_touch100k_set(tmp.path(), testing::touch_set(1, 3));
   auto lines = testing::read_lines(tmp / "data_list.json");
   lines.insert(lines.begin() + 1, "{\"img\": \"x.jpg\", \"sentence_desc\": ");  // line 2
   lines.insert(lines.begin() + 2, "");                                          // blank: skipped
@@ -210,7 +210,7 @@ TEST(Touch100k, MalformedLinesAreRejectedWithFileAndLine) {
 
 TEST(Touch100k, SidecarOutOfStepIsReportedOnceAndDropped) {
   TempDir tmp;
-  write_set(tmp.path(), testing::touch_set(1, 3));
+  write_touch100k_set(tmp.path(), testing::touch_set(1, 3));
   auto side = testing::read_lines(tmp / "tlvlink_sim_samples.jsonl");
   std::swap(side[1], side[2]);
   testing::write_lines(tmp / "tlvlink_sim_samples.jsonl", side);
@@ -225,7 +225,7 @@ TEST(Touch100k, SidecarOutOfStepIsReportedOnceAndDropped) {
 
 TEST(Touch100k, WriterRefusesBadInput) {
   TempDir tmp;
-  write_set(tmp.path(), testing::touch_set(1, 1));
+  write_touch100k_set(tmp.path(), testing::touch_set(1, 1));
   EXPECT_EQ(create_touch100k_writer(tmp.path(), {}).error().code(), ErrorCode::kInvalidArgument);
   TempDir tmp2;
   auto writer = create_touch100k_writer(tmp2.path(), {});
@@ -247,7 +247,7 @@ TEST(Touch100k, WriterRefusesBadInput) {
 
 TEST(Touch100k, LabelsOnlyAndScaledDecode) {
   TempDir tmp;
-  write_set(tmp.path(), testing::touch_set(1, 2));
+  write_touch100k_set(tmp.path(), testing::touch_set(1, 2));
   Touch100kLoaderOptions o;
   o.load_images = false;
   auto loaded = load_all(tmp.path(), nullptr, o);

@@ -16,8 +16,6 @@ using internal::xioctl;
 
 namespace {
 
-constexpr int64_t kMs = 1000000;
-
 int64_t timestamp_of(const v4l2_buffer& b, SourceStats& stats, int64_t dequeued_ns) {
   if ((b.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC) {
     return static_cast<int64_t>(b.timestamp.tv_sec) * 1000000000 +
@@ -70,9 +68,9 @@ Status reconnect(V4l2Source::State& s, int64_t deadline_ns) {
       return Error::make(
           ErrorCode::kCaptureDisconnected,
           "%s: disconnected for %lld ms, %llu reopen attempts failed, next in %lld ms: %s", s.name,
-          static_cast<long long>(s.backoff.current_outage_ns(now) / kMs),
+          static_cast<long long>(s.backoff.current_outage_ns(now) / internal::kNsPerMs),
           static_cast<unsigned long long>(s.stats.reconnect_attempts),
-          static_cast<long long>((s.backoff.next_attempt_ns() - now) / kMs), reason);
+          static_cast<long long>((s.backoff.next_attempt_ns() - now) / internal::kNsPerMs), reason);
     }
     internal::sleep_until_ns(s.backoff.next_attempt_ns());
   }
@@ -135,7 +133,7 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
   State& s = *state_;
   if (!s.started) return Error::make(ErrorCode::kInvalidState, "%s: next() before start()", s.name);
   release();
-  const int64_t deadline = monotonic_ns() + (timeout_ms > 0 ? timeout_ms : 0) * kMs;
+  const int64_t deadline = monotonic_ns() + (timeout_ms > 0 ? timeout_ms : 0) * internal::kNsPerMs;
   if (s.pending_errno != 0) return begin_outage(s, "VIDIOC_QBUF failed", s.pending_errno);
   if (!s.stats.connected) TLV_TRY(reconnect(s, deadline));
 
@@ -186,7 +184,8 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
     }
 
     const int64_t now = monotonic_ns();
-    const int64_t watchdog_at = s.last_frame_ns + static_cast<int64_t>(s.watchdog_ms) * kMs;
+    const int64_t watchdog_at =
+        s.last_frame_ns + static_cast<int64_t>(s.watchdog_ms) * internal::kNsPerMs;
     if (now >= watchdog_at) {
       ++s.stats.stalls;
       return begin_outage(s, "no frame within the watchdog (device stalled)", 0);
@@ -198,7 +197,8 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
     }
     const int64_t until = deadline < watchdog_at ? deadline : watchdog_at;
     pollfd p{s.fd, POLLIN, 0};
-    const int rc = ::poll(&p, 1, static_cast<int>((until - now + kMs - 1) / kMs));
+    const int rc = ::poll(
+        &p, 1, static_cast<int>((until - now + internal::kNsPerMs - 1) / internal::kNsPerMs));
     if (rc < 0 && errno != EINTR) return begin_outage(s, "poll failed", errno);
     if (rc > 0 && (p.revents & (POLLERR | POLLHUP | POLLNVAL)) && !(p.revents & POLLIN)) {
       // An unregistered node (unplugged) polls POLLERR|POLLHUP; so does a queue in error state

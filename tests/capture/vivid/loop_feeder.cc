@@ -11,15 +11,10 @@
 #include <chrono>
 #include <cstring>
 
+#include "vivid/vivid_support.h"
+
 namespace tlvlink::capture::vivid {
 namespace {
-
-int xioctl(int fd, unsigned long req, void* arg) {
-  int rc;
-  do rc = ::ioctl(fd, req, arg);
-  while (rc < 0 && errno == EINTR);
-  return rc < 0 ? errno : 0;
-}
 
 uint32_t mix(uint32_t x) {  // a small integer hash: deterministic frame content per index
   x ^= x >> 16;

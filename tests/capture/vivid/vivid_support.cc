@@ -26,13 +26,6 @@ std::string node_named(const std::string& wanted) {
   return "";
 }
 
-int xioctl(int fd, unsigned long req, void* arg) {
-  int rc;
-  do rc = ::ioctl(fd, req, arg);
-  while (rc < 0 && errno == EINTR);
-  return rc < 0 ? errno : 0;
-}
-
 // Finds a control id by key; 0 if absent.
 uint32_t control_id(int fd, const char* key, uint32_t& type) {
   v4l2_query_ext_ctrl q{};
@@ -74,6 +67,13 @@ int ext_ctrl(const std::string& dev, const char* key, int64_t& value, bool set) 
 }
 
 }  // namespace
+
+int xioctl(int fd, unsigned long req, void* arg) {
+  int rc;
+  do rc = ::ioctl(fd, req, arg);
+  while (rc < 0 && errno == EINTR);
+  return rc < 0 ? errno : 0;
+}
 
 std::optional<Nodes> find_nodes() {
   Nodes n{node_named("vivid-000-vid-cap"), node_named("vivid-000-vid-out")};

@@ -22,6 +22,9 @@ std::optional<Nodes> find_nodes();
 // Skip reason when vivid is absent (the host), or "" when it is present.
 std::string absent_reason();
 
+// ioctl() retried on EINTR; 0 or the errno. (The runtime's own is internal to runtime/capture.)
+int xioctl(int fd, unsigned long req, void* arg);
+
 // Destructive tests (unbind, module reload) run only inside the rig (TLVLINK_RIG=1).
 bool in_rig();
 

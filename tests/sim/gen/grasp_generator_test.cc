@@ -22,7 +22,7 @@ constexpr double kAreaAgreement = 0.15;
 // tolerance (1e-3) and float rounding.
 constexpr double kRhoAgreement = 0.01;
 
-GraspSetOptions small_options(uint64_t seed) {
+GraspSetOptions small_grasp_options(uint64_t seed) {
   GraspSetOptions o;
   o.objects = 4;
   o.grasps_per_object = 3;
@@ -45,7 +45,7 @@ const ContactState& state(const GraspEpisode& e, int f, Moment m) {
 TEST(GraspGenerator, FramesAgreeWithTheLabel) {
   const uint64_t seed = testing::test_seed();
   SCOPED_SEED_TRACE(seed);
-  GraspSetOptions o = small_options(seed);
+  GraspSetOptions o = small_grasp_options(seed);
   o.objects = 8;
   auto gen = make(o);
   ASSERT_NE(gen, nullptr);
@@ -106,7 +106,7 @@ TEST(GraspGenerator, FramesAgreeWithTheLabel) {
 TEST(GraspGenerator, DeterministicAndIndependentOfOrder) {
   const uint64_t seed = testing::test_seed();
   SCOPED_SEED_TRACE(seed);
-  auto a = make(small_options(seed)), b = make(small_options(seed));
+  auto a = make(small_grasp_options(seed)), b = make(small_grasp_options(seed));
   ASSERT_NE(a, nullptr);
   ASSERT_NE(b, nullptr);
   GraspEpisode x, y, first;
@@ -136,7 +136,7 @@ TEST(GraspGenerator, DeterministicAndIndependentOfOrder) {
 }
 
 TEST(GraspGenerator, OracleFromThePublicApi) {
-  GraspSetOptions o = small_options(testing::test_seed());
+  GraspSetOptions o = small_grasp_options(testing::test_seed());
   const Result<GraspOracleReport> r = grasp_oracle_report(o, 600);
   ASSERT_TRUE(r.ok());
   EXPECT_GT(r.value().accuracy, 0.6);
@@ -155,7 +155,7 @@ TEST(GraspGenerator, OracleFromThePublicApi) {
 TEST(GraspGenerator, MixedProfileSetsDrawAProfilePerObject) {
   // "gelsight-mini,digit": every grasp of an object on one profile, both fingers alike; an
   // object's Mini episodes are the bytes (and the variables) a Mini-only set of the seed gives.
-  GraspSetOptions mixed = small_options(5);
+  GraspSetOptions mixed = small_grasp_options(5);
   mixed.objects = 10;
   mixed.grasps_per_object = 2;
   mixed.sensor = "gelsight-mini,digit";
@@ -205,7 +205,7 @@ TEST(GraspGenerator, MixedProfileSetsDrawAProfilePerObject) {
 TEST(GraspGenerator, MarkersFractionDrawsMarkedGelsPerObject) {
   // Half the objects on gels with markers: their frames differ from the unmarked set's, the
   // others' are the same bytes; every grasp of an object agrees.
-  GraspSetOptions half = small_options(9);
+  GraspSetOptions half = small_grasp_options(9);
   half.objects = 12;
   half.grasps_per_object = 2;
   half.markers = false;
@@ -235,10 +235,10 @@ TEST(GraspGenerator, MarkersFractionDrawsMarkedGelsPerObject) {
 }
 
 TEST(GraspGenerator, BadOptionsAndIndicesAreErrors) {
-  GraspSetOptions o = small_options(1);
+  GraspSetOptions o = small_grasp_options(1);
   o.objects = 0;
   EXPECT_EQ(GraspEpisodeGenerator::create(o).error().code(), ErrorCode::kInvalidArgument);
-  auto gen = make(small_options(1));
+  auto gen = make(small_grasp_options(1));
   GraspEpisode e;
   EXPECT_EQ(gen->generate(12, e).error().code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(gen->generate(-1, e).error().code(), ErrorCode::kInvalidArgument);
@@ -253,7 +253,7 @@ namespace {
 TEST(GraspGenerator, LivePathFramesAreTheRenderedFramesThroughTheSensorsLivePath) {
   // Mixed profiles: each object's frames go through its own sensor's path (the Mini's MJPEG,
   // DIGIT's YUYV); labels, states and vision are those of the default set.
-  GraspSetOptions plain = small_options(11);
+  GraspSetOptions plain = small_grasp_options(11);
   plain.sensor = "gelsight-mini,digit";
   plain.objects = 6;
   plain.grasps_per_object = 1;
@@ -286,7 +286,7 @@ TEST(GraspGenerator, LivePathFramesAreTheRenderedFramesThroughTheSensorsLivePath
 }
 
 TEST(GraspGenerator, LivePathFractionSendsSomeObjectsThroughTheLivePathAndLeavesTheRest) {
-  GraspSetOptions plain = small_options(13);
+  GraspSetOptions plain = small_grasp_options(13);
   plain.objects = 12;
   plain.grasps_per_object = 2;
   GraspSetOptions mixed = plain, live = plain;

@@ -17,7 +17,7 @@
 namespace tlvlink::sim {
 namespace {
 
-TouchSetOptions small_options(uint64_t seed) {
+TouchSetOptions small_touch_options(uint64_t seed) {
   TouchSetOptions o;
   o.sessions = 3;
   o.frames_per_session = 2;
@@ -51,7 +51,7 @@ bool same(const TouchSample& a, const TouchSample& b) {
 TEST(TouchGenerator, SessionsFramesAndContent) {
   const uint64_t seed = testing::test_seed();
   SCOPED_SEED_TRACE(seed);
-  auto gen = make(small_options(seed));
+  auto gen = make(small_touch_options(seed));
   ASSERT_NE(gen, nullptr);
   ASSERT_EQ(gen->size(), 6);
   auto describer = Describer::create().value();
@@ -91,7 +91,7 @@ TEST(TouchGenerator, SessionsFramesAndContent) {
 TEST(TouchGenerator, DeterministicAndIndependentOfOrder) {
   const uint64_t seed = testing::test_seed();
   SCOPED_SEED_TRACE(seed);
-  auto a = make(small_options(seed)), b = make(small_options(seed));
+  auto a = make(small_touch_options(seed)), b = make(small_touch_options(seed));
   ASSERT_NE(a, nullptr);
   ASSERT_NE(b, nullptr);
   std::vector<TouchSample> forward(6), backward(6);
@@ -103,7 +103,7 @@ TEST(TouchGenerator, DeterministicAndIndependentOfOrder) {
   again = forward[5];
   ASSERT_TRUE(a->generate(2, again).ok());
   EXPECT_TRUE(same(again, forward[2]));
-  auto other = make(small_options(seed + 1));
+  auto other = make(small_touch_options(seed + 1));
   TouchSample o;
   ASSERT_TRUE(other->generate(0, o).ok());
   EXPECT_FALSE(same(o, forward[0]));
@@ -124,16 +124,16 @@ TEST(TouchGenerator, SessionNamesAreUniqueAndOrdered) {
 }
 
 TEST(TouchGenerator, BadOptionsAndIndicesAreErrors) {
-  TouchSetOptions o = small_options(1);
+  TouchSetOptions o = small_touch_options(1);
   o.sessions = 0;
   EXPECT_EQ(TouchSampleGenerator::create(o).error().code(), ErrorCode::kInvalidArgument);
-  o = small_options(1);
+  o = small_touch_options(1);
   o.vision_width = 0;
   EXPECT_EQ(TouchSampleGenerator::create(o).error().code(), ErrorCode::kInvalidArgument);
-  o = small_options(1);
+  o = small_touch_options(1);
   o.sensor = "no-such-sensor";
   EXPECT_FALSE(TouchSampleGenerator::create(o).ok());
-  auto gen = make(small_options(1));
+  auto gen = make(small_touch_options(1));
   TouchSample s;
   EXPECT_EQ(gen->generate(-1, s).error().code(), ErrorCode::kInvalidArgument);
   EXPECT_EQ(gen->generate(gen->size(), s).error().code(), ErrorCode::kInvalidArgument);
@@ -142,7 +142,7 @@ TEST(TouchGenerator, BadOptionsAndIndicesAreErrors) {
 TEST(TouchGenerator, MixedProfileSetsDrawAProfilePerSession) {
   // "gelsight-mini,digit": each session on one profile; a session's Mini frames are the bytes
   // a Mini-only set of the same seed gives (same material, press, sensor and noise seeds).
-  TouchSetOptions mixed = small_options(5);
+  TouchSetOptions mixed = small_touch_options(5);
   mixed.sessions = 12;
   mixed.sensor = "gelsight-mini,digit";
   TouchSetOptions mini = mixed;
@@ -179,7 +179,7 @@ TEST(TouchGenerator, MixedProfileSetsDrawAProfilePerSession) {
 TEST(TouchGenerator, MarkersFractionDrawsMarkedGelsPerSession) {
   // Half the sessions on gels with markers: their frames differ from the unmarked set's, the
   // others are the same bytes; both frames of a session agree.
-  TouchSetOptions half = small_options(9);
+  TouchSetOptions half = small_touch_options(9);
   half.sessions = 16;
   half.markers_fraction = 0.5;
   TouchSetOptions none = half;
@@ -206,7 +206,7 @@ TEST(TouchGenerator, MarkersFractionDrawsMarkedGelsPerSession) {
 }
 
 TEST(TouchGenerator, Rate) {
-  TouchSetOptions o = small_options(3);
+  TouchSetOptions o = small_touch_options(3);
   o.sessions = 10;
   o.frames_per_session = 3;
   o.vision_height = 240;

@@ -14,7 +14,7 @@
 namespace tlvlink::sim {
 namespace {
 
-size_t allocations_in_steady_state(std::string_view name) {
+size_t raw_allocations_in_steady_state(std::string_view name) {
   const SensorProfile p = sensor_profile(name).value();
   auto camera = RawCamera::create(p, 1);
   auto decoder = RawDecoder::create(p);
@@ -57,9 +57,9 @@ size_t allocations_in_steady_state(std::string_view name) {
 }
 
 TEST(SimRenderNoAlloc, SteadyStateRawCameraDoesNotAllocate) {
-  EXPECT_EQ(allocations_in_steady_state("gelsight-mini"), 0u);  // MJPEG, periphery, 1/8 decode
-  EXPECT_EQ(allocations_in_steady_state("digit"), 0u);          // YUYV, transposed
-  EXPECT_EQ(allocations_in_steady_state("gelsight-r1.5"), 0u);  // MJPEG at the processed size
+  EXPECT_EQ(raw_allocations_in_steady_state("gelsight-mini"), 0u);  // MJPEG, periphery, 1/8 decode
+  EXPECT_EQ(raw_allocations_in_steady_state("digit"), 0u);          // YUYV, transposed
+  EXPECT_EQ(raw_allocations_in_steady_state("gelsight-r1.5"), 0u);  // MJPEG at the processed size
 }
 
 }  // namespace

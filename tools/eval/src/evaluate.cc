@@ -58,10 +58,6 @@ void finish(TaskResult& r, Tally&& t, std::string source) {
                static_cast<double>(r.n);
 }
 
-const std::vector<int32_t>& touch_labels(const TouchEmbeddings& t, Task task) {
-  return task == Task::kMaterial ? t.material : task == Task::kHard ? t.hard : t.rough;
-}
-
 // Head row -> canonical class index, from the head's label names.
 template <typename Labels>
 Result<std::vector<int32_t>> class_map(Task task, const Labels& labels) {
@@ -92,7 +88,7 @@ TaskResult score_touch(const TouchEmbeddings& t, Task task, Method method, const
   }
   Tally tally(task);
   std::vector<float> logits(rows);
-  const std::vector<int32_t>& labels = touch_labels(t, task);
+  const std::vector<int32_t>& labels = t.labels(task);
   for (size_t i = 0; i < t.size(); ++i) {
     if (t.is_test[i] == 0) continue;
     if (labels[i] < 0) {

@@ -10,10 +10,6 @@
 namespace tlvlink::eval {
 namespace {
 
-const std::vector<int32_t>& touch_labels(const TouchEmbeddings& t, Task task) {
-  return task == Task::kMaterial ? t.material : task == Task::kHard ? t.hard : t.rough;
-}
-
 std::vector<std::string> canonical_labels(Task task) {
   std::vector<std::string> out;
   for (std::string_view c : task_classes(task)) out.emplace_back(c);
@@ -30,7 +26,7 @@ std::string unfit_reason(std::span<const int32_t> labels) {
 
 Status fit_touch(const TouchEmbeddings& t, const HeadFitOptions& o, FittedHeads& out) {
   for (Task task : {Task::kMaterial, Task::kHard, Task::kRough}) {
-    const std::vector<int32_t>& all = touch_labels(t, task);
+    const std::vector<int32_t>& all = t.labels(task);
     std::vector<float> x;
     std::vector<int32_t> y;
     std::vector<std::string> groups;

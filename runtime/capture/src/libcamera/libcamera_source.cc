@@ -2,22 +2,13 @@
 // outage after a camera disconnect and its bounded reopening.
 #include "tlvlink/capture/libcamera_source.h"
 
-#include <time.h>
-
 #include <cstdio>
 
+#include "clock.h"
 #include "libcamera/libcamera_internal.h"
 
 namespace tlvlink::capture {
 namespace {
-
-constexpr int64_t kMs = 1000000;
-
-int64_t now_ns() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1000000000 + ts.tv_nsec;
-}
 
 const char* label_of(const LibcameraConfig& c) {
   return c.label.empty() ? "libcamera" : c.label.c_str();
@@ -42,7 +33,7 @@ Error begin_outage(LibcameraSource::State& s) {
   s.session.reset();
   s.stats.connected = false;
   ++s.stats.disconnects;
-  const int64_t now = now_ns();
+  const int64_t now = internal::monotonic_ns();
   s.backoff.lost(now, s.streamed);  // tlvlink/capture/reconnect_backoff.h, as the V4L2 source
   s.stats.outage_ns = s.backoff.outage_ns(now);
   return Error::make(ErrorCode::kCaptureDisconnected,
@@ -50,18 +41,13 @@ Error begin_outage(LibcameraSource::State& s) {
                      s.backoff.delay_ms());
 }
 
-void sleep_until(int64_t when_ns) {
-  timespec ts{when_ns / 1000000000, when_ns % 1000000000};
-  ::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
-}
-
 // Bounded reopening while the camera is gone (same scheme as the V4L2 source).
 Status reconnect(LibcameraSource::State& s, int64_t deadline) {
   for (;;) {
-    int64_t now = now_ns();
+    int64_t now = internal::monotonic_ns();
     if (s.backoff.due(now)) {
       Status st = open_session(s);
-      now = now_ns();
+      now = internal::monotonic_ns();
       if (st.ok()) {
         s.backoff.reopened(now);
         s.stats.outage_ns = s.backoff.outage_ns(now);
@@ -74,13 +60,13 @@ Status reconnect(LibcameraSource::State& s, int64_t deadline) {
     }
     s.stats.outage_ns = s.backoff.outage_ns(now);
     if (s.backoff.next_attempt_ns() > deadline) {
-      sleep_until(deadline);
+      internal::sleep_until_ns(deadline);
       return Error::make(ErrorCode::kCaptureDisconnected,
                          "%s: disconnected, %llu reopen attempts failed: %s", s.name,
                          static_cast<unsigned long long>(s.stats.reconnect_attempts),
                          s.last_reopen_error.message());
     }
-    sleep_until(s.backoff.next_attempt_ns());
+    internal::sleep_until_ns(s.backoff.next_attempt_ns());
   }
 }
 
@@ -153,7 +139,7 @@ void LibcameraSource::stop() {
   State& s = *state_;
   if (!s.started) return;
   if (s.backoff.in_outage()) {
-    const int64_t now = now_ns();
+    const int64_t now = internal::monotonic_ns();
     s.backoff.reopened(now);  // the outage's clock stops with the source
     s.stats.outage_ns = s.backoff.outage_ns(now);
   }
@@ -182,7 +168,8 @@ Result<CapturedFrame> LibcameraSource::next(int32_t timeout_ms) {
   State& s = *state_;
   if (!s.started) return Error::make(ErrorCode::kInvalidState, "%s: next() before start()", s.name);
   release();
-  const int64_t deadline = now_ns() + (timeout_ms > 0 ? timeout_ms : 0) * kMs;
+  const int64_t deadline =
+      internal::monotonic_ns() + (timeout_ms > 0 ? timeout_ms : 0) * internal::kNsPerMs;
   if (!s.test_mode) {
     if (s.session && s.session->disconnected()) return begin_outage(s);
     if (!s.session) TLV_TRY(reconnect(s, deadline));
@@ -221,13 +208,14 @@ Result<CapturedFrame> LibcameraSource::next(int32_t timeout_ms) {
       return frame;
     }
     if (s.session && s.session->disconnected()) return begin_outage(s);
-    const int64_t now = now_ns();
+    const int64_t now = internal::monotonic_ns();
     if (now >= deadline) {
       ++s.stats.timeouts;
       return Error::make(ErrorCode::kCaptureTimeout, "%s: no frame within %d ms", s.name,
                          timeout_ms);
     }
-    s.completions.wait(static_cast<int>((deadline - now + kMs - 1) / kMs));
+    s.completions.wait(
+        static_cast<int>((deadline - now + internal::kNsPerMs - 1) / internal::kNsPerMs));
   }
 }
 

@@ -31,7 +31,6 @@ using internal::tag;
 
 constexpr int32_t kMaxObjects = 10'000'000;
 constexpr int32_t kMaxGraspsPerObject = 100'000;
-constexpr int32_t kMaxVisionSide = 8192;
 constexpr double kDuringShearMaxN = 0.2;  // object resting on the table: hardly any shear
 constexpr double kDropRatio = 3.0;        // rho beyond this: the object is gone after the lift
 constexpr double kSlipMinMm = 0.5, kSlipMaxMm = 5.0;

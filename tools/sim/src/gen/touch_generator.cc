@@ -24,7 +24,6 @@ using internal::tag;
 
 constexpr int32_t kMaxSessions = 10'000'000;  // session start times stay within 4-digit years
 constexpr int32_t kMaxFramesPerSession = 100'000;
-constexpr int32_t kMaxVisionSide = 8192;
 // Presses (README "Touch sessions").
 // Ranges favour imprints the renderer shows clearly: at 2 N a 20 mm sphere changes the image
 // by ~10 DN, a 40 mm one by ~7 DN (noise sigma 3 DN); TAG's presses are firm hand presses.
@@ -62,8 +61,7 @@ Status validate(const TouchSetOptions& o) {
 
 class TouchGenerator final : public TouchSampleGenerator {
  public:
-  TouchGenerator(const TouchSetOptions& o,
-                 std::vector<std::unique_ptr<internal::RendererCache>> r,
+  TouchGenerator(const TouchSetOptions& o, std::vector<std::unique_ptr<internal::RendererCache>> r,
                  std::shared_ptr<const Describer> d)
       : options_(o), renderers_(std::move(r)), describer_(std::move(d)) {
     options_.sensor = {};  // the caller's string may not outlive us; profiles are in renderers_

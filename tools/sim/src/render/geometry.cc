@@ -3,13 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <numbers>
 
 #include "render/model_constants.h"
 
 namespace tlvlink::sim::internal {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 constexpr auto kNoSurface = static_cast<float>(-kNoSurfaceMm);
 
@@ -47,7 +46,7 @@ void object_height(const ObjectGeometry& g, const Placement& at, const FrameGrid
   // Radii under 0.75 px are drawn as 0.75 px, so a ball always covers the pixel nearest its
   // centre (at most 0.71 px away): a zero-radius ball is a point contact, not nothing.
   const float r = static_cast<float>(std::max(g.radius_mm, 0.75 * grid.mm_per_px));
-  const double a = at.angle_deg * kPi / 180;
+  const double a = at.angle_deg * std::numbers::pi / 180;
   const float ca = static_cast<float>(std::cos(a)), sa = static_cast<float>(std::sin(a));
   const float half_len = static_cast<float>(0.5 * g.length_mm);
   const float cone = static_cast<float>(kPointConeSlope);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "tlvlink/io/image.h"
@@ -24,8 +25,6 @@ namespace tlvlink::sim {
 namespace {
 
 using namespace internal;  // NOLINT: the renderer's own internals
-
-constexpr double kPi = 3.14159265358979323846;
 
 class RendererImpl final : public Renderer {
  public:
@@ -167,14 +166,14 @@ Status RendererImpl::render(const ContactScene& scene, const RenderOptions& opti
       if (shear.rho_torsion > shear.rho_translation) {
         const double turn =
             std::min(l.slip_mm / std::max(shear.contact_radius_mm, 0.5), kMaxSlipTwistRad);
-        at.angle_deg += std::copysign(turn, l.torque_nmm) * 180 / kPi;
+        at.angle_deg += std::copysign(turn, l.torque_nmm) * 180 / std::numbers::pi;
       }
       solver_.prepare(h_.data(), curvature_.data(), comp, build_surface(scene, texture, at));
       contact = solver_.indent(press, u_gel_.data());
       shear.active = contact.in_contact;
       shear.center_x_mm = contact.centroid_x_mm;
       shear.center_y_mm = contact.centroid_y_mm;
-      shear.contact_radius_mm = std::sqrt(contact.area_mm2 / kPi);
+      shear.contact_radius_mm = std::sqrt(contact.area_mm2 / std::numbers::pi);
     }
     ContactState& st = out.state;
     st.in_contact = contact.in_contact;
@@ -184,7 +183,7 @@ Status RendererImpl::render(const ContactScene& scene, const RenderOptions& opti
     st.kappa = comp.kappa;
     st.texture_kappa = texture_kappa;
     st.contact_area_mm2 = contact.area_mm2;
-    st.contact_radius_mm = std::sqrt(contact.area_mm2 / kPi);
+    st.contact_radius_mm = std::sqrt(contact.area_mm2 / std::numbers::pi);
     st.stick_radius_mm = shear.stick_radius_mm;
     st.slip_ratio = shear.rho;
     st.gross_slip = shear.gross_slip;

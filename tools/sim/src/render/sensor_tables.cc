@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "render/model_constants.h"
 #include "render/rng.h"
 
 namespace tlvlink::sim::internal {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Low-order illumination polynomial of channel c at normalised position (u, v) in [-1, 1]^2:
 // random quadratic terms plus a gradient toward each light of that colour (the LED side of the
@@ -23,7 +22,7 @@ double illumination_poly(const std::array<double, 5>& a, double u, double v) {
 void build_lights(const SensorProfile& profile, std::array<LightModel, 4>& lights, float& scale) {
   for (int i = 0; i < profile.light_count; ++i) {
     const Light& l = profile.lights[static_cast<size_t>(i)];
-    const double az = l.azimuth_deg * kPi / 180;
+    const double az = l.azimuth_deg * std::numbers::pi / 180;
     const double norm = std::sqrt(1 + profile.light_elevation * profile.light_elevation);
     LightModel& m = lights[static_cast<size_t>(i)];
     m.lx = static_cast<float>(std::cos(az) / norm);
@@ -38,7 +37,7 @@ void build_lights(const SensorProfile& profile, std::array<LightModel, 4>& light
   // Strongest |delta| over tilt directions at 45 deg (slope 1) with unit amplitudes.
   float worst = 0;
   for (int k = 0; k < 360; ++k) {
-    const double phi = k * kPi / 180;
+    const double phi = k * std::numbers::pi / 180;
     const auto d =
         shading_delta(lights.data(), profile.light_count, static_cast<float>(std::cos(phi)),
                       static_cast<float>(std::sin(phi)), 0.0f, 0.0f);
@@ -67,7 +66,8 @@ SensorTables build_sensor_tables(const SensorProfile& p, uint64_t sensor_seed, G
   for (int c = 0; c < 3; ++c) {  // brighter toward each LED of this colour
     for (int i = 0; i < p.light_count; ++i) {
       const Light& l = p.lights[static_cast<size_t>(i)];
-      const double az = l.azimuth_deg * kPi / 180, k = 0.5 * l.rgb[static_cast<size_t>(c)];
+      const double az = l.azimuth_deg * std::numbers::pi / 180,
+                   k = 0.5 * l.rgb[static_cast<size_t>(c)];
       poly[static_cast<size_t>(c)][0] += k * std::cos(az);
       poly[static_cast<size_t>(c)][1] += k * std::sin(az);
     }

@@ -2,13 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "render/model_constants.h"
 
 namespace tlvlink::sim::internal {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // num / den, saturating at kSlipRatioCap; 0 / 0 = 0 (no load, no slip).
 double ratio(double num, double den) {
@@ -29,19 +28,20 @@ ShearField solve_shear(const SensorProfile& sensor, const Loading& l, const Cont
   f.active = true;
   f.center_x_mm = k.centroid_x_mm;
   f.center_y_mm = k.centroid_y_mm;
-  const double a = std::sqrt(k.area_mm2 / kPi);
+  const double a = std::sqrt(k.area_mm2 / std::numbers::pi);
   f.contact_radius_mm = a;
   const double nu = sensor.gel_poisson, t = sensor.gel_thickness_mm;
   const double g = sensor.gel_modulus_pa * 1e-6 / (2 * (1 + nu));  // N/mm^2
   // Half-space vs thin-layer tangential stiffness (heuristic max), torsional stiffness; floors
   // keep a point contact finite.
-  const double kt = std::max({8 * a * g / (2 - nu), g * kPi * a * a / t, kStiffnessFloor});
+  const double kt =
+      std::max({8 * a * g / (2 - nu), g * std::numbers::pi * a * a / t, kStiffnessFloor});
   const double ktheta = std::max(16.0 / 3.0 * g * a * a * a, kStiffnessFloor);
   const double q = std::hypot(l.shear_x_n, l.shear_y_n);
   const double m = std::fabs(l.torque_nmm);
   const double limit = l.friction * k.force_n;
   f.rho_translation = ratio(q, limit);
-  f.rho_torsion = ratio(m, 3 * kPi / 16 * limit * a);
+  f.rho_torsion = ratio(m, 3 * std::numbers::pi / 16 * limit * a);
   f.rho = std::min(std::hypot(f.rho_translation, f.rho_torsion), kSlipRatioCap);
   f.gross_slip = f.rho >= 1;
   double sx, sy, twist;
@@ -54,7 +54,7 @@ ShearField solve_shear(const SensorProfile& sensor, const Loading& l, const Cont
     f.stick_radius_mm = 0;
     sx = q > 0 ? l.shear_x_n / q * limit / kt : 0;
     sy = q > 0 ? l.shear_y_n / q * limit / kt : 0;
-    twist = m > 0 ? std::copysign(3 * kPi / 16 * limit * a / ktheta, l.torque_nmm) : 0;
+    twist = m > 0 ? std::copysign(3 * std::numbers::pi / 16 * limit * a / ktheta, l.torque_nmm) : 0;
   }
   // The gel cannot shear without bound: cap the rigid shift and twist (heuristic).
   const double max_shift = kMaxShearStrain * t, shift = std::hypot(sx, sy);

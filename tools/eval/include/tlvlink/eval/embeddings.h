@@ -20,6 +20,7 @@
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/datasets/report.h"
 #include "tlvlink/error.h"
+#include "tlvlink/eval/tasks.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/heads/grasp_difference.h"
 #include "tlvlink/heads/grasp_layout.h"
@@ -111,6 +112,10 @@ struct TouchEmbeddings {
   std::span<const float> row(size_t i) const {
     return std::span<const float>(values).subspan(i * static_cast<size_t>(dim),
                                                   static_cast<size_t>(dim));
+  }
+  // The labels of a touch task (material, hard or rough).
+  const std::vector<int32_t>& labels(Task task) const {
+    return task == Task::kMaterial ? material : task == Task::kHard ? hard : rough;
   }
 };
 

@@ -23,6 +23,8 @@ namespace tlvlink::sim {
 // one a set with a single instance uses (so `sensor_instances = 1` gives the bytes it always
 // gave); instance k >= 1 is seeded by hashing (seed, k).
 inline constexpr int32_t kMaxSensorInstances = 100'000;
+// The vision images of touch and grasp sets: each side 1..kMaxVisionSide pixels.
+inline constexpr int32_t kMaxVisionSide = 8192;
 // The Renderer seed of instance `instance` (0 <= instance < kMaxSensorInstances) of a set with
 // this seed: Renderer::create(profile, sensor_instance_seed(seed, k)) rebuilds that sensor.
 uint64_t sensor_instance_seed(uint64_t seed, int32_t instance);
@@ -70,7 +72,7 @@ struct GraspSetOptions {
   // episodes on a profile are the bytes a single-profile set of that seed gives.
   std::string_view sensor = "gelsight-mini";
   int32_t vision_height = 240, vision_width = 320;
-  bool markers = true;              // shear shows in the marker field
+  bool markers = true;  // shear shows in the marker field
   // With markers false: the share of objects whose grasps are recorded on gels with markers,
   // [0, 1], drawn per object by hashing (seed, object) (real grippers come with and without;
   // a grasp head meant for both should see both). 0 = none.
@@ -112,8 +114,8 @@ class GraspEpisodeGenerator {
 // tangential load Q = m (g + a_l) / 2, torque M_z = m g d / 2, contact radius a = sqrt(area/pi),
 // rho = sqrt((Q / (mu P))^2 + (M_z / ((3 pi / 16) mu P a))^2); rho of the grasp = max over the
 // fingers in contact, capped at kMaxSlipRatio so metadata stays finite.
-inline constexpr double kGravity = 9.81;             // m/s^2
-inline constexpr double kGraspSafetyFactor = 1.0;    // success needs rho <= 1 / SF
+inline constexpr double kGravity = 9.81;           // m/s^2
+inline constexpr double kGraspSafetyFactor = 1.0;  // success needs rho <= 1 / SF
 inline constexpr double kMaxSlipRatio = 1e6;
 double grasp_slip_ratio(const GraspVariables& v);
 
@@ -132,10 +134,10 @@ double grasp_oracle_accuracy(const GraspSetOptions& options, int64_t samples);
 // The same estimate with the label balance it saw.
 struct GraspOracleReport {
   int64_t samples = 0;
-  double accuracy = 0;          // the oracle's accuracy on the fresh episodes
-  double success_rate = 0;      // fraction of them with is_gripping
-  double majority_rate = 0;     // accuracy of always predicting the majority label
-  int64_t hidden_draws = 0;     // Monte Carlo draws of (mass, COM offset, lift accel) per episode
+  double accuracy = 0;       // the oracle's accuracy on the fresh episodes
+  double success_rate = 0;   // fraction of them with is_gripping
+  double majority_rate = 0;  // accuracy of always predicting the majority label
+  int64_t hidden_draws = 0;  // Monte Carlo draws of (mass, COM offset, lift accel) per episode
   // The same predictor when the friction is known only through the material class (what the
   // frames show of it: the class's texture, not mu itself): mu is marginalised uniformly over
   // the class's range, kOracleFrictionDraws values. Closer to what a model of the frames can
