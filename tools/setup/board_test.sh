@@ -50,7 +50,8 @@ if "$py" tools/rig/test_riglib.py >build/logs/board-riglib.log 2>&1 &&
    PYTHON=$py bash tools/rig/selftest.sh >build/logs/board-selftest.log 2>&1; then
   summary+=("rig self-test: $(grep -E '^rig: tests ' build/logs/board-selftest.log | tail -1 | sed 's/^rig: //') ($(secs "$t0" "$(now)")s)")
 else
-  cat build/logs/board-riglib.log build/logs/board-selftest.log | tail -60
+  # Indented: run_tests.sh counts the one "rig: tests" line printed below, not this copy of it.
+  cat build/logs/board-riglib.log build/logs/board-selftest.log | tail -60 | sed 's/^/  /'
   summary+=("rig self-test: FAILED (logs: build/logs/board-riglib.log, build/logs/board-selftest.log)")
   failed=1
 fi
