@@ -5,8 +5,9 @@
 namespace tlvlink::cli {
 
 void QuantizeDataFlags::add_to(CLI::App& app) {
-  // Exactly one source: a dataset's layout without its index is an error in --calib, never a
-  // silent switch to its image files; --calib-images says so explicitly.
+  // Either --calib (repeatable: several sources) or --calib-images: a dataset's layout without
+  // its index is an error in --calib, never a silent switch to its image files; --calib-images
+  // says so explicitly.
   CLI::Option_group* source = app.add_option_group("calibration data");
   source
       ->add_option("--calib", calib,
