@@ -60,18 +60,23 @@ start_later_builds() {  # the stages of this run
   for s in "$@"; do case "$s" in asan|fuzz) todo+=("$s") ;; esac; done
   [ ${#todo[@]} -gt 0 ] || return 0
   echo "run_tests: building ${todo[*]} in the background (niced) while the other stages run"
+  rm -f build/logs/later-build-*.done
+  # One tree after the other (asan first); each leaves a marker when done, so the asan stage
+  # starts as soon as its own tree is built while the fuzz tree goes on compiling beside it.
   ( renice -n 19 -p "$BASHPID" >/dev/null
     for s in "${todo[@]}"; do
       case "$s" in asan) build_preset host-asan ;; fuzz) build_fuzz ;; esac
       echo "later build $s: exit $? at $(date -u +%H:%M:%S)"
+      touch "build/logs/later-build-$s.done"
     done ) >build/logs/later-builds.log 2>&1 &
   later_builds_pid=$!
 }
-wait_later_builds() {
+wait_later_build() {  # $1 asan|fuzz: until that tree's background build has ended
   [ -n "$later_builds_pid" ] || return 0
-  wait "$later_builds_pid"
-  later_builds_pid=
-  grep -E "^later build " build/logs/later-builds.log
+  while [ ! -e "build/logs/later-build-$1.done" ] && kill -0 "$later_builds_pid" 2>/dev/null; do
+    sleep 2
+  done
+  grep -E "^later build $1:" build/logs/later-builds.log
 }
 
 run_fuzz() {
@@ -161,7 +166,7 @@ tests_passed=0; tests_failed=0
 start_later_builds "${stages[@]}"
 for i in "${!stages[@]}"; do
   s=${stages[$i]}
-  [ "$s" = asan ] || [ "$s" = fuzz ] && wait_later_builds
+  case "$s" in asan|fuzz) wait_later_build "$s" ;; esac
   stage_start "$s"
   log="build/logs/$s.log"
   case "$s" in
@@ -192,6 +197,7 @@ for i in "${!stages[@]}"; do
   tests_passed=$((tests_passed + p)); tests_failed=$((tests_failed + f))
   if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then tests_failed=$((tests_failed + 1)); fi
 done
+[ -z "$later_builds_pid" ] || wait "$later_builds_pid"
 echo
 echo "run_tests: wall time $(( $(date +%s) - t0 ))s; failed stages: ${failed_names[*]:-none}"
 echo "stages: $passed passed, $failed failed"
