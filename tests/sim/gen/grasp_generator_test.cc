@@ -287,7 +287,7 @@ TEST(GraspGenerator, LivePathFramesAreTheRenderedFramesThroughTheSensorsLivePath
 
 TEST(GraspGenerator, LivePathFractionSendsSomeObjectsThroughTheLivePathAndLeavesTheRest) {
   GraspSetOptions plain = small_grasp_options(13);
-  plain.objects = 12;
+  plain.objects = 8;
   plain.grasps_per_object = 2;
   GraspSetOptions mixed = plain, live = plain;
   mixed.live_path_fraction = 0.5;
@@ -297,20 +297,19 @@ TEST(GraspGenerator, LivePathFractionSendsSomeObjectsThroughTheLivePathAndLeaves
   ASSERT_NE(p, nullptr);
   ASSERT_NE(l, nullptr);
   int live_objects = 0;
-  GraspEpisode a, b, c;
+  GraspEpisode a, reference;
   for (int64_t object = 0; object < plain.objects; ++object) {
     bool took[2];
     for (int64_t k = 0; k < 2; ++k) {
       const int64_t i = object * 2 + k;
       ASSERT_TRUE(g->generate(i, a).ok());
-      ASSERT_TRUE(p->generate(i, b).ok());
-      ASSERT_TRUE(l->generate(i, c).ok());
       took[k] = a.live_path;
       // Each episode is exactly the all-live or the no-live set's: same labels, same frames.
-      EXPECT_EQ(a.frames[1][1].rgb, (a.live_path ? c : b).frames[1][1].rgb) << "episode " << i;
-      EXPECT_EQ(a.is_gripping, b.is_gripping);
-      EXPECT_FALSE(b.live_path);
-      EXPECT_TRUE(c.live_path);
+      // Only the set it claims to come from is rendered (the episodes dominate this test's time).
+      ASSERT_TRUE((a.live_path ? l : p)->generate(i, reference).ok());
+      EXPECT_EQ(reference.live_path, a.live_path) << "episode " << i;
+      EXPECT_EQ(a.frames[1][1].rgb, reference.frames[1][1].rgb) << "episode " << i;
+      EXPECT_EQ(a.is_gripping, reference.is_gripping) << "episode " << i;
     }
     EXPECT_EQ(took[0], took[1]) << "object " << object;  // drawn per object
     live_objects += took[0] ? 1 : 0;
