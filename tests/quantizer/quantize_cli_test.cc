@@ -288,6 +288,7 @@ TEST_F(QuantizeCli, SweepWritesOneRowPerVariantAndThreadCount) {
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), kRows + 1);
   const auto j = nlohmann::json::parse(read_text(fs::path(path("sweep")) / "sweep.json"));
   ASSERT_EQ(j["rows"].size(), static_cast<size_t>(kRows));
+  EXPECT_EQ(j["calibration"]["data"], nlohmann::json::array({path("t100k")}));  // one per --calib
   for (const auto& row : j["rows"]) {
     EXPECT_GT(row["latency_median_ms"].get<double>(), 0.0);
     EXPECT_GT(row["cosine_mean"].get<double>(), 0.99);

@@ -69,7 +69,8 @@ std::string format_summary(const QuantizeRun& run) {
   auto add = [&](const char* label, const std::string& text) {
     std::snprintf(line, sizeof(line), "  %-12s ", label);
     std::string entry = line;
-    for (char c : text) entry += c == '\n' ? "\n" + std::string(15, ' ') : std::string(1, c);
+    const std::string continuation = "\n" + std::string(entry.size(), ' ');
+    for (char c : text) entry += c == '\n' ? continuation : std::string(1, c);
     s += entry + "\n";
   };
   s += "tlvlink quantize: " + run.input_path + " -> " + run.output_path + "\n";
