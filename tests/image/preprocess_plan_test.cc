@@ -1,6 +1,7 @@
 // The plan/run preprocessing against the staged code the shipped models were trained through
 // (staged_reference.cc): every filter, crop, channel order, 1- and 3-channel frames, shrinking
 // and enlarging, must give the same float bits. Plus int8 encoding, errors, and no allocation.
+#include <array>
 #include <cstring>
 #include <vector>
 
@@ -90,6 +91,43 @@ TEST(ImagePreprocessPlan, TheDeploymentSizesAreBitIdenticalToo) {
   EXPECT_EQ(std::memcmp(got->data(), want->data(), got->size() * sizeof(float)), 0);
   EXPECT_EQ(resize_bilinear(frame, 96, 128).pixels,
             testing::staged::resize_bilinear(frame, 96, 128).pixels);
+}
+
+TEST(ImagePreprocessPlan, ResizeIsRunsFirstStage) {
+  // The trainer resizes augmented frames through resize(): run() must be exactly those pixels,
+  // normalised, for every filter (area has its own fast path in resize()).
+  testing::Rng rng(23);
+  for (ResizeFilter filter : {ResizeFilter::kBilinear, ResizeFilter::kArea, ResizeFilter::kNearest}) {
+    for (const auto& [w, h, ow, oh] : {std::array<int32_t, 4>{320, 240, 128, 96},
+                                       std::array<int32_t, 4>{37, 29, 11, 7},
+                                       std::array<int32_t, 4>{12, 10, 30, 20}}) {
+      const Image frame = random_image(rng, w, h, 3);
+      OwnedSpec o;
+      o.mean = {0.41f, 0.45f, 0.52f};
+      o.stdev = {0.19f, 0.18f, 0.21f};
+      o.spec.height = oh;
+      o.spec.width = ow;
+      o.spec.resize_filter = filter;
+      o.spec.mean = o.mean;
+      o.spec.std = o.stdev;
+      auto plan = PreprocessPlan::create(o.spec, w, h, 3);
+      ASSERT_TRUE(plan.ok());
+      std::vector<uint8_t> pixels(static_cast<size_t>(ow * oh * 3));
+      ASSERT_TRUE(plan->resize(frame.view(), pixels).ok());
+      std::vector<float> x(plan->output_values());
+      ASSERT_TRUE(plan->run(frame.view(), std::span<float>(x)).ok());
+      for (size_t i = 0; i < x.size(); ++i) {
+        const size_t c = i % 3;
+        ASSERT_EQ(x[i], (static_cast<float>(pixels[i]) / 255.0f - o.mean[c]) / o.stdev[c])
+            << "filter " << resize_filter_name(filter) << " value " << i;
+      }
+      auto copy = resize(frame.view(), oh, ow, filter);
+      ASSERT_TRUE(copy.ok());
+      EXPECT_EQ(copy->pixels, pixels);
+      std::vector<uint8_t> short_buffer(pixels.size() - 1);
+      EXPECT_EQ(plan->resize(frame.view(), short_buffer).error().code(), ErrorCode::kShapeMismatch);
+    }
+  }
 }
 
 TEST(ImagePreprocessPlan, Int8EncodingIsTheQuantizeOperatorOfTheFloatValues) {

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   add_listen_command(app, exit_code);
   add_replay_command(app, exit_code);
   add_score_command(app, exit_code);
+  add_stability_command(app, exit_code);
 #if defined(TLVLINK_HAVE_BOARDS)
   add_strip_command(app, exit_code);
   add_flash_command(app, exit_code);

@@ -17,6 +17,8 @@ struct TrainFlags {
   trainer::TrainOptions o;
   std::string beta_schedule = "linear";
   std::string objective = "tlv-link";
+  std::string resize = "bilinear";
+  std::string view = "none";
   bool no_curriculum = false;
   bool list_archs = false;
   int64_t max_cache_mb = static_cast<int64_t>(trainer::kDefaultMaxCacheBytes >> 20);
@@ -55,6 +57,10 @@ int run_train(TrainFlags& f) {
   auto objective = trainer::parse_objective(f.objective);
   if (!objective.ok()) return report_error("train", objective.error());
   f.o.objective = *objective;
+  f.o.resize = f.resize == "area" ? ResizeFilter::kArea : ResizeFilter::kBilinear;
+  auto view = trainer::parse_view_components(f.view);
+  if (!view.ok()) return report_error("train", view.error());
+  f.o.view.components = *view;
   // The supervised objective has no text loss, so no curriculum (and no teacher) either.
   const bool no_curriculum = f.no_curriculum || *objective == trainer::Objective::kSupervised;
   auto schedule = trainer::parse_beta_schedule(no_curriculum ? "none" : f.beta_schedule);
@@ -159,6 +165,22 @@ void add_train_command(CLI::App& app, int& exit_code) {
               ->capture_default_str());
   setting(cmd->add_option("--augment-noise", o.augment.noise_dn,
                           "Augmentation: extra camera noise sigma in DN (0 = off)")
+              ->capture_default_str());
+  setting(cmd->add_option("--resize", f->resize,
+                          "The model input's resize from the frame (recorded in the model; the "
+                          "board applies it): area averages the frame's pixels into each input "
+                          "pixel, so a camera's noise and codec grain do not alias into it")
+              ->check(CLI::IsMember({"bilinear", "area"}))
+              ->capture_default_str());
+  setting(cmd->add_option("--augment-view", f->view,
+                          "Sensor-view augmentation at the sensor's frame size: all, none, or a "
+                          "comma list of geometry, colour, vignette, led-drift, dust, blur, noise, "
+                          "codec (README \"Sensor-view augmentation\")")
+              ->capture_default_str());
+  setting(cmd->add_option("--consistency-weight", o.view.consistency_weight,
+                          "With --augment-view: two views of every sample per step and this "
+                          "weight times their embeddings' mean (1 - cosine); 0 = one view")
+              ->check(CLI::Range(0.0, 100.0))
               ->capture_default_str());
   setting(cmd->add_option("--teacher", o.teacher.torchscript,
                           "TorchScript vision encoder (.pt): float [N,3,H,W] RGB normalised by "

@@ -33,4 +33,22 @@ Image resize_bilinear(const Image& in, int32_t height, int32_t width) {
   return out;
 }
 
+Result<Image> resize(const ImageView& image, int32_t height, int32_t width, ResizeFilter filter) {
+  InputSpec spec;
+  spec.height = height;
+  spec.width = width;
+  spec.channels = image.channels;
+  spec.resize_filter = filter;
+  const std::vector<float> mean(3, 0.0f), std(3, 1.0f);
+  spec.mean = mean;
+  spec.std = std;
+  TLV_ASSIGN_OR_RETURN(const PreprocessPlan plan,
+                       PreprocessPlan::create(spec, image.width, image.height, image.channels));
+  Image out{width, height, image.channels, {}};
+  out.pixels.resize(static_cast<size_t>(width) * static_cast<size_t>(height) *
+                    static_cast<size_t>(image.channels));
+  TLV_TRY(plan.resize(image, out.pixels));
+  return out;
+}
+
 }  // namespace tlvlink::image

@@ -106,11 +106,10 @@ size_t PreprocessPlan::output_bytes() const {
 }
 
 // The resized pixel (y, x) as the staged reference computes it: a uint8 per channel (bilinear
-// rounds half away from zero, area rounds the mean), then widened to float.
-void PreprocessPlan::resized_pixel(const ImageView& f, int32_t y, int32_t x, float rgb[3]) const {
+// rounds half away from zero, area rounds the mean).
+void PreprocessPlan::resized_values(const ImageView& f, int32_t y, int32_t x, uint8_t v[3]) const {
   const Tap& r = rows_[static_cast<size_t>(y)];
   const Tap& c = cols_[static_cast<size_t>(x)];
-  uint8_t v[3];
   for (int32_t k = 0; k < frame_channels_; ++k) {
     if (identity_ || filter_ == ResizeFilter::kNearest) {
       v[k] = f.at(r.i0, c.i0, k);
@@ -120,6 +119,12 @@ void PreprocessPlan::resized_pixel(const ImageView& f, int32_t y, int32_t x, flo
       v[k] = detail::bilinear_value(f, r, c, k);
     }
   }
+}
+
+// The same, widened to float RGB (gray frames replicated).
+void PreprocessPlan::resized_pixel(const ImageView& f, int32_t y, int32_t x, float rgb[3]) const {
+  uint8_t v[3];
+  resized_values(f, y, x, v);
   if (frame_channels_ == 3) {
     rgb[0] = v[0];
     rgb[1] = v[1];
@@ -173,6 +178,50 @@ Status PreprocessPlan::run(const ImageView& frame, std::span<std::byte> out) con
     run_typed(frame, reinterpret_cast<int8_t*>(out.data()));
   } else {
     run_typed(frame, reinterpret_cast<float*>(out.data()));
+  }
+  return {};
+}
+
+Status PreprocessPlan::resize(const ImageView& frame, std::span<uint8_t> out) const {
+  const size_t channels = static_cast<size_t>(frame_channels_);
+  const size_t need = static_cast<size_t>(height_) * static_cast<size_t>(width_) * channels;
+  TLV_ENSURE(frame.pixels != nullptr && frame.width == frame_width_ &&
+                 frame.height == frame_height_ && frame.channels == frame_channels_,
+             ErrorCode::kShapeMismatch,
+             "frame is %dx%dx%d; the preprocessing was planned for %dx%dx%d", frame.width,
+             frame.height, frame.channels, frame_width_, frame_height_, frame_channels_);
+  TLV_ENSURE(out.size() == need, ErrorCode::kShapeMismatch,
+             "resized frame is %zu bytes (%dx%dx%zu); the buffer has %zu", need, width_, height_,
+             channels, out.size());
+  size_t i = 0;
+  if (filter_ == ResizeFilter::kArea && !identity_ && frame_channels_ == 3) {
+    // The training path resizes every augmented view: the box sums of detail::area_value,
+    // walked by row pointers (same integer arithmetic, so the same bytes).
+    for (int32_t y = 0; y < height_; ++y) {
+      const Tap& r = rows_[static_cast<size_t>(y)];
+      for (int32_t x = 0; x < width_; ++x, i += 3) {
+        const Tap& c = cols_[static_cast<size_t>(x)];
+        uint32_t sum[3] = {0, 0, 0};
+        for (int32_t sy = r.i0; sy < r.i1; ++sy) {
+          const uint8_t* p = frame.row(sy) + static_cast<size_t>(c.i0) * 3;
+          for (int32_t sx = c.i0; sx < c.i1; ++sx, p += 3) {
+            sum[0] += p[0];
+            sum[1] += p[1];
+            sum[2] += p[2];
+          }
+        }
+        const auto n = static_cast<uint32_t>((r.i1 - r.i0) * (c.i1 - c.i0));
+        for (size_t k = 0; k < 3; ++k) out[i + k] = static_cast<uint8_t>((sum[k] + n / 2) / n);
+      }
+    }
+    return {};
+  }
+  for (int32_t y = 0; y < height_; ++y) {
+    for (int32_t x = 0; x < width_; ++x, i += channels) {
+      uint8_t v[3];
+      resized_values(frame, y, x, v);
+      for (size_t k = 0; k < channels; ++k) out[i + k] = v[k];
+    }
   }
   return {};
 }

@@ -38,7 +38,7 @@ void print_metadata(std::string& out, const Model& model) {
   const InputSpec& in = m.input;
   appendf(out, "input        %dx%dx%d %s, resize %s, mean %s, std %s", in.height, in.width,
               in.channels, channel_order_name(in.channel_order).c_str(),
-              resize_filter_name(in.resize_filter).c_str(), join_floats(in.mean).c_str(),
+              resize_filter_name(in.resize_filter), join_floats(in.mean).c_str(),
               join_floats(in.std).c_str());
   if (in.crop_w > 0) appendf(out, ", crop %d,%d %dx%d", in.crop_x, in.crop_y, in.crop_w, in.crop_h);
   appendf(out, "%s\n", in.background_subtraction ? ", background subtraction" : "");
@@ -112,9 +112,6 @@ std::string inspect_text(const Model& model) {
 
 std::string channel_order_name(ChannelOrder order) {
   return order == ChannelOrder::kRGB ? "RGB" : order == ChannelOrder::kBGR ? "BGR" : "gray";
-}
-std::string resize_filter_name(ResizeFilter f) {
-  return f == ResizeFilter::kBilinear ? "bilinear" : f == ResizeFilter::kArea ? "area" : "nearest";
 }
 
 std::string quant_summary(const Tensor& t) {

@@ -6,27 +6,11 @@
 #include <cmath>
 #include <cstring>
 
+#include "augment_rng.h"
+
 namespace tlvlink::trainer {
-namespace {
-
-uint64_t splitmix(uint64_t& state) {
-  uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
-double uniform01(uint64_t& state) {
-  return static_cast<double>(splitmix(state) >> 11) * 0x1.0p-53;
-}
-
-// Box-Muller; one normal per call (the second is dropped: simplicity over speed here).
-double normal(uint64_t& state) {
-  const double u1 = std::max(uniform01(state), 1e-300), u2 = uniform01(state);
-  return std::sqrt(-2 * std::log(u1)) * std::cos(6.283185307179586 * u2);
-}
-
-}  // namespace
+using rng::normal;
+using rng::splitmix;
 
 uint64_t augment_seed(uint64_t run_seed, int64_t step, int64_t index) {
   uint64_t s = run_seed ^ 0x5851f42d4c957f2dull;

@@ -31,12 +31,18 @@ std::string join_phrases(const std::vector<std::string>& phrases) {
   return s;
 }
 
-// Decodes and resizes one image into `dst` (height * width * 3 bytes).
-Status load_resized(const std::string& path, int32_t height, int32_t width, uint8_t* dst) {
+// Decodes and resizes one image into `dst` (height * width * 3 bytes) with the preprocessing's
+// own resize (a copy when the sizes agree).
+Status load_resized(const std::string& path, int32_t height, int32_t width, ResizeFilter filter,
+                    uint8_t* dst) {
   TLV_ASSIGN_OR_RETURN(tools::Image image, tools::read_jpeg(path));
   TLV_ENSURE(image.channels == 3, ErrorCode::kFormat, "%s: %d channels, expected RGB",
              path.c_str(), image.channels);
-  const tools::Image sized = image::resize_bilinear(image, height, width);
+  if (image.height == height && image.width == width) {
+    std::copy(image.pixels.begin(), image.pixels.end(), dst);
+    return {};
+  }
+  TLV_ASSIGN_OR_RETURN(const tools::Image sized, image::resize(image.view(), height, width, filter));
   std::copy(sized.pixels.begin(), sized.pixels.end(), dst);
   return {};
 }
@@ -163,10 +169,11 @@ Result<DataCache> load_cache(const CacheOptions& o) {
   auto work = [&] {
     for (size_t i = next++; i < n; i = next++) {
       Status st = load_resized(o.dir + "/touch/" + pending[i].key, cache.height, cache.width,
-                               cache.touch.data() + i * cache.touch_stride());
+                               o.resize, cache.touch.data() + i * cache.touch_stride());
       if (st.ok() && o.load_vision) {
         st = load_resized(o.dir + "/vision/" + pending[i].key, cache.vision_height,
-                          cache.vision_width, cache.vision.data() + i * cache.vision_stride());
+                          cache.vision_width, ResizeFilter::kBilinear,
+                          cache.vision.data() + i * cache.vision_stride());
       }
       if (st.ok()) {
         ok[i] = 1;

@@ -171,8 +171,11 @@ Result<ExportSummary> export_model(const ExportOptions& o) {
   m.input.width = arch.input_width;
   m.input.channels = 3;
   m.input.channel_order = ChannelOrder::kRGB;
-  m.input.resize_filter = ResizeFilter::kBilinear;
   try {
+    // Checkpoints before issue 29 record "bilinear" (or nothing) and were trained that way.
+    m.input.resize_filter = meta.at("input").value("resize", std::string("bilinear")) == "area"
+                                ? ResizeFilter::kArea
+                                : ResizeFilter::kBilinear;
     m.input.mean = meta.at("input").at("mean").get<std::vector<float>>();
     m.input.std = meta.at("input").at("std").get<std::vector<float>>();
   } catch (const nlohmann::json::exception& e) {

@@ -13,9 +13,6 @@ namespace {
 // The default split of a set without a recorded one is the datasets' (one rule, one place).
 static_assert(kDefaultTestFraction == datasets::kDefaultSplit.test_fraction);
 
-const char* resize_name(ResizeFilter f) {
-  return f == ResizeFilter::kArea ? "area" : f == ResizeFilter::kNearest ? "nearest" : "bilinear";
-}
 
 }  // namespace
 
@@ -38,9 +35,11 @@ Status validate(const TrainOptions& o) {
   TLV_ENSURE(!o.data_dir.empty(), ErrorCode::kInvalidArgument, "no data directory given");
   TLV_ENSURE(!o.output.empty(), ErrorCode::kInvalidArgument, "no output checkpoint given (-o)");
   TLV_TRY(make_arch(o.arch, o.input_height, o.input_width, o.text.dim).status());
-  TLV_ENSURE(o.resize == ResizeFilter::kBilinear, ErrorCode::kInvalidArgument,
-             "resize filter %s: the trainer caches bilinear-resized frames only",
-             resize_name(o.resize));
+  // Nearest would alias every camera's noise and codec grain into the model (issue 29): the
+  // trainer offers the two filters that average.
+  TLV_ENSURE(o.resize == ResizeFilter::kBilinear || o.resize == ResizeFilter::kArea,
+             ErrorCode::kInvalidArgument, "resize filter %s: the trainer resizes with bilinear or area",
+             resize_filter_name(o.resize));
   TLV_TRY(validate(o.beta));
   TLV_ENSURE(o.objective != Objective::kSupervised || o.beta.schedule == BetaSchedule::kNone,
              ErrorCode::kInvalidArgument,
@@ -58,6 +57,22 @@ Status validate(const TrainOptions& o) {
              ErrorCode::kInvalidArgument,
              "augmentation gain sigma %g, exposure sigma %g (each in [0, 1]) or noise %g DN "
              "(in [0, 50]) out of range", a.gain_sigma, a.exposure_sigma, a.noise_dn);
+  const ViewAugmentOptions& v = o.view;
+  TLV_ENSURE((v.components & ~static_cast<uint32_t>(kViewAll)) == 0, ErrorCode::kInvalidArgument,
+             "view augmentation components 0x%x: unknown bits", v.components);
+  TLV_ENSURE(std::isfinite(v.consistency_weight) && v.consistency_weight >= 0 &&
+                 v.consistency_weight <= 100,
+             ErrorCode::kInvalidArgument, "consistency weight %g outside [0, 100]",
+             v.consistency_weight);
+  TLV_ENSURE(v.consistency_weight == 0 || v.enabled(), ErrorCode::kInvalidArgument,
+             "a consistency weight (%g) needs the view augmentation (--augment-view): two views "
+             "without it are the same frame", v.consistency_weight);
+  TLV_ENSURE(!v.enabled() || (v.frame_height >= o.input_height && v.frame_width >= o.input_width &&
+                              v.frame_height <= 4096 && v.frame_width <= 4096 &&
+                              v.frame_width % 2 == 0),
+             ErrorCode::kInvalidArgument,
+             "view frame %dx%d: at least the model input (%dx%d), at most 4096, even width",
+             v.frame_width, v.frame_height, o.input_width, o.input_height);
   TLV_TRY(validate(o.lr));
   TLV_ENSURE(o.weight_decay >= 0 && o.weight_decay < 10, ErrorCode::kInvalidArgument,
              "weight decay %g outside [0, 10)", o.weight_decay);
@@ -124,7 +139,7 @@ nlohmann::ordered_json options_to_json(const TrainOptions& o) {
   return {
       {"arch", o.arch},
       {"input", {o.input_height, o.input_width}},
-      {"resize", resize_name(o.resize)},
+      {"resize", resize_filter_name(o.resize)},
       {"text", {{"embeddings_dir", o.text.embeddings_dir}, {"dim", o.text.dim},
                 {"seed", o.text.seed}}},
       {"teacher", teacher},
@@ -136,6 +151,9 @@ nlohmann::ordered_json options_to_json(const TrainOptions& o) {
       {"augment", {{"gain_sigma", o.augment.gain_sigma},
                    {"exposure_sigma", o.augment.exposure_sigma},
                    {"noise_dn", o.augment.noise_dn}}},
+      {"view", {{"components", view_components_name(o.view.components)},
+                {"consistency_weight", o.view.consistency_weight},
+                {"frame", {o.view.frame_height, o.view.frame_width}}}},
       {"lr", o.lr.lr},
       {"warmup_steps", o.lr.warmup_steps},
       {"min_lr", o.lr.min_lr},
@@ -191,6 +209,18 @@ Status options_from_json(const nlohmann::ordered_json& j, TrainOptions& o) {
       o.augment.noise_dn = j.at("augment").at("noise_dn").get<double>();
     } else {
       o.augment = {};
+    }
+    // Added with issue 29: checkpoints before it resized bilinearly and made no views.
+    const std::string resize = j.value("resize", "bilinear");
+    o.resize = resize == "area" ? ResizeFilter::kArea : ResizeFilter::kBilinear;
+    if (j.contains("view")) {
+      TLV_ASSIGN_OR_RETURN(o.view.components,
+                           parse_view_components(j.at("view").at("components").get<std::string>()));
+      o.view.consistency_weight = j.at("view").at("consistency_weight").get<double>();
+      o.view.frame_height = j.at("view").at("frame").at(0).get<int32_t>();
+      o.view.frame_width = j.at("view").at("frame").at(1).get<int32_t>();
+    } else {
+      o.view = {};
     }
     o.lr.lr = j.at("lr").get<double>();
     o.lr.warmup_steps = j.at("warmup_steps").get<int64_t>();

@@ -1,5 +1,6 @@
 // tlvlink::trainer::train — TLV-Link curriculum training of the edge student.
 
+#include <torch/nn/functional/distance.h>
 #include <torch/optim/adamw.h>
 #include <torch/utils.h>
 
@@ -20,6 +21,7 @@
 #include "options_json.h"
 #include "teacher.h"
 #include "train_monitor.h"
+#include "view_batches.h"
 
 namespace tlvlink::trainer {
 namespace {
@@ -117,22 +119,24 @@ std::string step_checkpoint_path(const std::string& dir, int64_t step) {
   return dir + name;
 }
 
-// The batch of touch frames `idx`, augmented per sample when the options ask for it (the
-// augmented copies go through `scratch`, so the cache keeps the original pixels).
-torch::Tensor touch_batch(const DataCache& cache, const std::vector<int64_t>& idx,
+// The batch of touch frames `idx` from model-size frames `pixels` (the cache, or the views of
+// a step), augmented per sample when the photometric options ask for it (the augmented copies
+// go through `scratch`, so the cache keeps the original pixels).
+torch::Tensor touch_batch(const std::vector<uint8_t>& pixels, int32_t height, int32_t width,
+                          const std::vector<int64_t>& idx, const std::vector<int64_t>& keys,
                           const std::vector<float>& mean, const std::vector<float>& std,
                           const TrainOptions& o, int64_t step, std::vector<uint8_t>& scratch) {
-  if (!o.augment.enabled()) return image_batch(cache.touch, cache.height, cache.width, idx, mean, std);
-  const size_t stride = cache.touch_stride();
+  if (!o.augment.enabled()) return image_batch(pixels, height, width, idx, mean, std);
+  const size_t stride = static_cast<size_t>(height) * static_cast<size_t>(width) * 3;
   scratch.resize(idx.size() * stride);
   std::vector<int64_t> rows(idx.size());
   for (size_t i = 0; i < idx.size(); ++i) {
-    augment_frame(cache.touch.data() + static_cast<size_t>(idx[i]) * stride,
-                  scratch.data() + i * stride, cache.height, cache.width, o.augment,
-                  augment_seed(o.seed, step, idx[i]));
+    augment_frame(pixels.data() + static_cast<size_t>(idx[i]) * stride,
+                  scratch.data() + i * stride, height, width, o.augment,
+                  augment_seed(o.seed, step, keys[i]));
     rows[i] = static_cast<int64_t>(i);
   }
-  return image_batch(scratch, cache.height, cache.width, rows, mean, std);
+  return image_batch(scratch, height, width, rows, mean, std);
 }
 
 }  // namespace
@@ -179,8 +183,11 @@ Result<TrainSummary> train(const TrainOptions& requested) {
   CacheOptions co;
   co.dir = o.data_dir;
   co.split = SplitChoice::kTrain;
-  co.touch_height = o.input_height;
-  co.touch_width = o.input_width;
+  // With the sensor-view augmentation the cache keeps frames at the sensor's size: the views
+  // are made there, then resized like the board resizes them.
+  co.touch_height = o.view.enabled() ? o.view.frame_height : o.input_height;
+  co.touch_width = o.view.enabled() ? o.view.frame_width : o.input_width;
+  co.resize = o.resize;
   co.load_vision = curriculum && !resumed;  // a resumed run has the teacher's embeddings
   co.vision_height = torchscript_teacher ? o.teacher.input_height : o.input_height;
   co.vision_width = torchscript_teacher ? o.teacher.input_width : o.input_width;
@@ -307,7 +314,7 @@ Result<TrainSummary> train(const TrainOptions& requested) {
                  {"embedding_dim", arch.embedding_dim},
                  {"description", describe_arch(arch)}};
     m["input"] = {{"height", o.input_height}, {"width", o.input_width}, {"channel_order", "RGB"},
-                  {"resize", "bilinear"}, {"mean", mean}, {"std", std}};
+                  {"resize", resize_filter_name(o.resize)}, {"mean", mean}, {"std", std}};
     m["text_encoder"] = {{"description", encoder->description()},
                          {"embeddings_dir", o.text.embeddings_dir},
                          {"dim", o.text.dim},
@@ -343,44 +350,88 @@ Result<TrainSummary> train(const TrainOptions& requested) {
   std::vector<uint8_t> augment_scratch;
   std::vector<int64_t> order;
   int64_t order_epoch = -1;
-  for (int64_t step = start; step < total; ++step) {
+  // The samples of `step` (epoch orders depend only on seed and epoch).
+  const auto samples_of = [&](int64_t step) {
     const int64_t epoch = step / steps_per_epoch;
     const int64_t pos = step % steps_per_epoch;
     if (epoch != order_epoch) {
       order = epoch_order(n, o.seed, epoch);
       order_epoch = epoch;
     }
-    const std::vector<int64_t> idx(order.begin() + pos * o.batch,
-                                   order.begin() + (pos + 1) * o.batch);
+    return std::vector<int64_t>(order.begin() + pos * o.batch, order.begin() + (pos + 1) * o.batch);
+  };
+  std::unique_ptr<ViewBatches> views;
+  if (o.view.enabled()) {
+    InputSpec model_input;
+    model_input.height = o.input_height;
+    model_input.width = o.input_width;
+    model_input.resize_filter = o.resize;
+    model_input.mean = mean;
+    model_input.std = std;
+    TLV_ASSIGN_OR_RETURN(views, ViewBatches::create(cache, o, model_input));
+    if (start < total) views->request(start, samples_of(start));
+  }
+  const int32_t view_count = views ? views->views() : 1;
+  for (int64_t step = start; step < total; ++step) {
+    const int64_t epoch = step / steps_per_epoch;
+    const int64_t pos = step % steps_per_epoch;
+    const std::vector<int64_t> idx = samples_of(step);
     const torch::Tensor rows = torch::tensor(idx, torch::kLong);
     const double rate = lr_at(o.lr, step, total);
     for (auto& g : optimizer->param_groups()) {
       static_cast<torch::optim::AdamWOptions&>(g.options()).lr(rate);
     }
     const double beta = beta_at(o.beta, step, total);
-    const torch::Tensor x = touch_batch(cache, idx, mean, std, o, step, augment_scratch);
-    torch::Tensor touch = state.student->forward(x);
-    torch::Tensor mixed = touch;
-    if (text_loss && curriculum && beta > 0) {
-      torch::Tensor vision = state.projection
-                                 ? F::normalize(state.projection->forward(
-                                                    state.teacher_embeddings.index_select(0, rows)),
-                                                F::NormalizeFuncOptions().dim(1))
-                                 : teacher_unit.index_select(0, rows);
-      mixed = beta * vision + (1.0 - beta) * F::normalize(touch, F::NormalizeFuncOptions().dim(1));
-    }
-    torch::Tensor loss = torch::zeros({});
-    if (text_loss) loss = clip_loss(mixed, text.index_select(0, rows), state.logit_scale.exp());
-    if (supervised) {
-      const double w = text_loss ? o.supervised_weight : 1.0;
-      loss = loss + w * state.heads->loss(touch, label_batch(cache.material, idx),
-                                          label_batch(cache.hard, idx),
-                                          label_batch(cache.rough, idx));
-      if (state.heads->has_contact()) {
-        loss = loss + w * o.contact_weight *
-                          state.heads->contact_loss(touch, target_batch(cache.log_force, idx),
-                                                    target_batch(cache.friction, idx));
+    torch::Tensor x;
+    if (views) {
+      TLV_ASSIGN_OR_RETURN(const std::vector<uint8_t>* made, views->take());
+      std::vector<int64_t> slots(static_cast<size_t>(view_count) * idx.size());
+      std::vector<int64_t> keys(slots.size());
+      for (size_t i = 0; i < slots.size(); ++i) {
+        slots[i] = static_cast<int64_t>(i);
+        keys[i] = idx[i % idx.size()];
       }
+      x = touch_batch(*made, o.input_height, o.input_width, slots, keys, mean, std, o, step,
+                      augment_scratch);
+      if (step + 1 < total) views->request(step + 1, samples_of(step + 1));
+    } else {
+      x = touch_batch(cache.touch, cache.height, cache.width, idx, idx, mean, std, o, step,
+                      augment_scratch);
+    }
+    // One forward pass over every view; the losses average over the views.
+    const torch::Tensor all = state.student->forward(x);
+    const std::vector<torch::Tensor> per_view = all.chunk(view_count, 0);
+    torch::Tensor loss = torch::zeros({});
+    for (const torch::Tensor& touch : per_view) {
+      torch::Tensor mixed = touch;
+      if (text_loss && curriculum && beta > 0) {
+        torch::Tensor vision =
+            state.projection
+                ? F::normalize(state.projection->forward(state.teacher_embeddings.index_select(0, rows)),
+                               F::NormalizeFuncOptions().dim(1))
+                : teacher_unit.index_select(0, rows);
+        mixed = beta * vision + (1.0 - beta) * F::normalize(touch, F::NormalizeFuncOptions().dim(1));
+      }
+      torch::Tensor view_loss = torch::zeros({});
+      if (text_loss) view_loss = clip_loss(mixed, text.index_select(0, rows), state.logit_scale.exp());
+      if (supervised) {
+        const double w = text_loss ? o.supervised_weight : 1.0;
+        view_loss = view_loss + w * state.heads->loss(touch, label_batch(cache.material, idx),
+                                                      label_batch(cache.hard, idx),
+                                                      label_batch(cache.rough, idx));
+        if (state.heads->has_contact()) {
+          view_loss = view_loss + w * o.contact_weight *
+                                      state.heads->contact_loss(touch, target_batch(cache.log_force, idx),
+                                                                target_batch(cache.friction, idx));
+        }
+      }
+      loss = loss + view_loss / static_cast<double>(view_count);
+    }
+    if (view_count == 2) {
+      // Two views of one touch should embed alike: the codec, optics and mounting are not touch.
+      const torch::Tensor agree = F::cosine_similarity(
+          per_view[0], per_view[1], F::CosineSimilarityFuncOptions().dim(1));
+      loss = loss + o.view.consistency_weight * (1.0 - agree).mean();
     }
     optimizer->zero_grad();
     loss.backward();

@@ -11,6 +11,10 @@ namespace tlvlink {
 
 enum class ChannelOrder : uint8_t { kRGB = 0, kBGR = 1, kGray = 2 };
 enum class ResizeFilter : uint8_t { kBilinear = 0, kArea = 1, kNearest = 2 };
+// "bilinear", "area", "nearest".
+constexpr const char* resize_filter_name(ResizeFilter f) {
+  return f == ResizeFilter::kArea ? "area" : f == ResizeFilter::kNearest ? "nearest" : "bilinear";
+}
 
 struct InputSpec {
   int32_t height = 0, width = 0, channels = 3;

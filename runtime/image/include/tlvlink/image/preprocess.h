@@ -66,11 +66,20 @@ class PreprocessPlan {
   Status run(const ImageView& frame, std::span<std::byte> out) const;
   // Float plans only.
   Status run(const ImageView& frame, std::span<float> out) const;
+  // run()'s first stage alone: the crop resized to height x width with the spec's filter, as
+  // uint8 pixels in the frame's channel layout (what run() then reorders and normalises). The
+  // trainer augments frames at the sensor's size and resizes them through this, so training
+  // and the board compute every model pixel alike. `out` exactly height * width * frame
+  // channels bytes (kShapeMismatch otherwise); no allocation.
+  Status resize(const ImageView& frame, std::span<uint8_t> out) const;
+  int32_t height() const { return height_; }
+  int32_t width() const { return width_; }
 
  private:
   using Tap = detail::ResizeTap;  // per output row/column, into the (cropped) frame
   template <typename Out>
   void run_typed(const ImageView& frame, Out* out) const;
+  void resized_values(const ImageView& frame, int32_t y, int32_t x, uint8_t v[3]) const;
   void resized_pixel(const ImageView& frame, int32_t y, int32_t x, float rgb[3]) const;
   Status check(const ImageView& frame, size_t out_bytes) const;
 
@@ -92,5 +101,7 @@ class PreprocessPlan {
 Result<std::vector<float>> preprocess(const ImageView& image, const InputSpec& spec);
 Result<std::vector<float>> preprocess(const Image& image, const InputSpec& spec);
 Image resize_bilinear(const Image& image, int32_t height, int32_t width);
+// A copy resized with `filter` exactly as PreprocessPlan::resize does (no crop).
+Result<Image> resize(const ImageView& image, int32_t height, int32_t width, ResizeFilter filter);
 
 }  // namespace tlvlink::image

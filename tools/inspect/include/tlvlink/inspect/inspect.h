@@ -23,6 +23,5 @@ nlohmann::json inspect_json(const Model& model);
 // "per-tensor scale 0.0235 zp -128" / "per-channel axis 0 (64): scale 1.2e-04..3.1e-02, zp 0" / "-"
 std::string quant_summary(const Tensor& tensor);
 std::string channel_order_name(ChannelOrder order);
-std::string resize_filter_name(ResizeFilter filter);
 
 }  // namespace tlvlink::inspect

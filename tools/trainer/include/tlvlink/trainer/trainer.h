@@ -78,6 +78,36 @@ struct AugmentOptions {
   bool enabled() const { return gain_sigma > 0 || exposure_sigma > 0 || noise_dn > 0; }
 };
 
+// The sensor-view augmentation (README "Sensor-view augmentation"): what real sensors and links
+// change in the frames of one touch, applied to each training frame at the sensor's processed
+// size, before the model's own resize. Each component is drawn on or off per view with its
+// probability and its parameters from the ranges in the README (view_augment.cc holds them).
+enum ViewComponent : uint32_t {
+  kViewGeometry = 1u << 0,   // mounting: shift, rotation, scale
+  kViewColour = 1u << 1,     // LED / white-balance gains, exposure, colour cast
+  kViewVignette = 1u << 2,   // radial fall-off
+  kViewLedDrift = 1u << 3,   // a colour gradient across the gel
+  kViewDust = 1u << 4,       // dark specks on the gel or lens
+  kViewBlur = 1u << 5,       // focus
+  kViewNoise = 1u << 6,      // sensor noise
+  kViewCodec = 1u << 7,      // none, JPEG q50-98, MJPEG decoded at 1/2 or 1/4, YUYV 4:2:2
+  kViewAll = (1u << 8) - 1,
+};
+// "geometry", "colour", ... for one bit; a comma list for a mask ("none" for 0, "all").
+std::string view_components_name(uint32_t components);
+// "all", "none" or a comma list of the names above; kInvalidArgument naming an unknown one.
+Result<uint32_t> parse_view_components(std::string_view list);
+
+struct ViewAugmentOptions {
+  uint32_t components = 0;          // ViewComponent bits; 0 = off
+  // > 0: two views of every sample per step, both in the losses, plus this weight times the
+  // mean (1 - cosine) between the two views' embeddings (needs components).
+  double consistency_weight = 0;
+  // The size the views are made at: the sensors' processed frame (every profile's is 240x320).
+  int32_t frame_height = 240, frame_width = 320;
+  bool enabled() const { return components != 0; }
+};
+
 struct TrainOptions {
   std::string data_dir;         // Touch100k-format directory
   std::string output;           // final checkpoint (required)
@@ -101,6 +131,7 @@ struct TrainOptions {
   // the object's weight (firmware/models/README.md "Accuracy and ceilings", the grasp target).
   double contact_weight = 1;
   AugmentOptions augment;
+  ViewAugmentOptions view;
 
   LrOptions lr;
   double weight_decay = 0.2;    // AdamW, on conv/FC weights (not BN, biases, temperature)

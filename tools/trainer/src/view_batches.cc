@@ -1,0 +1,65 @@
+// Prefetched, augmented training batches.
+
+#include "view_batches.h"
+
+#include <memory>
+#include <utility>
+
+namespace tlvlink::trainer {
+
+Result<std::unique_ptr<ViewBatches>> ViewBatches::create(const DataCache& cache,
+                                                         const TrainOptions& o,
+                                                         const InputSpec& model_input) {
+  TLV_ENSURE(cache.height == o.view.frame_height && cache.width == o.view.frame_width,
+             ErrorCode::kInvalidState,
+             "view augmentation: the cache holds %dx%d frames, the views are made at %dx%d",
+             cache.width, cache.height, o.view.frame_width, o.view.frame_height);
+  std::unique_ptr<ViewBatches> batches(new ViewBatches());
+  ViewBatches& b = *batches;
+  b.cache_ = &cache;
+  b.seed_ = o.seed;
+  b.components_ = o.view.components;
+  b.views_ = o.view.consistency_weight > 0 ? 2 : 1;
+  b.model_bytes_ = static_cast<size_t>(model_input.height) *
+                   static_cast<size_t>(model_input.width) * 3;
+  TLV_ASSIGN_OR_RETURN(ViewAugmenter a,
+                       ViewAugmenter::create(cache.width, cache.height, model_input));
+  b.augmenter_ = std::make_unique<ViewAugmenter>(std::move(a));
+  return batches;
+}
+
+ViewBatches::~ViewBatches() {
+  if (pending_.valid()) pending_.wait();
+}
+
+Status ViewBatches::make(int64_t step, const std::vector<int64_t>& idx, std::vector<uint8_t>& out) {
+  out.resize(static_cast<size_t>(views_) * idx.size() * model_bytes_);
+  const size_t stride = cache_->touch_stride();
+  for (int32_t v = 0; v < views_; ++v) {
+    for (size_t i = 0; i < idx.size(); ++i) {
+      const auto sample = static_cast<size_t>(idx[i]);
+      const std::span<const uint8_t> frame(cache_->touch.data() + sample * stride, stride);
+      const size_t slot = static_cast<size_t>(v) * idx.size() + i;
+      TLV_TRY(augmenter_->make(frame, components_, view_seed(seed_, step, idx[i], v),
+                               std::span<uint8_t>(out.data() + slot * model_bytes_, model_bytes_)));
+    }
+  }
+  return {};
+}
+
+void ViewBatches::request(int64_t step, std::vector<int64_t> idx) {
+  if (pending_.valid()) pending_.wait();
+  filling_ ^= 1;
+  std::vector<uint8_t>& out = buffers_[filling_];
+  pending_ = std::async(std::launch::async, [this, step, idx = std::move(idx), &out] {
+    return make(step, idx, out);
+  });
+}
+
+Result<const std::vector<uint8_t>*> ViewBatches::take() {
+  TLV_ENSURE(pending_.valid(), ErrorCode::kInvalidState, "no training batch was requested");
+  TLV_TRY(pending_.get());
+  return &buffers_[filling_];
+}
+
+}  // namespace tlvlink::trainer
