@@ -105,8 +105,10 @@ TEST_F(Cli, InspectPrintsTablesAndJson) {
 }
 
 TEST_F(Cli, InferOnImagesAndTensorsWithBothExecutors) {
-  tools::Image img{120, 100, 3, {}};
-  for (int i = 0; i < 120 * 100 * 3; ++i) img.pixels.push_back(static_cast<uint8_t>((i * 7) % 251));
+  // 4:3, not the model's 96x96 (the resize is exercised); infer refuses frames of other aspects
+  // that no known sensor makes (tests/capture/still_frame_test.cc).
+  tools::Image img{120, 90, 3, {}};
+  for (int i = 0; i < 120 * 90 * 3; ++i) img.pixels.push_back(static_cast<uint8_t>((i * 7) % 251));
   ASSERT_TRUE(tools::write_pnm(path("frame.ppm"), img).ok());
   std::vector<float> x(96 * 96 * 3, 0.25f);
   ASSERT_TRUE(
@@ -180,7 +182,7 @@ TEST_F(Cli, InferTakesJpegAndPngFramesAndRejectsTruncatedOnes) {
 // (wrong rank, channels or batch) and an image-shaped array of another dtype are bad data: exit 1,
 // the message naming the file and what is wrong with it.
 TEST_F(Cli, InferTakesUint8NpyImagesLikeTheSamePpm) {
-  constexpr int32_t kH = 100, kW = 120;  // not the model's 96x96: the resize is exercised too
+  constexpr int32_t kH = 90, kW = 120;  // not the model's 96x96 (4:3): the resize is exercised too
   tools::Image img{kW, kH, 3, {}};
   for (int i = 0; i < kH * kW * 3; ++i) img.pixels.push_back(static_cast<uint8_t>((i * 11) % 241));
   const std::span<const uint8_t> px(img.pixels);
@@ -217,17 +219,17 @@ TEST_F(Cli, InferTakesUint8NpyImagesLikeTheSamePpm) {
   const std::vector<float> as_float(n, 9.0f);
   const Bad bad[] = {
       {"gray2d.npy", NpyArray::from<uint8_t>({kH, kW}, px.first(n / 3)), 1,
-       "uint8 image shape (100, 120); expected [H,W,C] or [1,H,W,C]"},
+       "uint8 image shape (90, 120); expected [H,W,C] or [1,H,W,C]"},
       {"rank5.npy", NpyArray::from<uint8_t>({1, 1, kH, kW, 3}, px), 1,
-       "uint8 image shape (1, 1, 100, 120, 3); expected [H,W,C] or [1,H,W,C]"},
+       "uint8 image shape (1, 1, 90, 120, 3); expected [H,W,C] or [1,H,W,C]"},
       {"batch2.npy", NpyArray::from<uint8_t>({2, kH, kW, 3}, std::span(two)), 1,
-       "uint8 image shape (2, 100, 120, 3); expected [H,W,C] or [1,H,W,C]"},
+       "uint8 image shape (2, 90, 120, 3); expected [H,W,C] or [1,H,W,C]"},
       {"rgba.npy", NpyArray::from<uint8_t>({kH, kW, 4}, std::span(two).first(n / 3 * 4)), 1,
-       "uint8 image shape (100, 120, 4); need 1 or 3 channels"},
+       "uint8 image shape (90, 120, 4); need 1 or 3 channels"},
       {"int8.npy", NpyArray::from<int8_t>({kH, kW, 3}, std::span(as_int8)), 1,
-       "int8 tensor of shape (100, 120, 3) does not match model input 'input' float32"},
+       "int8 tensor of shape (90, 120, 3) does not match model input 'input' float32"},
       {"float.npy", NpyArray::from<float>({kH, kW, 3}, std::span(as_float)), 1,
-       "float32 tensor of shape (100, 120, 3) does not match model input 'input' float32"},
+       "float32 tensor of shape (90, 120, 3) does not match model input 'input' float32"},
   };
   for (const Bad& b : bad) {
     SCOPED_TRACE(b.file);

@@ -182,9 +182,31 @@ TEST(ViewAugmenter, AComponentLeftOutDoesNotMoveTheOthersDraws) {
   }
 }
 
+TEST(ViewAugmenter, PortraitFramesAreMadeAtTheirOwnSize) {
+  // A DIGIT frame is 240 wide and 320 high and its camera sends it transposed: its views keep
+  // that shape until the model's resize, exactly as the board resizes it.
+  Model m;
+  auto a = ViewAugmenter::create(kH, kW, m.spec, image::Orientation::kTransposed);
+  ASSERT_TRUE(a.ok()) << a.error().message();
+  const std::vector<uint8_t> f = gel_frame(6);  // 230,400 bytes read as 240x320
+  std::vector<uint8_t> out(96 * 128 * 3);
+  ASSERT_TRUE(a->make(f, 0, 1, out).ok());
+  auto plain = image::resize({f.data(), kH, kW, 3, 0}, 96, 128, ResizeFilter::kArea);
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ(out, plain->pixels);
+  int yuyv = 0;
+  for (uint64_t seed = 0; seed < 100 && yuyv == 0; ++seed) {
+    ViewDraw d;
+    ASSERT_TRUE(a->make(f, kViewCodec, seed, out, &d).ok());
+    yuyv += d.codec == ViewDraw::Codec::kYuyv;
+  }
+  EXPECT_GT(yuyv, 0);  // the transposed YUYV round trip runs
+}
+
 TEST(ViewAugmenter, RefusesWhatItCannotMake) {
   Model m;
   EXPECT_EQ(ViewAugmenter::create(321, 240, m.spec).error().code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(ViewAugmenter::create(320, 241, m.spec).error().code(), ErrorCode::kInvalidArgument);
   m.spec.crop_w = 100;
   m.spec.crop_h = 100;
   EXPECT_EQ(ViewAugmenter::create(320, 240, m.spec).error().code(), ErrorCode::kInvalidArgument);

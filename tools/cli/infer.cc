@@ -13,13 +13,14 @@
 #include "tlvlink/io/format.h"
 #include "tlvlink/io/model_input.h"
 #include "tlvlink/io/npy.h"
+#include "tlvlink/io/sensor_frame.h"
 #include "tlvlink/verify/executors.h"
 
 namespace tlvlink::cli {
 namespace {
 
 struct InferOptions {
-  std::string model, input, output;
+  std::string model, input, output, sensor;
   ExecutorFlags exec;
   bool compare_executors = false;
 };
@@ -105,7 +106,8 @@ int compare_with_other_executor(const InferOptions& o, const Model& m, const Exe
   auto exec = create_executor(m, other);
   if (!exec.ok()) return report_error("infer", exec.error());
   Executor& e = **exec;
-  if (Status s = tools::load_model_input(o.input, m, e.input(0)); !s.ok())
+  std::string note;
+  if (Status s = tools::load_sensor_input(o.input, o.sensor, m, e.input(0), note); !s.ok())
     return report_error("infer", s.error());
   if (Status s = e.invoke(); !s.ok()) return report_error("infer", s.error());
   const verify::ExecutorComparison c = verify::compare_executors(m, first, e);
@@ -131,8 +133,10 @@ int run_infer(const InferOptions& o) {
   auto exec = create_executor(m, o.exec);
   if (!exec.ok()) return report_error("infer", exec.error());
   Executor& e = **exec;
-  if (Status s = tools::load_model_input(o.input, m, e.input(0)); !s.ok())
+  std::string note;
+  if (Status s = tools::load_sensor_input(o.input, o.sensor, m, e.input(0), note); !s.ok())
     return report_error("infer", s.error());
+  if (!note.empty()) std::printf("%s\n", note.c_str());
   auto ms = bench::time_invoke(e);
   if (!ms.ok()) return report_error("infer", ms.error());
   if (!o.output.empty()) {
@@ -155,9 +159,14 @@ void add_infer_command(CLI::App& app, int& exit_code) {
   cmd->add_option(
          "--input,-i", o->input,
          "Input: float .npy shaped like the model input (used as-is), uint8 .npy image [H,W,C] or "
-         "[1,H,W,C], or a PPM/PGM (binary), JPEG or PNG image; images are resized and normalised "
-         "per the model's input spec")
+         "[1,H,W,C], or a PPM/PGM (binary), JPEG or PNG image; an image is read as a tactile "
+         "sensor's processed view (a camera frame is cut to it as tlvlinkd cuts it; --sensor), "
+         "then resized and normalised per the model's input spec")
       ->required();
+  cmd->add_option("--sensor", o->sensor,
+                  "The sensor the image comes from: " + tools::known_sensor_names() +
+                      "; default: detected from its size (a camera frame of one sensor, or any "
+                      "sensor's processed view); a frame of another size is refused unless 4:3");
   cmd->add_option(
       "--output,-o", o->output,
       "Write output 0 to this .npy (output i>0 to NAME.i.npy); default: print a summary");

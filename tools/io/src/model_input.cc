@@ -16,6 +16,7 @@
 #include "tlvlink/io/npy_image.h"
 #include "tlvlink/io/png.h"
 #include "tlvlink/io/pnm.h"
+#include "tlvlink/io/sensor_frame.h"
 
 namespace tlvlink::tools {
 namespace {
@@ -39,6 +40,11 @@ Status image_input(const Image& image, const std::string& name, const Model& mod
 }
 
 }  // namespace
+
+Status model_input_from_image(const Image& image, const std::string& name, const Model& model,
+                              std::span<std::byte> dst) {
+  return image_input(image, name, model, dst);
+}
 
 InputFileKind sniff_input_file(std::span<const std::byte> bytes) {
   if (starts_with(bytes, "\x93NUMPY")) return InputFileKind::kNpy;
@@ -97,13 +103,32 @@ Status model_input_from_bytes(std::span<const std::byte> bytes, const std::strin
   return image_input(image, name, model, dst);
 }
 
-Status load_model_input(const std::string& path, const Model& model, std::span<std::byte> dst) {
-  // The largest file that can feed the model: a tensor of its input's size, or an image within
-  // the decode budget (the pixel cap's RGB bytes as raw .npy / PNM, the largest case).
+namespace {
+
+// The largest file that can feed the model: a tensor of its input's size, or an image within
+// the decode budget (the pixel cap's RGB bytes as raw .npy / PNM, the largest case).
+Result<std::vector<std::byte>> read_input_file(const std::string& path, size_t input_bytes) {
   const size_t image_limit = static_cast<size_t>(image::kMaxImagePixels) * 3;
-  const size_t limit = std::max(dst.size(), image_limit) + kMaxNpyHeaderBytes;
-  TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, read_file(path, limit));
+  return read_file(path, std::max(input_bytes, image_limit) + kMaxNpyHeaderBytes);
+}
+
+}  // namespace
+
+Status load_model_input(const std::string& path, const Model& model, std::span<std::byte> dst) {
+  TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, read_input_file(path, dst.size()));
   return model_input_from_bytes(bytes, path, model, dst);
+}
+
+Status load_sensor_input(const std::string& path, std::string_view sensor, const Model& model,
+                         std::span<std::byte> dst, std::string& note) {
+  note.clear();
+  TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, read_input_file(path, dst.size()));
+  if (sniff_input_file(bytes) == InputFileKind::kNpy && sensor.empty()) {
+    return model_input_from_bytes(bytes, path, model, dst);  // a tensor, or an image as it is
+  }
+  TLV_ASSIGN_OR_RETURN(SensorFrame frame, sensor_frame_from_bytes(bytes, path, sensor));
+  note = frame.note;
+  return image_input(frame.view, path, model, dst);
 }
 
 }  // namespace tlvlink::tools

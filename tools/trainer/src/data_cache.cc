@@ -33,12 +33,16 @@ std::string join_phrases(const std::vector<std::string>& phrases) {
 
 // Decodes and resizes one image into `dst` (height * width * 3 bytes) with the preprocessing's
 // own resize (a copy when the sizes agree).
+// With keep_turned, a frame of width x height turned (width high, height wide) is copied too,
+// and `turned` set.
 Status load_resized(const std::string& path, int32_t height, int32_t width, ResizeFilter filter,
-                    uint8_t* dst) {
+                    uint8_t* dst, bool keep_turned = false, uint8_t* turned = nullptr) {
   TLV_ASSIGN_OR_RETURN(tools::Image image, tools::read_jpeg(path));
   TLV_ENSURE(image.channels == 3, ErrorCode::kFormat, "%s: %d channels, expected RGB",
              path.c_str(), image.channels);
-  if (image.height == height && image.width == width) {
+  const bool is_turned = keep_turned && image.height == width && image.width == height;
+  if (turned != nullptr) *turned = is_turned ? 1 : 0;
+  if ((image.height == height && image.width == width) || is_turned) {
     std::copy(image.pixels.begin(), image.pixels.end(), dst);
     return {};
   }
@@ -162,14 +166,15 @@ Result<DataCache> load_cache(const CacheOptions& o) {
   const size_t n = pending.size();
   cache.touch.resize(n * cache.touch_stride());
   cache.vision.resize(n * cache.vision_stride());
-  std::vector<uint8_t> ok(n, 0);
+  std::vector<uint8_t> ok(n, 0), turned(n, 0);
   std::vector<std::string> problems;
   std::mutex problems_mutex;
   std::atomic<size_t> next{0}, done{0};
   auto work = [&] {
     for (size_t i = next++; i < n; i = next++) {
       Status st = load_resized(o.dir + "/touch/" + pending[i].key, cache.height, cache.width,
-                               o.resize, cache.touch.data() + i * cache.touch_stride());
+                               o.resize, cache.touch.data() + i * cache.touch_stride(),
+                               o.keep_turned, &turned[i]);
       if (st.ok() && o.load_vision) {
         st = load_resized(o.dir + "/vision/" + pending[i].key, cache.vision_height,
                           cache.vision_width, ResizeFilter::kBilinear,
@@ -212,6 +217,7 @@ Result<DataCache> load_cache(const CacheOptions& o) {
                     cache.vision.begin() + static_cast<std::ptrdiff_t>(kept * cache.vision_stride()));
       }
     }
+    cache.turned.push_back(turned[i]);
     cache.keys.push_back(std::move(pending[i].key));
     cache.sentences.push_back(std::move(pending[i].sentence));
     cache.phrase_descs.push_back(std::move(pending[i].phrases));

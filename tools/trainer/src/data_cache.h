@@ -27,6 +27,10 @@ struct CacheOptions {
   size_t max_cache_bytes = 0;    // error when the images would need more
   double test_fraction = 0.2;    // hash split by session when the set has no sidecar
   unsigned threads = 2;          // decoding threads
+  // A touch frame of the slot's size turned (touch_height wide, touch_width high: a DIGIT's
+  // portrait frame in a landscape slot) is kept as it is, and DataCache::turned says so: the
+  // sensor-view augmentation makes its views at the frame's own size, as the board sees it.
+  bool keep_turned = false;
 };
 
 struct DataCache {
@@ -34,6 +38,7 @@ struct DataCache {
   int32_t vision_height = 0, vision_width = 0;
   std::vector<uint8_t> touch;               // [n, height, width, 3]
   std::vector<uint8_t> vision;              // [n, vision_height, vision_width, 3] or empty
+  std::vector<uint8_t> turned;              // per sample, 1: stored width x height = height x width
   std::vector<std::string> keys;            // Touch100k `img`
   std::vector<std::string> sentences;       // sentence_desc
   std::vector<std::string> phrase_descs;    // phrases joined with ", "

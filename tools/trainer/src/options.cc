@@ -69,9 +69,9 @@ Status validate(const TrainOptions& o) {
              "without it are the same frame", v.consistency_weight);
   TLV_ENSURE(!v.enabled() || (v.frame_height >= o.input_height && v.frame_width >= o.input_width &&
                               v.frame_height <= 4096 && v.frame_width <= 4096 &&
-                              v.frame_width % 2 == 0),
+                              v.frame_width % 2 == 0 && v.frame_height % 2 == 0),
              ErrorCode::kInvalidArgument,
-             "view frame %dx%d: at least the model input (%dx%d), at most 4096, even width",
+             "view frame %dx%d: at least the model input (%dx%d), at most 4096, even sides",
              v.frame_width, v.frame_height, o.input_width, o.input_height);
   TLV_TRY(validate(o.lr));
   TLV_ENSURE(o.weight_decay >= 0 && o.weight_decay < 10, ErrorCode::kInvalidArgument,

@@ -188,6 +188,7 @@ Result<TrainSummary> train(const TrainOptions& requested) {
   co.touch_height = o.view.enabled() ? o.view.frame_height : o.input_height;
   co.touch_width = o.view.enabled() ? o.view.frame_width : o.input_width;
   co.resize = o.resize;
+  co.keep_turned = o.view.enabled();
   co.load_vision = curriculum && !resumed;  // a resumed run has the teacher's embeddings
   co.vision_height = torchscript_teacher ? o.teacher.input_height : o.input_height;
   co.vision_width = torchscript_teacher ? o.teacher.input_width : o.input_width;

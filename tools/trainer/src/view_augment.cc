@@ -79,17 +79,19 @@ uint64_t view_seed(uint64_t run_seed, int64_t step, int64_t index, int32_t view)
 }
 
 Result<ViewAugmenter> ViewAugmenter::create(int32_t frame_width, int32_t frame_height,
-                                            const InputSpec& spec) {
-  TLV_ENSURE(frame_width >= 16 && frame_height >= 16 && frame_width % 2 == 0,
+                                            const InputSpec& spec, image::Orientation camera) {
+  TLV_ENSURE(frame_width >= 16 && frame_height >= 16 && frame_width % 2 == 0 &&
+                 frame_height % 2 == 0,
              ErrorCode::kInvalidArgument,
-             "view augmentation frame %dx%d: sides >= 16 and an even width (YUYV pairs)",
-             frame_width, frame_height);
+             "view augmentation frame %dx%d: sides >= 16 and even (YUYV pairs)", frame_width,
+             frame_height);
   TLV_ENSURE(spec.crop_w == 0, ErrorCode::kInvalidArgument,
              "view augmentation: the model input crops; the views are made of the whole frame");
   ViewAugmenter a;
   TLV_ASSIGN_OR_RETURN(a.resize_, image::PreprocessPlan::create(spec, frame_width, frame_height, 3));
   a.width_ = frame_width;
   a.height_ = frame_height;
+  a.camera_ = camera;
   const size_t n = static_cast<size_t>(frame_width) * static_cast<size_t>(frame_height) * 3;
   a.work_.resize(n);
   a.tmp_.resize(n);
@@ -130,13 +132,15 @@ Status ViewAugmenter::codec(uint64_t& state, ViewDraw& draw) {
                          encoder_->encode(big, draw.quality, image::JpegEncoder::Subsampling::k422));
     return decoder_->decode_rgb(bytes, k, codec8_.data(), codec8_.size(), 0, "view augmentation");
   }
-  // A UVC camera's YUYV (DIGIT): BT.601 limited range, chroma shared by each pixel pair.
+  // A UVC camera's YUYV (DIGIT): BT.601 limited range, chroma shared by each pixel pair of the
+  // camera's own rows.
   draw.codec = ViewDraw::Codec::kYuyv;
-  const image::FrameFormat yuyv{image::PixelFormat::kYuyv, width_, height_, 0};
+  const bool turned = camera_ == image::Orientation::kTransposed;
+  const image::FrameFormat yuyv{image::PixelFormat::kYuyv, turned ? height_ : width_,
+                                turned ? width_ : height_, 0};
   std::span<uint8_t> packed(big8_.data(), image::frame_bytes(yuyv));
-  TLV_TRY(image::upright_rgb_to_camera(frame8_, yuyv, image::Orientation::kUpright, packed));
-  return image::camera_to_upright_rgb(packed, yuyv, image::Orientation::kUpright, codec8_,
-                                      "view augmentation");
+  TLV_TRY(image::upright_rgb_to_camera(frame8_, yuyv, camera_, packed));
+  return image::camera_to_upright_rgb(packed, yuyv, camera_, codec8_, "view augmentation");
 }
 
 Status ViewAugmenter::make(std::span<const uint8_t> frame, uint32_t components, uint64_t seed,

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "tlvlink/error.h"
+#include "tlvlink/image/convert.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/image/preprocess.h"
 #include "tlvlink/image/resample.h"
@@ -32,9 +33,12 @@ struct ViewDraw {
 class ViewAugmenter {
  public:
   // Frames of frame_width x frame_height RGB into the model input `spec` (its size and resize
-  // filter; no crop). Errors: what PreprocessPlan::create refuses.
+  // filter; no crop). `camera` is how a YUYV camera delivers such frames (DIGIT: transposed),
+  // so its chroma pairs fall where the real camera's do. Errors: what PreprocessPlan::create
+  // refuses, odd sides.
   static Result<ViewAugmenter> create(int32_t frame_width, int32_t frame_height,
-                                      const InputSpec& spec);
+                                      const InputSpec& spec,
+                                      image::Orientation camera = image::Orientation::kUpright);
 
   // One view of `frame` (frame_height x frame_width x 3) into `out` (the model's height x width
   // x 3 uint8): the components of `components` each drawn on or off with its probability, then
@@ -50,6 +54,7 @@ class ViewAugmenter {
   Status codec(uint64_t& rng, ViewDraw& draw);
 
   int32_t width_ = 0, height_ = 0;
+  image::Orientation camera_ = image::Orientation::kUpright;
   image::PreprocessPlan resize_;
   std::vector<float> work_, tmp_;        // float frame and the blur's intermediate
   std::vector<uint8_t> frame8_, codec8_, big8_;

@@ -25,6 +25,10 @@ Result<std::unique_ptr<ViewBatches>> ViewBatches::create(const DataCache& cache,
   TLV_ASSIGN_OR_RETURN(ViewAugmenter a,
                        ViewAugmenter::create(cache.width, cache.height, model_input));
   b.augmenter_ = std::make_unique<ViewAugmenter>(std::move(a));
+  TLV_ASSIGN_OR_RETURN(ViewAugmenter t,
+                       ViewAugmenter::create(cache.height, cache.width, model_input,
+                                             image::Orientation::kTransposed));
+  b.turned_ = std::make_unique<ViewAugmenter>(std::move(t));
   return batches;
 }
 
@@ -40,7 +44,8 @@ Status ViewBatches::make(int64_t step, const std::vector<int64_t>& idx, std::vec
       const auto sample = static_cast<size_t>(idx[i]);
       const std::span<const uint8_t> frame(cache_->touch.data() + sample * stride, stride);
       const size_t slot = static_cast<size_t>(v) * idx.size() + i;
-      TLV_TRY(augmenter_->make(frame, components_, view_seed(seed_, step, idx[i], v),
+      const bool turned = sample < cache_->turned.size() && cache_->turned[sample] != 0;
+      TLV_TRY((turned ? turned_ : augmenter_)->make(frame, components_, view_seed(seed_, step, idx[i], v),
                                std::span<uint8_t>(out.data() + slot * model_bytes_, model_bytes_)));
     }
   }

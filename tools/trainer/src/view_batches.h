@@ -1,5 +1,6 @@
 #pragma once
-// The touch frames of a training step under the sensor-view augmentation, made on a worker
+// The touch frames of a training step under the sensor-view augmentation, each made at the
+// frame's own size and orientation (DataCache::turned), made on a worker
 // thread while the previous step trains (a libtorch step holds one core; this the other). No
 // libtorch. Every view is a function of (run seed, step, sample, view), so prefetching changes
 // no result and a resumed run draws what an uninterrupted one would.
@@ -43,7 +44,9 @@ class ViewBatches {
   uint32_t components_ = 0;
   int32_t views_ = 1;
   size_t model_bytes_ = 0;
-  std::unique_ptr<ViewAugmenter> augmenter_;  // used by one worker at a time
+  // Used by one worker at a time: the slot's orientation and, for turned frames (a DIGIT's
+  // portrait frame in a landscape slot), the other.
+  std::unique_ptr<ViewAugmenter> augmenter_, turned_;
   std::vector<uint8_t> buffers_[2];
   int32_t filling_ = 0;
   std::future<Status> pending_;

@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "tlvlink/error.h"
 #include "tlvlink/io/image.h"
@@ -31,6 +32,14 @@ Result<Image> decode_image_file(std::span<const std::byte> bytes, const std::str
 // name the path: unreadable (kIo), unknown or malformed format (kFormat), a tensor that does
 // not match the input (kShapeMismatch), an image for a non-float input (kModelUnsupported).
 Status load_model_input(const std::string& path, const Model& model, std::span<std::byte> dst);
+// The same, with an image read as a tactile sensor's processed view first (sensor_frame.h:
+// `sensor` named or, when empty, detected from the frame size; a camera frame is cut to its view
+// as tlvlinkd cuts it). `note` receives what was done to the image, or stays empty.
+Status load_sensor_input(const std::string& path, std::string_view sensor, const Model& model,
+                         std::span<std::byte> dst, std::string& note);
+// An image already decoded (a sensor's view, sensor_frame.h) through the model's preprocessing.
+Status model_input_from_image(const Image& image, const std::string& name, const Model& model,
+                              std::span<std::byte> dst);
 // The same on bytes already in memory.
 Status model_input_from_bytes(std::span<const std::byte> bytes, const std::string& name,
                               const Model& model, std::span<std::byte> dst);

@@ -1,0 +1,114 @@
+// Image files as a sensor's processed view (sensor_frame.h).
+
+#include "tlvlink/io/sensor_frame.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "tlvlink/capture/still_frame.h"
+#include "tlvlink/io/model_input.h"
+
+namespace tlvlink::tools {
+namespace {
+
+// A frame of no known size is taken as it is when its aspect is within this of a 4:3 view (either
+// way round): every known sensor's view is 4:3, and 2 % is a row or two of a cropped frame.
+constexpr double kAspectTolerance = 0.02;
+
+std::string sizes_of_sensors() {
+  std::string s;
+  for (const capture::SensorModel& m : capture::sensor_models()) {
+    char one[128];
+    std::snprintf(one, sizeof(one), "%s%.*s: camera %dx%d, view %dx%d", s.empty() ? "" : "; ",
+                  static_cast<int>(m.name.size()), m.name.data(), m.width, m.height,
+                  m.view.width, m.view.height);
+    s += one;
+  }
+  return s;
+}
+
+std::span<const uint8_t> as_u8(std::span<const std::byte> b) {
+  return {reinterpret_cast<const uint8_t*>(b.data()), b.size()};
+}
+
+Result<SensorFrame> as_sensor(std::span<const std::byte> bytes, const std::string& name,
+                              const capture::SensorModel& s, const Image* decoded) {
+  SensorFrame f;
+  f.sensor = std::string(s.name);
+  if (sniff_input_file(bytes) == InputFileKind::kJpeg) {
+    TLV_ASSIGN_OR_RETURN(f.view, capture::view_from_still_jpeg(as_u8(bytes), s, name));
+  } else {
+    TLV_ASSIGN_OR_RETURN(const Image image, decoded ? Result<Image>(*decoded)
+                                                    : decode_image_file(bytes, name));
+    TLV_ASSIGN_OR_RETURN(f.view, capture::view_from_still_rgb(image.view(), s, name));
+  }
+  return f;
+}
+
+}  // namespace
+
+std::string known_sensor_names() {
+  std::string s;
+  for (const capture::SensorModel& m : capture::sensor_models()) {
+    s += (s.empty() ? "" : ", ") + std::string(m.name);
+  }
+  return s;
+}
+
+Result<SensorFrame> sensor_frame_from_bytes(std::span<const std::byte> bytes,
+                                            const std::string& name, std::string_view sensor) {
+  if (!sensor.empty()) {
+    const capture::SensorModel* s = capture::find_sensor_model(sensor);
+    TLV_ENSURE(s != nullptr, ErrorCode::kInvalidArgument, "unknown sensor '%.*s' (known: %s)",
+               static_cast<int>(sensor.size()), sensor.data(), known_sensor_names().c_str());
+    auto f = as_sensor(bytes, name, *s, nullptr);
+    if (!f.ok()) return f.error().with_context("%s", name.c_str());
+    return f;
+  }
+  TLV_ASSIGN_OR_RETURN(Image image, decode_image_file(bytes, name));
+  const std::vector<const capture::SensorModel*> candidates = capture::sensors_of_size(image.width, image.height);
+  // A camera frame of exactly one sensor is cut to that sensor's view; a frame at a view's size
+  // (what SDKs hand users) is taken as it is, whichever sensor it came from.
+  const capture::SensorModel* camera_of = nullptr;
+  int cameras = 0;
+  bool is_view = false;
+  for (const capture::SensorModel* s : candidates) {
+    if (capture::classify_still(*s, image.width, image.height).value() ==
+        capture::StillKind::kCameraFrame) {
+      camera_of = s;
+      ++cameras;
+    } else {
+      is_view = true;
+    }
+  }
+  SensorFrame f;
+  char note[256];
+  if (!is_view && cameras == 1) {
+    TLV_ASSIGN_OR_RETURN(f, as_sensor(bytes, name, *camera_of, &image));
+    std::snprintf(note, sizeof(note), "%s: a %dx%d %s camera frame, cut to its %dx%d view as tlvlinkd cuts it",
+                  name.c_str(), image.width, image.height, f.sensor.c_str(), f.view.width,
+                  f.view.height);
+    f.note = note;
+    return f;
+  }
+  if (is_view) {
+    f.view = std::move(image);
+    return f;
+  }
+  const double aspect = static_cast<double>(image.width) / image.height;
+  const bool four_three = std::abs(aspect / (4.0 / 3.0) - 1) <= kAspectTolerance ||
+                          std::abs(aspect / (3.0 / 4.0) - 1) <= kAspectTolerance;
+  TLV_ENSURE(four_three, ErrorCode::kShapeMismatch,
+             "%s: a %dx%d frame (aspect %.3f) is no known sensor's camera frame or view and not "
+             "4:3 within %.0f %%; resizing it would distort the gel (known: %s); crop it to the "
+             "sensor's view, or pass --sensor",
+             name.c_str(), image.width, image.height, aspect, 100 * kAspectTolerance,
+             sizes_of_sensors().c_str());
+  std::snprintf(note, sizeof(note), "%s: a %dx%d frame of no known sensor, taken as a processed view",
+                name.c_str(), image.width, image.height);
+  f.view = std::move(image);
+  f.note = note;
+  return f;
+}
+
+}  // namespace tlvlink::tools
