@@ -75,6 +75,16 @@ TEST(DaemonConfig, AFullFileParses) {
   EXPECT_EQ(r.format.format, image::PixelFormat::kYuyv);
   EXPECT_EQ(r.view.orientation, image::Orientation::kTransposed);
   EXPECT_DOUBLE_EQ(r.fps, 30);
+  // Frames already upright (a DIGIT's processed frames, as recorded by `sim scenario --offline`).
+  std::string upright = kGood;
+  upright.replace(upright.find("fps = 30"), 8, "fps = 30\norientation = \"upright\"");
+  auto u = parse_config(upright, "t.toml");
+  ASSERT_TRUE(u.ok()) << u.error().message();
+  EXPECT_EQ(u->sensors[1].view.orientation, image::Orientation::kUpright);
+  upright.replace(upright.find("\"upright\""), 9, "\"sideways\"");
+  EXPECT_NE(error_of(upright).find("orientation: 'sideways' is not one of upright, transposed"),
+            std::string::npos)
+      << error_of(upright);
 }
 
 TEST(DaemonConfig, MistakesNameFileLineAndKey) {

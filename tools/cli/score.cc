@@ -1,25 +1,52 @@
-// `tlvlink score`: a live run of tlvlinkd against the ground truth of the scenario it played.
+// `tlvlink score`: live runs of tlvlinkd against the ground truth of the scenarios they played,
+// and, given the offline runs of the same scenarios, live against offline frame by frame.
 #include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "common.h"
+#include "tlvlink/score/compare.h"
 #include "tlvlink/score/score.h"
 
 namespace tlvlink::cli {
 namespace {
 
 struct ScoreFlags {
-  std::string truth, predictions;
+  std::vector<std::string> truth, predictions, offline;
   std::vector<std::string> fingers = {"left", "right"};
   bool json = false;
 };
 
 int run_score(const ScoreFlags& f) {
-  auto r = score::score_live_run(f.truth, f.predictions, f.fingers);
-  if (!r.ok()) return report_error("score", r.error());
-  std::printf("%s\n", f.json ? score::format_score_json(*r).c_str() : score::format_score(*r).c_str());
+  if (f.truth.size() != f.predictions.size() ||
+      (!f.offline.empty() && f.offline.size() != f.truth.size())) {
+    std::fprintf(stderr,
+                 "tlvlink score: %zu --truth, %zu --predictions and %zu --offline files: give one "
+                 "--predictions (and one --offline, if any) per --truth, in the same order\n",
+                 f.truth.size(), f.predictions.size(), f.offline.size());
+    return kExitUsage;
+  }
+  if (!f.offline.empty()) {
+    std::vector<score::RunFiles> runs;
+    for (size_t i = 0; i < f.truth.size(); ++i) runs.push_back({f.truth[i], f.predictions[i], f.offline[i]});
+    auto r = score::compare_live_offline(runs, f.fingers);
+    if (!r.ok()) return report_error("score", r.error());
+    std::printf("%s\n", f.json ? score::format_live_offline_json(*r).c_str()
+                               : (score::format_score(r->live) + score::format_live_offline(*r)).c_str());
+    return kExitOk;
+  }
+  score::ScoreReport pooled;
+  for (size_t i = 0; i < f.truth.size(); ++i) {
+    auto r = score::score_live_run(f.truth[i], f.predictions[i], f.fingers);
+    if (!r.ok()) return report_error("score", r.error());
+    if (f.truth.size() == 1) {
+      pooled = std::move(*r);
+    } else {
+      score::merge_scores(pooled, *r);
+    }
+  }
+  std::printf("%s\n", f.json ? score::format_score_json(pooled).c_str() : score::format_score(pooled).c_str());
   return kExitOk;
 }
 
@@ -30,9 +57,16 @@ void add_score_command(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand(
       "score",
       "Score tlvlinkd's JSON-lines output against the ground truth of the scenario it played "
-      "(tlvlink sim scenario): contact gating misses and savings, per-frame heads, grasps");
-  cmd->add_option("--truth", f->truth, "The scenario's truth.jsonl")->required();
-  cmd->add_option("--predictions", f->predictions, "tlvlinkd's JSON-lines output")->required();
+      "(tlvlink sim scenario): contact gating misses and savings, per-frame heads, grasps; "
+      "several scenarios pool; with --offline, live against offline on the same frames");
+  cmd->add_option("--truth", f->truth, "The scenario's truth.jsonl (repeatable)")->required();
+  cmd->add_option("--predictions", f->predictions,
+                  "tlvlinkd's JSON-lines output of the live run (one per --truth)")
+      ->required();
+  cmd->add_option("--offline", f->offline,
+                  "tlvlinkd's output on the scenario's offline recordings (sim scenario "
+                  "--offline; one per --truth): prints live vs offline per head and for grasps "
+                  "with 95 % intervals (bootstrap over events)");
   cmd->add_option("--fingers", f->fingers, "The daemon's sensor names of finger A and B")
       ->delimiter(',')
       ->expected(2)

@@ -17,7 +17,7 @@ struct ScenarioFlags {
   std::string sensor = "gelsight-mini";
   int32_t grasps = 6, presses = 4, jpeg_quality = 90;
   uint64_t seed = 1;
-  bool markers = false;
+  bool markers = false, offline = false;
 };
 
 int run_scenario(const ScenarioFlags& f) {
@@ -28,6 +28,7 @@ int run_scenario(const ScenarioFlags& f) {
   o.seed = f.seed;
   o.jpeg_quality = f.jpeg_quality;
   o.markers = f.markers;
+  o.offline = f.offline;
   std::optional<tools::Progress> progress;
   auto r = sim::write_scenario(o, f.output_dir, [&](int64_t done, int64_t total) {
     if (!progress) progress.emplace("scenario frames", total);
@@ -37,10 +38,11 @@ int run_scenario(const ScenarioFlags& f) {
   if (!r.ok()) return report_error("sim scenario", r.error());
   std::printf(
       "scenario %s: %s, %d grasps (%d succeed) + %d presses, %.1f s = %lld frames per finger; "
-      "%lld rendered, %.1f MB in A.tlvraw + B.tlvraw; truth.jsonl; written in %.1f s\n",
+      "%lld rendered, %.1f MB in A.tlvraw + B.tlvraw%s; truth.jsonl; written in %.1f s\n",
       f.output_dir.c_str(), f.sensor.c_str(), f.grasps, r->grasps_succeeding, f.presses,
       r->seconds, static_cast<long long>(r->frames), static_cast<long long>(r->rendered),
-      static_cast<double>(r->file_bytes) / 1e6, r->render_seconds);
+      static_cast<double>(r->file_bytes) / 1e6,
+      f.offline ? " + A.offline.tlvraw + B.offline.tlvraw" : "", r->render_seconds);
   return kExitOk;
 }
 
@@ -61,6 +63,11 @@ void add_sim_scenario_command(CLI::App& sim, int& exit_code) {
   cmd->add_option("-s,--seed", f->seed, "Objects, sensors and noise")->capture_default_str();
   cmd->add_option("--jpeg-quality", f->jpeg_quality, "MJPEG quality (1..100)")->capture_default_str();
   cmd->add_flag("--markers", f->markers, "A gel with printed markers");
+  cmd->add_flag("--offline", f->offline,
+                "Also record the processed frames as the datasets store them (JPEG q90 of the "
+                "upright view) into DIR/A.offline.tlvraw and B.offline.tlvraw: replayed by "
+                "tlvlinkd (format mjpeg, the view's size, crop 0, jpeg_scale 1, orientation "
+                "upright) they give the offline image path's predictions of the same frames");
   cmd->footer(kExitCodeFooter);
   cmd->callback([f, &exit_code] { exit_code = run_scenario(*f); });
 }

@@ -109,6 +109,11 @@ Status read_sensor(TableReader& r, SensorConfig& s) {
   TLV_TRY(r.number("crop", crop, 0, 0.45));
   s.view.crop = crop;
   TLV_TRY(r.integer32("jpeg_scale", s.view.jpeg_scale_denominator, 0, 8));
+  // Frames already upright (a DIGIT's processed frames, recorded as they were saved) need no
+  // turning; a sensor whose camera sends them turned says so in its model.
+  int32_t orientation = -1;
+  TLV_TRY(r.choice("orientation", {"upright", "transposed"}, orientation));
+  if (orientation >= 0) s.view.orientation = static_cast<image::Orientation>(orientation);
   TLV_TRY(r.flag("realtime", s.realtime));
   TLV_TRY(r.flag("loop", s.loop));
   TLV_TRY(r.flag("verify", s.verify));

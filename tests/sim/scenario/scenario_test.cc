@@ -13,6 +13,8 @@
 
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/capture/replay_source.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/score/compare.h"
 #include "tlvlink/score/score.h"
 #include "tlvlink/sim/scenario.h"
 
@@ -32,6 +34,7 @@ class Scenario : public ::testing::Test {
     o.grasps = 2;
     o.presses = 1;
     o.seed = 5;
+    o.offline = true;
     auto r = write_scenario(o, dir_);
     ASSERT_TRUE(r.ok()) << r.error().message();
     report_ = *r;
@@ -84,6 +87,31 @@ TEST_F(Scenario, RecordingsHoldTheCamerasStreamAndTheTruthMatchesThem) {
   EXPECT_EQ(events, 3);
   EXPECT_EQ(grasps, 2);
   EXPECT_GT(contact, 0);
+}
+
+TEST_F(Scenario, OfflineRecordingsHoldTheDatasetsFramesOfTheSameScenes) {
+  // DIGIT: the processed view is 240 wide, 320 high, upright; stored as the datasets' JPEG.
+  for (const char* finger : {"A", "B"}) {
+    auto r = capture::RecordingReader::open(dir_ + "/" + finger + ".offline.tlvraw");
+    ASSERT_TRUE(r.ok()) << r.error().message();
+    const capture::RecordingSummary& s = r->summary();
+    EXPECT_EQ(s.format.format.format, image::PixelFormat::kMjpeg);
+    EXPECT_EQ(s.format.format.width, 240);
+    EXPECT_EQ(s.format.format.height, 320);
+    EXPECT_EQ(static_cast<int64_t>(s.frames), report_.frames);
+    EXPECT_EQ(s.first_offset_ns, std::string(finger) == "B" ? 7'000'000 : 0);
+  }
+  capture::ReplayConfig c;
+  c.path = dir_ + "/A.offline.tlvraw";
+  c.realtime = false;
+  auto src = capture::make_replay_source(c);
+  ASSERT_TRUE(src.ok() && (*src)->start().ok());
+  auto frame = (*src)->next(10);
+  ASSERT_TRUE(frame.ok());
+  auto decoded = image::decode_jpeg(frame->bytes, "offline frame");
+  ASSERT_TRUE(decoded.ok()) << decoded.error().message();
+  EXPECT_EQ(decoded->width, 240);
+  EXPECT_EQ(decoded->height, 320);
 }
 
 TEST_F(Scenario, ReplayDeliversEveryRecordedFrame) {
@@ -161,6 +189,34 @@ TEST_F(Scenario, ScoreCountsAPerfectRunAsPerfectAndEachMistakeOnce) {
   EXPECT_EQ(p->missed_by_kind.at("press").hits, 0);
   EXPECT_EQ(m->heads[0].frames.hits, m->heads[0].frames.total - 1);  // the wrong label
   EXPECT_EQ(m->heads[0].frames.total, p->heads[0].frames.total - 1);  // the missed frame
+  // Live (perfect) against offline (planted) on the same frames: only frames both predicted are
+  // paired (the planted miss drops one), the planted wrong label is the whole difference, and
+  // grasps agree.
+  auto c = score::compare_live_offline({{dir_ + "/truth.jsonl", perfect, planted}}, {"left", "right"});
+  ASSERT_TRUE(c.ok()) << c.error().message();
+  ASSERT_EQ(c->heads.size(), 1u);
+  const score::PairedRate& f = c->heads[0].frames;
+  EXPECT_EQ(f.live.total, p->heads[0].frames.total - 1);
+  EXPECT_EQ(f.live.hits, f.live.total);
+  EXPECT_EQ(f.offline.hits, f.live.total - 1);
+  EXPECT_NEAR(f.difference(), 1.0 / static_cast<double>(f.live.total), 1e-12);
+  EXPECT_LE(f.difference_low, f.difference());
+  EXPECT_GE(f.difference_high, f.difference());
+  EXPECT_EQ(c->grasps.live.hits, 2);
+  EXPECT_EQ(c->grasps.offline.hits, 2);
+  EXPECT_EQ(c->grasps_scripted, 2);
+  EXPECT_EQ(c->live.missed_contact, 0);
+  EXPECT_EQ(c->offline.missed_contact, 1);
+  EXPECT_NE(score::format_live_offline(*c).find("live - offline"), std::string::npos);
+  auto pooled = score::compare_live_offline({{dir_ + "/truth.jsonl", perfect, planted},
+                                             {dir_ + "/truth.jsonl", perfect, planted}},
+                                            {"left", "right"});
+  ASSERT_TRUE(pooled.ok());
+  EXPECT_EQ(pooled->heads[0].frames.live.total, 2 * f.live.total);  // runs pool
+  EXPECT_EQ(pooled->grasps_scripted, 4);
+  EXPECT_EQ(score::compare_live_offline({{dir_ + "/truth.jsonl", perfect, ""}}, {"left", "right"})
+                .error().code(),
+            ErrorCode::kInvalidArgument);
   // Wrong inputs are errors naming the file.
   auto bad = score::score_live_run(dir_ + "/A.tlvraw", perfect, {"left", "right"});
   ASSERT_FALSE(bad.ok());
@@ -224,7 +280,7 @@ TEST(Score, EventRatesComeWithTheirInterval) {
   near(score::wilson95({10, 10}), 0.7225, 1.0);
   near(score::wilson95({0, 0}), 0.0, 1.0);
   score::ScoreReport r;
-  r.heads.push_back({"material", {15, 650}, 0, {1, 11}, 0.273});
+  r.heads.push_back({"material", {15, 650}, 0, {1, 11}, 0.273, {}});
   r.grasp_accuracy = {1, 4};
   const std::string text = score::format_score(r);
   EXPECT_NE(text.find("(1/11, 95 % CI 1.6-37.7; majority 27.3 %)"), std::string::npos) << text;

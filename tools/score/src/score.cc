@@ -8,98 +8,18 @@
 #include <cstdio>
 #include <set>
 
-#include "tlvlink/io/line_reader.h"
+#include "truth.h"
 
 namespace tlvlink::score {
 namespace {
 
-using nlohmann::json;
-
-struct TruthFrame {
-  bool contact = false;
-  double force_n = 0;
-  int32_t event = -1;
-};
-
-struct TruthEvent {
-  std::string kind;
-  bool has_success = false, success = false;
-  std::map<std::string, std::string> labels;  // head -> label ("" when undefined)
-};
-
-struct Truth {
-  int64_t frames = 0;
-  std::vector<TruthFrame> fingers[2];
-  std::vector<TruthEvent> events;
-};
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-// Reads a JSON-lines file, calling `each` per object; errors name the file and line.
-template <typename Each>
-Status read_lines(const std::string& path, Each each) {
-  tools::LineReader in;
-  TLV_TRY(in.open(path));
-  std::string line;
-  while (in.next(line)) {
-    const int64_t n = in.line_number();
-    TLV_ENSURE(!in.too_long(), ErrorCode::kFormat, "%s:%lld: line longer than %zu bytes",
-               path.c_str(), static_cast<long long>(n), tools::kMaxLineBytes);
-    if (line.empty()) continue;
-    json j = json::parse(line, nullptr, false);
-    TLV_ENSURE(!j.is_discarded() && j.is_object(), ErrorCode::kFormat,
-               "%s:%lld: not a JSON object", path.c_str(), static_cast<long long>(n));
-    Status st = each(j);
-    if (!st.ok()) return st.error().with_context("%s:%lld", path.c_str(), static_cast<long long>(n));
-  }
-  return in.error();
-}
-
-Result<Truth> read_truth(const std::string& path) {
-  Truth t;
-  bool header = false;
-  TLV_TRY(read_lines(path, [&](const json& j) -> Status {
-    const std::string type = j.value("type", "");
-    if (type == "scenario") {
-      header = true;
-      t.frames = j.value("frames", int64_t{0});
-      TLV_ENSURE(t.frames > 0 && t.frames <= 100'000'000, ErrorCode::kFormat,
-                 "scenario line: frames = %lld", static_cast<long long>(t.frames));
-      for (auto& f : t.fingers) f.resize(static_cast<size_t>(t.frames));
-    } else if (type == "event") {
-      TruthEvent e;
-      e.kind = j.value("kind", "");
-      if (j.contains("success") && j["success"].is_boolean()) {
-        e.has_success = true;
-        e.success = j["success"].get<bool>();
-      }
-      for (const char* head : {"material", "hard_soft", "rough_smooth"}) {
-        e.labels[head] = j.contains(head) && j[head].is_string() ? lower(j[head].get<std::string>()) : "";
-      }
-      const auto id = j.value("id", int64_t{-1});
-      TLV_ENSURE(id == static_cast<int64_t>(t.events.size()), ErrorCode::kFormat,
-                 "event id %lld out of order", static_cast<long long>(id));
-      t.events.push_back(std::move(e));
-    } else if (type == "frame") {
-      TLV_ENSURE(header, ErrorCode::kFormat, "frame line before the scenario line");
-      const std::string finger = j.value("finger", "");
-      const auto seq = j.value("seq", int64_t{-1});
-      TLV_ENSURE((finger == "A" || finger == "B") && seq >= 0 && seq < t.frames,
-                 ErrorCode::kFormat, "frame line with finger '%s' seq %lld", finger.c_str(),
-                 static_cast<long long>(seq));
-      TruthFrame& f = t.fingers[finger == "A" ? 0 : 1][static_cast<size_t>(seq)];
-      f.contact = j.value("contact", false);
-      f.force_n = j.value("force_n", 0.0);
-      f.event = j.value("event", -1);
-    }
-    return {};
-  }));
-  TLV_ENSURE(header, ErrorCode::kFormat, "%s: no scenario line (not a truth.jsonl?)", path.c_str());
-  return t;
-}
+using internal::json;
+using internal::lower;
+using internal::read_lines;
+using internal::read_truth;
+using internal::Truth;
+using internal::TruthEvent;
+using internal::TruthFrame;
 
 }  // namespace
 
@@ -212,6 +132,7 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
       successes += ev.success ? 1 : 0;
     }
   }
+  r.truth_grasp_successes = successes;
   r.grasp_majority = r.truth_grasps > 0 ? static_cast<double>(std::max(successes, r.truth_grasps - successes)) /
                                               r.truth_grasps
                                         : 0.0;
@@ -230,6 +151,7 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
     }
     int64_t top = 0;
     for (const auto& [label, n] : counts) top = std::max(top, n);
+    h.event_labels = counts;
     h.majority = h.events.total > 0 ? static_cast<double>(top) / static_cast<double>(h.events.total) : 0.0;
     r.heads.push_back(std::move(h));
   }

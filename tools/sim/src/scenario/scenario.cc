@@ -15,6 +15,7 @@
 
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/capture/sensor_models.h"
+#include "tlvlink/image/jpeg.h"
 #include "tlvlink/sim/generate.h"
 #include "tlvlink/sim/materials.h"
 #include "tlvlink/sim/raw_camera.h"
@@ -119,6 +120,8 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
              o.presses);
   TLV_ENSURE(o.static_variants >= 1 && o.static_variants <= 100, ErrorCode::kInvalidArgument,
              "scenario: static_variants = %d is outside 1..100", o.static_variants);
+  TLV_ENSURE(o.offline_jpeg_quality >= 1 && o.offline_jpeg_quality <= 100, ErrorCode::kInvalidArgument,
+             "scenario: offline JPEG quality %d outside 1..100", o.offline_jpeg_quality);
   TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(o.sensor));
   const capture::SensorModel* model = capture::find_sensor_model(profile.name);
   TLV_ENSURE(model != nullptr, ErrorCode::kInvalidArgument,
@@ -203,9 +206,13 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
   struct stat st{};
   TLV_ENSURE(::stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode), ErrorCode::kIo,
              "scenario: cannot create the directory %s", dir.c_str());
-  Staged files[3] = {{dir + "/A.tlvraw", dir + "/.A.tlvraw.partial"},
-                     {dir + "/B.tlvraw", dir + "/.B.tlvraw.partial"},
-                     {dir + "/truth.jsonl", dir + "/.truth.jsonl.partial"}};
+  std::vector<Staged> files = {{dir + "/A.tlvraw", dir + "/.A.tlvraw.partial"},
+                               {dir + "/B.tlvraw", dir + "/.B.tlvraw.partial"},
+                               {dir + "/truth.jsonl", dir + "/.truth.jsonl.partial"}};
+  if (o.offline) {
+    files.push_back({dir + "/A.offline.tlvraw", dir + "/.A.offline.tlvraw.partial"});
+    files.push_back({dir + "/B.offline.tlvraw", dir + "/.B.offline.tlvraw.partial"});
+  }
   capture::RecordingFormat format;
   format.format = {model->format, model->width, model->height,
                    model->format == image::PixelFormat::kYuyv ? model->width * 2 : 0};
@@ -238,16 +245,23 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
                  material_classes()[static_cast<size_t>(m.class_id)].name.data(), hard_label_name(m),
                  rough_label_name(m), ev.episode.object_name.c_str());
   }
-  std::vector<capture::RecordingWriter> writers;
+  std::vector<capture::RecordingWriter> writers, offline;
+  capture::RecordingFormat offline_format = format;
+  offline_format.format = {image::PixelFormat::kMjpeg, model->view.width, model->view.height, 0};
   for (int32_t f = 0; f < kFingers; ++f) {
     capture::WriterOptions wo;
     wo.origin_ns = 0;  // shared: B's phase survives
     wo.overwrite = true;
-    TLV_ASSIGN_OR_RETURN(auto w, capture::RecordingWriter::create(files[f].temp_path, format, wo));
+    TLV_ASSIGN_OR_RETURN(auto w, capture::RecordingWriter::create(files[static_cast<size_t>(f)].temp_path, format, wo));
     writers.push_back(std::move(w));
+    if (o.offline) {
+      TLV_ASSIGN_OR_RETURN(auto ow, capture::RecordingWriter::create(
+                                        files[3 + static_cast<size_t>(f)].temp_path, offline_format, wo));
+      offline.push_back(std::move(ow));
+    }
   }
   struct Stored {
-    capture::RecordedBytes bytes;
+    capture::RecordedBytes bytes, offline;
     ContactState state;
   };
   std::map<uint64_t, Stored> stored[kFingers];
@@ -264,6 +278,7 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
       auto hit = shot.static_key != 0 ? stored[f].find(shot.static_key) : stored[f].end();
       if (hit != stored[f].end()) {
         TLV_TRY(writers[static_cast<size_t>(f)].append_repeat(hit->second.bytes, t, seq));
+        if (o.offline) TLV_TRY(offline[static_cast<size_t>(f)].append_repeat(hit->second.offline, t, seq));
         state = hit->second.state;
       } else {
         const uint64_t noise = mix(mix(o.seed, 7 + static_cast<uint64_t>(f)),
@@ -273,9 +288,16 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
                                                    static_cast<long long>(k), kFingerNames[f]);
         TLV_ASSIGN_OR_RETURN(const capture::RecordedBytes b,
                              writers[static_cast<size_t>(f)].append(raw.bytes, t, seq));
+        capture::RecordedBytes ob;
+        if (o.offline) {
+          const image::Image processed{raw.processed.width, raw.processed.height, 3, raw.processed.rgb};
+          TLV_ASSIGN_OR_RETURN(const std::vector<uint8_t> jpeg,
+                               image::encode_jpeg(processed, o.offline_jpeg_quality));
+          TLV_ASSIGN_OR_RETURN(ob, offline[static_cast<size_t>(f)].append(jpeg, t, seq));
+        }
         state = raw.processed.state;
         ++report.rendered;
-        if (shot.static_key != 0) stored[f][shot.static_key] = {b, state};
+        if (shot.static_key != 0) stored[f][shot.static_key] = {b, ob, state};
       }
       std::fprintf(truth.get(),
                    "{\"type\":\"frame\",\"finger\":\"%s\",\"seq\":%lld,\"offset_ms\":%.3f,"
@@ -286,9 +308,11 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
     }
     if (progress) progress(k + 1, total);
   }
-  for (auto& w : writers) {
-    report.file_bytes += static_cast<int64_t>(w.file_bytes());
-    TLV_TRY(w.close());
+  for (auto* group : {&writers, &offline}) {
+    for (auto& w : *group) {
+      report.file_bytes += static_cast<int64_t>(w.file_bytes());
+      TLV_TRY(w.close());
+    }
   }
   // Durable before the renames (the recordings sync themselves on close): a crash after the
   // renames must not leave a truth file shorter than its recordings.

@@ -41,6 +41,7 @@ struct HeadScore {
   int64_t without_contact = 0;  // labelled frames of an event the renderer shows without contact
   Ratio events;        // the last prediction of each event
   double majority = 0;  // accuracy of always answering the events' most common label
+  std::map<std::string, int64_t> event_labels;  // the scored events' true labels, counted
 };
 
 struct ScoreReport {
@@ -67,6 +68,7 @@ struct ScoreReport {
   int32_t grasps_unmatched = 0;    // records whose frames fall outside any scripted grasp
   Ratio grasp_accuracy;            // predicted success == label, over computed and matched
   double grasp_majority = 0;       // always answering the scripted grasps' majority label
+  int32_t truth_grasp_successes = 0;  // scripted grasps that hold
   std::map<std::string, int32_t> not_computed_reasons;
 };
 

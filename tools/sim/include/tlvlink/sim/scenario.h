@@ -14,7 +14,8 @@
 // minute of two 8 MP MJPEG streams costs a few hundred renders and ~100 MB of disk.
 //
 // Output directory: A.tlvraw, B.tlvraw (capture/recording.h; B's frames 7 ms after A's, as two
-// unsynchronised cameras are) and truth.jsonl (one "scenario" line, one "event" line per event,
+// unsynchronised cameras are), optionally A.offline.tlvraw, B.offline.tlvraw (below) and
+// truth.jsonl (one "scenario" line, one "event" line per event,
 // one "frame" line per frame and finger: contact, force, event). Written under temporary names
 // and renamed at the end: an interrupted run leaves no partial scenario.
 
@@ -37,6 +38,13 @@ struct ScenarioOptions {
   bool markers = false;            // a gel with printed markers (the grasp sets have them)
   int32_t static_variants = 3;     // distinct noise frames cycled through a static stretch
   int64_t finger_b_phase_ns = 7'000'000;
+  // Also record each finger's processed frames as the datasets store them (the renderer's
+  // frame, upright, as a JPEG q90 of image::encode_jpeg: a Touch100k or Feel set's bytes) into
+  // A.offline.tlvraw and B.offline.tlvraw, an MJPEG camera of the view's size: tlvlinkd replays
+  // them (format "mjpeg", the view's width and height, crop 0, jpeg_scale 1, orientation
+  // "upright") to give the offline image path's predictions of the very same frames.
+  bool offline = false;
+  int32_t offline_jpeg_quality = 90;  // the dataset writers' default
 };
 
 struct ScenarioReport {

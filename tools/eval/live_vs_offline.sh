@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# Live = offline, measured (issue 29): scenarios of two simulated fingers (GelSight Mini and
+# DIGIT, each scenario on its own two sensor instances, none of them in the training set's),
+# each played by tlvlinkd twice from the same scenes:
+#   live     the cameras' raw output (Mini: MJPEG 3280x2464 q90; DIGIT: YUYV), decoded by the
+#            board's decoder, as on a robot
+#   offline  the processed frames as the datasets store them (JPEG q90 of the upright view: the
+#            bytes `tlvlink eval` reads), replayed as an MJPEG camera of the view's size
+# and scored against the truth with `tlvlink score --offline`: live vs offline per head and for
+# grasps with 95 % intervals (bootstrap over events), and the live run's contact gate.
+#   tools/eval/live_vs_offline.sh OUT [MODEL] [-- SCENARIO...]
+#   SCENARIO: sensor:seed:grasps:presses[:markers], default the four below (~240 events)
+# Environment: TLVLINK_BUILD (default build/host). Scenarios already rendered in OUT are reused.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+out=${1:?usage: live_vs_offline.sh OUT [MODEL] [-- SCENARIO...]}
+shift
+model=firmware/models/touch-tiny-int8.tlvm
+if [ $# -gt 0 ] && [ "$1" != "--" ]; then model=$1; shift; fi
+[ "${1:-}" = "--" ] && shift
+scenarios=("$@")
+if [ ${#scenarios[@]} -eq 0 ]; then
+  # 120 grasps + 120 presses over four sensor pairs; seeds unlike any set's (1, 3, 2026, 2027).
+  scenarios=(gelsight-mini:301:30:30:markers gelsight-mini:302:30:30 digit:303:30:30:markers
+             digit:304:30:30)
+fi
+build=${TLVLINK_BUILD:-build/host}
+tlvlink=$build/tools/cli/tlvlink
+tlvlinkd=$build/firmware/tlvlinkd/tlvlinkd
+for b in "$tlvlink" "$tlvlinkd"; do
+  [ -x "$b" ] || { echo "live_vs_offline: $b missing (cmake --build --preset host)" >&2; exit 1; }
+done
+[ -f "$model" ] || { echo "live_vs_offline: model $model missing" >&2; exit 2; }
+mkdir -p "$out"
+out=$(realpath "$out")
+model=$(realpath "$model")
+
+# One sensor section: how the run reads its finger's recording.
+sensor_toml() {  # name finger recording sensor path(live|offline)
+  local name=$1 finger=$2 rec=$3 sensor=$4 path=$5
+  printf '[[sensor]]\nname = "%s"\nmodel = "%s"\nfinger = "%s"\nsource = "replay"\ndevice = "%s"\n' \
+    "$name" "$sensor" "$finger" "$rec"
+  if [ "$path" = offline ]; then
+    local w=320 h=240
+    [ "$sensor" = digit ] && { w=240; h=320; }
+    printf 'format = "mjpeg"\nwidth = %d\nheight = %d\ncrop = 0.0\njpeg_scale = 1\norientation = "upright"\n' "$w" "$h"
+  fi
+}
+
+truths=(); lives=(); offlines=()
+t0=$(date +%s)
+for spec in "${scenarios[@]}"; do
+  IFS=: read -r sensor seed grasps presses markers <<<"$spec"
+  dir=$out/$sensor-$seed
+  args=(--sensor "$sensor" --seed "$seed" --grasps "$grasps" --presses "$presses" --offline)
+  [ "${markers:-}" = markers ] && args+=(--markers)
+  if [ ! -f "$dir/truth.jsonl" ] || [ ! -f "$dir/A.offline.tlvraw" ] || [ "$(cat "$dir/args" 2>/dev/null)" != "${args[*]}" ]; then
+    echo "== render $spec"
+    "$tlvlink" sim scenario -o "$dir" "${args[@]}" | tail -1
+    echo "${args[*]}" >"$dir/args"
+  fi
+  # Both paths play at the cameras' pace, side by side (a daemon uses ~25 % of a core): the
+  # grasp detector and the smoothing reason in the recorded time, so the replay is real time.
+  pids=()
+  for path in live offline; do
+    suffix=""; [ "$path" = offline ] && suffix=.offline
+    {
+      printf 'model = "%s"\noutput = ["jsonl:%s"]\nverify_model = false\n[grasp]\nmode = "detected"\n' \
+        "$model" "$dir/$path.jsonl"
+      sensor_toml left A "$dir/A$suffix.tlvraw" "$sensor" "$path"
+      sensor_toml right B "$dir/B$suffix.tlvraw" "$sensor" "$path"
+    } >"$dir/$path.toml"
+    rm -f "$dir/$path.jsonl"
+    "$tlvlinkd" --config "$dir/$path.toml" 2>"$dir/$path.log" >/dev/null &
+    pids+=($!)
+  done
+  echo "== tlvlinkd $spec: live and offline in real time ($(grep -o '"frames":[0-9]*' "$dir/truth.jsonl" | head -1 | cut -d: -f2) frames per finger)"
+  for i in 0 1; do
+    path=live; [ $i = 1 ] && path=offline
+    wait "${pids[$i]}" || { tail -5 "$dir/$path.log"; echo "live_vs_offline: tlvlinkd failed ($dir/$path.log)" >&2; exit 1; }
+    echo "   $path: $(grep -E '^ *drops:' "$dir/$path.log" | sed 's/^ *//')"
+  done
+  truths+=(--truth "$dir/truth.jsonl"); lives+=(--predictions "$dir/live.jsonl")
+  offlines+=(--offline "$dir/offline.jsonl")
+done
+echo
+echo "== model $model"
+"$tlvlink" score "${truths[@]}" "${lives[@]}" "${offlines[@]}" | tee "$out/live_vs_offline.txt"
+"$tlvlink" score "${truths[@]}" "${lives[@]}" "${offlines[@]}" --json >"$out/live_vs_offline.json"
+echo "live_vs_offline: $(( $(date +%s) - t0 )) s; $out/live_vs_offline.txt and .json"
