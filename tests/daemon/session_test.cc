@@ -320,3 +320,44 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
 
 }  // namespace
 }  // namespace tlvlink::daemon
+
+namespace tlvlink::daemon {
+namespace {
+
+// A replayed controller log (command_script): grasps start at the scripted frames, so commanded
+// mode predicts them with no live controller, and a bad script stops the start naming file:line.
+TEST(DaemonSession, ACommandScriptGivesTheControllersMarksAtTheirFrames) {
+  testing::TempDir dir;
+  const std::string out = dir.path() + "/predictions.jsonl", script = dir.path() + "/commands.txt";
+  {
+    std::ofstream s(script);
+    s << "# FINGER SEQUENCE COMMAND\nA 50 closed\nA 75 lifting\nA 210 closed # the next cycle\n"
+         "A 235 lifting\n";
+  }
+  std::string text = config_text(out, 600);  // both fingers: 300 frames each
+  text.insert(text.find("[contact]"), "command_script = \"" + script + "\"\n");
+  text.replace(text.find("[grasp]\n"), 8, "[grasp]\nmode = \"commanded\"\n");
+  auto config = parse_config(text, "test.toml");
+  ASSERT_TRUE(config.ok()) << config.error().message();
+  {
+    auto session = Session::start_with_sources(*config, sources());
+    ASSERT_TRUE(session.ok()) << session.error().message();
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (!(*session)->limit_reached() && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    const SessionTotals t = (*session)->stop();
+    EXPECT_EQ(t.grasps + t.grasps_not_computed, 2u) << "one grasp per scripted 'closed'";
+    EXPECT_GE(t.grasps, 1u);
+  }
+  {
+    std::ofstream s(script);
+    s << "A 50 closed\nC 60 lifting\n";
+  }
+  auto bad = Session::start_with_sources(*config, sources());
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(std::string(bad.error().message()).find("commands.txt:2: expected"), std::string::npos)
+      << bad.error().message();
+}
+
+}  // namespace
+}  // namespace tlvlink::daemon

@@ -6,7 +6,9 @@
 #            board's decoder, as on a robot
 #   offline  the processed frames as the datasets store them (JPEG q90 of the upright view: the
 #            bytes `tlvlink eval` reads), replayed as an MJPEG camera of the view's size
-# and scored against the truth with `tlvlink score --offline`: live vs offline per head and for
+# with the gripper controller's closed / lifting marks of every grasp (grasp mode "commanded",
+# the scenario's commands.txt as tlvlinkd's command_script), and scored against the truth with
+# `tlvlink score --offline`: live vs offline per head and for
 # grasps with 95 % intervals (bootstrap over events), and the live run's contact gate.
 #   tools/eval/live_vs_offline.sh OUT [MODEL] [-- SCENARIO...]
 #   SCENARIO: sensor:seed:grasps:presses[:markers], default the four below (~240 events)
@@ -54,7 +56,7 @@ for spec in "${scenarios[@]}"; do
   dir=$out/$sensor-$seed
   args=(--sensor "$sensor" --seed "$seed" --grasps "$grasps" --presses "$presses" --offline)
   [ "${markers:-}" = markers ] && args+=(--markers)
-  if [ ! -f "$dir/truth.jsonl" ] || [ ! -f "$dir/A.offline.tlvraw" ] || [ "$(cat "$dir/args" 2>/dev/null)" != "${args[*]}" ]; then
+  if [ ! -f "$dir/truth.jsonl" ] || [ ! -f "$dir/A.offline.tlvraw" ] || [ ! -f "$dir/commands.txt" ] || [ "$(cat "$dir/args" 2>/dev/null)" != "${args[*]}" ]; then
     echo "== render $spec"
     "$tlvlink" sim scenario -o "$dir" "${args[@]}" | tail -1
     echo "${args[*]}" >"$dir/args"
@@ -65,8 +67,10 @@ for spec in "${scenarios[@]}"; do
   for path in live offline; do
     suffix=""; [ "$path" = offline ] && suffix=.offline
     {
-      printf 'model = "%s"\noutput = ["jsonl:%s"]\nverify_model = false\n[grasp]\nmode = "detected"\n' \
-        "$model" "$dir/$path.jsonl"
+      # The gripper controller's closed / lifting marks (commands.txt) start each grasp: a grasp
+      # the contact gate cannot see (a smooth flat face filling the gel) is still predicted.
+      printf 'model = "%s"\noutput = ["jsonl:%s"]\nverify_model = false\ncommand_script = "%s"\n[grasp]\nmode = "commanded"\n' \
+        "$model" "$dir/$path.jsonl" "$dir/commands.txt"
       sensor_toml left A "$dir/A$suffix.tlvraw" "$sensor" "$path"
       sensor_toml right B "$dir/B$suffix.tlvraw" "$sensor" "$path"
     } >"$dir/$path.toml"

@@ -8,7 +8,11 @@
 #include <array>
 #include <cstdint>
 #include <mutex>
+#include <string>
 #include <string_view>
+#include <vector>
+
+#include "tlvlink/error.h"
 
 namespace tlvlink::daemon::internal {
 
@@ -22,6 +26,21 @@ struct Command {
 
 // "rezero [SENSOR_INDEX]", "closed", "lifting" (a trailing newline is fine). False: not a command.
 bool parse_command(std::string_view line, int64_t now_ns, Command& out);
+
+// A controller's closed / lifting marks tied to frames (`command_script`): the command is given
+// when the inference thread takes `sensor`'s frame `sequence` (or the first one after it), at
+// that frame's capture time, so a replayed session gets its marks exactly where the recorded
+// controller gave them.
+struct ScriptedCommand {
+  int32_t sensor = 0;
+  uint64_t sequence = 0;
+  CommandKind kind = CommandKind::kClosed;
+};
+// Lines "FINGER SEQUENCE COMMAND" (finger A or B, command closed or lifting; '#' starts a
+// comment), ordered by sequence. sensor_of_finger[0|1]: the sensor index of finger A / B, -1
+// when no sensor is that finger. Errors name path:line and what is wrong.
+Result<std::vector<ScriptedCommand>> load_command_script(const std::string& path,
+                                                         const int32_t sensor_of_finger[2]);
 
 class CommandQueue {
  public:

@@ -153,6 +153,7 @@ Status read_top(TableReader& r, DaemonConfig& c) {
   int32_t control = 0;
   TLV_TRY(r.choice("control", {"none", "stdin"}, control));
   c.control = static_cast<ControlInput>(control);
+  TLV_TRY(r.text("command_script", c.command_script));
   TLV_TRY(r.integer32("status_interval_ms", c.status_interval_ms, 100, 600'000));
   TLV_TRY(r.flag("status_line", c.status_line));
   TLV_TRY(r.integer32("queue_frames", c.queue_frames, 1, kMaxQueueFrames));

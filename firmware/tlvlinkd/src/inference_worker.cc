@@ -21,13 +21,14 @@ InferenceWorker::InferenceWorker(pipeline::FrameProcessor& processor,
                                  std::vector<pipeline::SensorSetup> setups, Doorbell& doorbell,
                                  OutputQueue& output, CommandQueue& commands,
                                  const std::atomic<bool>& stop, std::atomic<bool>& limit_hit,
-                                 int64_t max_frames)
+                                 int64_t max_frames, std::vector<ScriptedCommand> script)
     : processor_(processor),
       rings_(std::move(rings)),
       setups_(std::move(setups)),
       doorbell_(doorbell),
       output_(output),
       commands_(commands),
+      script_(std::move(script)),
       stop_(stop),
       limit_hit_(limit_hit),
       max_frames_(max_frames) {}
@@ -58,6 +59,13 @@ bool InferenceWorker::process_one() {
   if (best == rings_.size()) return false;
   DecodedFrame* f = rings_[best]->take();
   if (f == nullptr) return false;
+  // A scripted mark of this sensor due at this frame is given first, at the frame's capture time.
+  while (next_scripted_ < script_.size() &&
+         script_[next_scripted_].sensor == static_cast<int32_t>(best) &&
+         f->sequence >= script_[next_scripted_].sequence) {
+    apply(Command{script_[next_scripted_].kind, f->times.capture_ns, -1});
+    ++next_scripted_;
+  }
   // The processed frame's geometry is the ring's; the processor checks it against its plan.
   const pipeline::SensorSetup& s = setups_[best];
   const Status st = processor_.process(static_cast<int32_t>(best), f->sequence,

@@ -30,7 +30,7 @@ class InferenceWorker {
                   std::vector<pipeline::SensorSetup> setups,
                   Doorbell& doorbell, OutputQueue& output, CommandQueue& commands,
                   const std::atomic<bool>& stop, std::atomic<bool>& limit_hit,
-                  int64_t max_frames);
+                  int64_t max_frames, std::vector<ScriptedCommand> script = {});
   void run();  // returns when stop is set, after the frames already decoded are processed
 
   InferenceSnapshot snapshot() const;
@@ -46,6 +46,8 @@ class InferenceWorker {
   Doorbell& doorbell_;
   OutputQueue& output_;
   CommandQueue& commands_;
+  std::vector<ScriptedCommand> script_;  // ordered by sequence; given as their frames come
+  size_t next_scripted_ = 0;
   const std::atomic<bool>& stop_;
   std::atomic<bool>& limit_hit_;
   int64_t max_frames_;

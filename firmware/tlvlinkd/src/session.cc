@@ -153,9 +153,18 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
         static_cast<int32_t>(i), c.name, std::move(sources[i]), std::move(decoder).value(),
         *s.rings.back(), *s.queue, s.capture_stop));
   }
+  std::vector<internal::ScriptedCommand> script;
+  if (!config.command_script.empty()) {
+    int32_t sensor_of_finger[2] = {-1, -1};
+    for (size_t i = 0; i < config.sensors.size(); ++i) {
+      const int32_t finger = config.sensors[i].finger;
+      if (finger == 0 || finger == 1) sensor_of_finger[finger] = static_cast<int32_t>(i);
+    }
+    TLV_ASSIGN_OR_RETURN(script, internal::load_command_script(config.command_script, sensor_of_finger));
+  }
   s.inference = std::make_unique<internal::InferenceWorker>(
       *s.processor, rings, setups, s.doorbell, *s.queue, s.commands, s.inference_stop, s.limit,
-      config.max_frames);
+      config.max_frames, std::move(script));
   s.output = std::make_unique<internal::OutputWorker>(sinks, s.names, *s.queue, s.captures, *s.inference,
                                                       rings, config.status_interval_ms,
                                                       config.status_line, s.output_stop);

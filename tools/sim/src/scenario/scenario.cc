@@ -208,8 +208,9 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
              "scenario: cannot create the directory %s", dir.c_str());
   std::vector<Staged> files = {{dir + "/A.tlvraw", dir + "/.A.tlvraw.partial"},
                                {dir + "/B.tlvraw", dir + "/.B.tlvraw.partial"},
-                               {dir + "/truth.jsonl", dir + "/.truth.jsonl.partial"}};
-  if (o.offline) {
+                               {dir + "/truth.jsonl", dir + "/.truth.jsonl.partial"},
+                               {dir + "/commands.txt", dir + "/.commands.txt.partial"}};
+  if (o.offline) {  // files[4], files[5]
     files.push_back({dir + "/A.offline.tlvraw", dir + "/.A.offline.tlvraw.partial"});
     files.push_back({dir + "/B.offline.tlvraw", dir + "/.B.offline.tlvraw.partial"});
   }
@@ -245,6 +246,24 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
                  material_classes()[static_cast<size_t>(m.class_id)].name.data(), hard_label_name(m),
                  rough_label_name(m), ev.episode.object_name.c_str());
   }
+  // The controller's marks, as a robot would log them: tlvlinkd's command_script.
+  {
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> commands(
+        std::fopen(files[3].temp_path.c_str(), "w"), &std::fclose);
+    TLV_ENSURE(commands != nullptr, ErrorCode::kIo, "scenario: cannot write %s",
+               files[3].temp_path.c_str());
+    std::fprintf(commands.get(),
+                 "# The gripper controller's marks (tlvlinkd command_script): FINGER SEQUENCE "
+                 "COMMAND\n");
+    for (const Event& ev : events) {
+      if (std::string_view(ev.kind) != "grasp") continue;
+      std::fprintf(commands.get(), "A %lld closed\nA %lld lifting\n",
+                   static_cast<long long>(ev.closed), static_cast<long long>(ev.lifting));
+    }
+    TLV_ENSURE(std::fflush(commands.get()) == 0 && !std::ferror(commands.get()) &&
+                   ::fsync(::fileno(commands.get())) == 0,
+               ErrorCode::kIo, "scenario: writing %s failed", files[3].temp_path.c_str());
+  }
   std::vector<capture::RecordingWriter> writers, offline;
   capture::RecordingFormat offline_format = format;
   offline_format.format = {image::PixelFormat::kMjpeg, model->view.width, model->view.height, 0};
@@ -256,7 +275,7 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
     writers.push_back(std::move(w));
     if (o.offline) {
       TLV_ASSIGN_OR_RETURN(auto ow, capture::RecordingWriter::create(
-                                        files[3 + static_cast<size_t>(f)].temp_path, offline_format, wo));
+                                        files[4 + static_cast<size_t>(f)].temp_path, offline_format, wo));
       offline.push_back(std::move(ow));
     }
   }

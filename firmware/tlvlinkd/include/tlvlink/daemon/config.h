@@ -55,6 +55,10 @@ struct DaemonConfig {
   // serial:PATH[,baud=N][,flow=rtscts], pty:LINK or usb[...] (runtime/transport).
   std::vector<std::string> outputs = {"jsonl:-"};
   ControlInput control = ControlInput::kNone;
+  // A recorded controller's closed / lifting marks for a replayed session, tied to the frames
+  // they were given at ("FINGER SEQUENCE COMMAND" lines: `tlvlink sim scenario` writes
+  // DIR/commands.txt); empty: none. Given beside `control` or instead of it.
+  std::string command_script;
   int32_t status_interval_ms = 1000;
   bool status_line = false;       // a live status line on stderr
   int32_t queue_frames = 2;       // decoded frames waiting per sensor (older ones dropped)

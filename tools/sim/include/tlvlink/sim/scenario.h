@@ -14,8 +14,9 @@
 // minute of two 8 MP MJPEG streams costs a few hundred renders and ~100 MB of disk.
 //
 // Output directory: A.tlvraw, B.tlvraw (capture/recording.h; B's frames 7 ms after A's, as two
-// unsynchronised cameras are), optionally A.offline.tlvraw, B.offline.tlvraw (below) and
-// truth.jsonl (one "scenario" line, one "event" line per event,
+// unsynchronised cameras are), optionally A.offline.tlvraw, B.offline.tlvraw (below),
+// commands.txt (the controller's closed / lifting marks of every grasp, tlvlinkd's
+// command_script) and truth.jsonl (one "scenario" line, one "event" line per event,
 // one "frame" line per frame and finger: contact, force, event). Written under temporary names
 // and renamed at the end: an interrupted run leaves no partial scenario.
 
