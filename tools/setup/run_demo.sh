@@ -53,8 +53,10 @@ step "4/7 record the scenario: two simulated Minis, 6 grasps + 4 presses (tlvlin
 # Rendered once (~15-30 s; ~220 MB of MJPEG in build/demo/out/scenario), reused while its options
 # are unchanged.
 scenario=$out/scenario
-scenario_args=(--sensor gelsight-mini --grasps 6 --presses 4 --seed 2026)
-if [ ! -f "$scenario/truth.jsonl" ] || [ ! -f "$scenario/A.tlvraw" ] || [ ! -f "$scenario/B.tlvraw" ] || [ "$(cat "$scenario/args" 2>/dev/null)" != "${scenario_args[*]}" ]; then
+# --offline: the same frames as the datasets store them too (JPEG q90 of the processed view), for
+# the live-vs-offline line of step 7; commands.txt holds the gripper controller's marks.
+scenario_args=(--sensor gelsight-mini --grasps 6 --presses 4 --seed 2026 --offline)
+if [ ! -f "$scenario/truth.jsonl" ] || [ ! -f "$scenario/A.offline.tlvraw" ] || [ ! -f "$scenario/commands.txt" ] || [ "$(cat "$scenario/args" 2>/dev/null)" != "${scenario_args[*]}" ]; then
   "$tlvlink" sim scenario -o "$scenario" "${scenario_args[@]}"
   echo "${scenario_args[*]}" >"$scenario/args"
 else
@@ -74,8 +76,11 @@ cat >"$out/tlvlinkd.toml" <<TOML
 model = "$PWD/$int8"
 output = ["jsonl:$PWD/$out/predictions.jsonl", "pty:$stream_tty"]
 status_line = true
+# The gripper controller's closed / lifting marks, logged with the scenario: every grasp is
+# predicted, also one whose contact the gate cannot see (a smooth flat face filling the gel).
+command_script = "$PWD/$scenario/commands.txt"
 [grasp]
-mode = "detected"
+mode = "commanded"
 [[sensor]]
 name = "left"
 model = "gelsight-mini"
@@ -89,8 +94,17 @@ finger = "B"
 source = "replay"
 device = "$PWD/$scenario/B.tlvraw"
 TOML
-rm -f "$out/predictions.jsonl"
+# Beside it, the same scenes from the frames as the datasets store them (the offline image path),
+# into offline.jsonl only: step 7 compares the two on the same frames.
+sed -e "s|^output = .*|output = [\"jsonl:$PWD/$out/offline.jsonl\"]|" -e '/^status_line/d' \
+    -e "s|/A.tlvraw\"|/A.offline.tlvraw\"\nformat = \"mjpeg\"\nwidth = 320\nheight = 240\ncrop = 0.0\njpeg_scale = 1|" \
+    -e "s|/B.tlvraw\"|/B.offline.tlvraw\"\nformat = \"mjpeg\"\nwidth = 320\nheight = 240\ncrop = 0.0\njpeg_scale = 1|" \
+    "$out/tlvlinkd.toml" >"$out/offline.toml"
+rm -f "$out/predictions.jsonl" "$out/offline.jsonl"
+"$tlvlinkd" --config "$out/offline.toml" 2>"$out/offline.log" >/dev/null &
+offline_daemon=$!
 "$tlvlinkd" --config "$out/tlvlinkd.toml"
+wait "$offline_daemon" || { tail -5 "$out/offline.log"; echo "run_demo: the offline run failed" >&2; exit 1; }
 echo "   predictions: $out/predictions.jsonl ($(wc -l <"$out/predictions.jsonl") JSON lines;"
 echo "   schema in firmware/tlvlinkd/README.md)"
 
@@ -108,9 +122,11 @@ echo "   link statistics (tlvlink listen; send -> received on this machine's one
 sed -n '/^link:/,$p' "$out/listen.log" | sed 's/^/     /'
 echo "   stream: $out/stream.jsonl (JSON lines), $out/stream.tlvrec (tlvlink replay $out/stream.tlvrec)"
 
-step "7/7 the live predictions against the simulator's ground truth (tlvlink score)"
+step "7/7 the live predictions against the simulator's ground truth, and against the offline path (tlvlink score)"
+# Ten events are ten answers: read the intervals. live vs offline pairs the same frames through
+# both image paths; tools/eval/live_vs_offline.sh measures it on 240 events.
 "$tlvlink" score --truth "$scenario/truth.jsonl" --predictions "$out/predictions.jsonl" \
-  --fingers left,right | sed 's/^/   /'
+  --offline "$out/offline.jsonl" --fingers left,right | sed 's/^/   /'
 
 echo
 echo "run_demo: done. Outputs are in $out/."

@@ -77,6 +77,10 @@ TEST_F(Scenario, RecordingsHoldTheCamerasStreamAndTheTruthMatchesThem) {
       contact += j["contact"].get<bool>() ? 1 : 0;
       if (j["contact"].get<bool>()) {
         EXPECT_GE(j["event"].get<int>(), 0) << j.dump();
+      } else {
+        // An open gel differs from the open gel by camera noise only: below the level at which
+        // `score` calls a contact invisible (kInvisibleSignalDn), which this justifies.
+        EXPECT_LT(j["signal_dn"].get<double>(), score::kInvisibleSignalDn) << j.dump();
       }
     } else if (j["type"] == "event") {
       ++events;
@@ -265,6 +269,43 @@ TEST(Score, LabelsOfFramesWithoutContactAreCountedApart) {
   EXPECT_EQ(r->heads[0].events.hits, 1);  // the answer given in contact
   EXPECT_EQ(r->heads[0].events.total, 1);
   EXPECT_NE(score::format_score(*r).find("1 labelled frames without contact"), std::string::npos);
+}
+
+// A contact whose image is the open gel's (signal below kInvisibleSignalDn: a smooth flat face
+// filling the gel) is no miss of the gate: counted apart, with its event.
+TEST(Score, ContactsTheOpticsCannotShowAreCountedApart) {
+  const std::string dir = (std::filesystem::temp_directory_path() /
+                           ("tlvlink_invisible_" + std::to_string(::getpid())))
+                              .string();
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream t(dir + "/truth.jsonl");
+    t << R"({"type":"scenario","sensor":"gelsight-mini","fps":25,"frames":4,"fingers":["A","B"]})" "\n"
+      << R"({"type":"event","id":0,"kind":"press","success":null,"material":"glass","hard_soft":"hard","rough_smooth":"smooth"})" "\n"
+      << R"({"type":"event","id":1,"kind":"press","success":null,"material":"rock","hard_soft":"hard","rough_smooth":"rough"})" "\n";
+    const double signal[4] = {0.3, 0.9, 12.0, 0.4};
+    const int event[4] = {0, 0, 1, 1};
+    for (int k = 0; k < 4; ++k) {
+      t << json{{"type", "frame"}, {"finger", "A"}, {"seq", k}, {"contact", true},
+                {"force_n", 20.0}, {"signal_dn", signal[k]}, {"event", event[k]}}.dump() << "\n";
+    }
+    std::ofstream p(dir + "/predictions.jsonl");
+    for (int k = 0; k < 4; ++k) {
+      p << json{{"type", "frame"}, {"sensor", "left"}, {"seq", k},
+                {"contact", k == 2 ? "contact" : "none"}}.dump() << "\n";
+    }
+  }
+  auto r = score::score_live_run(dir + "/truth.jsonl", dir + "/predictions.jsonl", {"left", "right"});
+  std::filesystem::remove_all(dir);
+  ASSERT_TRUE(r.ok()) << r.error().message();
+  EXPECT_EQ(r->truth_contact, 1);     // the rock's visible frame
+  EXPECT_EQ(r->missed_contact, 0);
+  EXPECT_EQ(r->invisible_contact, 3);
+  EXPECT_EQ(r->invisible_events, 1);  // the glass: no frame a camera can see
+  EXPECT_EQ(r->contact_events.hits, 1);
+  EXPECT_EQ(r->contact_events.total, 1);
+  EXPECT_EQ(r->false_contact, 0);
+  EXPECT_NE(score::format_score(*r).find("contacts the optics cannot show"), std::string::npos);
 }
 
 // Events are few: the event and grasp rates come with the Wilson 95 % interval (published values:

@@ -115,6 +115,9 @@ void merge_scores(ScoreReport& a, const ScoreReport& b) {
   a.missed_contact += b.missed_contact;
   a.missed_light += b.missed_light;
   a.false_contact += b.false_contact;
+  a.invisible_contact += b.invisible_contact;
+  a.invisible_seen += b.invisible_seen;
+  a.invisible_events += b.invisible_events;
   a.encoded += b.encoded;
   merge_ratio(a.contact_events, b.contact_events);
   for (const auto& [kind, m] : b.missed_by_kind) merge_ratio(a.missed_by_kind[kind], m);
@@ -274,7 +277,7 @@ std::string format_live_offline(const LiveOfflineReport& r) {
                 pct(r.live.grasp_majority));
   out += line;
   const ScoreReport& s = r.live;
-  const int64_t open = s.frames - s.truth_contact;
+  const int64_t open = s.frames - s.truth_contact - s.invisible_contact;
   std::snprintf(line, sizeof(line),
                 "live contact gate: %lld of %lld events seen (%lld missed); frames in contact "
                 "missed %lld of %lld (%.2f %%); false contacts %lld of %lld open-gel frames (%.2f %%)\n",
@@ -285,6 +288,14 @@ std::string format_live_offline(const LiveOfflineReport& r) {
                 static_cast<long long>(s.false_contact), static_cast<long long>(open),
                 open > 0 ? pct(static_cast<double>(s.false_contact) / static_cast<double>(open)) : 0.0);
   out += line;
+  if (s.invisible_events > 0 || s.invisible_contact > 0) {
+    std::snprintf(line, sizeof(line),
+                  "  not counted: %lld events / %lld frames in contact the optics cannot show "
+                  "(signal < %.0f DN)\n",
+                  static_cast<long long>(s.invisible_events),
+                  static_cast<long long>(s.invisible_contact), kInvisibleSignalDn);
+    out += line;
+  }
   out += r.meets_target() ? "targets: met\n" : "targets: NOT met\n";
   return out;
 }

@@ -43,7 +43,7 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
   std::map<std::string, Ratio> head_frames;
   std::map<std::string, int64_t> head_no_contact;
   std::map<std::string, std::map<std::pair<int32_t, int32_t>, std::string>> last_label;
-  std::set<int32_t> events_seen_contact, events_played;
+  std::set<int32_t> events_seen_contact, events_played, events_visible;
   TLV_TRY(read_lines(predictions_path, [&](const json& j) -> Status {
     const std::string type = j.value("type", "");
     if (type == "frame") {
@@ -65,18 +65,23 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
       ++r.frames;
       r.encoded += j.value("encoded", false) ? 1 : 0;
       if (tf.event >= 0) events_played.insert(tf.event);
-      if (tf.contact && tf.event >= 0) {
-        Ratio& k = r.missed_by_kind[truth.events[static_cast<size_t>(tf.event)].kind];
-        ++k.total;
-        k.hits += gated_contact ? 0 : 1;
-      }
-      if (tf.contact) {
+      const bool invisible = tf.contact && tf.signal_dn < kInvisibleSignalDn;
+      if (invisible) {  // nothing a camera can see: counted apart, not a miss of the gate
+        ++r.invisible_contact;
+        r.invisible_seen += gated_contact ? 1 : 0;
+      } else if (tf.contact) {
         ++r.truth_contact;
         if (!gated_contact) {
           ++r.missed_contact;
           r.missed_light += tf.force_n < 1.0 ? 1 : 0;
         } else if (tf.event >= 0) {
           events_seen_contact.insert(tf.event);
+        }
+        if (tf.event >= 0) {
+          events_visible.insert(tf.event);
+          Ratio& k = r.missed_by_kind[truth.events[static_cast<size_t>(tf.event)].kind];
+          ++k.total;
+          k.hits += gated_contact ? 0 : 1;
         }
       } else if (gated_contact) {
         ++r.false_contact;
@@ -125,8 +130,12 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
   int32_t successes = 0;
   for (int32_t e : events_played) {
     const TruthEvent& ev = truth.events[static_cast<size_t>(e)];
-    ++r.contact_events.total;
-    r.contact_events.hits += events_seen_contact.count(e) > 0 ? 1 : 0;
+    if (events_visible.count(e) > 0) {
+      ++r.contact_events.total;
+      r.contact_events.hits += events_seen_contact.count(e) > 0 ? 1 : 0;
+    } else {
+      ++r.invisible_events;
+    }
     if (ev.has_success) {
       ++r.truth_grasps;
       successes += ev.success ? 1 : 0;
@@ -175,6 +184,14 @@ std::string format_score(const ScoreReport& r) {
                 r.frames > 0 ? 100.0 * (1.0 - static_cast<double>(r.encoded) / static_cast<double>(r.frames)) : 0.0,
                 static_cast<long long>(r.contact_events.hits), static_cast<long long>(r.contact_events.total));
   out += line;
+  if (r.invisible_contact > 0) {
+    std::snprintf(line, sizeof(line),
+                  "  contacts the optics cannot show (signal < %.0f DN: smooth flat faces filling "
+                  "the gel): %lld frames (%lld gated as contact), %lld events; not counted above\n",
+                  kInvisibleSignalDn, static_cast<long long>(r.invisible_contact),
+                  static_cast<long long>(r.invisible_seen), static_cast<long long>(r.invisible_events));
+    out += line;
+  }
   for (const auto& [kind, m] : r.missed_by_kind) {
     std::snprintf(line, sizeof(line), "  missed in %s scenes: %lld of %lld frames in contact (%.2f %%)\n",
                   kind.c_str(), static_cast<long long>(m.hits), static_cast<long long>(m.total), pct(m));
@@ -223,6 +240,8 @@ std::string format_score_json(const ScoreReport& r) {
   j["contact"] = {{"truth_contact", r.truth_contact}, {"missed", r.missed_contact},
                   {"missed_under_1n", r.missed_light}, {"false_contact", r.false_contact},
                   {"encoded", r.encoded},
+                  {"invisible_frames", r.invisible_contact}, {"invisible_seen", r.invisible_seen},
+                  {"invisible_events", r.invisible_events},
                   {"events_seen", r.contact_events.hits}, {"events", r.contact_events.total}};
   for (const auto& [kind, m] : r.missed_by_kind)
     j["contact"]["missed_by_kind"][kind] = {{"missed", m.hits}, {"frames", m.total}};

@@ -46,6 +46,7 @@ Result<Truth> read_truth(const std::string& path) {
       TruthFrame& f = t.fingers[finger == "A" ? 0 : 1][static_cast<size_t>(seq)];
       f.contact = j.value("contact", false);
       f.force_n = j.value("force_n", 0.0);
+      f.signal_dn = j.value("signal_dn", 1e9);
       f.event = j.value("event", -1);
     }
     return {};

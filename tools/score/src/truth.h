@@ -19,6 +19,9 @@ using nlohmann::json;
 struct TruthFrame {
   bool contact = false;
   double force_n = 0;
+  // What the optics show: the largest block-mean difference from the open gel, DN (scenarios
+  // before it was recorded: taken as visible).
+  double signal_dn = 1e9;
   int32_t event = -1;
 };
 

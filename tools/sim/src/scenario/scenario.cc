@@ -4,6 +4,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <unistd.h>
@@ -101,6 +102,31 @@ class Timeline {
 const char* hard_label_name(const MaterialSample& m) { return m.hard ? "hard" : "soft"; }
 const char* rough_label_name(const MaterialSample& m) {
   return m.rough == 1 ? "\"rough\"" : m.rough == 0 ? "\"smooth\"" : "null";
+}
+
+// The frame's means over a 32x24 grid of blocks, per channel (the contact gate's reduction).
+void block_means(const Frame& frame, std::vector<float>& out) {
+  constexpr int32_t kGw = 32, kGh = 24;
+  out.assign(static_cast<size_t>(kGw * kGh * 3), 0.0f);
+  std::vector<int32_t> counts(static_cast<size_t>(kGw * kGh), 0);
+  for (int32_t y = 0; y < frame.height; ++y) {
+    const int32_t by = y * kGh / frame.height;
+    for (int32_t x = 0; x < frame.width; ++x) {
+      const auto b = static_cast<size_t>(by * kGw + x * kGw / frame.width);
+      const uint8_t* p = &frame.rgb[(static_cast<size_t>(y) * static_cast<size_t>(frame.width) +
+                                     static_cast<size_t>(x)) * 3];
+      for (size_t c = 0; c < 3; ++c) out[b * 3 + c] += p[c];
+      ++counts[b];
+    }
+  }
+  for (size_t b = 0; b < counts.size(); ++b)
+    for (size_t c = 0; c < 3; ++c) out[b * 3 + c] /= static_cast<float>(std::max(counts[b], 1));
+}
+
+double max_difference(const std::vector<float>& a, const std::vector<float>& b) {
+  float m = 0;
+  for (size_t i = 0; i < a.size() && i < b.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
+  return m;
 }
 
 // Files written under temporary names, renamed when everything is written.
@@ -282,8 +308,13 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
   struct Stored {
     capture::RecordedBytes bytes, offline;
     ContactState state;
+    double signal_dn = 0;
   };
   std::map<uint64_t, Stored> stored[kFingers];
+  // What the optics show of each frame: the largest 32x24 block-mean difference from the
+  // finger's first (open-gel) frame, in DN. A contact the optics cannot show (a smooth flat
+  // face filling the gel leaves every surface normal as it was) stays at the noise's ~1 DN.
+  std::vector<float> open_blocks[kFingers], blocks;
   RawFrame raw;
   RenderOptions render_options;
   render_options.markers = o.markers;
@@ -294,11 +325,13 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
       const int64_t t = k * period + (f == kB ? o.finger_b_phase_ns : 0);
       const auto seq = static_cast<uint32_t>(k);
       ContactState state;
+      double signal_dn = 0;
       auto hit = shot.static_key != 0 ? stored[f].find(shot.static_key) : stored[f].end();
       if (hit != stored[f].end()) {
         TLV_TRY(writers[static_cast<size_t>(f)].append_repeat(hit->second.bytes, t, seq));
         if (o.offline) TLV_TRY(offline[static_cast<size_t>(f)].append_repeat(hit->second.offline, t, seq));
         state = hit->second.state;
+        signal_dn = hit->second.signal_dn;
       } else {
         const uint64_t noise = mix(mix(o.seed, 7 + static_cast<uint64_t>(f)),
                                    shot.static_key != 0 ? shot.static_key : static_cast<uint64_t>(k) << 1);
@@ -315,15 +348,19 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
           TLV_ASSIGN_OR_RETURN(ob, offline[static_cast<size_t>(f)].append(jpeg, t, seq));
         }
         state = raw.processed.state;
+        block_means(raw.processed, blocks);
+        if (open_blocks[f].empty()) open_blocks[f] = blocks;  // the lead-in: the open gel
+        signal_dn = max_difference(blocks, open_blocks[f]);
         ++report.rendered;
-        if (shot.static_key != 0) stored[f][shot.static_key] = {b, ob, state};
+        if (shot.static_key != 0) stored[f][shot.static_key] = {b, ob, state, signal_dn};
       }
       std::fprintf(truth.get(),
                    "{\"type\":\"frame\",\"finger\":\"%s\",\"seq\":%lld,\"offset_ms\":%.3f,"
-                   "\"contact\":%s,\"force_n\":%.3f,\"area_mm2\":%.3f,\"event\":%d}\n",
+                   "\"contact\":%s,\"force_n\":%.3f,\"area_mm2\":%.3f,\"signal_dn\":%.2f,"
+                   "\"event\":%d}\n",
                    kFingerNames[f], static_cast<long long>(k), static_cast<double>(t) * 1e-6,
                    state.in_contact ? "true" : "false", state.force_n, state.contact_area_mm2,
-                   shot.event);
+                   signal_dn, shot.event);
     }
     if (progress) progress(k + 1, total);
   }

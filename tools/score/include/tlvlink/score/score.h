@@ -24,6 +24,15 @@
 
 namespace tlvlink::score {
 
+// A contact frame whose image differs from the open gel by less than this (the largest 32x24
+// block mean, DN; the scenario records it as signal_dn) shows nothing a camera can tell from
+// noise: two frames of the same open gel already differ by up to ~2.7 DN there (DIGIT's
+// noise; tests/sim/scenario checks every open frame stays below this), and a smooth flat face
+// filling the gel leaves every surface normal as it was (0.4 DN without noise). The contact
+// gate cannot be asked to see it; such frames (and events made only of them) are counted
+// apart, and a controller's "closed" mark is what starts a grasp on them.
+inline constexpr double kInvisibleSignalDn = 3.0;
+
 struct Ratio {
   int64_t hits = 0, total = 0;
   double rate() const { return total > 0 ? static_cast<double>(hits) / static_cast<double>(total) : 0.0; }
@@ -54,6 +63,10 @@ struct ScoreReport {
   int64_t missed_contact = 0;      // of those, gated as no contact (false negatives)
   int64_t missed_light = 0;        // of the misses, under 1 N (ramp ends)
   int64_t false_contact = 0;       // gated as contact with the gel open
+  int64_t invisible_contact = 0;   // in contact by the renderer, signal < kInvisibleSignalDn (not
+                                   // in truth_contact; of them, gated as contact below)
+  int64_t invisible_seen = 0;
+  int64_t invisible_events = 0;    // events whose every contact frame is invisible
   int64_t encoded = 0;             // frames the encoder ran on
   Ratio contact_events;            // events whose contact the gate saw at least once
   // Per event kind ("grasp", "press"): frames in contact the gate missed (hits = missed).
