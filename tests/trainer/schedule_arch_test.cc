@@ -172,6 +172,28 @@ TEST(Options, ObjectiveAndAugmentation) {
   for (Objective obj : {Objective::kTlvLink, Objective::kSupervised, Objective::kTlvLinkSupervised})
     EXPECT_EQ(parse_objective(objective_name(obj)).value(), obj);
   EXPECT_FALSE(parse_objective("contrastive").ok());
+  // The sensor-view options: consistency needs views, prediction consistency needs two views
+  // and supervised heads; frames have even sides at least the model input.
+  o.augment = {};
+  o.view.consistency_weight = 1;
+  EXPECT_NE(std::string(validate(o).error().message()).find("needs the view augmentation"),
+            std::string::npos);
+  o.view.components = kViewAll;
+  EXPECT_TRUE(validate(o).ok()) << validate(o).error().message();
+  o.view.prediction_weight = 2;
+  EXPECT_TRUE(validate(o).ok());
+  o.objective = Objective::kTlvLink;
+  EXPECT_NE(std::string(validate(o).error().message()).find("supervised heads"), std::string::npos);
+  o.objective = Objective::kTlvLinkSupervised;
+  o.view.consistency_weight = 0;
+  EXPECT_NE(std::string(validate(o).error().message()).find("two views"), std::string::npos);
+  o.view.consistency_weight = 1;
+  o.view.frame_height = 95;
+  EXPECT_NE(std::string(validate(o).error().message()).find("view frame"), std::string::npos);
+  o.view.frame_height = 240;
+  o.resize = ResizeFilter::kNearest;
+  EXPECT_NE(std::string(validate(o).error().message()).find("resize filter nearest"),
+            std::string::npos);
 }
 
 TEST(Options, RoundTripThroughJson) {
@@ -195,14 +217,29 @@ TEST(Options, RoundTripThroughJson) {
   EXPECT_EQ(back.supervised_weight, 0.25);
   EXPECT_EQ(back.augment.gain_sigma, 0.1);
   EXPECT_EQ(back.augment.noise_dn, 3);
+  EXPECT_EQ(back.resize, ResizeFilter::kBilinear);
+  EXPECT_FALSE(back.view.enabled());
+  o.resize = ResizeFilter::kArea;
+  o.view.components = kViewCodec | kViewBlur;
+  o.view.consistency_weight = 4;
+  o.view.prediction_weight = 2;
+  ASSERT_TRUE(options_from_json(options_to_json(o), back).ok());
+  EXPECT_EQ(back.resize, ResizeFilter::kArea);
+  EXPECT_EQ(back.view.components, kViewCodec | kViewBlur);
+  EXPECT_EQ(back.view.consistency_weight, 4);
+  EXPECT_EQ(back.view.prediction_weight, 2);
   // A checkpoint written before the objective existed trained TLV-Link without augmentation.
   nlohmann::ordered_json old = options_to_json(o);
   old.erase("objective");
   old.erase("supervised_weight");
   old.erase("augment");
+  old.erase("view");
+  old["resize"] = "bilinear";
   ASSERT_TRUE(options_from_json(old, back).ok());
   EXPECT_EQ(back.objective, Objective::kTlvLink);
   EXPECT_FALSE(back.augment.enabled());
+  EXPECT_FALSE(back.view.enabled());
+  EXPECT_EQ(back.resize, ResizeFilter::kBilinear);
 }
 
 TEST(Augment, SeededCameraLikeFrames) {

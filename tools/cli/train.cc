@@ -182,6 +182,12 @@ void add_train_command(CLI::App& app, int& exit_code) {
                           "weight times their embeddings' mean (1 - cosine); 0 = one view")
               ->check(CLI::Range(0.0, 100.0))
               ->capture_default_str());
+  setting(cmd->add_option("--prediction-consistency-weight", o.view.prediction_weight,
+                          "With two views and a supervised objective: this weight times the "
+                          "supervised heads' disagreement between the views (symmetric KL; the "
+                          "contact read-out's squared difference); 0 = off")
+              ->check(CLI::Range(0.0, 100.0))
+              ->capture_default_str());
   setting(cmd->add_option("--teacher", o.teacher.torchscript,
                           "TorchScript vision encoder (.pt): float [N,3,H,W] RGB normalised by "
                           "--teacher-mean/--teacher-std -> [N,D]; default: the built-in teacher"));

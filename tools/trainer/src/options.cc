@@ -64,6 +64,16 @@ Status validate(const TrainOptions& o) {
                  v.consistency_weight <= 100,
              ErrorCode::kInvalidArgument, "consistency weight %g outside [0, 100]",
              v.consistency_weight);
+  TLV_ENSURE(std::isfinite(v.prediction_weight) && v.prediction_weight >= 0 &&
+                 v.prediction_weight <= 100,
+             ErrorCode::kInvalidArgument, "prediction consistency weight %g outside [0, 100]",
+             v.prediction_weight);
+  TLV_ENSURE(v.prediction_weight == 0 ||
+                 (v.consistency_weight > 0 && o.objective != Objective::kTlvLink),
+             ErrorCode::kInvalidArgument,
+             "a prediction consistency weight (%g) needs two views (--consistency-weight) and "
+             "the supervised heads (objective supervised or tlv-link+supervised)",
+             v.prediction_weight);
   TLV_ENSURE(v.consistency_weight == 0 || v.enabled(), ErrorCode::kInvalidArgument,
              "a consistency weight (%g) needs the view augmentation (--augment-view): two views "
              "without it are the same frame", v.consistency_weight);
@@ -153,6 +163,7 @@ nlohmann::ordered_json options_to_json(const TrainOptions& o) {
                    {"noise_dn", o.augment.noise_dn}}},
       {"view", {{"components", view_components_name(o.view.components)},
                 {"consistency_weight", o.view.consistency_weight},
+                {"prediction_weight", o.view.prediction_weight},
                 {"frame", {o.view.frame_height, o.view.frame_width}}}},
       {"lr", o.lr.lr},
       {"warmup_steps", o.lr.warmup_steps},
@@ -217,6 +228,7 @@ Status options_from_json(const nlohmann::ordered_json& j, TrainOptions& o) {
       TLV_ASSIGN_OR_RETURN(o.view.components,
                            parse_view_components(j.at("view").at("components").get<std::string>()));
       o.view.consistency_weight = j.at("view").at("consistency_weight").get<double>();
+      o.view.prediction_weight = j.at("view").value("prediction_weight", 0.0);
       o.view.frame_height = j.at("view").at("frame").at(0).get<int32_t>();
       o.view.frame_width = j.at("view").at("frame").at(1).get<int32_t>();
     } else {

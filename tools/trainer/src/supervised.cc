@@ -2,6 +2,7 @@
 
 #include "supervised.h"
 
+#include <torch/nn/functional/activation.h>
 #include <torch/nn/functional/loss.h>
 
 namespace tlvlink::trainer {
@@ -40,6 +41,20 @@ torch::Tensor SupervisedHeadsImpl::loss(const torch::Tensor& e, const torch::Ten
                                         const torch::Tensor& h, const torch::Tensor& r) {
   return masked_ce(material->forward(e), m) + masked_ce(hard->forward(e), h) +
          masked_ce(rough->forward(e), r);
+}
+
+torch::Tensor SupervisedHeadsImpl::agreement_loss(const torch::Tensor& e1, const torch::Tensor& e2) {
+  namespace F = torch::nn::functional;
+  const auto symmetric_kl = [](const torch::Tensor& a, const torch::Tensor& b) {
+    const torch::Tensor la = F::log_softmax(a, F::LogSoftmaxFuncOptions(1));
+    const torch::Tensor lb = F::log_softmax(b, F::LogSoftmaxFuncOptions(1));
+    return ((la.exp() - lb.exp()) * (la - lb)).sum(1).mean();  // KL(a||b) + KL(b||a)
+  };
+  torch::Tensor loss = symmetric_kl(material->forward(e1), material->forward(e2)) +
+                       symmetric_kl(hard->forward(e1), hard->forward(e2)) +
+                       symmetric_kl(rough->forward(e1), rough->forward(e2));
+  if (has_contact()) loss = loss + (contact->forward(e1) - contact->forward(e2)).pow(2).mean();
+  return loss;
 }
 
 torch::Tensor label_batch(const std::vector<int32_t>& labels, const std::vector<int64_t>& idx) {

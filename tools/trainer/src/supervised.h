@@ -38,6 +38,10 @@ class SupervisedHeadsImpl : public torch::nn::Module {
   // log_force / friction [B] float, NaN = no target. Requires with_contact.
   torch::Tensor contact_loss(const torch::Tensor& embedding, const torch::Tensor& log_force,
                              const torch::Tensor& friction);
+  // Two views of the same samples should get the same answers: the symmetric KL divergence of
+  // each classification head's distributions (mean over the batch, summed over the heads), plus
+  // the mean squared difference of the contact read-out when there is one. e1, e2 [B, D].
+  torch::Tensor agreement_loss(const torch::Tensor& e1, const torch::Tensor& e2);
   bool has_contact() const { return !contact.is_empty(); }
   torch::nn::Linear material{nullptr}, hard{nullptr}, rough{nullptr};
   torch::nn::Linear contact{nullptr};  // [D] -> (log force, friction), standardised

@@ -433,6 +433,9 @@ Result<TrainSummary> train(const TrainOptions& requested) {
       const torch::Tensor agree = F::cosine_similarity(
           per_view[0], per_view[1], F::CosineSimilarityFuncOptions().dim(1));
       loss = loss + o.view.consistency_weight * (1.0 - agree).mean();
+      if (o.view.prediction_weight > 0 && supervised) {
+        loss = loss + o.view.prediction_weight * state.heads->agreement_loss(per_view[0], per_view[1]);
+      }
     }
     optimizer->zero_grad();
     loss.backward();

@@ -103,6 +103,11 @@ struct ViewAugmentOptions {
   // > 0: two views of every sample per step, both in the losses, plus this weight times the
   // mean (1 - cosine) between the two views' embeddings (needs components).
   double consistency_weight = 0;
+  // > 0 with two views and the supervised heads: this weight times the heads' disagreement
+  // between the views (symmetric KL of each head's distributions, squared difference of the
+  // contact read-out). The cosine term treats every direction of the embedding alike; this one
+  // holds still the directions the answers are read from.
+  double prediction_weight = 0;
   // The size the views are made at: the sensors' processed frame (every profile's is 240x320).
   int32_t frame_height = 240, frame_width = 320;
   bool enabled() const { return components != 0; }
