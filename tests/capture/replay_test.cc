@@ -208,6 +208,24 @@ TEST(Replay, RealtimeKeepsTheCamerasPaceAndSkipsStaleFrames) {
   std::remove(path.c_str());
 }
 
+TEST(Replay, FramesDueBeforeTheFirstReadKeepTheRecordingsNumbers) {
+  // A daemon starts its replay, then loads its model: frames that fell due meanwhile are skipped
+  // as stale, and the first frame delivered keeps its recorded sequence (it was numbered 0,
+  // shifting every later frame against the recording and its ground truth).
+  const std::string path = write_recording("late_reader", 10);  // 10 frames, 40 ms apart
+  ReplayConfig c;
+  c.path = path;
+  auto src = make_replay_source(c);
+  ASSERT_TRUE((*src)->start().ok());
+  ::usleep(130'000);
+  auto f = (*src)->next(1000);
+  ASSERT_TRUE(f.ok());
+  EXPECT_GE(f->sequence, 3u);
+  EXPECT_EQ(f->skipped_before, f->sequence);  // every earlier frame, counted as stale
+  EXPECT_EQ((*src)->stats().skipped_stale, f->sequence);
+  std::remove(path.c_str());
+}
+
 TEST(Replay, NoFrameBeforeItsTimeIsATimeout) {
   // The first frame is recorded 300 ms after the origin: asking with 1 ms to spare times out.
   const std::string path = temp_path("late_first");

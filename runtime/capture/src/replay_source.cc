@@ -38,6 +38,7 @@ class ReplaySource final : public FrameSource {
     const double fps = stats_.nominal_fps > 0 ? stats_.nominal_fps : 25.0;
     loop_span_ns_ = s.last_offset_ns - s.first_offset_ns + static_cast<int64_t>(1e9 / fps);
     loop_sequences_ = s.last_sequence - s.first_sequence + 1;
+    first_sequence_ = s.first_sequence;
     passes_ = 0;
     next_record_ = reader_->first_record();
     start_ns_ = monotonic_ns();
@@ -102,7 +103,10 @@ class ReplaySource final : public FrameSource {
       CapturedFrame f;
       f.bytes = raw.bytes;
       f.format = format_;
-      f.sequence = accounting_.sequence();
+      // The recording's own numbering from its first frame (continued across loops), not a count
+      // from the first frame delivered: frames skipped before it (due while the daemon was still
+      // starting) must not shift every later frame's sequence against the recording's.
+      f.sequence = raw.sequence - first_sequence_;
       f.timestamp_ns = stamp;
       f.skipped_before = stale;
       return f;
@@ -146,6 +150,7 @@ class ReplaySource final : public FrameSource {
   uint64_t next_record_ = 0;
   uint32_t passes_ = 0;
   uint32_t loop_sequences_ = 0;
+  uint32_t first_sequence_ = 0;  // the recording's first frame's sequence
   int64_t loop_span_ns_ = 0;
   int64_t start_ns_ = 0;
 };

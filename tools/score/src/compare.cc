@@ -291,7 +291,7 @@ std::string format_live_offline(const LiveOfflineReport& r) {
   if (s.invisible_events > 0 || s.invisible_contact > 0) {
     std::snprintf(line, sizeof(line),
                   "  not counted: %lld events / %lld frames in contact the optics cannot show "
-                  "(signal < %.0f DN)\n",
+                  "(signal < %.1f DN)\n",
                   static_cast<long long>(s.invisible_events),
                   static_cast<long long>(s.invisible_contact), kInvisibleSignalDn);
     out += line;

@@ -186,7 +186,7 @@ std::string format_score(const ScoreReport& r) {
   out += line;
   if (r.invisible_contact > 0) {
     std::snprintf(line, sizeof(line),
-                  "  contacts the optics cannot show (signal < %.0f DN: smooth flat faces filling "
+                  "  contacts the optics cannot show (signal < %.1f DN: smooth flat faces filling "
                   "the gel): %lld frames (%lld gated as contact), %lld events; not counted above\n",
                   kInvisibleSignalDn, static_cast<long long>(r.invisible_contact),
                   static_cast<long long>(r.invisible_seen), static_cast<long long>(r.invisible_events));
