@@ -15,6 +15,7 @@
 
 #include "data_cache.h"
 #include "tlvlink/io/npy.h"
+#include "tlvlink/io/sensor_frame.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/model.h"
 #include "tlvlink/text/text_encoder.h"
@@ -238,6 +239,16 @@ TEST_F(Trainer, SensorViewsWithConsistencyAreReproducibleResumeAndExportTheirRes
   auto model = Model::load_file(e.output.c_str());
   ASSERT_TRUE(model.ok());
   EXPECT_EQ((*model)->metadata().input.resize_filter, ResizeFilter::kArea);
+  // The model records the camera views it learnt, and a frame of another sensor is refused.
+  EXPECT_EQ(tools::trained_sensors(**model), std::vector<std::string>{"gelsight-mini"});
+  tools::SensorFrame digit;
+  digit.sensor = "digit";
+  const Status refused = tools::check_trained_sensor(**model, digit, "d.png");
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(std::string(refused.error().message()).find("trained on gelsight-mini frames only"),
+            std::string::npos);
+  digit.sensor = "gelsight-mini";
+  EXPECT_TRUE(tools::check_trained_sensor(**model, digit, "m.png").ok());
 }
 
 TEST_F(Trainer, ContactRegressionReadsTheSidecarTrainsAndResumes) {

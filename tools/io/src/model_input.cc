@@ -127,6 +127,7 @@ Status load_sensor_input(const std::string& path, std::string_view sensor, const
     return model_input_from_bytes(bytes, path, model, dst);  // a tensor, or an image as it is
   }
   TLV_ASSIGN_OR_RETURN(SensorFrame frame, sensor_frame_from_bytes(bytes, path, sensor));
+  TLV_TRY(check_trained_sensor(model, frame, path));
   note = frame.note;
   return image_input(frame.view, path, model, dst);
 }

@@ -2,8 +2,11 @@
 
 #include "tlvlink/io/sensor_frame.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+
+#include <nlohmann/json.hpp>
 
 #include "tlvlink/capture/still_frame.h"
 #include "tlvlink/io/model_input.h"
@@ -109,6 +112,34 @@ Result<SensorFrame> sensor_frame_from_bytes(std::span<const std::byte> bytes,
   f.view = std::move(image);
   f.note = note;
   return f;
+}
+
+std::vector<std::string> trained_sensors(const Model& model) {
+  std::vector<std::string> out;
+  const std::string_view text = model.metadata().provenance.training;
+  const nlohmann::json j = nlohmann::json::parse(text.begin(), text.end(), nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("dataset")) return out;
+  const nlohmann::json& d = j["dataset"];
+  if (!d.is_object() || !d.contains("sensors") || !d["sensors"].is_array()) return out;
+  for (const nlohmann::json& s : d["sensors"])
+    if (s.is_string()) out.push_back(s.get<std::string>());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+Status check_trained_sensor(const Model& model, const SensorFrame& frame, const std::string& name) {
+  if (frame.sensor.empty()) return {};
+  const std::vector<std::string> sensors = trained_sensors(model);
+  if (sensors.empty() || std::find(sensors.begin(), sensors.end(), frame.sensor) != sensors.end()) {
+    return {};
+  }
+  std::string list;
+  for (const std::string& s : sensors) list += (list.empty() ? "" : ", ") + s;
+  return Error::make(ErrorCode::kShapeMismatch,
+                     "%s: a %s frame, and the model was trained on %s frames only: its view, "
+                     "colours and scale are not what the model learnt (fit heads on your own "
+                     "frames, or use a model trained for %s)",
+                     name.c_str(), frame.sensor.c_str(), list.c_str(), frame.sensor.c_str());
 }
 
 }  // namespace tlvlink::tools

@@ -138,6 +138,10 @@ Result<DataCache> load_cache(const CacheOptions& o) {
     const bool labelled = s.material.class_id >= 0;
     const bool touching = labelled && s.contact.in_contact && s.contact.force_n > 0 &&
                           std::isfinite(s.contact.force_n) && s.material.friction > 0;
+    if (!s.sensor.empty() &&
+        std::find(cache.sensors.begin(), cache.sensors.end(), s.sensor) == cache.sensors.end()) {
+      cache.sensors.push_back(s.sensor);
+    }
     pending.push_back({key, s.sentence_desc, join_phrases(s.phrases), s.material.class_id,
                        labelled ? (s.material.hard ? 1 : 0) : -1,
                        labelled ? s.material.rough : -1,
@@ -232,6 +236,7 @@ Result<DataCache> load_cache(const CacheOptions& o) {
   cache.vision.resize(kept * cache.vision_stride());
   cache.touch.shrink_to_fit();
   cache.vision.shrink_to_fit();
+  std::sort(cache.sensors.begin(), cache.sensors.end());
   cache.load_summary = loader->report().summary();
   if (!problems.empty()) {
     cache.load_summary += "; " + std::to_string(problems.size()) +

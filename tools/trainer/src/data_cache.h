@@ -50,6 +50,9 @@ struct DataCache {
   std::vector<float> log_force;
   std::vector<float> friction;
   std::string split_source;                 // "sidecar" or "session hash (test fraction f)"
+  // The sensor profiles the samples were recorded on (sorted; empty when the set does not say):
+  // the camera views the model is trained for, recorded in the model.
+  std::vector<std::string> sensors;
   std::string load_summary;                 // the loader's LoadReport summary
   int64_t skipped_other_split = 0;
 

@@ -4,7 +4,9 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cstring>
+#include <fstream>
 
 #include "tlvlink/io/file.h"
 #include "tlvlink/image/jpeg.h"
@@ -151,6 +153,24 @@ Status add_golden(const ExportOptions& o, const nlohmann::ordered_json& meta, En
   return {};
 }
 
+// The sensor profiles a simulated set records in its tlvlink_sim.json ("sensor": a name or a
+// comma list); empty when it is gone or says nothing.
+std::vector<std::string> sensors_of_set(const std::string& dir) {
+  std::vector<std::string> out;
+  std::ifstream in(dir + "/tlvlink_sim.json");
+  if (!in) return out;
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded() || !j.contains("sensor") || !j["sensor"].is_string()) return out;
+  const std::string list = j["sensor"].get<std::string>();
+  for (size_t start = 0; start <= list.size();) {
+    const size_t comma = std::min(list.find(',', start), list.size());
+    if (comma > start) out.push_back(list.substr(start, comma - start));
+    start = comma + 1;
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 }  // namespace
 
 Result<ExportSummary> export_model(const ExportOptions& o) {
@@ -204,6 +224,10 @@ Result<ExportSummary> export_model(const ExportOptions& o) {
   }
   // Linear probes and the grasp head are fitted later on runtime embeddings (tlvlink heads fit).
   m.producer = "tlvlink export";
+  // The camera views the model learnt (tlvlink infer checks a frame's sensor against them).
+  // Checkpoints written before they were recorded: the training set's own description.
+  nlohmann::ordered_json dataset = meta.at("dataset");
+  if (!dataset.contains("sensors")) dataset["sensors"] = sensors_of_set(dataset.value("dir", ""));
   nlohmann::ordered_json training = {
       {"kind", objective},
       {"trained", true},
@@ -215,7 +239,7 @@ Result<ExportSummary> export_model(const ExportOptions& o) {
       {"text_encoder", meta.at("text_encoder")},
       {"zero_shot_text_encoder", (*encoder)->description()},
       {"teacher", meta.at("teacher")},
-      {"dataset", meta.at("dataset")},
+      {"dataset", dataset},
       {"steps", meta.at("step")},
       {"total_steps", meta.at("total_steps")},
       {"epoch_losses", meta.at("epoch_losses")},

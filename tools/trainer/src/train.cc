@@ -322,7 +322,8 @@ Result<TrainSummary> train(const TrainOptions& requested) {
                          {"seed", o.text.seed}};
     m["teacher"] = teacher_provenance;
     m["teacher_dim"] = teacher_dim;
-    m["dataset"] = {{"dir", o.data_dir}, {"train_samples", n}, {"split_source", cache.split_source},
+    m["dataset"] = {{"dir", o.data_dir}, {"train_samples", n}, {"sensors", cache.sensors},
+                    {"split_source", cache.split_source},
                     {"load_summary", cache.load_summary}};
     m["data_fingerprint"] = std::to_string(cache.fingerprint());
     m["step"] = next_step;

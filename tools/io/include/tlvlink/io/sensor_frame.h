@@ -13,9 +13,11 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "tlvlink/error.h"
 #include "tlvlink/io/image.h"
+#include "tlvlink/model.h"
 
 namespace tlvlink::tools {
 
@@ -33,5 +35,13 @@ Result<SensorFrame> sensor_frame_from_bytes(std::span<const std::byte> bytes,
 
 // The known sensor names, comma-separated (for help texts and errors).
 std::string known_sensor_names();
+
+// The sensors whose frames the model was trained on, as its provenance records them
+// (training.dataset.sensors; sorted); empty when it records none (ONNX imports, older files).
+std::vector<std::string> trained_sensors(const Model& model);
+
+// `frame` (read as `frame.sensor`) is one the model was trained for: kShapeMismatch naming both
+// otherwise. A model that records no sensors, or a frame of no known sensor, passes.
+Status check_trained_sensor(const Model& model, const SensorFrame& frame, const std::string& name);
 
 }  // namespace tlvlink::tools
