@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Trains the default model: `tiny` with TLV-Link's default settings except the learning rate (see
-# below) on a simulator set, then exports it to a float .tlvm.
+# below) and with the sensor-view recipe, on a simulator set, then exports it to a float .tlvm.
 #   tools/trainer/train_default.sh [--no-curriculum | --data-only] [OUT_DIR] [-- EXTRA TRAIN FLAGS]
 #   (OUT_DIR: /tmp/tlvlink-default; extra flags, e.g. `-- --lr 1e-3`, go to `tlvlink train`)
 # Steps: (1) generate the Touch100k-format set with a fixed seed (reused when OUT_DIR/data
@@ -77,7 +77,14 @@ if [ $data_only -eq 1 ]; then
 fi
 
 dir=$out
-flags=(--objective "$objective")
+# The sensor-view recipe (README "Sensor-view augmentation"; issue 29): the model input is the
+# area average of the frame, every frame becomes two views of the same touch as other sensors
+# and links show it (mounting, optics, LEDs, dust, focus, noise, codec), and the two must embed
+# alike (cosine, weight 10) and answer alike (the supervised heads' symmetric KL, weight 2;
+# supervised objectives only).
+view_flags=(--resize area --augment-view all --consistency-weight 10)
+[ "$objective" != tlv-link ] && view_flags+=(--prediction-consistency-weight 2)
+flags=(--objective "$objective" "${view_flags[@]}")
 if [ "$variant" = no-curriculum ]; then dir=$out/no-curriculum; flags+=(--no-curriculum); fi
 mkdir -p "$dir"
 echo "== 2/3 train $arch ($variant, $objective), threads $threads -> $dir/$name.ckpt"

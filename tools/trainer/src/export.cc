@@ -153,15 +153,17 @@ Status add_golden(const ExportOptions& o, const nlohmann::ordered_json& meta, En
   return {};
 }
 
-// The sensor profiles a simulated set records in its tlvlink_sim.json ("sensor": a name or a
-// comma list); empty when it is gone or says nothing.
+// The sensor profiles a simulated set records in its tlvlink_sim.json (generator.sensor: a name
+// or a comma list); empty when it is gone or says nothing.
 std::vector<std::string> sensors_of_set(const std::string& dir) {
   std::vector<std::string> out;
   std::ifstream in(dir + "/tlvlink_sim.json");
   if (!in) return out;
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  if (j.is_discarded() || !j.contains("sensor") || !j["sensor"].is_string()) return out;
-  const std::string list = j["sensor"].get<std::string>();
+  if (j.is_discarded() || !j.contains("generator") || !j["generator"].is_object()) return out;
+  const nlohmann::json& g = j["generator"];
+  if (!g.contains("sensor") || !g["sensor"].is_string()) return out;
+  const std::string list = g["sensor"].get<std::string>();
   for (size_t start = 0; start <= list.size();) {
     const size_t comma = std::min(list.find(',', start), list.size());
     if (comma > start) out.push_back(list.substr(start, comma - start));
