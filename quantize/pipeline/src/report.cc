@@ -149,8 +149,12 @@ std::string format_summary(const QuantizeRun& run) {
   }
   std::snprintf(line, sizeof(line), "; total %.1f s", total);
   add("time", t + line);
-  std::snprintf(line, sizeof(line), "%s (%zu bytes, %zu golden pairs from held-out frames)",
-                run.output_path.c_str(), run.output_bytes, run.golden_pairs);
+  std::snprintf(line, sizeof(line), "%s (%zu bytes, %zu golden pairs from held-out frames%s)",
+                run.output_path.c_str(), run.output_bytes, run.golden_pairs,
+                run.golden_skipped > 0
+                    ? (", " + std::to_string(run.golden_skipped) +
+                       " skipped: the executors round a half-way case apart on them").c_str()
+                    : "");
   add("wrote", line);
   return s;
 }

@@ -30,6 +30,7 @@ struct QuantizeRun {
   std::optional<CorrectedModel> corrected;  // with bias correction (its model moved to quantized)
   std::optional<ModelError> error;          // none: no held-out frames
   size_t output_bytes = 0, golden_pairs = 0;
+  int golden_skipped = 0;  // held-out frames an executor here could not reproduce (a rounding tie)
   std::vector<std::pair<std::string, double>> timing;  // phase, seconds
   std::string tasks_table;  // fp32 vs int8 task accuracies (eval), empty if not run
   nlohmann::json tasks_json;
