@@ -2,8 +2,11 @@
 // "no reader" state, absent devices, and the link strings of transport_spec.h.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "support/temp_dir.h"
@@ -55,6 +58,37 @@ TEST(PtyTransport, BytesBothWaysThroughTheLink) {
   EXPECT_EQ(read_some(*host.value(), 10), std::string("hello\0host", 10));
   write_all(*host.value(), "\r\nboard\x7f");
   EXPECT_EQ(read_some(board, 8), "\r\nboard\x7f");
+}
+
+// Issue 31: a `pty:PATH` naming somebody's file refuses (at make_transport, which --check runs,
+// and at open); the file is left byte-identical. A stale link to a pty slave is replaced.
+TEST(PtyTransport, NeverReplacesAFileThatIsNotItsLink) {
+  testing::TempDir dir("pty");
+  const std::string notes = dir / "notes.txt";
+  std::ofstream(notes) << "my notes\n";
+  Result<std::unique_ptr<Transport>> spec = make_transport("pty:" + notes);
+  ASSERT_FALSE(spec.ok());
+  EXPECT_EQ(spec.error().code(), ErrorCode::kInvalidArgument);
+  EXPECT_NE(std::string(spec.error().message()).find(notes + " already exists"), std::string::npos)
+      << spec.error().message();
+  PtyTransport board({notes});
+  Status s = board.open();
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(std::string(s.error().message()).find("a regular file"), std::string::npos) << s.error().message();
+  board.close();
+  struct stat st {};
+  ASSERT_EQ(::lstat(notes.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISREG(st.st_mode));
+  std::ifstream in(notes);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "my notes\n");
+  // A symlink elsewhere is refused too; one to a pty slave (a killed run's) is taken over.
+  const std::string other = dir / "other";
+  ASSERT_EQ(::symlink(notes.c_str(), other.c_str()), 0);
+  EXPECT_FALSE(PtyTransport({other}).open().ok());
+  const std::string stale = dir / "stale";
+  ASSERT_EQ(::symlink("/dev/pts/999", stale.c_str()), 0);
+  PtyTransport again({stale});
+  EXPECT_TRUE(again.open().ok());
 }
 
 TEST(PtyTransport, ReaderGoneAndBack) {

@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
 #include <stdlib.h>
 #include <termios.h>
 #include <unistd.h>
@@ -14,12 +15,35 @@
 #include <cstring>
 
 #include "fd_util.h"
+#include "tlvlink/regular_file.h"
 
 namespace tlvlink::transport {
 namespace {
 // While nobody has the slave open the master polls as hung up at once: look again this often.
 constexpr int kAbsentPollMs = 20;
 }  // namespace
+
+Status check_pty_link(const std::string& link) {
+  if (link.empty()) return Status();
+  struct stat st {};
+  if (::lstat(link.c_str(), &st) != 0) {
+    TLV_ENSURE(errno == ENOENT, ErrorCode::kInvalidArgument, "pty link %s: %s", link.c_str(),
+               std::strerror(errno));
+    return Status();
+  }
+  // Only a link to a pty slave is one a daemon made (maybe a run that was killed): anything else
+  // is somebody's file, which replacing would destroy.
+  char target[128];
+  const ssize_t n = S_ISLNK(st.st_mode) ? ::readlink(link.c_str(), target, sizeof(target) - 1) : -1;
+  TLV_ENSURE(n > 0 && std::string_view(target, static_cast<size_t>(n)).rfind("/dev/pts/", 0) == 0,
+             ErrorCode::kInvalidArgument,
+             "pty link %s already exists and is not a symlink to a /dev/pts slave (%s): "
+             "refusing to replace it; remove it or choose another path",
+             link.c_str(), S_ISLNK(st.st_mode) ? "a symlink elsewhere"
+                           : S_ISREG(st.st_mode) ? "a regular file"
+                                                 : file_type_name(st.st_mode));
+  return Status();
+}
 
 PtyTransport::PtyTransport(PtyConfig config) : config_(std::move(config)), wake_(internal::make_wake_fd()) {
   name_ = "pty";
@@ -33,6 +57,7 @@ PtyTransport::~PtyTransport() {
 
 Status PtyTransport::open() {
   close();
+  TLV_TRY(check_pty_link(config_.link));
   const int m = posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
   if (m < 0) return Error::make(ErrorCode::kTransport, "posix_openpt: %s", std::strerror(errno));
   char path[128];

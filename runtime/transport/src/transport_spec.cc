@@ -76,6 +76,7 @@ Result<std::unique_ptr<Transport>> make_transport(std::string_view text) {
   if (spec.scheme == "pty") {
     TLV_ENSURE(spec.options.empty(), ErrorCode::kInvalidArgument, "link '%.*s': pty takes no options",
                static_cast<int>(text.size()), text.data());
+    if (Status st = check_pty_link(spec.path); !st.ok()) return st.error();
     return std::unique_ptr<Transport>(std::make_unique<PtyTransport>(PtyConfig{spec.path}));
   }
   if (spec.scheme == "usb") {

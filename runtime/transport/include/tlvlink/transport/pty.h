@@ -18,6 +18,10 @@ struct PtyConfig {
   std::string link;  // symlink to the slave, replaced atomically; empty: none
 };
 
+// kInvalidArgument unless `link` is absent or a symlink to a /dev/pts slave (left by an earlier
+// run): open() never replaces a regular file or anything else that happens to be at that path.
+Status check_pty_link(const std::string& link);
+
 class PtyTransport final : public Transport {
  public:
   explicit PtyTransport(PtyConfig config);
