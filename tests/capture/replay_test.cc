@@ -2,8 +2,10 @@
 // are errors naming the offset or skipped-and-counted frames; replay paces, skips stale frames,
 // loops and ends like a camera would.
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -13,6 +15,7 @@
 
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/capture/replay_source.h"
+#include "tlvlink/crc32.h"
 
 namespace tlvlink::capture {
 namespace {
@@ -205,6 +208,7 @@ TEST(Replay, RealtimeKeepsTheCamerasPaceAndSkipsStaleFrames) {
   EXPECT_EQ(f->timestamp_ns - first->timestamp_ns,
             static_cast<int64_t>(f->sequence) * 40 * kMs);  // the recorded spacing, exactly
   EXPECT_EQ((*src)->stats().skipped_stale, f->sequence - 1);
+  EXPECT_EQ((*src)->stats().dropped, 0u) << "a stale skip counted again as a sequence gap";
   std::remove(path.c_str());
 }
 
@@ -247,6 +251,90 @@ TEST(Replay, NoFrameBeforeItsTimeIsATimeout) {
   auto f = (*src)->next(2000);
   ASSERT_TRUE(f.ok()) << f.error().message();
   std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace tlvlink::capture
+
+namespace tlvlink::capture {
+namespace {
+
+// Issue 31: a record whose length is forged (its header checksum made valid again) ends the scan
+// early; the replay says so and counts the lost frame instead of ending as if the file were whole.
+TEST(Replay, ForgedRecordLengthIsCountedAndNamedAtTheEnd) {
+  const std::string path = write_recording("forged", 10);
+  const uint64_t third = kRecordingHeaderBytes + 2 * (kRecordHeaderBytes + kW * kH * 2);
+  const int fd = ::open(path.c_str(), O_RDWR);
+  uint8_t h[kRecordHeaderBytes];
+  ASSERT_EQ(::pread(fd, h, sizeof h, static_cast<off_t>(third)), static_cast<ssize_t>(sizeof h));
+  const uint32_t forged = 1u << 20;  // within the limit, past the end of the file
+  for (int i = 0; i < 4; ++i) h[20 + i] = static_cast<uint8_t>(forged >> (8 * i));
+  const uint32_t crc = crc32(h, 28);
+  for (int i = 0; i < 4; ++i) h[28 + i] = static_cast<uint8_t>(crc >> (8 * i));
+  ASSERT_EQ(::pwrite(fd, h, sizeof h, static_cast<off_t>(third)), static_cast<ssize_t>(sizeof h));
+  ::close(fd);
+  ReplayConfig c;
+  c.path = path;
+  c.realtime = false;
+  auto src = make_replay_source(c);
+  ASSERT_TRUE((*src)->start().ok());
+  int delivered = 0;
+  Error end;
+  for (;;) {
+    auto f = (*src)->next(100);
+    if (!f.ok()) {
+      end = f.error();
+      break;
+    }
+    ++delivered;
+  }
+  EXPECT_EQ(delivered, 2);
+  EXPECT_EQ(end.code(), ErrorCode::kCaptureEndOfStream);
+  EXPECT_NE(std::string(end.message()).find("incomplete last record ignored"), std::string::npos)
+      << end.message();
+  EXPECT_EQ((*src)->stats().short_frames, 1u);
+  std::remove(path.c_str());
+}
+
+// Looping over a recording in which no frame is good must end, not spin inside next().
+TEST(Replay, LoopWithNoGoodFrameIsAnErrorNotASpin) {
+  const std::string path = write_recording("all_bad", 5);
+  const int fd = ::open(path.c_str(), O_RDWR);
+  uint64_t at = kRecordingHeaderBytes;
+  for (int k = 0; k < 5; ++k) {
+    const uint8_t x = 0xA5;
+    const bool repeat = k == 3;  // repeats frame 1's bytes, already damaged
+    if (!repeat) {
+      ASSERT_EQ(::pwrite(fd, &x, 1, static_cast<off_t>(at + kRecordHeaderBytes + 1)), 1);
+    }
+    at += kRecordHeaderBytes + (repeat ? kRepeatStoredBytes : kW * kH * 2);
+  }
+  ::close(fd);
+  ReplayConfig c;
+  c.path = path;
+  c.realtime = false;
+  c.loop = true;
+  auto src = make_replay_source(c);
+  ASSERT_TRUE((*src)->start().ok());
+  const auto t0 = std::chrono::steady_clock::now();
+  auto f = (*src)->next(100);
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1));
+  ASSERT_FALSE(f.ok());
+  EXPECT_EQ(f.error().code(), ErrorCode::kFormat);
+  EXPECT_NE(std::string(f.error().message()).find("no good frame in a whole pass"), std::string::npos)
+      << f.error().message();
+  std::remove(path.c_str());
+}
+
+TEST(Replay, AFifoIsRefusedWithoutBlocking) {
+  const std::string fifo = temp_path("fifo");
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto r = RecordingReader::open(fifo);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(std::string(r.error().message()).find("not a regular file (FIFO)"), std::string::npos)
+      << r.error().message();
+  std::remove(fifo.c_str());
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "recording_format.h"
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/crc32.h"
+#include "tlvlink/regular_file.h"
 
 namespace tlvlink::capture {
 namespace {
@@ -32,15 +33,19 @@ Result<bool> pread_all(int fd, uint8_t* out, size_t size, uint64_t offset, const
 }  // namespace
 
 Result<RecordingReader> RecordingReader::open(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  // O_NONBLOCK: a FIFO answers at once (and is refused below) instead of blocking the open.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
   TLV_ENSURE(fd >= 0, ErrorCode::kIo, "recording %s: cannot open: %s", path.c_str(),
              std::strerror(errno));
   RecordingReader r;
   r.path_ = path;
   r.fd_ = fd;
   struct stat st{};
-  TLV_ENSURE(::fstat(fd, &st) == 0 && S_ISREG(st.st_mode), ErrorCode::kIo,
-             "recording %s: not a regular file", path.c_str());
+  TLV_ENSURE(::fstat(fd, &st) == 0, ErrorCode::kIo, "recording %s: cannot stat: %s", path.c_str(),
+             std::strerror(errno));
+  TLV_ENSURE(S_ISREG(st.st_mode), ErrorCode::kIo, "recording %s: not a regular file (%s)",
+             path.c_str(), file_type_name(st.st_mode));
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
   r.summary_.file_bytes = static_cast<uint64_t>(st.st_size);
   uint8_t header[kRecordingHeaderBytes];
   TLV_ASSIGN_OR_RETURN(const bool whole, pread_all(fd, header, sizeof(header), 0, path.c_str()));

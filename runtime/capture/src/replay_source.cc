@@ -7,11 +7,14 @@
 #include "clock.h"
 #include "tlvlink/capture/frame_accounting.h"
 #include "tlvlink/capture/recording.h"
+#include "tlvlink/log.h"
 
 namespace tlvlink::capture {
 namespace {
 
 using internal::monotonic_ns;
+
+TLV_LOG_CATEGORY(kLogReplay, "replay");
 
 class ReplaySource final : public FrameSource {
  public:
@@ -40,6 +43,18 @@ class ReplaySource final : public FrameSource {
     loop_sequences_ = s.last_sequence - s.first_sequence + 1;
     first_sequence_ = s.first_sequence;
     passes_ = 0;
+    bad_run_ = 0;
+    // Bytes after the last complete record: a writer that died mid-record, or a record whose
+    // length is forged. Either way a frame is lost: said once here and counted as a short frame.
+    if (s.truncated_records > 0) {
+      stats_.short_frames += s.truncated_records;
+      TLV_LOG(kLogReplay, kWarning,
+              "replay '%s': %s ends in %llu bytes that are not a complete record (cut short or a "
+              "forged length) after %llu frames: ignored",
+              config_.label.c_str(), config_.path.c_str(),
+              static_cast<unsigned long long>(s.truncated_bytes),
+              static_cast<unsigned long long>(s.frames));
+    }
     next_record_ = reader_->first_record();
     start_ns_ = monotonic_ns();
     return {};
@@ -54,10 +69,18 @@ class ReplaySource final : public FrameSource {
       RecordInfo info;
       TLV_ASSIGN_OR_RETURN(bool have, peek(info));
       if (!have) {
-        return Error::make(ErrorCode::kCaptureEndOfStream, "replay '%s': end of %s (%llu frames)",
+        const RecordingSummary& s = reader_->summary();
+        return Error::make(ErrorCode::kCaptureEndOfStream, "replay '%s': end of %s (%llu frames%s)",
                            config_.label.c_str(), config_.path.c_str(),
-                           static_cast<unsigned long long>(reader_->summary().frames));
+                           static_cast<unsigned long long>(s.frames),
+                           s.truncated_records > 0 ? "; its incomplete last record ignored" : "");
       }
+      // Looping over a recording none of whose frames is good would never return.
+      TLV_ENSURE(bad_run_ < reader_->summary().frames, ErrorCode::kFormat,
+                 "replay '%s': no good frame in a whole pass of %s (%llu frames: every one "
+                 "failed its checksum or was flagged)",
+                 config_.label.c_str(), config_.path.c_str(),
+                 static_cast<unsigned long long>(reader_->summary().frames));
       int64_t stamp = monotonic_ns();
       uint32_t stale = 0;
       if (config_.realtime) {
@@ -96,9 +119,13 @@ class ReplaySource final : public FrameSource {
       raw.timestamp_ns = stamp;
       raw.error_flag = (info.flags & kRecordErrorFlag) != 0 || !read.ok();
       if (!read.ok() && read.error().code() != ErrorCode::kCaptureBadFrame) return read.error();
+      accounting_.skip_stale(stale);  // once, as stale (not again as a sequence gap)
       const Admission a = accounting_.admit(raw, format_);
-      if (a != Admission::kDeliverable) continue;
-      accounting_.count_stale(stale);
+      if (a != Admission::kDeliverable) {
+        bad_run_ += a == Admission::kBad ? 1 : 0;
+        continue;
+      }
+      bad_run_ = 0;
       accounting_.count_delivered();
       CapturedFrame f;
       f.bytes = raw.bytes;
@@ -149,6 +176,7 @@ class ReplaySource final : public FrameSource {
   std::vector<uint8_t> buffer_;
   uint64_t next_record_ = 0;
   uint32_t passes_ = 0;
+  uint64_t bad_run_ = 0;  // bad frames in a row
   uint32_t loop_sequences_ = 0;
   uint32_t first_sequence_ = 0;  // the recording's first frame's sequence
   int64_t loop_span_ns_ = 0;

@@ -47,6 +47,12 @@ class FrameAccounting {
   FrameProblem problem() const { return problem_; }
 
   void count_stale(uint32_t frames) { stats_.skipped_stale += frames; }
+  // For a source that skips stale frames without admitting them (a replay): the next admit()'s
+  // sequence jumps over these `frames`, counted once, as stale, and not again as a gap.
+  void skip_stale(uint32_t frames) {
+    if (!first_) last_raw_ += frames;
+    stats_.skipped_stale += frames;
+  }
   void count_delivered() { ++stats_.delivered; }
 
  private:
