@@ -12,6 +12,7 @@
 #include <cstring>
 
 #include "tlvlink/quantize/model_copy.h"
+#include "tlvlink/regular_file.h"
 
 namespace tlvlink::quantize {
 namespace {
@@ -83,12 +84,10 @@ Status write_key_files(const std::string& base, const KeyPair& keys) {
 }
 
 Result<SecretKey> read_secret_key_file(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  TLV_ENSURE(f != nullptr, ErrorCode::kIo, "cannot open secret key file '%s': %s", path.c_str(),
-             std::strerror(errno));
   char text[512];
-  const size_t n = std::fread(text, 1, sizeof text, f);
-  std::fclose(f);
+  auto read = RegularFile::read_head(path.c_str(), std::as_writable_bytes(std::span<char>(text)));
+  if (!read.ok()) return read.error().with_context("secret key file");
+  const size_t n = *read;
   auto key = parse_secret_key(std::span<const char>(text, n));
   sodium_memzero(text, sizeof text);
   if (!key.ok()) return key.error().with_context("%s", path.c_str());

@@ -79,4 +79,15 @@ Result<size_t> RegularFile::read_some(std::span<std::byte> dst, const char* path
   }
 }
 
+Result<size_t> RegularFile::read_head(const char* path, std::span<std::byte> dst) {
+  TLV_ASSIGN_OR_RETURN(const RegularFile f, open(path));
+  size_t done = 0;
+  while (done < dst.size()) {
+    TLV_ASSIGN_OR_RETURN(const size_t n, f.read_some(dst.subspan(done), path));
+    if (n == 0) break;
+    done += n;
+  }
+  return done;
+}
+
 }  // namespace tlvlink

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "tlvlink/model_integrity.h"
+#include "tlvlink/regular_file.h"
 
 namespace tlvlink {
 namespace {
@@ -74,14 +75,11 @@ Result<SecretKey> parse_secret_key(std::span<const char> text) {
 }
 
 Result<PublicKey> read_public_key_file(const char* path) {
-  std::FILE* f = std::fopen(path, "rb");
-  TLV_ENSURE(f != nullptr, ErrorCode::kIo, "cannot open public key file '%s': %s", path,
-             std::strerror(errno));
+  // A regular file only, opened non-blocking: a FIFO here must not hang a daemon's start.
   char text[256];
-  const size_t n = std::fread(text, 1, sizeof text, f);
-  const bool read_error = std::ferror(f) != 0;
-  std::fclose(f);
-  TLV_ENSURE(!read_error, ErrorCode::kIo, "error reading public key file '%s'", path);
+  auto read = RegularFile::read_head(path, std::as_writable_bytes(std::span<char>(text)));
+  if (!read.ok()) return read.error().with_context("public key file");
+  const size_t n = *read;
   auto key = parse_public_key(std::span<const char>(text, n));
   if (!key.ok()) return key.error().with_context("%s", path);
   return key;

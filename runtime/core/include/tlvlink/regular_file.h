@@ -31,6 +31,9 @@ class RegularFile {
   Status read_at(std::span<std::byte> dst, uint64_t offset, const char* path) const;
   // Up to dst.size() bytes from the current position; 0 at the end of the file.
   Result<size_t> read_some(std::span<std::byte> dst, const char* path) const;
+  // Opens `path` as open() does and reads up to dst.size() bytes from its start (small files:
+  // key files); returns how many. Errors as open() and read_some().
+  static Result<size_t> read_head(const char* path, std::span<std::byte> dst);
 
  private:
   RegularFile(int fd, uint64_t size) : fd_(fd), size_(size) {}
