@@ -121,6 +121,33 @@ TEST(DaemonConfig, MistakesNameFileLineAndKey) {
   EXPECT_NE(error_of(bad_device).find("sensor[0].device"), std::string::npos) << error_of(bad_device);
 }
 
+// Issue 31 item 10: what start refuses, the configuration (and so --check) refuses, naming the key.
+TEST(DaemonConfig, RefusesWhatStartWouldRefuse) {
+  const std::string t = kGood;
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string out = t;
+    out.replace(out.find(from), from.size(), to);
+    return out;
+  };
+  EXPECT_NE(error_of(with("fps = 30", "fps = 30\njpeg_scale = 3")).find("sensor[1].jpeg_scale: 3 is not"),
+            std::string::npos)
+      << error_of(with("fps = 30", "fps = 30\njpeg_scale = 3"));
+  EXPECT_EQ(error_of(with("fps = 30", "fps = 30\njpeg_scale = 4")), "");
+  const std::string nine =
+      with("heads = [\"material\", \"hard_soft\"]", "heads = [\"a\",\"b\",\"c\",\"d\",\"e\",\"f\",\"g\",\"h\",\"i\"]");
+  EXPECT_NE(error_of(nine).find("heads: 9 heads; at most 8"), std::string::npos) << error_of(nine);
+  const std::string baud = with("output = \"jsonl:/tmp/out.jsonl\"", "output = \"serial:/dev/null,baud=-5\"");
+  EXPECT_NE(error_of(baud).find("output: serial link /dev/null: -5 baud is not a standard rate"), std::string::npos) << error_of(baud);
+  const std::string name = with("name = \"left\"", "name = \"" + std::string(20000, 'x') + "\"");
+  EXPECT_NE(error_of(name).find("sensor[0].name: 20000 bytes; at most 64"), std::string::npos);
+#if !defined(TLVLINK_HAVE_LIBCAMERA)
+  const std::string libcamera = with("source = \"v4l2\"", "source = \"libcamera\"");
+  EXPECT_NE(error_of(libcamera).find("sensor[1].source: this tlvlinkd was built without libcamera"),
+            std::string::npos)
+      << error_of(libcamera);
+#endif
+}
+
 TEST(DaemonConfig, FilesMustBeRegular) {
   EXPECT_NE(std::string(load_config("/dev/zero").error().message()).find("not a regular file"),
             std::string::npos);

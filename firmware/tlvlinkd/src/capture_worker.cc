@@ -65,6 +65,12 @@ void CaptureWorker::run() {
       ended_.store(true);
       break;
     }
+    if (!frame.ok() && frame.error().code() == ErrorCode::kFormat) {
+      event(true, "%s", frame.error().message());  // the recording is unusable: no retry helps
+      failed_.store(true);
+      ended_.store(true);
+      break;
+    }
     if (!frame.ok()) {
       handle_error(frame.error());
       // Sources wait their timeout while a camera is gone; one that fails at once must not turn

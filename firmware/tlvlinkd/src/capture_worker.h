@@ -33,7 +33,9 @@ class CaptureWorker {
                 image::FrameDecoder decoder, FrameRing& ring, OutputQueue& events,
                 const std::atomic<bool>& stop);
   void run();  // the thread body; returns when stop is set or a replay ended (the source is stopped)
-  bool ended() const { return ended_.load(); }  // a replay played its last frame
+  bool ended() const { return ended_.load(); }  // a replay played its last frame (or failed)
+  // A replay that cannot go on (kFormat: e.g. no good frame in a whole pass): ended, in error.
+  bool failed() const { return failed_.load(); }
 
   CaptureSnapshot snapshot() const;
   const std::string& name() const { return name_; }
@@ -52,7 +54,7 @@ class CaptureWorker {
   bool in_outage_ = false;
   int64_t last_decode_event_ns_ = 0;
   std::atomic<clockid_t> cpu_clock_{-1};
-  std::atomic<bool> ended_{false};
+  std::atomic<bool> ended_{false}, failed_{false};
   std::atomic<int64_t> final_cpu_ns_{-1};  // set when run() returns (a dead thread has no clock)
   mutable std::mutex mutex_;
   CaptureSnapshot snapshot_;

@@ -3,6 +3,9 @@
 #include "tlvlink/capture/device_select.h"
 #include "tlvlink/capture/frame_source.h"
 #include "toml_reader.h"
+#if defined(TLVLINK_HAVE_STREAM)
+#include "tlvlink/transport/transport_spec.h"
+#endif
 
 namespace tlvlink::daemon {
 namespace {
@@ -10,6 +13,9 @@ namespace {
 using internal::TableReader;
 
 constexpr int64_t kMs = 1'000'000;
+// A sensor's name goes into every JSON line and stream message: kept short so a record always
+// fits the output's fixed line buffer.
+constexpr size_t kMaxSensorName = 64;
 
 Status read_contact(TableReader& r, pipeline::ProcessorOptions& p) {
   TLV_TRY(r.flag("enabled", p.contact_gating));
@@ -54,6 +60,8 @@ Status read_sensor(TableReader& r, SensorConfig& s) {
   TLV_TRY(r.text("name", s.name));
   TLV_ENSURE(!s.name.empty(), ErrorCode::kInvalidArgument, "%s: required (e.g. \"left\")",
              r.where("name").c_str());
+  TLV_ENSURE(s.name.size() <= kMaxSensorName, ErrorCode::kInvalidArgument,
+             "%s: %zu bytes; at most %zu", r.where("name").c_str(), s.name.size(), kMaxSensorName);
   TLV_TRY(r.text("model", s.sensor_model));
   const capture::SensorModel* m = capture::find_sensor_model(s.sensor_model);
   if (m == nullptr) {
@@ -73,6 +81,11 @@ Status read_sensor(TableReader& r, SensorConfig& s) {
   int32_t source = 0;
   TLV_TRY(r.choice("source", {"v4l2", "libcamera", "replay"}, source));
   s.source = static_cast<SourceKind>(source);
+#if !defined(TLVLINK_HAVE_LIBCAMERA)
+  TLV_ENSURE(s.source != SourceKind::kLibcamera, ErrorCode::kInvalidArgument,
+             "%s: this tlvlinkd was built without libcamera (TLVLINK_WITH_LIBCAMERA=OFF)",
+             r.where("source").c_str());
+#endif
   TLV_TRY(r.text("device", s.device));
   if ((s.source == SourceKind::kV4l2 || s.source == SourceKind::kReplay) && s.device.empty()) {
     return Error::make(ErrorCode::kInvalidArgument, "%s: required for source '%s' (%s)",
@@ -109,6 +122,9 @@ Status read_sensor(TableReader& r, SensorConfig& s) {
   TLV_TRY(r.number("crop", crop, 0, 0.45));
   s.view.crop = crop;
   TLV_TRY(r.integer32("jpeg_scale", s.view.jpeg_scale_denominator, 0, 8));
+  const int32_t d = s.view.jpeg_scale_denominator;
+  TLV_ENSURE(d == 0 || d == 1 || d == 2 || d == 4 || d == 8, ErrorCode::kInvalidArgument,
+             "%s: %d is not 0 (auto), 1, 2, 4 or 8", r.where("jpeg_scale").c_str(), d);
   // Frames already upright (a DIGIT's processed frames, recorded as they were saved) need no
   // turning; a sensor whose camera sends them turned says so in its model.
   int32_t orientation = -1;
@@ -147,6 +163,17 @@ Status read_top(TableReader& r, DaemonConfig& c) {
                "%s: '%s': expected jsonl:-, jsonl:FILE, serial:PATH, pty:LINK or usb",
                r.where("output").c_str(), o.c_str());
     streams += stream ? 1 : 0;
+    // The link string checked as start checks it (options, baud, a pty link that is not ours).
+#if defined(TLVLINK_HAVE_STREAM)
+    if (stream) {
+      auto link = transport::make_transport(o);
+      if (!link.ok()) return link.error().with_context("%s", r.where("output").c_str());
+    }
+#else
+    TLV_ENSURE(!stream, ErrorCode::kInvalidArgument,
+               "%s: '%s': this tlvlinkd was built without the stream link (TLVLINK_WITH_SERIAL=OFF)",
+               r.where("output").c_str(), o.c_str());
+#endif
   }
   TLV_ENSURE(streams <= 1, ErrorCode::kInvalidArgument, "%s: at most one stream link (got %d)",
              r.where("output").c_str(), streams);
@@ -161,6 +188,9 @@ Status read_top(TableReader& r, DaemonConfig& c) {
   TLV_TRY(r.integer("run_for_ms", c.run_for_ms, 0, INT64_MAX / kMs));
   TLV_TRY(r.integer("max_frames", c.max_frames, 0, INT64_MAX));
   TLV_TRY(r.texts("heads", c.processing.heads));
+  TLV_ENSURE(c.processing.heads.size() <= static_cast<size_t>(pipeline::kMaxHeads),
+             ErrorCode::kInvalidArgument, "%s: %zu heads; at most %d are reported per frame",
+             r.where("heads").c_str(), c.processing.heads.size(), pipeline::kMaxHeads);
   int64_t smoothing_ms = c.processing.smoothing_tau_ns / kMs;
   TLV_TRY(r.integer("smoothing_ms", smoothing_ms, 0, 60'000));
   c.processing.smoothing_tau_ns = smoothing_ms * kMs;
@@ -233,7 +263,9 @@ Result<DaemonConfig> parse_config(std::string_view text, const std::string& name
 
 Result<DaemonConfig> load_config(const std::string& path) {
   TLV_ASSIGN_OR_RETURN(const std::string text, internal::read_toml_file(path, "configuration"));
-  return parse_config(text, path);
+  TLV_ASSIGN_OR_RETURN(DaemonConfig c, parse_config(text, path));
+  TLV_TRY(check_config_paths(c));
+  return c;
 }
 
 }  // namespace tlvlink::daemon

@@ -73,6 +73,7 @@ int run_daemon(const std::string& path) {
     return kExitRuntime;
   }
   DaemonConfig current = std::move(config).value();
+  uint64_t lost_records = 0, failed_sources = 0;
   for (;;) {
     auto session = Session::start(current);
     if (!session.ok()) {
@@ -100,11 +101,22 @@ int run_daemon(const std::string& path) {
         }
       }
     }
-    (*session)->stop();
+    const SessionTotals totals = (*session)->stop();
+    // Records an output could not write were lost: the run did not do its job.
+    lost_records += totals.write_errors;
+    failed_sources += totals.failed_sources;
     if (why == Wake::kStop) break;
   }
   close(sfd);
-  return kExitOk;
+  if (failed_sources > 0) {
+    std::fprintf(stderr, "tlvlinkd: %llu replay source(s) stopped on an unusable recording\n",
+                 static_cast<unsigned long long>(failed_sources));
+  }
+  if (lost_records > 0) {
+    std::fprintf(stderr, "tlvlinkd: %llu record(s) not written to an output (see above)\n",
+                 static_cast<unsigned long long>(lost_records));
+  }
+  return lost_records > 0 || failed_sources > 0 ? kExitRuntime : kExitOk;
 }
 
 }  // namespace tlvlink::daemon

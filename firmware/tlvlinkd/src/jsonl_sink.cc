@@ -8,7 +8,7 @@ void JsonlSink::stats(const RunTotals& r, bool final) {
   l.printf("{\"type\":\"%s\",\"t_ns\":%lld,\"uptime_s\":%.3f,\"frames\":%llu,\"encoded\":%llu,"
            "\"gated\":%llu,\"grasps\":%llu,\"grasps_not_computed\":%llu,\"drops\":{\"stale\":%llu,"
            "\"sequence_gaps\":%llu,\"queue\":%llu,\"output\":%llu,\"bad_frames\":%llu,"
-           "\"decode_errors\":%llu},\"cpu_pct\":{\"process\":%.1f,\"inference\":%.1f,\"output\":%.1f,\"sensors\":[",
+           "\"decode_errors\":%llu,\"write_errors\":%llu},\"cpu_pct\":{\"process\":%.1f,\"inference\":%.1f,\"output\":%.1f,\"sensors\":[",
            final ? "summary" : "stats", static_cast<long long>(r.t_ns), r.seconds,
            static_cast<unsigned long long>(r.frames), static_cast<unsigned long long>(r.encoded),
            static_cast<unsigned long long>(r.gated), static_cast<unsigned long long>(r.grasps),
@@ -16,7 +16,7 @@ void JsonlSink::stats(const RunTotals& r, bool final) {
            static_cast<unsigned long long>(r.drops_stale), static_cast<unsigned long long>(r.drops_sequence),
            static_cast<unsigned long long>(r.drops_queue), static_cast<unsigned long long>(r.drops_output),
            static_cast<unsigned long long>(r.bad_frames), static_cast<unsigned long long>(r.decode_errors),
-           r.process_cpu_pct, r.inference_cpu_pct, r.output_cpu_pct);
+           static_cast<unsigned long long>(r.write_errors), r.process_cpu_pct, r.inference_cpu_pct, r.output_cpu_pct);
   for (size_t i = 0; i < static_cast<size_t>(r.sensors); ++i) l.printf("%s%.1f", i ? "," : "", r.sensor_cpu_pct[i]);
   l.printf("]},\"fps\":[");
   for (size_t i = 0; i < static_cast<size_t>(r.sensors); ++i) l.printf("%s%.2f", i ? "," : "", r.sensor_fps[i]);

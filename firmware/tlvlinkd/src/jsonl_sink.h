@@ -18,6 +18,8 @@ class JsonlSink final : public OutputSink {
   }
   void stats(const RunTotals& totals, bool final) override;
   uint64_t failed() const override { return writer_.failed_writes(); }
+  bool closed() const override { return writer_.closed(); }
+  std::string problem() const override { return writer_.problem(); }
 
  private:
   JsonlWriter writer_;

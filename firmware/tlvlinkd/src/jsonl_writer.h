@@ -6,6 +6,7 @@
 // prediction, grasp prediction, event and stats report, each written with one write(2). Names
 // (sensors, heads, labels) are resolved once at start. Schema: firmware/tlvlinkd/README.md.
 
+#include <atomic>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -42,7 +43,8 @@ class JsonlWriter {
   JsonlWriter(const JsonlWriter&) = delete;
   ~JsonlWriter();
 
-  // Each writes one line; a failed write (disk full, closed pipe) is counted, not fatal.
+  // Each writes one line; a failed write (disk full, a line too long) is counted, not fatal. A
+  // pipe whose reader left (EPIPE) closes the output: later lines are not written or counted.
   void write(const OutputRecord& record, int64_t written_ns);
   void write_line(const LineBuffer& line);
   LineBuffer& scratch() { return line_; }
@@ -50,6 +52,10 @@ class JsonlWriter {
 
   uint64_t lines() const { return lines_; }
   uint64_t failed_writes() const { return failed_; }
+  bool closed() const { return closed_; }  // read by any thread
+  // For the summary: "output jsonl:PATH: N record(s) not written (N: disk full)" and/or "closed
+  // by its reader"; empty when nothing went wrong.
+  std::string problem() const;
 
  private:
   void frame(const pipeline::FramePrediction& p, int64_t written_ns);
@@ -58,9 +64,12 @@ class JsonlWriter {
 
   int fd_ = -1;
   bool owns_fd_ = false;
+  std::string target_;  // "jsonl:PATH"
   OutputNames names_;
   LineBuffer line_;
-  uint64_t lines_ = 0, failed_ = 0;
+  uint64_t lines_ = 0, failed_ = 0, too_long_ = 0;
+  int last_errno_ = 0;
+  std::atomic<bool> closed_{false};
 };
 
 }  // namespace tlvlink::daemon::internal

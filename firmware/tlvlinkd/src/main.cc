@@ -19,7 +19,8 @@ void usage(std::FILE* out) {
                "                 executor and check its heads and sensors (no camera opened);\n"
                "                 exit 1 on a mismatch (the board package runs it at install)\n"
                "Signals: SIGTERM/SIGINT stop (computed predictions are flushed), SIGHUP reloads.\n"
-               "Exit codes: 0 stopped cleanly, 1 runtime error (model, camera), 2 configuration "
+               "Exit codes: 0 stopped cleanly (or every output's reader left), 1 runtime error\n"
+               "(model, camera, or an output that could not write records), 2 configuration "
                "error.\n");
 }
 
@@ -47,6 +48,9 @@ int main(int argc, char** argv) {
   // A file-size limit (ulimit -f) on the JSON-lines output then fails the write with EFBIG, an
   // output error the daemon counts, instead of killing it with computed predictions unsent.
   std::signal(SIGXFSZ, SIG_IGN);
+  // A closed pipe on `jsonl:-` (| head) is EPIPE, which closes that output: the daemon stops with
+  // its summary instead of being killed without one.
+  std::signal(SIGPIPE, SIG_IGN);
   std::string config;
   bool check = false, verify = false;
   for (int i = 1; i < argc; ++i) {

@@ -195,16 +195,32 @@ void OutputWorker::run() {
 
 RunTotals OutputWorker::totals() const { return final_; }
 
+bool OutputWorker::outputs_closed() const {
+  for (const OutputSink* sink : sinks_)
+    if (!sink->closed()) return false;
+  return !sinks_.empty();
+}
+
 void OutputWorker::print_summary(std::FILE* out) const {
   const RunTotals& r = final_;
   std::fprintf(out, "tlvlinkd: %.1f s, %llu frames (%llu encoded, %llu gated), %llu grasps predicted, %llu not computed\n",
                r.seconds, static_cast<unsigned long long>(r.frames), static_cast<unsigned long long>(r.encoded),
                static_cast<unsigned long long>(r.gated), static_cast<unsigned long long>(r.grasps),
                static_cast<unsigned long long>(r.grasps_not_computed));
-  std::fprintf(out, "  drops: stale %llu, sequence gaps %llu, queue %llu, output %llu; bad frames %llu, decode errors %llu\n",
+  std::fprintf(out, "  drops: stale %llu, sequence gaps %llu, queue %llu, output %llu, write errors %llu; bad frames %llu, decode errors %llu\n",
                static_cast<unsigned long long>(r.drops_stale), static_cast<unsigned long long>(r.drops_sequence),
                static_cast<unsigned long long>(r.drops_queue), static_cast<unsigned long long>(r.drops_output),
+               static_cast<unsigned long long>(r.write_errors),
                static_cast<unsigned long long>(r.bad_frames), static_cast<unsigned long long>(r.decode_errors));
+  // Every output that lost records, or whose reader left, with the path and the reason.
+  for (size_t i = 0; i < sinks_.size(); ++i) {
+    std::string problem = sinks_[i]->problem();
+    if (problem.empty() && sinks_[i]->failed() > 0) {
+      problem = "output " + std::to_string(i + 1) + ": " + std::to_string(sinks_[i]->failed()) +
+                " record(s) not sent";
+    }
+    if (!problem.empty()) std::fprintf(out, "  %s\n", problem.c_str());
+  }
   for (int32_t i = 0; i < r.sensors; ++i) {
     const size_t k = static_cast<size_t>(i);
     if (r.sensor_disconnects[k] == 0) continue;

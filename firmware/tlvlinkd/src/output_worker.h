@@ -33,6 +33,7 @@ class OutputWorker {
   void run();  // returns when stop is set and the queue is drained
 
   RunTotals totals() const;  // after run() returned
+  bool outputs_closed() const;  // every output's reader left (a closed pipe): nothing to do
   void print_summary(std::FILE* out) const;
 
  private:

@@ -178,7 +178,7 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
 }
 
 bool Session::limit_reached() const {
-  if (impl_->limit.load()) return true;
+  if (impl_->limit.load() || impl_->output->outputs_closed()) return true;
   // Every source is a replay that played its last frame: the session has nothing more to do.
   for (const auto& c : impl_->captures)
     if (!c->ended()) return false;
@@ -210,8 +210,9 @@ SessionTotals Session::stop() {
   s.totals = {r.frames,       r.encoded,       r.gated,          r.grasps,
               r.grasps_not_computed, r.drops_stale, r.drops_sequence, r.drops_queue,
               r.drops_output, r.bad_frames,    r.decode_errors,  r.inference_errors,
-              r.write_errors, r.seconds,       r.p50_ms[internal::kTotal],
+              r.write_errors, 0,               r.seconds,       r.p50_ms[internal::kTotal],
               r.p99_ms[internal::kTotal],      r.peak_rss_kb};
+  for (const auto& c : s.captures) s.totals.failed_sources += c->failed() ? 1 : 0;
   return s.totals;
 }
 

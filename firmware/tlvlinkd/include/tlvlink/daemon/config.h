@@ -72,7 +72,16 @@ struct DaemonConfig {
 // Limits (exceeding one is an error naming the key).
 inline constexpr int32_t kMaxQueueFrames = 16, kMaxOutputQueue = 4096, kMaxThreads = 64;
 
+// load_config = parse_config + check_config_paths: what `--check`, start and SIGHUP all run.
 Result<DaemonConfig> load_config(const std::string& path);
 Result<DaemonConfig> parse_config(std::string_view toml, const std::string& name);
+
+// The files the configuration names, each opened non-blocking and checked to be what start will
+// open (kInvalidArgument naming the key and path): model_public_key, command_script and each
+// replay recording a regular file; a jsonl:FILE output absent, a regular file or a character
+// device (never a FIFO). The model itself is checked by --verify and at start.
+Status check_config_paths(const DaemonConfig& config);
+// One `jsonl:` target (without the prefix) as check_config_paths checks it.
+Status check_jsonl_target(const std::string& path);
 
 }  // namespace tlvlink::daemon

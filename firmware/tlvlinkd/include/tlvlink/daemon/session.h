@@ -22,6 +22,7 @@ struct SessionTotals {
   uint64_t frames = 0, encoded = 0, gated = 0, grasps = 0, grasps_not_computed = 0;
   uint64_t drops_stale = 0, drops_sequence = 0, drops_queue = 0, drops_output = 0;
   uint64_t bad_frames = 0, decode_errors = 0, inference_errors = 0, write_errors = 0;
+  uint64_t failed_sources = 0;  // replays that stopped on an unusable recording
   double seconds = 0;
   double total_p50_ms = 0, total_p99_ms = 0;
   int64_t peak_rss_kb = 0;
@@ -52,8 +53,9 @@ class Session {
 
 // The daemon: sessions from the configuration at `path` until SIGTERM/SIGINT (or run_for_ms /
 // max_frames), a new session on SIGHUP when the reloaded configuration is valid (an invalid one
-// is reported and the running session continues). Returns the exit code: 0 after a clean stop,
-// 1 runtime error (model, camera), 2 configuration error.
+// is reported and the running session continues). Returns the exit code: 0 after a clean stop
+// (also when every output's reader left), 1 runtime error (model, camera, a replay that failed,
+// records an output could not write), 2 configuration error.
 int run_daemon(const std::string& path);
 
 inline constexpr int kExitOk = 0, kExitRuntime = 1, kExitConfig = 2;
