@@ -1,12 +1,20 @@
 // tlvlink heads fit MODEL --touch DIR [--grasp DIR] -o OUT.tlvm: linear probes + grasp head fitted
 // on the runtime's embeddings of the train split, written into a copy of the model (same graph,
 // new metadata), plus zero-shot heads from the text encoder where the model has none.
+// tlvlink heads fit MODEL --images DIR --head NAME -o OUT.tlvm: a head of the user's own from
+// labelled frames (DIR/<class>/...), validated by grouped cross-validation (eval/user_head.h).
 
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "eval_flags.h"
 #include "tlvlink/eval/run.h"
+#include "tlvlink/eval/trust.h"
+#include "tlvlink/head_trust.h"
+#include "tlvlink/eval/user_head.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/io/sensor_frame.h"
 
 namespace tlvlink::cli {
 namespace {
@@ -16,9 +24,66 @@ struct HeadsFitCommand {
   EvalFlags flags;
   bool no_zero_shot = false;
   bool keep_untrusted_zero_shot = false;
+  // --images: a head of the user's own
+  std::string images, head, sensor;
+  int folds = 5;
+  bool learning_curve = false, overwrite = false;
 };
 
+int run_user_head_fit(const HeadsFitCommand& c) {
+  const char* command = "heads fit";
+  if (!c.flags.touch.empty() || !c.flags.grasp.empty()) {
+    return report_error(command, Error::make(ErrorCode::kInvalidArgument,
+                                             "--images fits one head of your own; --touch / "
+                                             "--grasp fit the built-in heads: give one or the other"));
+  }
+  if (c.head.empty()) {
+    return report_error(command, Error::make(ErrorCode::kInvalidArgument,
+                                             "--images needs --head NAME (e.g. roughness, slip)"));
+  }
+  if (!c.overwrite && std::filesystem::exists(c.output)) {
+    return report_error(command, Error::make(ErrorCode::kIo,
+                                             "%s exists; pass --overwrite to replace it",
+                                             c.output.c_str()));
+  }
+  auto model = load_model(c.model);
+  if (!model.ok()) return report_error(command, model.error());
+  auto frames = eval::read_labelled_folder(c.images);
+  if (!frames.ok()) return report_error(command, frames.error());
+  for (const std::string& s : frames->skipped) std::fprintf(stderr, "note: skipped %s\n", s.c_str());
+  eval::UserHeadOptions o;
+  o.head = c.head;
+  o.sensor = c.sensor;
+  o.cv.folds = c.folds;
+  o.cv.logistic.max_iterations = c.flags.max_iterations;
+  o.embedder.executor = c.flags.exec.kind();
+  o.embedder.threads = c.flags.exec.threads;
+  o.learning_curve = c.learning_curve;
+  auto fit = eval::fit_user_head(**model, *frames, o);
+  if (!fit.ok()) return report_error(command, fit.error());
+  bool replaced = false;
+  auto bytes = eval::model_with_user_head(**model, fit->head, &replaced);
+  if (!bytes.ok()) return report_error(command, bytes.error());
+  if (Status s = tools::write_file(c.output, *bytes); !s.ok()) return report_error(command, s.error());
+  std::fputs(eval::format_user_head(*frames, *fit).c_str(), stdout);
+  const TrustAssessment a = assess_head(eval::trust_view(fit->head.trust));
+  std::printf("head '%s' (%s) %s: %s%s\n", c.head.c_str(), replaced ? "replaced" : "added",
+              head_trust_level_name(a.level),
+              a.below_baseline ? "it does not beat the pixel baseline, "
+              : a.level == HeadTrustLevel::kUntrusted ? "it does not beat the majority class by "
+                                                         "the rule's margin, "
+                                                       : "",
+              a.level == HeadTrustLevel::kTrusted ? "reported by default"
+                                                  : "left out of the default output");
+  std::printf("wrote %s (%zu bytes)%s\n", c.output.c_str(), bytes->size(),
+              (*model)->integrity().is_signed ? "; the model was signed, the copy is not: sign it "
+                                                "with `tlvlink sign`"
+                                              : "");
+  return kExitOk;
+}
+
 int run_heads_fit(const HeadsFitCommand& c) {
+  if (!c.images.empty()) return run_user_head_fit(c);
   const char* command = "heads fit";
   eval::HeadsFitJob job;
   auto data = c.flags.data();
@@ -68,6 +133,20 @@ void add_heads_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--keep-untrusted-zero-shot", c->keep_untrusted_zero_shot,
                 "Keep zero-shot heads that do not beat the majority class on the test split "
                 "(default: left out)");
+  cmd->add_option("--images", c->images,
+                  "Fit one head of your own from labelled frames: DIR/<class>/*.png|jpg (classes "
+                  "are the folder names), grouped by DIR/groups.tsv (<class>/<file><TAB><group>) "
+                  "or by DIR/<class>/<group>/ folders; validated by grouped cross-validation");
+  cmd->add_option("--head", c->head,
+                  "With --images: the head's name (a linear head of that name is replaced)");
+  cmd->add_option("--sensor", c->sensor,
+                  "With --images: the sensor the frames come from (" + tools::known_sensor_names() +
+                      "); default: detected from each frame's size");
+  cmd->add_option("--folds", c->folds, "With --images: cross-validation folds, at most")
+      ->check(CLI::Range(2, 50));
+  cmd->add_flag("--learning-curve", c->learning_curve,
+                "With --images: also print how accuracy grows with the labelled groups per class");
+  cmd->add_flag("--overwrite", c->overwrite, "With --images: replace an existing output file");
   cmd->footer(kExitCodeFooter);
   cmd->callback([c, &exit_code] { exit_code = run_heads_fit(*c); });
 }

@@ -11,7 +11,19 @@ std::vector<float> floats(std::span<const float> v) {
   return {v.begin(), v.end()};
 }
 HeadTrustSpec trust(const HeadTrust& t) {
-  return {t.present, t.accuracy, t.majority, t.n, std::string(t.test_set)};
+  HeadTrustSpec s;
+  s.present = t.present;
+  s.accuracy = t.accuracy;
+  s.majority = t.majority;
+  s.n = t.n;
+  s.test_set = t.test_set;
+  s.balanced_accuracy = t.balanced_accuracy;
+  s.ci_low = t.ci_low;
+  s.ci_high = t.ci_high;
+  s.groups = t.groups;
+  s.baseline_accuracy = t.baseline_accuracy;
+  s.baseline = t.baseline;
+  return s;
 }
 }  // namespace
 

@@ -18,7 +18,10 @@ std::string utc_now() {
 flatbuffers::Offset<fb::HeadTrust> write_trust(flatbuffers::FlatBufferBuilder& fbb,
                                                const HeadTrustSpec& t) {
   if (!t.present) return 0;
-  return fb::CreateHeadTrust(fbb, t.accuracy, t.majority, t.n, fbb.CreateString(t.test_set));
+  const auto test_set = fbb.CreateString(t.test_set);
+  const auto baseline = t.baseline.empty() ? 0 : fbb.CreateString(t.baseline);
+  return fb::CreateHeadTrust(fbb, t.accuracy, t.majority, t.n, test_set, t.balanced_accuracy,
+                             t.ci_low, t.ci_high, t.groups, t.baseline_accuracy, baseline);
 }
 
 }  // namespace

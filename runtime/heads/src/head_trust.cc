@@ -15,7 +15,9 @@ TrustAssessment assess_head(const HeadTrust& t) {
   a.margin = accuracy - majority;
   a.required = std::max(kMinTrustMargin,
                         kTrustZ * std::sqrt(majority * (1 - majority) / static_cast<double>(t.n)));
-  a.level = a.margin >= a.required ? HeadTrustLevel::kTrusted : HeadTrustLevel::kUntrusted;
+  a.below_baseline = t.baseline_accuracy >= 0 && t.accuracy <= t.baseline_accuracy;
+  a.level = a.margin >= a.required && !a.below_baseline ? HeadTrustLevel::kTrusted
+                                                         : HeadTrustLevel::kUntrusted;
   return a;
 }
 

@@ -75,7 +75,12 @@ Status convert_input_spec(const fb::InputSpec* in, const Graph& graph, InputSpec
 Status convert_trust(const fb::HeadTrust* t, const char* what, std::string_view name,
                      HeadTrust& out) {
   if (t == nullptr) return {};
-  out = {true, t->accuracy(), t->majority(), t->n(), view(t->test_set())};
+  out = HeadTrust{};
+  out.present = true;
+  out.accuracy = t->accuracy();
+  out.majority = t->majority();
+  out.n = t->n();
+  out.test_set = view(t->test_set());
   const bool fractions = std::isfinite(out.accuracy) && std::isfinite(out.majority) &&
                          out.accuracy >= 0.0f && out.accuracy <= 1.0f && out.majority >= 0.0f &&
                          out.majority <= 1.0f;
@@ -83,6 +88,30 @@ Status convert_trust(const fb::HeadTrust* t, const char* what, std::string_view 
              "%s '%.*s' trust record: accuracy %g and majority %g must be in [0, 1], n %lld >= 1",
              what, static_cast<int>(name.size()), name.data(), static_cast<double>(out.accuracy),
              static_cast<double>(out.majority), static_cast<long long>(out.n));
+  out.balanced_accuracy = t->balanced_accuracy();
+  out.ci_low = t->accuracy_ci_low();
+  out.ci_high = t->accuracy_ci_high();
+  out.groups = t->groups();
+  out.baseline_accuracy = t->baseline_accuracy();
+  out.baseline = view(t->baseline());
+  // The cross-validated fields are optional (-1: absent); present ones are fractions, and an
+  // interval holds its accuracy.
+  const auto optional_fraction = [](float v) {
+    return v == -1.0f || (std::isfinite(v) && v >= 0.0f && v <= 1.0f);
+  };
+  const bool interval = (out.ci_low == -1.0f) == (out.ci_high == -1.0f) &&
+                        (out.ci_low == -1.0f || (out.ci_low <= out.accuracy + 1e-6f &&
+                                                 out.accuracy <= out.ci_high + 1e-6f));
+  TLV_ENSURE(optional_fraction(out.balanced_accuracy) && optional_fraction(out.ci_low) &&
+                 optional_fraction(out.ci_high) && optional_fraction(out.baseline_accuracy) &&
+                 interval && out.groups >= 0,
+             ErrorCode::kModelInvalidMetadata,
+             "%s '%.*s' trust record: balanced accuracy %g, interval [%g, %g] around %g, baseline "
+             "%g must be fractions (or -1: absent) and groups %lld >= 0",
+             what, static_cast<int>(name.size()), name.data(),
+             static_cast<double>(out.balanced_accuracy), static_cast<double>(out.ci_low),
+             static_cast<double>(out.ci_high), static_cast<double>(out.accuracy),
+             static_cast<double>(out.baseline_accuracy), static_cast<long long>(out.groups));
   return {};
 }
 

@@ -8,6 +8,23 @@
 #include "tlvlink/quantize/model_copy.h"
 
 namespace tlvlink::eval {
+
+HeadTrust trust_view(const quantize::HeadTrustSpec& t) {
+  HeadTrust v;
+  v.present = t.present;
+  v.accuracy = t.accuracy;
+  v.majority = t.majority;
+  v.n = t.n;
+  v.test_set = t.test_set;
+  v.balanced_accuracy = t.balanced_accuracy;
+  v.ci_low = t.ci_low;
+  v.ci_high = t.ci_high;
+  v.groups = t.groups;
+  v.baseline_accuracy = t.baseline_accuracy;
+  v.baseline = t.baseline;
+  return v;
+}
+
 namespace {
 
 // The head's cell in the report, if scored.
@@ -19,14 +36,18 @@ const TaskResult* scored(const EvalReport& r, std::string_view head_name, Method
 }
 
 quantize::HeadTrustSpec record_of(const EvalReport& r, const TaskResult& c) {
-  return {true, static_cast<float>(c.accuracy), static_cast<float>(c.majority), c.n,
-          test_set_description(r, c.task)};
+  quantize::HeadTrustSpec t;
+  t.present = true;
+  t.accuracy = static_cast<float>(c.accuracy);
+  t.majority = static_cast<float>(c.majority);
+  t.n = c.n;
+  t.test_set = test_set_description(r, c.task);
+  return t;
 }
 
 std::string line_of(const std::string& kind, const std::string& name,
                     const quantize::HeadTrustSpec& t, bool dropped) {
-  HeadTrust view{t.present, t.accuracy, t.majority, t.n, t.test_set};
-  const TrustAssessment a = assess_head(view);
+  const TrustAssessment a = assess_head(trust_view(t));
   char buf[256];
   if (!t.present) {
     std::snprintf(buf, sizeof buf, "%s head '%s': not measured", kind.c_str(), name.c_str());
@@ -74,9 +95,8 @@ Result<std::vector<std::byte>> model_with_trust(const Model& model, const EvalRe
   std::vector<quantize::ZeroShotHeadSpec> kept;
   for (quantize::ZeroShotHeadSpec& h : meta.zero_shot_heads) {
     if (const TaskResult* c = scored(report, h.name, Method::kZeroShot)) h.trust = record_of(report, *c);
-    const HeadTrust view{h.trust.present, h.trust.accuracy, h.trust.majority, h.trust.n, {}};
     const bool drop = options.drop_untrusted_zero_shot && h.trust.present &&
-                      assess_head(view).level == HeadTrustLevel::kUntrusted;
+                      assess_head(trust_view(h.trust)).level == HeadTrustLevel::kUntrusted;
     out.push_back(line_of("zero-shot", h.name, h.trust, drop));
     if (!drop) kept.push_back(std::move(h));
   }

@@ -31,6 +31,14 @@ json trust_json(const HeadTrust& t) {
     j["test_set"] = t.test_set;
     j["margin"] = a.margin;
     j["required_margin"] = a.required;
+    if (t.ci_low >= 0) j["accuracy_ci95"] = {t.ci_low, t.ci_high};
+    if (t.balanced_accuracy >= 0) j["balanced_accuracy"] = t.balanced_accuracy;
+    if (t.groups > 0) j["groups"] = t.groups;
+    if (t.baseline_accuracy >= 0) {
+      j["baseline_accuracy"] = t.baseline_accuracy;
+      j["baseline"] = t.baseline;
+      j["below_baseline"] = a.below_baseline;
+    }
   }
   return j;
 }

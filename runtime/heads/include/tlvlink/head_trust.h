@@ -8,7 +8,10 @@
 // test set by more than noise explains,
 //     accuracy - majority >= max(kMinTrustMargin, kTrustZ * sqrt(majority (1 - majority) / n)),
 // i.e. by at least 2 points and by two binomial standard errors of the majority rate on n items
-// (one-sided ~98 %). A head with no record is unmeasured, and not trusted.
+// (one-sided ~98 %). A head with no record is unmeasured, and not trusted. A record that also
+// holds a baseline's accuracy on the same folds (a head fitted by `tlvlink heads fit --images`:
+// logistic regression on the frame's pixels) must beat it too: a head no better than pixels
+// reads nothing the encoder adds.
 //
 //   for (const LinearHead& h : model.metadata().linear_heads)
 //     if (head_trusted(h.trust)) print(h.name, ...);
@@ -32,6 +35,7 @@ struct TrustAssessment {
   HeadTrustLevel level = HeadTrustLevel::kUnmeasured;
   double margin = 0;    // accuracy - majority (0 when unmeasured)
   double required = 0;  // the margin the rule asks for on this record's n
+  bool below_baseline = false;  // the record's baseline did at least as well as the head
 };
 
 TrustAssessment assess_head(const HeadTrust& trust);

@@ -35,6 +35,12 @@ struct HeadTrust {
   float majority = 0;
   int64_t n = 0;
   std::string_view test_set;
+  // Cross-validated records (`heads fit --images`); -1 / 0 / empty when the file has none.
+  float balanced_accuracy = -1;
+  float ci_low = -1, ci_high = -1;  // 95 % interval of `accuracy`
+  int64_t groups = 0;
+  float baseline_accuracy = -1;     // a baseline on the same folds: the head must beat it
+  std::string_view baseline;
 };
 
 struct LinearHead {

@@ -42,6 +42,10 @@ struct HeadTrustSpec {
   float accuracy = 0, majority = 0;
   int64_t n = 0;
   std::string test_set;
+  float balanced_accuracy = -1, ci_low = -1, ci_high = -1;  // metadata.h HeadTrust
+  int64_t groups = 0;
+  float baseline_accuracy = -1;
+  std::string baseline;
 };
 struct LinearHeadSpec {
   std::string name;

@@ -15,6 +15,7 @@
 #include "tlvlink/error.h"
 #include "tlvlink/eval/eval.h"
 #include "tlvlink/model.h"
+#include "tlvlink/quantize/model_builder.h"
 
 namespace tlvlink::eval {
 
@@ -24,6 +25,9 @@ struct TrustRecordOptions {
   // one that guesses no better than chance only misleads.
   bool drop_untrusted_zero_shot = true;
 };
+
+// The record as the runtime reads it (string views into `spec`), for head_trust.h's rule.
+HeadTrust trust_view(const quantize::HeadTrustSpec& spec);
 
 // "touch: DIR (touch100k) test split (recorded): 2400 items, 300 groups"
 std::string test_set_description(const EvalReport& report, Task task);

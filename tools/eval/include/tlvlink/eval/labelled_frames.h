@@ -1,0 +1,52 @@
+#pragma once
+// A user's labelled frames in the ImageFolder convention, for heads of their own:
+//
+//   DIR/<class>/<frame>.png|jpg|jpeg|ppm        classes are the folder names, sorted
+//   DIR/groups.tsv                              optional: "<class>/<frame><TAB><group>" per line
+//
+// A group is the object or session a frame shows: validation keeps a group's frames together,
+// so no head is scored on an object it was fitted on. Groups come from groups.tsv when present,
+// else from one folder level below the class (DIR/<class>/<group>/<frame>), else each frame is
+// its own group and `grouping` says that the scores are then optimistic.
+//
+//   auto set = eval::read_labelled_folder("frames/");
+//   // set->classes = {"rough", "smooth"}, set->frames[i].path / label / group
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "tlvlink/error.h"
+
+namespace tlvlink::eval {
+
+struct LabelledFrame {
+  std::string path;      // as found under the folder (DIR/<class>/...)
+  std::string relative;  // <class>/... (the key of groups.tsv)
+  int32_t label = 0;     // index into LabelledFrames::classes
+  std::string group;
+};
+
+enum class Grouping : uint8_t {
+  kGroupsFile = 0,  // DIR/groups.tsv
+  kSubfolders,      // DIR/<class>/<group>/<frame>
+  kNone,            // every frame its own group
+};
+const char* grouping_name(Grouping g);  // "groups.tsv", "subfolders", "none (one group per frame)"
+
+struct LabelledFrames {
+  std::string dir;
+  std::vector<std::string> classes;
+  std::vector<LabelledFrame> frames;  // sorted by class, then path
+  Grouping grouping = Grouping::kNone;
+  std::vector<std::string> skipped;   // files that are not frames, each "path: why"
+  int64_t group_count() const;
+};
+
+// Frame files: .png, .jpg, .jpeg, .ppm (any case). Errors, each naming the path (and line):
+// DIR missing or not a folder, fewer than two class folders, a class folder without frames,
+// a groups.tsv line that is not "path<TAB>group", names a file that is not a frame of DIR, or
+// lists a frame twice, and a frame groups.tsv does not list.
+Result<LabelledFrames> read_labelled_folder(const std::string& dir);
+
+}  // namespace tlvlink::eval

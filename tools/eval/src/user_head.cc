@@ -1,0 +1,258 @@
+// Heads of the user's own from labelled frames (user_head.h).
+
+#include "tlvlink/eval/user_head.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <set>
+
+#include "tlvlink/eval/trust.h"
+#include "tlvlink/heads/head_math.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/io/sensor_frame.h"
+#include "tlvlink/quantize/model_copy.h"
+
+namespace tlvlink::eval {
+namespace {
+
+// Larger than any camera frame a known sensor produces as PNG / JPEG.
+constexpr size_t kMaxFrameFileBytes = size_t{64} << 20;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::string percent(double v) {
+  char b[16];
+  std::snprintf(b, sizeof b, "%.1f", 100.0 * v);
+  return b;
+}
+
+}  // namespace
+
+Result<FrameFeatures> frame_features(const Model& model, const LabelledFrames& frames,
+                                     const std::string& sensor, const EmbedderOptions& embedder) {
+  const auto t0 = std::chrono::steady_clock::now();
+  TLV_ASSIGN_OR_RETURN(std::unique_ptr<Embedder> e, Embedder::create(model, embedder));
+  FrameFeatures f;
+  f.dim = e->dim();
+  const size_t pixel_dim = static_cast<size_t>(kBaselineWidth * kBaselineHeight * 3);
+  f.embeddings.resize(frames.frames.size() * static_cast<size_t>(f.dim));
+  f.pixels.resize(frames.frames.size() * pixel_dim);
+  std::map<std::string, int64_t> views;
+  sim::RgbImage rgb;
+  for (size_t i = 0; i < frames.frames.size(); ++i) {
+    const LabelledFrame& lf = frames.frames[i];
+    TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, tools::read_file(lf.path, kMaxFrameFileBytes));
+    TLV_ASSIGN_OR_RETURN(tools::SensorFrame sf, tools::sensor_frame_from_bytes(bytes, lf.path, sensor));
+    TLV_ENSURE(sf.view.channels == 3, ErrorCode::kFormat, "%s: %d channel(s); frames must be RGB",
+               lf.path.c_str(), sf.view.channels);
+    char size[48];
+    std::snprintf(size, sizeof size, " %dx%d", sf.view.width, sf.view.height);
+    ++views[(sf.sensor.empty() ? "no known sensor" : sf.sensor) + size];
+    rgb.width = sf.view.width;
+    rgb.height = sf.view.height;
+    rgb.rgb = sf.view.pixels;
+    TLV_TRY(e->embed(rgb, std::span<float>(f.embeddings)
+                              .subspan(i * static_cast<size_t>(f.dim), static_cast<size_t>(f.dim))));
+    TLV_ASSIGN_OR_RETURN(image::Image small, image::resize(sf.view.view(), kBaselineHeight,
+                                                           kBaselineWidth, ResizeFilter::kArea));
+    for (size_t k = 0; k < pixel_dim; ++k)
+      f.pixels[i * pixel_dim + k] = static_cast<float>(small.pixels[k]) / 255.0f;
+    f.labels.push_back(lf.label);
+    f.groups.push_back(lf.group);
+    f.sensors.push_back(sf.sensor);
+  }
+  for (const auto& [view, count] : views) {
+    f.view_note += (f.view_note.empty() ? "" : ", ") + std::to_string(count) + " as " + view;
+  }
+  f.seconds = seconds_since(t0);
+  return f;
+}
+
+Result<UserHeadFit> fit_user_head(const Model& model, const LabelledFrames& frames,
+                                  const UserHeadOptions& o) {
+  TLV_ENSURE(!o.head.empty(), ErrorCode::kInvalidArgument, "heads fit: the head needs a name");
+  UserHeadFit fit;
+  auto features = frame_features(model, frames, o.sensor, o.embedder);
+  if (!features.ok()) return features.error();
+  fit.features = std::move(features).value();
+  const FrameFeatures& f = fit.features;
+  const auto classes = static_cast<int32_t>(frames.classes.size());
+  const GroupedRows head_rows{f.embeddings, f.dim, f.labels, classes, f.groups, frames.classes};
+  const GroupedRows pixel_rows{f.pixels,  kBaselineWidth * kBaselineHeight * 3, f.labels,
+                               classes,   f.groups,
+                               frames.classes};
+  const auto t0 = std::chrono::steady_clock::now();
+  TLV_ASSIGN_OR_RETURN(fit.head_cv, cross_validate(head_rows, o.cv));
+  TLV_ASSIGN_OR_RETURN(fit.baseline_cv, cross_validate(pixel_rows, o.cv));
+  if (o.learning_curve) {
+    TLV_ASSIGN_OR_RETURN(fit.head_curve, learning_curve(head_rows, o.cv));
+    TLV_ASSIGN_OR_RETURN(fit.baseline_curve, learning_curve(pixel_rows, o.cv));
+  }
+  TLV_ASSIGN_OR_RETURN(FittedProbe p, fit_grouped(head_rows, o.cv));
+  fit.fit_seconds = seconds_since(t0);
+  fit.l2 = p.l2;
+
+  quantize::LinearHeadSpec& h = fit.head;
+  h.name = o.head;
+  h.labels = frames.classes;
+  h.weight = std::move(p.weight);
+  h.bias = std::move(p.bias);
+  const CvResult& cv = fit.head_cv;
+  quantize::HeadTrustSpec& t = h.trust;
+  t.present = true;
+  t.accuracy = static_cast<float>(cv.accuracy);
+  t.majority = static_cast<float>(cv.majority);
+  t.n = cv.n;
+  t.balanced_accuracy = static_cast<float>(cv.balanced_accuracy);
+  t.ci_low = static_cast<float>(cv.ci_low);
+  t.ci_high = static_cast<float>(cv.ci_high);
+  t.groups = cv.groups;
+  t.baseline_accuracy = static_cast<float>(fit.baseline_cv.accuracy);
+  t.baseline = kPixelBaseline;
+  t.test_set = frames.dir + ": grouped " + std::to_string(cv.folds) + "-fold cross-validation, " +
+               std::to_string(cv.n) + " frames, " + std::to_string(cv.groups) + " groups (" +
+               grouping_name(frames.grouping) + ")";
+  return fit;
+}
+
+Result<std::vector<std::byte>> model_with_user_head(const Model& model,
+                                                    const quantize::LinearHeadSpec& head,
+                                                    bool* replaced) {
+  quantize::MetadataSpec meta = quantize::metadata_spec_from(model.metadata());
+  auto same = std::find_if(meta.linear_heads.begin(), meta.linear_heads.end(),
+                           [&](const quantize::LinearHeadSpec& h) { return h.name == head.name; });
+  if (replaced != nullptr) *replaced = same != meta.linear_heads.end();
+  if (same != meta.linear_heads.end()) {
+    *same = head;
+  } else {
+    meta.linear_heads.push_back(head);
+  }
+  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder, quantize::rebuild_with_metadata(model, meta));
+  std::vector<std::byte> bytes = builder.finish();
+  auto check = Model::load(bytes);
+  if (!check.ok()) return check.error().with_context("model with the new head does not load");
+  return bytes;
+}
+
+Result<HeadScore> score_model_head(const Model& model, const FrameFeatures& f,
+                                   const LabelledFrames& frames, const std::string& head,
+                                   uint64_t seed) {
+  const Metadata& m = model.metadata();
+  auto it = std::find_if(m.linear_heads.begin(), m.linear_heads.end(),
+                         [&](const LinearHead& h) { return h.name == head; });
+  if (it == m.linear_heads.end()) {
+    std::string names;
+    for (const LinearHead& h : m.linear_heads) names += (names.empty() ? "" : ", ") + std::string(h.name);
+    return Error::make(ErrorCode::kInvalidArgument, "the model has no linear head '%s' (it has: %s)",
+                       head.c_str(), names.empty() ? "none" : names.c_str());
+  }
+  const LinearHead& h = *it;
+  std::vector<int32_t> to_head(frames.classes.size(), -1);
+  std::string labels;
+  for (size_t c = 0; c < frames.classes.size(); ++c) {
+    for (size_t k = 0; k < h.labels.size(); ++k)
+      if (h.labels[k] == frames.classes[c]) to_head[c] = static_cast<int32_t>(k);
+  }
+  for (std::string_view l : h.labels) labels += (labels.empty() ? "" : ", ") + std::string(l);
+  for (size_t c = 0; c < frames.classes.size(); ++c) {
+    TLV_ENSURE(to_head[c] >= 0, ErrorCode::kInvalidArgument,
+               "%s/%s: '%s' is not a label of head '%s' (its labels: %s); name the class folders "
+               "after the head's labels",
+               frames.dir.c_str(), frames.classes[c].c_str(), frames.classes[c].c_str(),
+               head.c_str(), labels.c_str());
+  }
+  HeadScore s;
+  s.head = head;
+  s.n = static_cast<int64_t>(f.labels.size());
+  s.predicted_counts.assign(h.labels.size(), 0);
+  std::vector<float> logits(h.labels.size());
+  std::vector<uint8_t> right(f.labels.size());
+  std::vector<int64_t> rows(frames.classes.size(), 0), correct(frames.classes.size(), 0);
+  std::set<std::string> groups(f.groups.begin(), f.groups.end());
+  s.groups = static_cast<int64_t>(groups.size());
+  int64_t total = 0;
+  for (size_t i = 0; i < f.labels.size(); ++i) {
+    heads::linear_logits(h.weight, h.bias,
+                         std::span<const float>(f.embeddings)
+                             .subspan(i * static_cast<size_t>(f.dim), static_cast<size_t>(f.dim)),
+                         logits);
+    const int32_t answer = heads::argmax(logits);
+    ++s.predicted_counts[static_cast<size_t>(answer)];
+    const auto c = static_cast<size_t>(f.labels[i]);
+    right[i] = answer == to_head[c] ? 1 : 0;
+    ++rows[c];
+    correct[c] += right[i];
+    total += right[i];
+  }
+  if (s.n == 0) return s;
+  s.accuracy = static_cast<double>(total) / static_cast<double>(s.n);
+  s.majority = static_cast<double>(*std::max_element(rows.begin(), rows.end())) /
+               static_cast<double>(s.n);
+  double recall = 0;
+  int32_t present = 0;
+  for (size_t c = 0; c < rows.size(); ++c) {
+    if (rows[c] == 0) continue;
+    recall += static_cast<double>(correct[c]) / static_cast<double>(rows[c]);
+    ++present;
+  }
+  s.balanced_accuracy = recall / present;
+  const Interval ci = group_bootstrap_interval(right, f.groups, seed);
+  s.ci_low = ci.low;
+  s.ci_high = ci.high;
+  return s;
+}
+
+std::string format_user_head(const LabelledFrames& frames, const UserHeadFit& fit) {
+  std::string out;
+  char b[512];
+  const CvResult& h = fit.head_cv;
+  const CvResult& p = fit.baseline_cv;
+  std::snprintf(b, sizeof b, "frames: %lld in %zu classes, %lld groups (grouping: %s); read as %s\n",
+                static_cast<long long>(h.n), frames.classes.size(), static_cast<long long>(h.groups),
+                grouping_name(frames.grouping), fit.features.view_note.c_str());
+  out += b;
+  for (size_t c = 0; c < frames.classes.size(); ++c) {
+    std::snprintf(b, sizeof b, "  class %-16s %5lld frames  %4lld groups\n", frames.classes[c].c_str(),
+                  static_cast<long long>(h.class_rows[c]), static_cast<long long>(h.class_groups[c]));
+    out += b;
+  }
+  if (frames.grouping == Grouping::kNone) {
+    out += "  warning: no groups (groups.tsv or <class>/<group>/ folders): frames of one object can "
+           "be fitted and scored in different folds, so the accuracy below is optimistic\n";
+  }
+  std::snprintf(b, sizeof b, "grouped %d-fold cross-validation (L2 chosen inside each fitting fold):\n",
+                h.folds);
+  out += b;
+  std::snprintf(b, sizeof b, "  %-30s accuracy %5s %% [%s, %s]  balanced %5s %%\n", "head (embeddings)",
+                percent(h.accuracy).c_str(), percent(h.ci_low).c_str(), percent(h.ci_high).c_str(),
+                percent(h.balanced_accuracy).c_str());
+  out += b;
+  std::snprintf(b, sizeof b, "  %-30s accuracy %5s %% [%s, %s]  balanced %5s %%\n",
+                "baseline (32x24 pixels)", percent(p.accuracy).c_str(), percent(p.ci_low).c_str(),
+                percent(p.ci_high).c_str(), percent(p.balanced_accuracy).c_str());
+  out += b;
+  std::snprintf(b, sizeof b, "  %-30s %5s %%\n", "majority class", percent(h.majority).c_str());
+  out += b;
+  for (size_t k = 0; k < fit.head_curve.size(); ++k) {
+    if (k == 0) out += "accuracy on the other groups, fitted on k groups per class (mean [min, max] over draws):\n";
+    const CurvePoint& c = fit.head_curve[k];
+    const CurvePoint& q = fit.baseline_curve[k];
+    std::snprintf(b, sizeof b,
+                  "  k=%-2d draws %3d  head %5s %% [%s, %s]  baseline %5s %% [%s, %s]  (%.0f frames scored)\n",
+                  c.groups_per_class, c.draws, percent(c.mean).c_str(), percent(c.min).c_str(),
+                  percent(c.max).c_str(), percent(q.mean).c_str(), percent(q.min).c_str(),
+                  percent(q.max).c_str(), c.mean_test_rows);
+    out += b;
+  }
+  std::snprintf(b, sizeof b, "times: reading and embedding %.2f s, validation and fit %.2f s (L2 %g)\n",
+                fit.features.seconds, fit.fit_seconds, fit.l2);
+  out += b;
+  return out;
+}
+
+}  // namespace tlvlink::eval
