@@ -9,9 +9,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <sys/stat.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "fixture_recording.h"
 #include "support/cli_run.h"
 #include "support/temp_dir.h"
 
@@ -116,6 +122,68 @@ TEST(CliListen, AbsentDeviceAndBadInput) {
   const CliRun notrec = run_tlvlink("replay /etc/hostname");
   EXPECT_RUN(notrec, 1);
   EXPECT_NE(notrec.out.find("not a tlvlink recording"), std::string::npos) << notrec.out;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// Issue 31 item 3: --record refuses an existing recording without --overwrite (it was replaced
+// silently), and a file-size limit stops the session with the path and the reason, exit 1 (it
+// stopped recording at 16 KB while predictions kept printing, exit 0).
+TEST(CliListen, RecordKeepsAnExistingFileAndStopsOnAFailedWrite) {
+  TempDir dir("listen");
+  const std::string old = dir / "old.tlvrec";
+  { std::ofstream(old) << "yesterday"; }
+  const CliRun refused = run_tlvlink("listen --serial " + dir / "tty" + " --no-reconnect --record " + old);
+  EXPECT_RUN(refused, 1);
+  EXPECT_NE(refused.out.find(old + " already exists (give --overwrite"), std::string::npos) << refused.out;
+  EXPECT_EQ(slurp(old), "yesterday");
+
+  BoardProcess board("pty:" + dir / "tty", 5000, 2000, 3);
+  // --overwrite replaces it.
+  const CliRun again = run_tlvlink("listen --serial " + dir / "tty" + " --count 5 --duration 20 --overwrite --record " + old,
+                                   Stderr::kDropped);
+  EXPECT_RUN(again, 0);
+  EXPECT_EQ(slurp(old).substr(0, 7), "TLVLREC");
+
+  const std::string rec = dir / "limited.tlvrec";
+  const CliRun limited = run_cli("timeout 30 bash", "-c 'ulimit -f 16; exec \"$0\" \"$@\"' " TLVLINK_CLI_BINARY
+                                 " listen --serial " + dir / "tty" + " --count 4000 --duration 20 --record " + rec,
+                                 Stderr::kMerged);
+  EXPECT_RUN(limited, 1);
+  EXPECT_NE(limited.out.find("writing recording " + rec + ": file size limit reached"), std::string::npos)
+      << limited.out.substr(limited.out.size() > 2000 ? limited.out.size() - 2000 : 0);
+  EXPECT_LE(std::filesystem::file_size(rec), 16384u);
+}
+
+// Item 5: a FIFO as --record or as the recording to replay is refused at once (it hung, deaf to
+// SIGTERM). Every run is under `timeout 30` (exit 124 = it hung).
+TEST(CliListen, FifosAreRefusedWithoutHanging) {
+  TempDir dir("listen");
+  const std::string fifo = dir / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const CliRun replay = run_cli("timeout 30 " TLVLINK_CLI_BINARY, "replay " + fifo);
+  EXPECT_RUN(replay, 1);
+  EXPECT_NE(replay.out.find(fifo + ": not a regular file (FIFO)"), std::string::npos) << replay.out;
+  const CliRun record = run_cli("timeout 30 " TLVLINK_CLI_BINARY,
+                                "listen --serial " + dir / "tty" + " --no-reconnect --record " + fifo);
+  EXPECT_RUN(record, 1);
+  EXPECT_NE(record.out.find(fifo + ": not a regular file (FIFO)"), std::string::npos) << record.out;
+}
+
+// Item 4: a frame whose string is not UTF-8: `replay --json` prints it (U+FFFD for the bad
+// bytes) and every message after it, exit 0 (it died of an uncaught JSON exception).
+TEST(CliListen, NonUtf8StringDoesNotEndTheJsonOutput) {
+  TempDir dir("listen");
+  ASSERT_TRUE(listen::write_non_utf8_recording(dir / "r.tlvrec").ok());
+  const CliRun r = run_tlvlink("replay " + dir / "r.tlvrec" + " --json", Stderr::kDropped);
+  EXPECT_RUN(r, 0);
+  const auto lines = json_lines(r.out);
+  ASSERT_EQ(lines.size(), 3u) << r.out;
+  EXPECT_EQ(lines[1]["text"], "bad \xEF\xBF\xBD\xEF\xBF\xBD bytes");
+  EXPECT_EQ(lines[2]["text"], "after");
 }
 
 }  // namespace

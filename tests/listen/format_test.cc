@@ -80,5 +80,25 @@ TEST(Format, TextLines) {
   EXPECT_NE(p.text[10].find("[delayed]"), std::string::npos);
 }
 
+// Issue 31 item 4: a string that is not UTF-8 (nothing on the wire says it must be) is printed
+// with U+FFFD for the bad bytes, and the messages after it still come (nlohmann::json threw).
+TEST(Format, NonUtf8StringIsReplacedNotFatal) {
+  testing::TempDir dir("fmt");
+  ASSERT_TRUE(write_non_utf8_recording(dir / "r").ok());
+  auto c = Client::open("replay:" + dir / "r").value();
+  std::vector<std::string> lines;
+  while (!c->ended()) {
+    auto m = c->next(100);
+    ASSERT_TRUE(m.ok());
+    if (!m.value()) continue;
+    lines.push_back(json_line(*m.value(), {}));
+    EXPECT_FALSE(text_line(*m.value(), {}).empty());
+  }
+  ASSERT_EQ(lines.size(), 3u);
+  const auto bad = nlohmann::json::parse(lines[1]);
+  EXPECT_EQ(bad["text"], "bad \xEF\xBF\xBD\xEF\xBF\xBD bytes") << lines[1];
+  EXPECT_EQ(nlohmann::json::parse(lines[2])["text"], "after");
+}
+
 }  // namespace
 }  // namespace tlvlink::listen

@@ -4,7 +4,15 @@
 // refused.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 
 #include "fixture_recording.h"
 #include "support/temp_dir.h"
@@ -110,6 +118,74 @@ TEST(Recording, OtherFilesAreRefused) {
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().code(), ErrorCode::kFormat);
   EXPECT_NE(std::string(r.error().message()).find("not a tlvlink recording"), std::string::npos);
+}
+
+// Issue 31 item 3: `listen --record` refuses an existing file unless told to overwrite it (as
+// `tlvlink record` does), and a FIFO or device without blocking (item 5).
+TEST(Recording, AnExistingFileIsKeptUnlessOverwriteAndAFifoIsRefused) {
+  testing::TempDir dir("rec");
+  const std::string path = dir / "old.tlvrec";
+  std::ofstream(path) << "yesterday's recording";
+  auto refused = RecordingWriter::create(path);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(std::string(refused.error().message()).find(path + " already exists (give --overwrite"),
+            std::string::npos)
+      << refused.error().message();
+  std::ifstream in(path);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "yesterday's recording");
+  auto replaced = RecordingWriter::create(path, true);
+  ASSERT_TRUE(replaced.ok()) << replaced.error().message();
+  replaced.value().reset();
+  EXPECT_TRUE(RecordingReader::open(path).ok());
+
+  const std::string fifo = dir / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (bool overwrite : {false, true}) {
+    auto w = RecordingWriter::create(fifo, overwrite);
+    ASSERT_FALSE(w.ok());
+    EXPECT_NE(std::string(w.error().message()).find("not a regular file (FIFO)"), std::string::npos)
+        << w.error().message();
+  }
+  auto r = RecordingReader::open(fifo);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(std::string(r.error().message()).find(fifo + ": not a regular file (FIFO)"), std::string::npos)
+      << r.error().message();
+}
+
+// A full disk or a file-size limit: the write fails with the path and the reason (it stopped at
+// 16 KB silently). In a child with RLIMIT_FSIZE, SIGXFSZ ignored as tlvlink's main does.
+TEST(Recording, AFailedWriteNamesThePathAndTheReason) {
+  testing::TempDir dir("rec");
+  const std::string path = dir / "limited.tlvrec";
+  int pipe_fd[2];
+  ASSERT_EQ(::pipe(pipe_fd), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);
+    const rlimit limit{16384, 16384};
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    auto w = RecordingWriter::create(path);
+    std::string msg = w.ok() ? "" : w.error().message();
+    const std::vector<std::byte> chunk(1000, std::byte{7});
+    for (int i = 0; i < 100 && msg.empty(); ++i) {
+      Status st = w.value()->write(RecordKind::kReceived, i, chunk);
+      if (st.ok()) st = w.value()->flush();
+      if (!st.ok()) msg = st.error().message();
+    }
+    (void)!::write(pipe_fd[1], msg.data(), msg.size());
+    ::_exit(msg.empty() ? 0 : 1);
+  }
+  ::close(pipe_fd[1]);
+  char buf[512] = {};
+  const ssize_t n = ::read(pipe_fd[0], buf, sizeof(buf) - 1);
+  ::close(pipe_fd[0]);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  const std::string msg(buf, n > 0 ? static_cast<size_t>(n) : 0);
+  EXPECT_NE(msg.find("writing recording " + path + ": file size limit reached"), std::string::npos) << msg;
 }
 
 }  // namespace

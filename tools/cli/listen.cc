@@ -16,7 +16,7 @@ struct ListenFlags {
   std::string serial, usb, source, record;
   int baud = 0;
   std::string flow = "none";
-  bool json = false, no_reconnect = false, no_time_sync = false, stdin_commands = false, exit_after_replies = false;
+  bool json = false, overwrite = false, no_reconnect = false, no_time_sync = false, stdin_commands = false, exit_after_replies = false;
   std::vector<std::string> commands;
   double duration_s = -1, stats_every_s = 0, reply_timeout_s = 5;
   uint64_t count = 0;
@@ -61,6 +61,7 @@ void add_listen_command(CLI::App& app, int& exit_code) {
   serial->excludes(usb)->excludes(source);
   usb->excludes(source);
   cmd->add_option("--record", f->record, "Also record everything received into FILE (replay it with tlvlink replay)");
+  cmd->add_flag("--overwrite", f->overwrite, "Replace an existing --record file");
   cmd->add_option("--command,-c", f->commands,
                   "Send a command once the board said hello (repeatable): start [S], stop [S], closed ID, lifting ID, "
                   "rezero [S], set KEY=VALUE, info, ping, time_sync");
@@ -86,6 +87,7 @@ void add_listen_command(CLI::App& app, int& exit_code) {
       return;
     }
     o.client.record = f->record;
+    o.client.overwrite_record = f->overwrite;
     o.client.reconnect = !f->no_reconnect;
     o.client.time_sync_ms = f->no_time_sync ? 0 : 1000;
     o.commands = f->commands;

@@ -211,4 +211,21 @@ Status write_fixture_recording(const std::string& path, bool cut_last_record) {
   return Status();
 }
 
+Status write_non_utf8_recording(const std::string& path) {
+  TLV_ASSIGN_OR_RETURN(auto writer, RecordingWriter::create(path));
+  Builder b(std::move(writer));
+  const int64_t t = kStart;
+  TLV_TRY(b.text(RecordKind::kLinkUp, t, "serial:/dev/ttyACM0 (fixture)"));
+  TLV_TRY(b.put(RecordKind::kReceived, t + 1000, b.frame(testing::fixture_hello(), 0, t + 1000)));
+  protocol::ErrorReport bad;
+  bad.code = 0;
+  bad.name = "info";
+  bad.text = "bad \xff\xfe bytes";
+  TLV_TRY(b.put(RecordKind::kReceived, t + 2000, b.frame(bad, 1, t + 2000)));
+  protocol::ErrorReport after = bad;
+  after.text = "after";
+  TLV_TRY(b.put(RecordKind::kReceived, t + 3000, b.frame(after, 2, t + 3000)));
+  return Status();
+}
+
 }  // namespace tlvlink::listen

@@ -13,4 +13,8 @@ namespace tlvlink::listen {
 
 Status write_fixture_recording(const std::string& path, bool cut_last_record);
 
+// A link up, a Hello, an ErrorReport whose text is not UTF-8 (bytes 0xFF 0xFE inside "bad ...")
+// and an ErrorReport "after" it: a reader must print both (issue 31).
+Status write_non_utf8_recording(const std::string& path);
+
 }  // namespace tlvlink::listen

@@ -54,7 +54,7 @@ Result<std::unique_ptr<Client>> Client::open(std::string_view source, const Clie
   }
   if (!options.record.empty()) {
     TLV_ENSURE(impl->replay == nullptr, ErrorCode::kInvalidArgument, "--record with a replay: copy the file instead");
-    TLV_ASSIGN_OR_RETURN(impl->recorder, RecordingWriter::create(options.record));
+    TLV_ASSIGN_OR_RETURN(impl->recorder, RecordingWriter::create(options.record, options.overwrite_record));
   }
   return std::unique_ptr<Client>(new Client(std::move(impl)));
 }
@@ -65,6 +65,9 @@ Result<std::optional<Message>> Client::next(int timeout_ms) {
     const int64_t deadline = monotonic_ns() + int64_t{std::max(timeout_ms, 0)} * 1'000'000;
     TLV_TRY(s.replay ? s.pump_replay(deadline) : s.pump_live(deadline));
   }
+  // A recording that can no longer be written (disk full, file-size limit) ends the session:
+  // going on would keep printing while the record the user asked for is silently incomplete.
+  if (s.record_error) return *s.record_error;
   if (s.ready.empty()) return std::optional<Message>();
   std::optional<Message> m(std::move(s.ready.front()));
   s.ready.pop_front();

@@ -25,7 +25,12 @@ void Client::Impl::note_internal(uint32_t sequence) {
 
 // Flushed per record: a recorder that is killed keeps everything it had received.
 void Client::Impl::record(RecordKind kind, int64_t time_ns, std::span<const std::byte> data) {
-  if (recorder && recorder->write(kind, time_ns, data).ok()) (void)recorder->flush();
+  if (!recorder) return;
+  Status st = recorder->write(kind, time_ns, data);
+  if (st.ok()) st = recorder->flush();
+  if (st.ok()) return;
+  record_error = st.error();  // next() returns it; nothing more is recorded
+  recorder.reset();
 }
 
 // The board's sequence: +1 per frame it sends; a jump forward is frames lost or rejected on the

@@ -26,6 +26,7 @@ struct Client::Impl {
   std::unique_ptr<transport::Transport> link;   // live sources
   std::unique_ptr<RecordingReader> replay;      // replay sources
   std::unique_ptr<RecordingWriter> recorder;    // --record
+  std::optional<Error> record_error;            // the write that failed; recording stopped
   std::unique_ptr<protocol::Deframer> deframer = std::make_unique<protocol::Deframer>();
   std::unique_ptr<protocol::Deframer> sent_deframer;  // replay: the client's own commands
   std::deque<Message> ready;

@@ -201,7 +201,9 @@ std::string json_line(const Message& m, const FormatContext& c) {
       break;
     case protocol::MessageType::kCommand: break;
   }
-  return j.dump();
+  // A board's strings are not checked to be UTF-8 (a sensor name, an error text): an invalid
+  // byte becomes U+FFFD instead of an exception that would end the listener.
+  return j.dump(-1, ' ', false, ordered_json::error_handler_t::replace);
 }
 
 std::string stats_json(const LinkStats& s) {

@@ -1,8 +1,15 @@
 #include "tlvlink/listen/recording.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstring>
 #include <ctime>
+
+#include "tlvlink/atomic_file.h"
+#include "tlvlink/regular_file.h"
 
 namespace tlvlink::listen {
 namespace {
@@ -26,8 +33,32 @@ uint64_t get64(const std::byte* p) {
 
 // File header: magic[8] version:u16 header_size:u16 reserved:u32 start_wall_ns:i64 start_mono_ns:i64.
 // Record: time_ns:i64 length:u32 kind:u8 reserved[3] data[length]. All little-endian.
-Result<std::unique_ptr<RecordingWriter>> RecordingWriter::create(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
+Result<std::unique_ptr<RecordingWriter>> RecordingWriter::create(const std::string& path, bool overwrite) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    return Error::make(ErrorCode::kIo, "recording %s: not a regular file (%s)", path.c_str(),
+                       file_type_name(st.st_mode));
+  }
+  // O_NONBLOCK: a FIFO put there since the stat fails at once (ENXIO) instead of blocking the
+  // open, or is refused below. O_EXCL unless told to replace what is there.
+  const int fd = ::open(path.c_str(),
+                        O_WRONLY | O_CREAT | O_CLOEXEC | O_NONBLOCK | (overwrite ? 0 : O_EXCL), 0644);
+  TLV_ENSURE(fd >= 0 || errno != EEXIST, ErrorCode::kIo,
+             "recording %s already exists (give --overwrite to replace it)", path.c_str());
+  TLV_ENSURE(fd >= 0, ErrorCode::kIo, "creating recording %s: %s", path.c_str(), std::strerror(errno));
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    return Error::make(ErrorCode::kIo, "recording %s: not a regular file (%s)", path.c_str(),
+                       file_type_name(st.st_mode));
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  if (overwrite && ::ftruncate(fd, 0) != 0) {
+    const int err = errno;
+    ::close(fd);
+    return Error::make(ErrorCode::kIo, "recording %s: %s", path.c_str(), std::strerror(err));
+  }
+  std::FILE* f = ::fdopen(fd, "wb");
+  if (f == nullptr) ::close(fd);
   TLV_ENSURE(f != nullptr, ErrorCode::kIo, "creating recording %s: %s", path.c_str(), std::strerror(errno));
   std::byte header[kRecordingHeaderSize] = {};
   std::memcpy(header, kRecordingMagic, 8);
@@ -36,9 +67,10 @@ Result<std::unique_ptr<RecordingWriter>> RecordingWriter::create(const std::stri
   header[10] = std::byte{kRecordingHeaderSize};
   put64(header + 16, static_cast<uint64_t>(clock_ns(CLOCK_REALTIME)));
   put64(header + 24, static_cast<uint64_t>(clock_ns(CLOCK_MONOTONIC)));
-  if (std::fwrite(header, 1, sizeof(header), f) != sizeof(header)) {
+  if (std::fwrite(header, 1, sizeof(header), f) != sizeof(header) || std::fflush(f) != 0) {
+    const int err = errno;
     std::fclose(f);
-    return Error::make(ErrorCode::kIo, "writing recording %s: %s", path.c_str(), std::strerror(errno));
+    return Error::make(ErrorCode::kIo, "writing recording %s: %s", path.c_str(), write_error_text(err));
   }
   return std::unique_ptr<RecordingWriter>(new RecordingWriter(f, path));
 }
@@ -56,17 +88,23 @@ Status RecordingWriter::write(RecordKind kind, int64_t time_ns, std::span<const 
   head[12] = static_cast<std::byte>(kind);
   TLV_ENSURE(std::fwrite(head, 1, sizeof(head), file_) == sizeof(head) &&
                  (data.empty() || std::fwrite(data.data(), 1, data.size(), file_) == data.size()),
-             ErrorCode::kIo, "writing recording %s: %s", path_.c_str(), std::strerror(errno));
+             ErrorCode::kIo, "writing recording %s: %s", path_.c_str(), write_error_text(errno));
   return Status();
 }
 
 Status RecordingWriter::flush() {
-  TLV_ENSURE(std::fflush(file_) == 0, ErrorCode::kIo, "writing recording %s: %s", path_.c_str(), std::strerror(errno));
+  TLV_ENSURE(std::fflush(file_) == 0, ErrorCode::kIo, "writing recording %s: %s", path_.c_str(),
+             write_error_text(errno));
   return Status();
 }
 
 Result<std::unique_ptr<RecordingReader>> RecordingReader::open(const std::string& path) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
+  // A regular file only, opened non-blocking (a FIFO would hang the open past SIGTERM).
+  auto regular = RegularFile::open(path.c_str());
+  if (!regular.ok()) return regular.error().with_context("opening recording");
+  const int fd = ::dup(regular->fd());
+  std::FILE* f = fd >= 0 ? ::fdopen(fd, "rb") : nullptr;
+  if (f == nullptr && fd >= 0) ::close(fd);
   TLV_ENSURE(f != nullptr, ErrorCode::kIo, "opening recording %s: %s", path.c_str(), std::strerror(errno));
   std::unique_ptr<RecordingReader> r(new RecordingReader(f, path));
   std::byte header[kRecordingHeaderSize];

@@ -41,6 +41,7 @@ struct ClientOptions {
   int time_sync_ms = 1000;       // TimeSync period; 0: none (no clock offset, no latencies)
   bool request_info = true;      // send Info when no Hello came soon after connecting
   std::string record;            // also write what arrives into this recording file
+  bool overwrite_record = false; // replace an existing `record` file (else it is an error)
   bool realtime = false;         // replay: pace records at their recorded times
 };
 

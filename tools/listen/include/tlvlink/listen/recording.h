@@ -39,8 +39,11 @@ struct Record {
 
 class RecordingWriter {
  public:
-  // Creates (truncates) the file and writes its header with the current wall and monotonic times.
-  static Result<std::unique_ptr<RecordingWriter>> create(const std::string& path);
+  // Creates the file and writes its header with the current wall and monotonic times. An
+  // existing file is an error unless `overwrite` (then it is truncated); anything but a regular
+  // file (a FIFO, a device) is refused without blocking. Write errors name the path and the
+  // reason ("disk full", "file size limit reached").
+  static Result<std::unique_ptr<RecordingWriter>> create(const std::string& path, bool overwrite = false);
   ~RecordingWriter();
   Status write(RecordKind kind, int64_t time_ns, std::span<const std::byte> data);
   Status flush();
