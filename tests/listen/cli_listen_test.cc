@@ -129,15 +129,15 @@ std::string slurp(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-// Issue 31 item 3: --record refuses an existing recording without --overwrite (it was replaced
-// silently), and a file-size limit stops the session with the path and the reason, exit 1 (it
+// Issue 31 item 3: --record refuses an existing recording without --overwrite, exit 2 (it was
+// replaced silently), and a file-size limit stops the session with the path and the reason, exit 1 (it
 // stopped recording at 16 KB while predictions kept printing, exit 0).
 TEST(CliListen, RecordKeepsAnExistingFileAndStopsOnAFailedWrite) {
   TempDir dir("listen");
   const std::string old = dir / "old.tlvrec";
   { std::ofstream(old) << "yesterday"; }
   const CliRun refused = run_tlvlink("listen --serial " + dir / "tty" + " --no-reconnect --record " + old);
-  EXPECT_RUN(refused, 1);
+  EXPECT_RUN(refused, 2);  // a usage error, as `tlvlink record` makes it
   EXPECT_NE(refused.out.find(old + " already exists (give --overwrite"), std::string::npos) << refused.out;
   EXPECT_EQ(slurp(old), "yesterday");
 

@@ -64,6 +64,11 @@ class UntrustedCli : public ::testing::Test {
   }
   // Sets the material class_id of the first test-split sidecar line; returns its line number.
   static int set_class_id(const std::string& set, int class_id) {
+    return set_field(set, "class_id", std::to_string(class_id));
+  }
+  // Sets `field` (an integer in the file) of the first test-split sidecar line to `value` as
+  // written; returns its line number.
+  static int set_field(const std::string& set, const std::string& field, const std::string& value) {
     const fs::path sidecar = fs::path(set) / "tlvlink_sim_samples.jsonl";
     std::ifstream in(sidecar);
     std::string line, out;
@@ -71,8 +76,8 @@ class UntrustedCli : public ::testing::Test {
     while (std::getline(in, line)) {
       ++n;
       if (changed == 0 && line.find("\"split\":\"test\"") != std::string::npos) {
-        line = std::regex_replace(line, std::regex("\"class_id\":[0-9]+"),
-                                  "\"class_id\":" + std::to_string(class_id),
+        line = std::regex_replace(line, std::regex("\"" + field + "\":-?[0-9]+"),
+                                  "\"" + field + "\":" + value,
                                   std::regex_constants::format_first_only);
         changed = n;
       }
@@ -130,6 +135,82 @@ TEST_F(UntrustedCli, SidecarClassIdOutOfRangeIsSkippedWithFileLine) {
       EXPECT_TRUE(contains(r, "class_id " + std::to_string(bad) + " outside 0..19")) << r.out;
     }
   }
+}
+
+// Issue 31 item 9: a label that is not an integer within range as written (4294967299 wrapped
+// to the valid class 3, 1.5 and true read as 1, 2^31 printed as -2147483648, rough 7 ended the
+// run with exit 2 naming nothing): skipped with file:line and the value as written.
+TEST_F(UntrustedCli, SidecarLabelsNotIntegersInRangeAreSkippedWithFileLine) {
+  struct Case {
+    const char* field;
+    const char* value;
+    const char* says;
+  };
+  int k = 0;
+  for (const Case& c : {Case{"class_id", "4294967299", "class_id 4294967299 outside 0..19"},
+                        Case{"class_id", "2147483648", "class_id 2147483648 outside 0..19"},
+                        Case{"class_id", "1.5", "class_id 1.5 is not an integer"},
+                        Case{"class_id", "true", "class_id true is not an integer"},
+                        Case{"rough", "7", "rough 7 outside -1..1"}}) {
+    const std::string set = copy_set("label" + std::to_string(k++));
+    const int line = set_field(set, c.field, c.value);
+    ASSERT_GT(line, 0) << c.field;
+    CliRun r = tlvlink("eval " + path("int8.tlvm") + " --touch " + set);
+    EXPECT_RUN(r, 0);
+    EXPECT_TRUE(contains(r, set + "/tlvlink_sim_samples.jsonl:" + std::to_string(line) + ":")) << r.out;
+    EXPECT_TRUE(contains(r, c.says)) << c.value << ": " << r.out;
+  }
+}
+
+// Item 9: a folder member the tool leaves out because it is not a regular file (a FIFO named
+// like a frame, a subfolder) or a dataset image that is a FIFO is named, not skipped unseen.
+TEST_F(UntrustedCli, SkippedFifosAndFoldersAreNamed) {
+  const std::string imgs = path("imgs");
+  fs::remove_all(imgs);
+  fs::create_directories(imgs + "/sub");
+  int n = 0;
+  for (const auto& e : fs::recursive_directory_iterator(path("t100k") + "/touch")) {
+    if (e.path().extension() != ".jpg" || n == 5) continue;
+    fs::copy_file(e.path(), imgs + "/" + std::to_string(n++) + ".jpg");
+  }
+  ASSERT_EQ(n, 5);
+  const std::string fifo = imgs + "/9.jpg";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  CliRun r = tlvlink("record --images " + imgs + " -o " + path("imgs.tlvraw") + " --overwrite");
+  EXPECT_RUN(r, 0);
+  EXPECT_TRUE(contains(r, "skipped " + fifo + ": not a regular file (FIFO)")) << r.out;
+  EXPECT_TRUE(contains(r, "skipped " + imgs + "/sub: not a regular file (directory)")) << r.out;
+  r = tlvlink("quantize " + path("fp32.tlvm") + " --calib-images " + imgs + " -o " + path("imgs.tlvm") +
+              " --calib-count 4 --heldout-count 2");
+  EXPECT_NE(r.exit_code, 124) << "quantize hung on a FIFO";
+  EXPECT_TRUE(contains(r, fifo + ": not a regular file (FIFO)")) << r.out;
+
+  const std::string set = copy_set("fifo_record");
+  fs::path image;
+  for (const auto& e : fs::recursive_directory_iterator(fs::path(set) / "touch"))
+    if (e.path().extension() == ".jpg") image = e.path();
+  fs::remove(image);
+  ASSERT_EQ(::mkfifo(image.c_str(), 0600), 0);
+  r = tlvlink("record --touch100k " + set + " -o " + path("t100k.tlvraw") + " --overwrite");
+  EXPECT_RUN(r, 0);
+  EXPECT_TRUE(contains(r, image.string() + ": not a regular file (FIFO)")) << r.out;
+}
+
+// Item 9: `sim scenario -o DIR` keeps an earlier scenario's files unless --overwrite.
+TEST_F(UntrustedCli, SimScenarioKeepsAnEarlierScenarioUnlessOverwrite) {
+  const std::string dir = path("scenario");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  spit(dir + "/truth.jsonl", "earlier truth\n");
+  const std::string args = "sim scenario -o " + dir + " --sensor digit --grasps 0 --presses 1";
+  CliRun r = tlvlink(args);
+  EXPECT_RUN(r, 2);  // a usage error, as in `tlvlink record`
+  EXPECT_TRUE(contains(r, dir + "/truth.jsonl exists (--overwrite replaces it)")) << r.out;
+  EXPECT_EQ(slurp(dir + "/truth.jsonl"), "earlier truth\n");
+  EXPECT_FALSE(fs::exists(dir + "/A.tlvraw"));
+  r = tlvlink(args + " --overwrite");
+  EXPECT_RUN(r, 0);
+  EXPECT_NE(slurp(dir + "/truth.jsonl"), "earlier truth\n");
 }
 
 TEST_F(UntrustedCli, QuantizeWithoutDataListIsAnErrorNamingIt) {

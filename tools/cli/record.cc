@@ -32,6 +32,7 @@ int run_record(RecordFlags f) {
   f.options.finger = f.finger == "B" ? 1 : 0;
   auto r = record::record_frames(f.options, f.output);
   if (!r.ok()) return report_error("record", r.error());
+  for (const std::string& s : r->skipped) std::fprintf(stderr, "tlvlink record: skipped %s\n", s.c_str());
   std::printf("recorded %s: %lld images as %lld frames (MJPEG %dx%d at %g fps%s), %.1f MB\n",
               f.output.c_str(), static_cast<long long>(r->images), static_cast<long long>(r->frames),
               r->width, r->height, f.options.fps, r->stored_as_is ? ", JPEG files kept as they are" : "",

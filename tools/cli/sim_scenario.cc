@@ -17,7 +17,7 @@ struct ScenarioFlags {
   std::string sensor = "gelsight-mini";
   int32_t grasps = 6, presses = 4, jpeg_quality = 90;
   uint64_t seed = 1;
-  bool markers = false, offline = false;
+  bool markers = false, offline = false, overwrite = false;
 };
 
 int run_scenario(const ScenarioFlags& f) {
@@ -29,6 +29,7 @@ int run_scenario(const ScenarioFlags& f) {
   o.jpeg_quality = f.jpeg_quality;
   o.markers = f.markers;
   o.offline = f.offline;
+  o.overwrite = f.overwrite;
   std::optional<tools::Progress> progress;
   auto r = sim::write_scenario(o, f.output_dir, [&](int64_t done, int64_t total) {
     if (!progress) progress.emplace("scenario frames", total);
@@ -68,6 +69,7 @@ void add_sim_scenario_command(CLI::App& sim, int& exit_code) {
                 "upright view) into DIR/A.offline.tlvraw and B.offline.tlvraw: replayed by "
                 "tlvlinkd (format mjpeg, the view's size, crop 0, jpeg_scale 1, orientation "
                 "upright) they give the offline image path's predictions of the same frames");
+  cmd->add_flag("--overwrite", f->overwrite, "Replace the files of an earlier scenario in the directory");
   cmd->footer(kExitCodeFooter);
   cmd->callback([f, &exit_code] { exit_code = run_scenario(*f); });
 }

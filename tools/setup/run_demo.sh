@@ -57,7 +57,7 @@ scenario=$out/scenario
 # the live-vs-offline line of step 7; commands.txt holds the gripper controller's marks.
 scenario_args=(--sensor gelsight-mini --grasps 6 --presses 4 --seed 2026 --offline)
 if [ ! -f "$scenario/truth.jsonl" ] || [ ! -f "$scenario/A.offline.tlvraw" ] || [ ! -f "$scenario/commands.txt" ] || [ "$(cat "$scenario/args" 2>/dev/null)" != "${scenario_args[*]}" ]; then
-  "$tlvlink" sim scenario -o "$scenario" "${scenario_args[@]}"
+  "$tlvlink" sim scenario -o "$scenario" --overwrite "${scenario_args[@]}"
   echo "${scenario_args[*]}" >"$scenario/args"
 else
   echo "   reusing $scenario (${scenario_args[*]})"

@@ -67,7 +67,10 @@ Result<std::vector<std::string>> image_files(const std::string& dir) {
   TLV_ENSURE(!ec, ErrorCode::kIo, "cannot read directory '%s': %s", dir.c_str(), ec.message().c_str());
   for (; it != end; it.increment(ec)) {
     TLV_ENSURE(!ec, ErrorCode::kIo, "reading '%s': %s", dir.c_str(), ec.message().c_str());
-    if (it->is_regular_file() && is_image_file(it->path().string()))
+    // A FIFO or a device named like an image is listed too: reading it fails at once
+    // (RegularFile) and the failure names it, instead of it being left out unseen.
+    std::error_code kind;
+    if (is_image_file(it->path().string()) && !it->is_directory(kind))
       files.push_back(fs::relative(it->path(), dir).generic_string());
   }
   std::sort(files.begin(), files.end());

@@ -17,15 +17,32 @@ OrderedJson material_json(const sim::MaterialSample& m) {
           {"rough", m.rough},       {"layer_mm", m.layer_mm}};
 }
 
+// An integer label exactly as written. get<int32_t>() converts whatever it is given: 1.5 reads
+// as 1, true as 1 and 4294967299 wraps to 3, a valid class. `what` names the field in errors,
+// which quote the value as written (2147483648, never -2147483648).
+int32_t read_int(const Json& object, const char* key, const char* what, int64_t lo, int64_t hi,
+                 const char* range) {
+  const Json& v = object.at(key);
+  if (!v.is_number_integer()) {
+    throw Json::other_error::create(501, std::string(what) + " " + v.dump() + " is not an integer",
+                                    &object);
+  }
+  const bool in_range = v.is_number_unsigned() ? v.get<uint64_t>() <= static_cast<uint64_t>(hi)
+                                               : v.get<int64_t>() >= lo && v.get<int64_t>() <= hi;
+  if (!in_range) {
+    throw Json::other_error::create(501, std::string(what) + " " + v.dump() + " outside " + range,
+                                    &object);
+  }
+  return static_cast<int32_t>(v.get<int64_t>());
+}
+
 // A class id is checked where it is read: an out-of-range one would otherwise index the class
 // table later (exit 2 naming nothing) or read as "unlabelled" (-5) and be scored silently.
 int32_t read_class_id(const Json& material) {
-  const int32_t id = material.at("class_id").get<int32_t>();
-  if (id != -1 && (id < 0 || id >= sim::kMaterialClassCount)) {
-    const std::string why = "material class_id " + std::to_string(id) + " outside 0.." +
-                            std::to_string(sim::kMaterialClassCount - 1) + " (or -1, unlabelled)";
-    throw Json::other_error::create(501, why, &material);
-  }
+  const std::string range =
+      "0.." + std::to_string(sim::kMaterialClassCount - 1) + " (or -1, unlabelled)";
+  const int32_t id = read_int(material, "class_id", "material class_id", -1,
+                              sim::kMaterialClassCount - 1, range.c_str());
   return id;
 }
 
@@ -38,7 +55,7 @@ void read_material(const Json& j, sim::MaterialSample& m) {
   m.correlation_length_mm = j.at("correlation_length_mm").get<double>();
   m.hurst = j.at("hurst").get<double>();
   m.hard = j.at("hard").get<bool>();
-  m.rough = j.at("rough").get<int32_t>();
+  m.rough = read_int(j, "rough", "material rough", -1, 1, "-1..1 (1 rough, 0 smooth, -1 neither)");
   m.layer_mm = j.value("layer_mm", 0.0);  // recorded since issue 16; 0 = bulk or not recorded
 }
 

@@ -43,7 +43,7 @@ Result<std::unique_ptr<RecordingWriter>> RecordingWriter::create(const std::stri
   // open, or is refused below. O_EXCL unless told to replace what is there.
   const int fd = ::open(path.c_str(),
                         O_WRONLY | O_CREAT | O_CLOEXEC | O_NONBLOCK | (overwrite ? 0 : O_EXCL), 0644);
-  TLV_ENSURE(fd >= 0 || errno != EEXIST, ErrorCode::kIo,
+  TLV_ENSURE(fd >= 0 || errno != EEXIST, ErrorCode::kInvalidArgument,
              "recording %s already exists (give --overwrite to replace it)", path.c_str());
   TLV_ENSURE(fd >= 0, ErrorCode::kIo, "creating recording %s: %s", path.c_str(), std::strerror(errno));
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {

@@ -4,6 +4,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -17,6 +19,7 @@
 #include "tlvlink/io/file.h"
 #include "tlvlink/io/png.h"
 #include "tlvlink/io/pnm.h"
+#include "tlvlink/regular_file.h"
 
 namespace tlvlink::record {
 namespace {
@@ -41,16 +44,25 @@ struct Frame {
 // Yields the input's frames one at a time; false at the end.
 using FrameReader = std::function<Result<bool>(Frame&)>;
 
-Result<FrameReader> images_in(const std::string& dir, bool& as_is) {
+Result<FrameReader> images_in(const std::string& dir, bool& as_is, std::vector<std::string>& skipped) {
   std::error_code ec;
   TLV_ENSURE(fs::is_directory(dir, ec), ErrorCode::kIo, "record: %s is not a directory", dir.c_str());
   auto files = std::make_shared<std::vector<fs::path>>();
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string ext = lower_extension(e.path());
-    if (e.is_regular_file() && (ext == ".jpg" || ext == ".jpeg" || ext == ".png" ||
-                                ext == ".ppm" || ext == ".pnm"))
-      files->push_back(e.path());
+    const bool image = ext == ".jpg" || ext == ".jpeg" || ext == ".png" || ext == ".ppm" || ext == ".pnm";
+    struct stat st {};
+    const bool stat_ok = ::stat(e.path().c_str(), &st) == 0;  // never opens: a FIFO cannot block it
+    if (stat_ok && S_ISREG(st.st_mode)) {
+      if (image) files->push_back(e.path());
+    } else if (image || (stat_ok && S_ISDIR(st.st_mode))) {
+      // A FIFO or device named like a frame, or a subfolder (not descended into): named.
+      skipped.push_back(e.path().string() + ": " +
+                        (stat_ok ? std::string("not a regular file (") + file_type_name(st.st_mode) + ")"
+                                 : std::string("cannot stat")));
+    }
   }
+  std::sort(skipped.begin(), skipped.end());
   TLV_ENSURE(!ec, ErrorCode::kIo, "record: cannot list %s: %s", dir.c_str(), ec.message().c_str());
   TLV_ENSURE(!files->empty(), ErrorCode::kInvalidArgument,
              "record: %s holds no .jpg, .jpeg, .png, .ppm or .pnm file", dir.c_str());
@@ -120,15 +132,22 @@ Result<FrameReader> feel_frames(std::unique_ptr<datasets::GraspEpisodeLoader> lo
   });
 }
 
-Result<FrameReader> open_input(const RecordOptions& o, bool& as_is) {
+// A dataset item that does not load is skipped by the loader; the report names it.
+template <typename Loader>
+void name_problems(Loader& l, std::vector<std::string>& skipped) {
+  l.report().on_problem = [&skipped](const datasets::LoadProblem& p) { skipped.push_back(p.to_string()); };
+}
+
+Result<FrameReader> open_input(const RecordOptions& o, bool& as_is, std::vector<std::string>& skipped) {
   as_is = false;
   switch (o.source) {
-    case RecordSource::kImages: return images_in(o.input, as_is);
+    case RecordSource::kImages: return images_in(o.input, as_is, skipped);
     case RecordSource::kTouch100k: {
       datasets::Touch100kLoaderOptions lo;
       lo.load_vision = false;
       lo.require_vision = false;
       TLV_ASSIGN_OR_RETURN(auto l, datasets::open_touch100k(o.input, lo));
+      name_problems(*l, skipped);
       return touch_frames(std::move(l));
     }
     case RecordSource::kTouchAndGo: {
@@ -136,6 +155,7 @@ Result<FrameReader> open_input(const RecordOptions& o, bool& as_is) {
       lo.load_vision = false;
       lo.require_vision = false;
       TLV_ASSIGN_OR_RETURN(auto l, datasets::open_touch_and_go(o.input, lo));
+      name_problems(*l, skipped);
       return touch_frames(std::move(l));
     }
     case RecordSource::kFeel: {
@@ -152,6 +172,7 @@ Result<FrameReader> open_input(const RecordOptions& o, bool& as_is) {
       const bool repacked = !h5;
       auto l = repacked ? datasets::open_feel_repacked(o.input, lo) : datasets::open_feel(o.input, lo);
       if (!l.ok()) return l.error();
+      name_problems(**l, skipped);
       return feel_frames(std::move(l).value(), o.finger);
     }
   }
@@ -173,7 +194,7 @@ Result<RecordReport> record_frames(const RecordOptions& o, const std::string& ou
   TLV_ENSURE(o.overwrite || !fs::exists(out_path, ec), ErrorCode::kInvalidArgument,
              "record: %s exists (--overwrite replaces it)", out_path.c_str());
   RecordReport report;
-  TLV_ASSIGN_OR_RETURN(FrameReader read, open_input(o, report.stored_as_is));
+  TLV_ASSIGN_OR_RETURN(FrameReader read, open_input(o, report.stored_as_is, report.skipped));
   const std::string temp = out_path + ".partial";
   std::optional<capture::RecordingWriter> writer;
   image::JpegDecoder header_reader;

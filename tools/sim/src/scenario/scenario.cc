@@ -240,6 +240,11 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
     files.push_back({dir + "/A.offline.tlvraw", dir + "/.A.offline.tlvraw.partial"});
     files.push_back({dir + "/B.offline.tlvraw", dir + "/.B.offline.tlvraw.partial"});
   }
+  for (const Staged& f : files) {
+    struct stat existing{};
+    TLV_ENSURE(o.overwrite || ::lstat(f.final_path.c_str(), &existing) != 0, ErrorCode::kInvalidArgument,
+               "scenario: %s exists (--overwrite replaces it)", f.final_path.c_str());
+  }
   capture::RecordingFormat format;
   format.format = {model->format, model->width, model->height,
                    model->format == image::PixelFormat::kYuyv ? model->width * 2 : 0};

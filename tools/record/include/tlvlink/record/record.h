@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "tlvlink/error.h"
 
@@ -38,6 +39,10 @@ struct RecordReport {
   int32_t width = 0, height = 0;
   int64_t file_bytes = 0;
   bool stored_as_is = false;  // JPEG files kept byte for byte
+  // What was left out, one line each ("PATH: not a regular file (FIFO)", a dataset's
+  // "path:line: kind: reason"): a folder member that is not a regular file, a dataset item that
+  // did not load. The CLI prints them; none is skipped silently.
+  std::vector<std::string> skipped;
 };
 
 Result<RecordReport> record_frames(const RecordOptions& options, const std::string& out_path);

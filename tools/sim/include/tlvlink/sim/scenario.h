@@ -46,6 +46,9 @@ struct ScenarioOptions {
   // "upright") to give the offline image path's predictions of the very same frames.
   bool offline = false;
   int32_t offline_jpeg_quality = 90;  // the dataset writers' default
+  // Replace the files of an earlier scenario in the directory; else one that exists (A.tlvraw,
+  // B.tlvraw, truth.jsonl, commands.txt, the offline recordings) is an error naming it.
+  bool overwrite = false;
 };
 
 struct ScenarioReport {
