@@ -106,6 +106,29 @@ TEST_F(UntrustedCli, FifoAsModelOrInputIsNotARegularFile) {
   EXPECT_TRUE(contains(r, "/dev/zero: not a regular file (character device)")) << r.out;
 }
 
+// Issue 31 item 5: a FIFO given as a key file or as a Feel set is refused at once, naming it
+// (each hung, deaf to SIGTERM). `timeout 30` makes a hang exit 124.
+TEST_F(UntrustedCli, FifoAsAKeyOrFeelSetIsRefusedAtOnce) {
+  const std::string fifo = path("key_fifo");
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string src = TLVLINK_SOURCE_DIR;
+  const std::string says = fifo + ": not a regular file (FIFO)";
+  for (const std::string& args :
+       {"sign " + path("int8.tlvm") + " --key " + fifo + " -o " + path("signed.tlvm"),
+        "verify " + path("int8.tlvm") + " --public-key " + fifo,
+        "strip " + src + "/firmware/models/touch-tiny-int8.tlvm --scene material-sort-mini --scenes-dir " +
+            src + "/boards/scenes -o " + path("stripped.tlvm") + " --key " + fifo,
+        "flash --board rpi4-a72 --scene material-sort-mini --source " + src + " -o " + path("flash") +
+            " --key " + fifo,
+        "record --feel " + fifo + " -o " + path("feel.tlvraw")}) {
+    CliRun r = tlvlink(args);
+    EXPECT_NE(r.exit_code, 124) << "hung: " << args;
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_TRUE(contains(r, says)) << args << ": " << r.out;
+  }
+}
+
 // A FIFO inside a dataset is one unreadable image: counted and named, the run goes on.
 TEST_F(UntrustedCli, FifoAsADatasetImageIsSkippedAndNamed) {
   const std::string set = copy_set("fifo_set");

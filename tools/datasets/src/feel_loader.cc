@@ -8,6 +8,7 @@
 #include "images.h"
 #include "line_io.h"
 #include "meta.h"
+#include "tlvlink/regular_file.h"
 
 namespace tlvlink::datasets {
 namespace {
@@ -30,7 +31,9 @@ class FeelLoader final : public GraspEpisodeLoader {
       TLV_ENSURE(!files_.empty(), ErrorCode::kIo, "%s: no %s*.h5 files", path.c_str(),
                  kFeelFilePrefix);
     } else {
-      // A single file: opened (and, when broken, counted) by next() like any other.
+      // A single file: opened (and, when broken, counted) by next() like any other; a FIFO or a
+      // device given as the set is an error now (HDF5 would block opening a FIFO).
+      if (std::filesystem::exists(path, ec)) TLV_TRY(RegularFile::open(path.c_str()));
       files_.push_back(path);
     }
     return {};
@@ -64,6 +67,11 @@ class FeelLoader final : public GraspEpisodeLoader {
     group_index_ = 0;
     if (!std::filesystem::exists(path_)) {
       report_.add({ProblemKind::kMissingFile, path_, 0, "not found"});
+      return;
+    }
+    // Checked first, non-blocking: HDF5's own open() of a FIFO never returns.
+    if (auto regular = RegularFile::open(path_.c_str()); !regular.ok()) {
+      report_.add({ProblemKind::kCorruptFile, path_, 0, regular.error().message()});
       return;
     }
     file_ = h5::Handle(H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
