@@ -168,6 +168,28 @@ TEST_F(DaemonCli, LoopOverARecordingWithNoGoodFrameStopsWithAnError) {
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(15));
 }
 
+// Item 5: SIGTERM stops a running daemon (a looping replay at the camera's pace) within a
+// second, exit 0, summary printed.
+TEST_F(DaemonCli, SigtermStopsTheRunWithinASecond) {
+  const std::string c = config("sigterm", "\"jsonl:" + path("sigterm.jsonl") + "\"", path("good.tlvraw"),
+                               "", true);
+  // realtime = true (the camera's pace): the replay never ends on its own.
+  std::string text = slurp(c);
+  text.replace(text.find("realtime = false"), 16, "realtime = true");
+  std::ofstream(c) << text;
+  const std::string err = path("sigterm.err");
+  CliRun r = run_cli("timeout 60 bash",
+                     std::string("-c '\"$0\" --config \"$1\" 2>\"$2\" & pid=$!; sleep 2; "
+                                 "t0=$(date +%s%N); kill -TERM $pid; wait $pid; rc=$?; "
+                                 "echo stop_ms=$(( ($(date +%s%N) - t0) / 1000000 )) rc=$rc' ") +
+                         TLVLINKD_BINARY + " " + c + " " + err);
+  EXPECT_TRUE(contains(r, " rc=0")) << r.out << slurp(err);
+  const size_t at = r.out.find("stop_ms=");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_LT(std::stoi(r.out.substr(at + 8)), 1000) << r.out;
+  EXPECT_NE(slurp(err).find("drops: stale"), std::string::npos) << "no summary: " << slurp(err);
+}
+
 // Item 10: --check runs what start runs (the unit cases are in config_test.cc): one through the
 // binary, so main's --check path is covered too.
 TEST_F(DaemonCli, CheckRefusesABadLinkAsStartDoes) {
