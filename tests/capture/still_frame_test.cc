@@ -97,6 +97,30 @@ TEST(StillFrame, AViewIsTakenAsItIsAndOddSizesAreRefused) {
   EXPECT_EQ(unknown.error().code(), ErrorCode::kInvalidArgument);
 }
 
+TEST(StillFrame, ProcessedMiniFramesHaveAProfileThatTakesThemWhole) {
+  // gsrobotics hands users 320x240 frames already cut: the profile decodes them untouched, in the
+  // daemon (its FrameDecoder) as in the host tools, where `gelsight-mini` would cut 15 % again.
+  const SensorModel* processed = find_sensor_model("gelsight-mini-processed");
+  ASSERT_NE(processed, nullptr);
+  EXPECT_EQ(processed->width, 320);
+  EXPECT_EQ(processed->height, 240);
+  EXPECT_EQ(processed->view.crop, 0.0);
+  const image::Image view = gradient(320, 240);
+  auto jpeg = image::encode_jpeg(view, 95);
+  ASSERT_TRUE(jpeg.ok());
+  auto want = image::decode_jpeg(*jpeg, "ref");
+  ASSERT_TRUE(want.ok());
+  auto d = image::FrameDecoder::create({processed->format, processed->width, processed->height, 0},
+                                       processed->view);
+  ASSERT_TRUE(d.ok()) << d.error().message();
+  std::vector<uint8_t> out(d->output_bytes());
+  ASSERT_TRUE(d->decode(*jpeg, out, "cam").ok());
+  EXPECT_EQ(out, want->pixels);
+  auto f = tools::sensor_frame_from_bytes(ppm(view), "saved.png", "gelsight-mini-processed");
+  ASSERT_TRUE(f.ok()) << f.error().message();
+  EXPECT_EQ(f->view.pixels, view.pixels);
+}
+
 TEST(StillFrame, ADigitCameraFrameIsTurnedUpright) {
   // DIGIT's camera sends 320x240 transposed; its view is the 240x320 portrait frame.
   const SensorModel& digit = *find_sensor_model("digit");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -36,6 +37,29 @@ TEST(ImageFrameDecoder, PicksTheSmallestJpegScaleThatKeepsTheView) {
   EXPECT_EQ(small->jpeg_scale_denominator(), 1);
   EXPECT_FALSE(FrameDecoder::create({PixelFormat::kMjpeg, 320, 240, 0}, {320, 240, 0.5, {}, 0}).ok());
   EXPECT_FALSE(FrameDecoder::create({PixelFormat::kMjpeg, 320, 240, 0}, {320, 240, 0, {}, 3}).ok());
+}
+
+TEST(ImageFrameDecoder, AFrameOfAnotherAspectIsRefusedNotStretched) {
+  // A 300x400 portrait frame into the Mini's 320x240 view would be squashed to a third of its
+  // height: an error naming both sizes. A Mini's own 3280x2464 (aspect 1.331 vs 1.333) and a
+  // DIGIT's transposed 320x240 pass.
+  auto portrait =
+      FrameDecoder::create({PixelFormat::kRgb24, 300, 400, 0}, {320, 240, 0, {}, 0});
+  ASSERT_FALSE(portrait.ok());
+  EXPECT_EQ(portrait.error().code(), ErrorCode::kShapeMismatch);
+  const std::string m = portrait.error().message();
+  EXPECT_NE(m.find("300x400"), std::string::npos) << m;
+  EXPECT_NE(m.find("320x240"), std::string::npos) << m;
+  EXPECT_FALSE(FrameDecoder::create({PixelFormat::kMjpeg, 640, 360, 0},
+                                    {320, 240, 0.15, Orientation::kUpright, 0})
+                   .ok());  // 16:9 into 4:3
+  EXPECT_TRUE(FrameDecoder::create({PixelFormat::kMjpeg, 3280, 2464, 0},
+                                   {320, 240, 0.15, Orientation::kUpright, 0})
+                  .ok());
+  EXPECT_TRUE(FrameDecoder::create({PixelFormat::kYuyv, 320, 240, 0},
+                                   {240, 320, 0, Orientation::kTransposed, 0})
+                  .ok());
+  EXPECT_TRUE(FrameDecoder::create({PixelFormat::kRgb24, 640, 480, 0}, {320, 240, 0, {}, 0}).ok());
 }
 
 TEST(ImageFrameDecoder, MjpegAtFullScaleWithoutCropIsTheJpegDecode) {

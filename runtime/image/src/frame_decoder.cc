@@ -67,6 +67,15 @@ Result<FrameDecoder> FrameDecoder::create(const FrameFormat& camera, const Senso
     }
   }
   const Size up = upright_size(f.decoded_.width, f.decoded_.height, view.orientation);
+  const double camera_aspect = static_cast<double>(up.width) / static_cast<double>(up.height);
+  const double view_aspect = static_cast<double>(view.width) / static_cast<double>(view.height);
+  TLV_ENSURE(std::abs(camera_aspect / view_aspect - 1.0) <= kMaxViewAspectChange,
+             ErrorCode::kShapeMismatch,
+             "frame decoder: a %dx%d camera frame (%dx%d upright, aspect %.3f) cannot become the "
+             "%dx%d view (aspect %.3f) without stretching the gel (tolerance %.0f %%): configure "
+             "the sensor model that produces these frames, or crop them to the view's aspect",
+             camera.width, camera.height, up.width, up.height, camera_aspect, view.width,
+             view.height, view_aspect, 100 * kMaxViewAspectChange);
   f.upright_.assign(static_cast<size_t>(up.width) * static_cast<size_t>(up.height) * 3, 0);
   f.resize_ = view.crop > 0 || up.width != view.width || up.height != view.height;
   if (f.resize_) {

@@ -24,7 +24,7 @@ struct SensorModel {
   std::string_view notes;
 };
 
-// gelsight-mini, digit, digit-640x480, gelsight-r1.5.
+// gelsight-mini, gelsight-mini-processed, digit, digit-640x480, gelsight-r1.5.
 std::span<const SensorModel> sensor_models();
 const SensorModel* find_sensor_model(std::string_view name);  // nullptr when unknown
 

@@ -29,6 +29,9 @@ struct SensorView {
   int32_t jpeg_scale_denominator = 0;
 };
 inline constexpr double kMinViewShare = 0.8;
+// The camera frame (upright, cropped) and the view may differ in aspect by this much: a row or
+// two of a cropped frame. More would stretch the gel, so create() refuses it naming both sizes.
+inline constexpr double kMaxViewAspectChange = 0.02;
 
 namespace internal {
 class JpegRegionDecoder;
