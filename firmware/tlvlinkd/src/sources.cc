@@ -1,5 +1,6 @@
 #include "sources.h"
 
+#include "tlvlink/capture/sensor_models.h"
 #include "tlvlink/capture/replay_source.h"
 #include "tlvlink/capture/v4l2_source.h"
 #if defined(TLVLINK_HAVE_LIBCAMERA)
@@ -64,14 +65,21 @@ Result<std::unique_ptr<capture::FrameSource>> replay(const SensorConfig& s) {
 // checked like a camera that ignored the requested format.
 Status check_replay_format(const SensorConfig& s, const capture::FrameSource& src) {
   const image::FrameFormat& got = src.format();
+  // The sensor models whose camera streams what the recording holds: the likely fix.
+  std::string models;
+  for (const capture::SensorModel& m : capture::sensor_models()) {
+    if (m.format == got.format && m.width == got.width && m.height == got.height)
+      models += (models.empty() ? "" : ", ") + std::string(m.name);
+  }
   TLV_ENSURE(got.format == s.format.format && ((got.width == s.format.width &&
                                                 got.height == s.format.height) ||
                                                s.accept_other_size),
              ErrorCode::kCaptureFormatRefused,
-             "sensor '%s': recording %s holds %s %dx%d, the sensor is configured for %s %dx%d",
+             "sensor '%s': recording %s holds %s %dx%d, the sensor is configured for %s %dx%d%s%s%s",
              s.name.c_str(), s.device.c_str(), image::pixel_format_name(got.format), got.width,
              got.height, image::pixel_format_name(s.format.format), s.format.width,
-             s.format.height);
+             s.format.height, models.empty() ? "" : " (sensor models that stream it: ",
+             models.c_str(), models.empty() ? "" : ")");
   return {};
 }
 
