@@ -18,6 +18,8 @@
 #include "support/temp_dir.h"
 #include "tlvlink/listen/client.h"
 #include "tlvlink/listen/recording.h"
+#include "tlvlink/protocol/encode.h"
+#include "transport/stream_fixture.h"
 
 namespace tlvlink::listen {
 namespace {
@@ -186,6 +188,41 @@ TEST(Recording, AFailedWriteNamesThePathAndTheReason) {
   EXPECT_EQ(WEXITSTATUS(status), 1);
   const std::string msg(buf, n > 0 ? static_cast<size_t>(n) : 0);
   EXPECT_NE(msg.find("writing recording " + path + ": file size limit reached"), std::string::npos) << msg;
+}
+
+// Issue 31 item 11: on a link shared with another host, a Pong answering that host's ping
+// carries its clock's t1; the client must not take it for an exchange of its own (it estimated
+// -113 s +- 113 s). Only a Pong echoing a command this client sent (sequence and send time)
+// counts; the foreign one is still delivered.
+TEST(Recording, APongToAnotherHostsPingDoesNotSetTheClock) {
+  testing::TempDir dir("rec");
+  alignas(8) static std::byte scratch[protocol::kEncodeBufferSize];
+  static std::byte wire[protocol::kMaxWireFrameSize];
+  constexpr int64_t kT = 1'000'000'000, kOffset = 5'000'000'000;
+  {
+    auto w = RecordingWriter::create(dir / "r");
+    ASSERT_TRUE(w.ok());
+    const auto put = [&](RecordKind kind, int64_t t, const auto& m, uint32_t seq, int64_t send_ns) {
+      protocol::FrameHeader h;
+      h.sequence = seq;
+      h.send_ns = send_ns;
+      const size_t n = protocol::encode_message(m, h, scratch, wire).value();
+      ASSERT_TRUE(w.value()->write(kind, t, std::span(wire, n)).ok());
+    };
+    const std::string up = "serial:/dev/ttyACM0 (test)";
+    ASSERT_TRUE(w.value()->write(RecordKind::kLinkUp, kT, std::as_bytes(std::span(up.data(), up.size()))).ok());
+    put(RecordKind::kReceived, kT + 1000, testing::fixture_hello(), 0, kT + kOffset);
+    // Another host's ping #1, sent at its t1 = 7 s: its Pong reaches us too.
+    put(RecordKind::kReceived, kT + 200'000, protocol::Pong{1, 7'000'000'000, kT + kOffset + 100'000}, 1,
+        kT + kOffset + 110'000);
+  }
+  auto c = Client::open("replay:" + dir / "r");
+  ASSERT_TRUE(c.ok());
+  const std::vector<Message> got = replay_all(*c.value());
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_EQ(got[1].type(), MessageType::kPong) << "not ours: delivered, not consumed";
+  EXPECT_FALSE(c.value()->clock().valid) << "offset " << c.value()->clock().offset_ns;
+  EXPECT_EQ(c.value()->stats().round_trip.count(), 0u);
 }
 
 }  // namespace

@@ -86,6 +86,8 @@ TEST(SenderRobustness, AbsentHostNeverBlocksAndTheNewestArriveLate) {
   ASSERT_GE(host.messages.size(), 2u);
   EXPECT_EQ(host.messages[0].header.type, MessageType::kHello);
   EXPECT_EQ(host.messages[1].header.type, MessageType::kStats) << "the newest Stats goes before the backlog";
+  EXPECT_NE(host.messages[1].header.flags & protocol::kFlagDelayed, 0)
+      << "made while the link was down: DELAYED though sent after the reconnect (issue 31)";
   const AlignedPayload stats_bytes(host.messages[1].payload);
   auto stats = protocol::decode_stats(stats_bytes.bytes());
   ASSERT_TRUE(stats.ok());

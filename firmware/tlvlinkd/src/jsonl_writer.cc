@@ -114,12 +114,14 @@ void JsonlWriter::frame(const pipeline::FramePrediction& p, int64_t written_ns) 
   const pipeline::FrameTimes& t = p.times;
   line_.printf("{\"type\":\"frame\",\"sensor\":");
   line_.json_string(names_.sensors[static_cast<size_t>(p.sensor)]);
+  // Stages as the stats and the stream name them (run_totals.h).
   line_.printf(",\"seq\":%llu,\"capture_ns\":%lld,\"contact\":\"%s\",\"score_dn\":%.2f,"
-               "\"encoded\":%s,\"ms\":{\"decode\":%.3f,\"gate\":%.3f",
+               "\"encoded\":%s,\"ms\":{\"dequeue\":%.3f,\"decode\":%.3f,\"queue\":%.3f",
                static_cast<unsigned long long>(p.sequence), static_cast<long long>(t.capture_ns),
                pipeline::contact_state_name(static_cast<pipeline::ContactState>(p.contact_state)),
                static_cast<double>(p.contact_score_dn), p.encoder_ran ? "true" : "false",
-               ms_between(t.capture_ns, t.decoded_ns), ms_between(t.decoded_ns, t.gated_ns));
+               ms_between(t.capture_ns, t.dequeued_ns), ms_between(t.dequeued_ns, t.decoded_ns),
+               ms_between(t.decoded_ns, t.gated_ns));
   if (p.encoder_ran) {
     line_.printf(",\"preprocess\":%.3f,\"encoder\":%.3f,\"heads\":%.3f",
                  ms_between(t.gated_ns, t.preprocessed_ns), ms_between(t.preprocessed_ns, t.inferred_ns),

@@ -33,7 +33,7 @@ double pct(int64_t cpu_ns, int64_t wall_ns) {
 }  // namespace
 
 const char* stage_name(int32_t s) {
-  static constexpr const char* kNames[kStages] = {"queue",   "decode", "gate",  "preprocess",
+  static constexpr const char* kNames[kStages] = {"dequeue", "decode", "queue", "preprocess",
                                                   "encoder", "heads",  "write", "total"};
   return s >= 0 && s < kStages ? kNames[s] : "?";
 }
@@ -59,6 +59,7 @@ void OutputWorker::account(const pipeline::FramePrediction& p, int64_t written_n
   const auto add = [&](Stage s, int64_t from, int64_t to) {
     if (from > 0 && to >= from) latency_[s].add(to - from);
   };
+  add(kDequeue, t.capture_ns, t.dequeued_ns);
   add(kDecode, t.dequeued_ns, t.decoded_ns);
   add(kQueueWait, t.decoded_ns, t.decoded_ns > 0 && t.gated_ns > 0 ? t.gated_ns : 0);
   if (p.encoder_ran) {

@@ -12,8 +12,12 @@
 
 namespace tlvlink::daemon::internal {
 
-// Latency stages reported (FrameTimes differences).
-enum Stage : int32_t { kQueueWait = 0, kDecode, kGate, kPreprocess, kEncoder, kHeads, kWrite, kTotal, kStages };
+// Latency stages reported (FrameTimes differences), named alike in the JSON lines, the stats and
+// the stream's stage_ns: dequeue = capture -> dequeued, decode = dequeued -> decoded, queue =
+// decoded -> contact decision (the wait for the inference thread; the gate's own few
+// microseconds have no timestamp of their own and are in it), then preprocess, encoder, heads,
+// write (-> the output stage took it) and total (capture -> written).
+enum Stage : int32_t { kDequeue = 0, kDecode, kQueueWait, kPreprocess, kEncoder, kHeads, kWrite, kTotal, kStages };
 const char* stage_name(int32_t stage);
 
 struct RunTotals {

@@ -15,8 +15,10 @@ namespace {
 
 TLV_LOG_CATEGORY(kLogStream, "stream");
 
-// The stages a FramePrediction's stage_ns carries, in this order (named in the Hello).
-constexpr std::array<const char*, 7> kStageNames = {"dequeue", "decode", "queue", "gate",
+// The stages a FramePrediction's stage_ns carries, in this order (named in the Hello): the
+// JSON lines' and the stats' stages up to the heads (run_totals.h). There is no "gate" stage:
+// the contact gate has no timestamp of its own (its microseconds are in "queue").
+constexpr std::array<const char*, 6> kStageNames = {"dequeue", "decode", "queue",
                                                     "preprocess", "encoder", "heads"};
 
 uint32_t span_ns(int64_t from, int64_t to) {
@@ -38,6 +40,7 @@ Result<std::unique_ptr<StreamSink>> StreamSink::open(const std::string& spec,
                                                       const Model& model, const OutputNames& names,
                                                       CommandQueue& commands) {
   auto sink = std::unique_ptr<StreamSink>(new StreamSink());
+  sink->detected_ = config.processing.grasp_options.mode == pipeline::GraspOptions::Mode::kDetected;
   auto link = transport::make_transport(spec);
   if (!link.ok()) return link.error().with_context("output '%s'", spec.c_str());
   TLV_ASSIGN_OR_RETURN(sink->sender_, transport::Sender::create(std::move(link).value(), {}));
@@ -148,10 +151,9 @@ void StreamSink::record(const OutputRecord& record, int64_t) {
   Status st;
   if (const auto* p = std::get_if<pipeline::FramePrediction>(&record)) {
     const pipeline::FrameTimes& t = p->times;
-    stage_ns_ = {span_ns(t.capture_ns, t.dequeued_ns), span_ns(t.dequeued_ns, t.decoded_ns),
-                 span_ns(t.decoded_ns, t.gated_ns),    0,
-                 span_ns(t.gated_ns, t.preprocessed_ns), span_ns(t.preprocessed_ns, t.inferred_ns),
-                 span_ns(t.inferred_ns, t.heads_ns),   0};
+    stage_ns_ = {span_ns(t.capture_ns, t.dequeued_ns),     span_ns(t.dequeued_ns, t.decoded_ns),
+                 span_ns(t.decoded_ns, t.gated_ns),        span_ns(t.gated_ns, t.preprocessed_ns),
+                 span_ns(t.preprocessed_ns, t.inferred_ns), span_ns(t.inferred_ns, t.heads_ns)};
     for (int32_t k = 0; k < p->head_count; ++k) {
       const pipeline::HeadProbabilities& h = p->heads[static_cast<size_t>(k)];
       head_outputs_[static_cast<size_t>(k)] = {static_cast<uint16_t>(h.head),
@@ -183,8 +185,10 @@ void StreamSink::record(const OutputRecord& record, int64_t) {
     m.reason = g->computed ? protocol::GraspReason::kNone : protocol::GraspReason::kOther;
     m.reason_text = g->reason.data();
     m.frames = std::span<const protocol::GraspFrame>(grasp_frames_.data(), static_cast<size_t>(g->frame_count));
+    // Detected grasps say so (an absent phase_source reads as its default, "command").
+    m.phase_source = detected_ ? protocol::PhaseSource::kDetected : protocol::PhaseSource::kCommand;
     m.closed_ns = g->started_ns;
-    m.infer_end_ns = g->decided_ns;
+    m.infer_end_ns = g->decided_ns;  // on frame time: the capture time that decided it (spec §7)
     st = sender_->post(m);
   } else {
     const EventRecord& e = std::get<EventRecord>(record);
@@ -207,8 +211,10 @@ void StreamSink::stats(const RunTotals& r, bool) {
   size_t n = 0;
   drops_[n++] = {protocol::DropCause::kCaptureGap, r.drops_sequence, protocol::kNoSensor};
   drops_[n++] = {protocol::DropCause::kCaptureError, r.bad_frames + r.decode_errors, protocol::kNoSensor};
-  drops_[n++] = {protocol::DropCause::kStale, r.drops_stale, protocol::kNoSensor};
-  drops_[n++] = {protocol::DropCause::kInferenceBusy, r.drops_queue, protocol::kNoSensor};
+  // Camera frames skipped for a newer one (the capture thread busy) and decoded frames dropped
+  // (inference behind) are both inference_busy; the stream's "stale" is the Sender's (messages
+  // too old to send), and its queue_full is added to this output queue's (one entry a cause).
+  drops_[n++] = {protocol::DropCause::kInferenceBusy, r.drops_stale + r.drops_queue, protocol::kNoSensor};
   drops_[n++] = {protocol::DropCause::kQueueFull, r.drops_output, protocol::kNoSensor};
   protocol::Stats m;
   m.uptime_ns = static_cast<int64_t>(r.seconds * 1e9);

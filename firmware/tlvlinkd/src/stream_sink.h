@@ -41,6 +41,7 @@ class StreamSink final : public OutputSink {
 
   std::unique_ptr<transport::Sender> sender_;
   uint64_t failed_ = 0;
+  bool detected_ = false;  // grasp mode "detected": GraspPrediction.phase_source
   bool closed_ = false;
   // Storage the Hello's views point into (kept for the Sender's copy and its re-sends).
   std::vector<std::string> strings_;
@@ -50,7 +51,7 @@ class StreamSink final : public OutputSink {
   std::vector<std::string_view> stage_names_;
   // Per-record scratch (no allocation per record).
   std::array<protocol::HeadOutput, pipeline::kMaxHeads> head_outputs_{};
-  std::array<uint32_t, 8> stage_ns_{};
+  std::array<uint32_t, 6> stage_ns_{};
   std::array<protocol::GraspFrame, pipeline::kMaxGraspFrames> grasp_frames_{};
   std::array<protocol::SensorStats, pipeline::kMaxSensors> sensor_stats_{};
   std::array<protocol::DropCount, 8> drops_{};

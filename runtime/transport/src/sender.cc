@@ -102,9 +102,22 @@ Status Sender::post(const protocol::Stats& m) {
     protocol::DropCount drops[protocol::kMaxListLength];
     std::copy(m.drops.begin(), m.drops.end(), drops);
     size_t n = m.drops.size();
-    drops[n++] = {protocol::DropCause::kQueueFull, counters_.dropped_queue_full, protocol::kNoSensor};
-    drops[n++] = {protocol::DropCause::kLinkDown, counters_.dropped_link_down, protocol::kNoSensor};
-    drops[n++] = {protocol::DropCause::kStale, counters_.dropped_stale, protocol::kNoSensor};
+    // One entry per (cause, sensor): the link's own counts are added to the caller's of the same
+    // cause (a board's output queue and this queue are both "queue_full").
+    const auto add = [&](protocol::DropCause cause, uint64_t count) {
+      for (size_t i = 0; i < n; ++i) {
+        if (drops[i].cause == cause && drops[i].sensor == protocol::kNoSensor) {
+          drops[i].count += count;
+          return;
+        }
+      }
+      drops[n++] = {cause, count, protocol::kNoSensor};
+    };
+    add(protocol::DropCause::kQueueFull, counters_.dropped_queue_full);
+    add(protocol::DropCause::kLinkDown, counters_.dropped_link_down);
+    add(protocol::DropCause::kStale, counters_.dropped_stale);
+    // Made while the link is down: DELAYED when it goes out, even after a reconnect.
+    stats_delayed_ = !counters_.link_up;
     protocol::Stats s = m;
     s.drops = std::span<const protocol::DropCount>(drops, n);
     s.link.link_up = counters_.link_up;

@@ -136,7 +136,7 @@ bool Sender::Link::take_message() {
   if (s_.stats_size_ > 0) {
     std::copy(s_.stats_payload_, s_.stats_payload_ + s_.stats_size_, inflight_payload_);
     inflight_size_ = s_.stats_size_, inflight_type_ = protocol::MessageType::kStats;
-    inflight_flags_ = s_.counters_.link_up ? 0 : protocol::kFlagDelayed;
+    inflight_flags_ = s_.counters_.link_up && !s_.stats_delayed_ ? 0 : protocol::kFlagDelayed;
     s_.stats_size_ = 0;
     return inflight_ = true;
   }

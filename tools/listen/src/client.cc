@@ -111,6 +111,7 @@ Result<uint32_t> Client::send(const protocol::Command& command) {
     h.send_ns = monotonic_ns();
     TLV_ASSIGN_OR_RETURN(const size_t n, protocol::encode_message(command, h, scratch, wire));
     s.out_user.insert(s.out_user.end(), wire, wire + n);
+    s.note_sent(h.sequence, h.send_ns);
     s.link->interrupt();
     return h.sequence;
   }

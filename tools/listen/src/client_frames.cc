@@ -23,6 +23,17 @@ void Client::Impl::note_internal(uint32_t sequence) {
   internal_sequences.push_back(sequence);
 }
 
+void Client::Impl::note_sent(uint32_t sequence, int64_t send_ns) {
+  constexpr size_t kRemembered = 64;  // Pongs come back within a few commands
+  if (sent_commands.size() == kRemembered) sent_commands.erase(sent_commands.begin());
+  sent_commands.emplace_back(sequence, send_ns);
+}
+
+bool Client::Impl::sent_by_us(uint32_t sequence, int64_t send_ns) const {
+  return std::find(sent_commands.begin(), sent_commands.end(), std::pair(sequence, send_ns)) !=
+         sent_commands.end();
+}
+
 // Flushed per record: a recorder that is killed keeps everything it had received.
 void Client::Impl::record(RecordKind kind, int64_t time_ns, std::span<const std::byte> data) {
   if (!recorder) return;
@@ -103,7 +114,8 @@ void Client::Impl::on_frame(const protocol::ReceivedFrame& f, int64_t t) {
   }
   if (f.header.type == MessageType::kPong) {
     const protocol::Pong p = m.pong().value();
-    if (clock.add({p.host_send_ns, p.board_receive_ns, f.header.send_ns, t})) {
+    if (sent_by_us(p.command_sequence, p.host_send_ns) &&
+        clock.add({p.host_send_ns, p.board_receive_ns, f.header.send_ns, t})) {
       stats.round_trip.add((t - p.host_send_ns) - (f.header.send_ns - p.board_receive_ns));
     }
     deliver = !is_internal(p.command_sequence);

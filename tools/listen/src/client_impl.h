@@ -42,6 +42,10 @@ struct Client::Impl {
   // TimeSync). Whole frames, never interleaved: the user's go first.
   std::vector<std::byte> out_user, out_auto;
   uint32_t next_sequence = 0;
+  // Every command this client sent (its own and the user's): sequence and header send time. A
+  // Pong counts for the clock only when it echoes one of them: on a link shared with another
+  // host, a Pong to that host's ping carries its clock's t1 (an offset off by its whole uptime).
+  std::vector<std::pair<uint32_t, int64_t>> sent_commands;
 
   // Link thread only.
   std::vector<uint32_t> internal_sequences;  // the client's own Info / TimeSync: replies consumed
@@ -73,6 +77,8 @@ struct Client::Impl {
   void event(LinkEvent::Kind kind, std::string text, int64_t time_ns);
   bool is_internal(uint32_t sequence) const;
   void note_internal(uint32_t sequence);
+  void note_sent(uint32_t sequence, int64_t send_ns);      // with mutex held
+  bool sent_by_us(uint32_t sequence, int64_t send_ns) const;  // with mutex held
   void record(RecordKind kind, int64_t time_ns, std::span<const std::byte> data);
 };
 

@@ -64,6 +64,7 @@ Status Client::Impl::queue_own(const protocol::Command& command) {
   TLV_ASSIGN_OR_RETURN(const size_t n, protocol::encode_message(command, h, scratch, wire));
   out_auto.insert(out_auto.end(), wire, wire + n);
   note_internal(h.sequence);
+  note_sent(h.sequence, h.send_ns);
   return Status();
 }
 

@@ -55,13 +55,17 @@ Status Client::Impl::pump_replay(int64_t deadline) {
         break;
       }
       case RecordKind::kSentAuto:
-        // The live client's own commands: remember their sequence numbers, as it did.
+      case RecordKind::kSent:
+        // The live client's commands: remember them as it did (its own ones' replies are
+        // consumed; every one's Pong counts for the clock).
         sent_deframer->feed(r.data, [&](const protocol::ReceivedFrame& f) {
-          if (f.verdict == protocol::FrameVerdict::kOk) note_internal(f.header.sequence);
+          if (f.verdict != protocol::FrameVerdict::kOk) return;
+          if (r.kind == RecordKind::kSentAuto) note_internal(f.header.sequence);
+          std::lock_guard lock(mutex);
+          note_sent(f.header.sequence, f.header.send_ns);
         });
         break;
-      case RecordKind::kSent:
-      default: break;  // the user's commands; a newer recorder's record kinds
+      default: break;  // a newer recorder's record kinds
     }
     pending_record.reset();
     if (!options.realtime && transport::monotonic_ns() >= deadline) return Status();

@@ -19,7 +19,7 @@ import math
 import threading
 import time
 from dataclasses import dataclass, field
-from typing import Callable, Deque, Dict, Iterator, List, Optional
+from typing import Callable, Deque, Dict, Iterator, List, Optional, Tuple
 
 from . import schema, wire
 from .clock import ClockEstimate, ClockSync
@@ -128,6 +128,9 @@ class Client:
         self._ready: Deque[Message] = collections.deque()
         self._events: List[LinkEvent] = []
         self._own: Deque[int] = collections.deque(maxlen=REMEMBERED_OWN_COMMANDS)
+        # (sequence, header send time) of every command sent, own or the user's: a Pong counts
+        # for the clock only when it echoes one (another host's Pong carries its clock's t1).
+        self._sent: Deque[Tuple[int, int]] = collections.deque(maxlen=REMEMBERED_OWN_COMMANDS)
         self._out_user = bytearray()
         self._out_auto = bytearray()
         self._next_sequence = 0
@@ -231,7 +234,9 @@ class Client:
                 raise LinkUnavailable(f"{self.source} is not connected" + (f": {self._down_reason}" if self._down_reason else ""))
             sequence = self._next_sequence
             self._next_sequence = (self._next_sequence + 1) & 0xFFFFFFFF
-            self._out_user += command.frame(sequence, time.monotonic_ns())
+            send_ns = time.monotonic_ns()
+            self._out_user += command.frame(sequence, send_ns)
+            self._sent.append((sequence, send_ns))
         return sequence
 
     def clock(self) -> ClockEstimate:
@@ -316,7 +321,8 @@ class Client:
             self._info_due = 0
             self._track_sequence(h.sequence)
         if type_name == "pong":
-            if self._clock.add(body.host_send_ns, body.board_receive_ns, h.send_ns, t):
+            if (body.command_sequence, body.host_send_ns) in self._sent and \
+                    self._clock.add(body.host_send_ns, body.board_receive_ns, h.send_ns, t):
                 s.round_trip.add((t - body.host_send_ns) - (h.send_ns - body.board_receive_ns))
             deliver = body.command_sequence not in self._own
         elif type_name in ("ack", "nack"):
@@ -336,8 +342,10 @@ class Client:
         with self._lock:
             sequence = self._next_sequence
             self._next_sequence = (self._next_sequence + 1) & 0xFFFFFFFF
-            self._out_auto += command.frame(sequence, time.monotonic_ns())
+            send_ns = time.monotonic_ns()
+            self._out_auto += command.frame(sequence, send_ns)
             self._own.append(sequence)
+            self._sent.append((sequence, send_ns))
 
     def _connected(self) -> None:
         now = time.monotonic_ns()
@@ -465,10 +473,12 @@ class Client:
                 self.stats.disconnects += 1
                 self.stats.link_up = False
                 self._event("disconnected", r.data.decode("utf-8", "replace"), r.time_ns)
-            elif r.kind == SENT_AUTO:
+            elif r.kind in (SENT_AUTO, SENT):
                 for f in self._sent_deframer.feed(r.data):
                     if f.verdict == wire.OK:
-                        self._own.append(f.header.sequence)
+                        if r.kind == SENT_AUTO:
+                            self._own.append(f.header.sequence)
+                        self._sent.append((f.header.sequence, f.header.send_ns))
             self._pending = None
             if not self._realtime and time.monotonic_ns() >= deadline:
                 return

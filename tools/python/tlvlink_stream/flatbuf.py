@@ -121,10 +121,8 @@ def _string_at(buf: bytes, p: int) -> str:
     _need(buf, p, 4)
     n = struct.unpack_from("<I", buf, p)[0]
     _need(buf, p + 4, n + 1)
-    try:
-        return bytes(buf[p + 4:p + 4 + n]).decode("utf-8")
-    except UnicodeDecodeError as e:
-        raise DecodeError(f"string at {p} is not UTF-8") from e
+    # Invalid UTF-8 is not a reason to drop a message (README §7): U+FFFD, as the C++ client.
+    return bytes(buf[p + 4:p + 4 + n]).decode("utf-8", "replace")
 
 
 def build_table(fields: List[tuple]) -> bytes:

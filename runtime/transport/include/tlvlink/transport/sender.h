@@ -130,6 +130,7 @@ class Sender {
   alignas(8) std::byte scratch_[protocol::kEncodeBufferSize];
   alignas(8) std::byte stats_payload_[protocol::kMaxPayloadSize];
   size_t stats_size_ = 0;
+  bool stats_delayed_ = false;  // the newest Stats was made while the link was down
   std::vector<std::byte> hello_payload_;
   CommandHandler handler_;  // set before start(), read by the link thread without the lock
   SenderCounters counters_;
