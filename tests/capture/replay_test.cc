@@ -296,6 +296,27 @@ TEST(Replay, ForgedRecordLengthIsCountedAndNamedAtTheEnd) {
   std::remove(path.c_str());
 }
 
+// Issue 31 item 8: frames due before the first read are skipped as stale even when the frame
+// read next is a warm-up frame (they went uncounted); every recorded frame up to the one
+// delivered is counted exactly once: stale, warm-up or delivered, never also as a gap.
+TEST(Replay, EveryFrameBeforeTheFirstDeliveredIsCountedOnce) {
+  const std::string path = write_recording("warmup_stale", 10);  // 10 frames, 40 ms apart
+  ReplayConfig c;
+  c.path = path;
+  c.warmup_frames = 1;
+  auto src = make_replay_source(c);
+  ASSERT_TRUE((*src)->start().ok());
+  ::usleep(130'000);
+  auto f = (*src)->next(1000);
+  ASSERT_TRUE(f.ok()) << f.error().message();
+  const SourceStats& st = (*src)->stats();
+  EXPECT_EQ(st.warmup_discarded, 1u);
+  EXPECT_EQ(st.skipped_stale + st.warmup_discarded + st.delivered, f->sequence + 1)
+      << "stale " << st.skipped_stale << ", warm-up " << st.warmup_discarded << ", delivered #" << f->sequence;
+  EXPECT_EQ(st.dropped, 0u);
+  std::remove(path.c_str());
+}
+
 // Looping over a recording in which no frame is good must end, not spin inside next().
 TEST(Replay, LoopWithNoGoodFrameIsAnErrorNotASpin) {
   const std::string path = write_recording("all_bad", 5);
