@@ -299,5 +299,48 @@ TEST_F(EvalCli, HeadsFitImagesRefusesWhatItCannotValidate) {
   EXPECT_NE(nameless.out.find("--head NAME"), std::string::npos) << nameless.out;
 }
 
+// A 320x240 PPM: grey 120 with +-3 DN of noise, `blob` adds a 40x40 press of +30 DN.
+void write_gel(const fs::path& path, int offset, bool blob, int width = 320, int height = 240) {
+  uint32_t state = static_cast<uint32_t>(offset * 7919 + (blob ? 17 : 3));
+  std::ofstream out(path, std::ios::binary);
+  out << "P6\n" << width << " " << height << "\n255\n";
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const bool pressed = blob && x >= 140 && x < 180 && y >= 100 && y < 140;
+      for (int c = 0; c < 3; ++c) {
+        state = state * 1664525u + 1013904223u;
+        const int noise = static_cast<int>((state >> 24) % 7) - 3;
+        out.put(static_cast<char>(120 + offset + noise + (pressed ? 30 : 0)));
+      }
+    }
+  }
+}
+
+TEST_F(EvalCli, ContactRunsTheBoardsGateOnYourFrames) {
+  write_gel(dir_ / "ref.ppm", 0, false);
+  write_gel(dir_ / "idle.ppm", 1, false);  // 1 DN of drift, fresh noise
+  write_gel(dir_ / "press.ppm", 0, true);
+  const CliRun r = tlvlink("contact -r " + (dir_ / "ref.ppm").string() + " " +
+                           (dir_ / "idle.ppm").string() + " " + (dir_ / "press.ppm").string());
+  EXPECT_RUN(r, 0);
+  EXPECT_NE(r.out.find("contact above 4.00 DN"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("none     score"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("1 of 2 frames in contact"), std::string::npos) << r.out;
+  const std::regex press(R"(contact\s+score\s+([0-9.]+) DN\s+\S*press.ppm)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, press)) << r.out;
+  EXPECT_NEAR(std::stod(m[1]), 30.0, 4.0);  // the press's 30 DN, less block-edge and noise
+  // Two references: their spread sets the noise, the threshold follows it.
+  const CliRun two = tlvlink("contact -r " + (dir_ / "ref.ppm").string() + " -r " +
+                             (dir_ / "idle.ppm").string() + " " + (dir_ / "press.ppm").string());
+  EXPECT_RUN(two, 0);
+  EXPECT_NE(two.out.find("reference: 2 frame(s)"), std::string::npos) << two.out;
+  write_gel(dir_ / "small.ppm", 0, false, 160, 120);
+  const CliRun other = tlvlink("contact -r " + (dir_ / "ref.ppm").string() + " " +
+                               (dir_ / "small.ppm").string());
+  EXPECT_NE(other.exit_code, 0);
+  EXPECT_NE(other.out.find("the references' is 320x240"), std::string::npos) << other.out;
+}
+
 }  // namespace
 }  // namespace tlvlink

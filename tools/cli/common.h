@@ -60,6 +60,7 @@ void add_heads_command(CLI::App& app, int& exit_code);   // heads_fit.cc (`heads
 void add_listen_command(CLI::App& app, int& exit_code);  // listen.cc or listen_unavailable.cc
 void add_score_command(CLI::App& app, int& exit_code);   // score.cc
 void add_stability_command(CLI::App& app, int& exit_code);  // stability.cc
+void add_contact_command(CLI::App& app, int& exit_code);    // contact.cc
 void add_record_command(CLI::App& app, int& exit_code);  // record.cc (with runtime/capture)
 void add_replay_command(CLI::App& app, int& exit_code);  // listen.cc or listen_unavailable.cc
 void add_strip_command(CLI::App& app, int& exit_code);   // strip.cc (with tools/boards)

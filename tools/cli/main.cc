@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   add_replay_command(app, exit_code);
   add_score_command(app, exit_code);
   add_stability_command(app, exit_code);
+  add_contact_command(app, exit_code);
 #if defined(TLVLINK_HAVE_BOARDS)
   add_strip_command(app, exit_code);
   add_flash_command(app, exit_code);

@@ -11,6 +11,7 @@
 #include "tlvlink/eval/trust.h"
 #include "tlvlink/heads/head_math.h"
 #include "tlvlink/image/preprocess.h"
+#include "tlvlink/eval/labelled_frames.h"
 #include "tlvlink/io/file.h"
 #include "tlvlink/io/sensor_frame.h"
 #include "tlvlink/quantize/model_copy.h"
@@ -18,8 +19,6 @@
 namespace tlvlink::eval {
 namespace {
 
-// Larger than any camera frame a known sensor produces as PNG / JPEG.
-constexpr size_t kMaxFrameFileBytes = size_t{64} << 20;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

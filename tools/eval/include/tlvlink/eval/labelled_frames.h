@@ -12,6 +12,7 @@
 //   auto set = eval::read_labelled_folder("frames/");
 //   // set->classes = {"rough", "smooth"}, set->frames[i].path / label / group
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -19,6 +20,9 @@
 #include "tlvlink/error.h"
 
 namespace tlvlink::eval {
+
+// Largest frame file read (PNG / JPEG of a camera frame are far smaller): checked before reading.
+inline constexpr size_t kMaxFrameFileBytes = size_t{64} << 20;
 
 struct LabelledFrame {
   std::string path;      // as found under the folder (DIR/<class>/...)
