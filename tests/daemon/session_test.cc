@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -277,6 +278,10 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
   std::atomic<bool> hello{false}, done{false};
   // Heads whose Hello entry carries the model's trust record (accuracy and majority rate).
   std::atomic<int> heads_with_trust{0}, heads_in_hello{0};
+  // Issue 31 item 11: the stages as the spec and the JSON lines name them (no "gate" that was
+  // always 0), detected grasps saying so, one drop entry per cause.
+  std::string stage_names;
+  std::atomic<int> detected_grasps{0}, stats_seen{0}, stats_with_a_repeated_cause{0}, bad_stage_counts{0};
   std::thread reader([&] {
     int quiet = 0;
     while (!done || quiet < 5) {
@@ -296,9 +301,24 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
           if (std::isfinite(head.accuracy()) && std::isfinite(head.majority_rate())) ++recorded;
         }
         heads_with_trust = recorded;
+        stage_names.clear();
+        for (size_t i = 0; i < h.value().stage_name_count(); ++i)
+          stage_names += std::string(i ? "," : "") + std::string(h.value().stage_name(i));
       }
-      if (m.value()->frame_prediction().ok()) ++frames;
-      if (m.value()->grasp_prediction().ok()) ++grasps;
+      if (auto f = m.value()->frame_prediction(); f.ok()) {
+        ++frames;
+        bad_stage_counts += f.value().stage_ns().size() == 6 ? 0 : 1;
+      }
+      if (auto g = m.value()->grasp_prediction(); g.ok()) {
+        ++grasps;
+        detected_grasps += g.value().phase_source() == protocol::PhaseSource::kDetected ? 1 : 0;
+      }
+      if (auto st = m.value()->stats(); st.ok()) {
+        ++stats_seen;
+        std::set<int> causes;
+        for (size_t i = 0; i < st.value().drop_count(); ++i)
+          if (!causes.insert(static_cast<int>(st.value().drop(i).cause)).second) ++stats_with_a_repeated_cause;
+      }
     }
   });
   while (!(*session)->limit_reached()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -314,6 +334,11 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
   EXPECT_EQ(heads_with_trust.load(), heads_in_hello.load());
   EXPECT_EQ(frames, t.frames);
   EXPECT_EQ(grasps, t.grasps + t.grasps_not_computed);
+  EXPECT_EQ(stage_names, "dequeue,decode,queue,preprocess,encoder,heads");
+  EXPECT_EQ(bad_stage_counts.load(), 0);
+  EXPECT_EQ(detected_grasps.load(), static_cast<int>(grasps.load())) << "grasp mode is detected";
+  EXPECT_GT(stats_seen.load(), 0);
+  EXPECT_EQ(stats_with_a_repeated_cause.load(), 0);
 }
 
 #endif  // TLVLINK_HAVE_LISTEN
