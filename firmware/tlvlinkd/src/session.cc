@@ -17,6 +17,7 @@
 #include "tlvlink/capture/sensor_models.h"
 #include "tlvlink/daemon/model_check.h"
 #include "tlvlink/executor.h"
+#include "tlvlink/head_trust.h"
 #include "tlvlink/log.h"
 #include "tlvlink/model.h"
 #include "tlvlink/pipeline/frame_processor.h"
@@ -78,6 +79,39 @@ internal::OutputNames names(const DaemonConfig& c, const pipeline::FrameProcesso
     n.grasp.majority = p.heads().grasp_trust().majority;
   }
   return n;
+}
+
+// One log line per head at start: whether it is reported and the trust record that decides it,
+// so a user who fitted a head (`tlvlink heads fit --images`) sees the daemon take it up.
+void log_heads(const pipeline::FrameProcessor& p) {
+  const auto& results = p.heads().results();
+  for (size_t i = 0; i < results.size(); ++i) {
+    const heads::HeadResult& r = results[i];
+    bool reported = false;
+    for (int16_t k : p.reported_heads()) reported |= static_cast<size_t>(k) == i;
+    char record[256] = "no trust record";
+    if (r.trust != nullptr && r.trust->present) {
+      const HeadTrust& t = *r.trust;
+      const TrustAssessment a = assess_head(t);
+      int n = std::snprintf(record, sizeof record, "%s: accuracy %.1f %% vs majority %.1f %% (n=%lld)",
+                            head_trust_level_name(a.level), 100.0 * static_cast<double>(t.accuracy),
+                            100.0 * static_cast<double>(t.majority), static_cast<long long>(t.n));
+      if (t.ci_low >= 0 && n > 0 && static_cast<size_t>(n) < sizeof record) {
+        n += std::snprintf(record + n, sizeof record - static_cast<size_t>(n),
+                           ", cross-validated over %lld groups, 95 %% CI [%.1f, %.1f]",
+                           static_cast<long long>(t.groups), 100.0 * static_cast<double>(t.ci_low),
+                           100.0 * static_cast<double>(t.ci_high));
+      }
+      if (t.baseline_accuracy >= 0 && n > 0 && static_cast<size_t>(n) < sizeof record) {
+        std::snprintf(record + n, sizeof record - static_cast<size_t>(n), ", baseline %.1f %%%s",
+                      100.0 * static_cast<double>(t.baseline_accuracy),
+                      a.below_baseline ? " (not beaten)" : "");
+      }
+    }
+    TLV_LOG(kLogDaemon, kInfo, "head %.*s (%s): %s; %s", static_cast<int>(r.name.size()),
+            r.name.data(), heads::head_kind_name(r.kind), reported ? "reported" : "not reported",
+            record);
+  }
 }
 
 }  // namespace
@@ -171,6 +205,7 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
   s.output_thread = std::thread([&s] { s.output->run(); });
   s.inference_thread = std::thread([&s] { s.inference->run(); });
   for (auto& c : s.captures) s.capture_threads.emplace_back([w = c.get()] { w->run(); });
+  log_heads(*s.processor);
   TLV_LOG(kLogDaemon, kInfo, "streaming %zu sensor(s) into %s (%s executor, %d thread(s))",
           config.sensors.size(), config.model.c_str(), executor_kind_name(s.executor->kind()),
           config.threads);
