@@ -342,5 +342,48 @@ TEST_F(EvalCli, ContactRunsTheBoardsGateOnYourFrames) {
   EXPECT_NE(other.out.find("the references' is 320x240"), std::string::npos) << other.out;
 }
 
+TEST_F(EvalCli, HeadsFitRecordingsDecodesThemAsTheDaemonDoes) {
+  // Each object's frames as a camera recording (what `tlvlink record` and tlvlinkd's recorder
+  // write), labelled per recording; frames held for 2 (repeats) count once.
+  const fs::path frames = dir_ / "frames";
+  write_colour_folder(frames);
+  std::ofstream labels(dir_ / "labels.tsv");
+  labels << "# recording, class, from, to\n";
+  for (const char* cls : {"warm", "cool"}) {
+    for (int o = 0; o < 3; ++o) {
+      const std::string name = std::string(cls) + std::to_string(o) + ".tlvraw";
+      const CliRun rec = tlvlink("record --images " + (frames / cls / ("object" + std::to_string(o))).string() +
+                                 " --hold 2 -o " + (dir_ / name).string());
+      ASSERT_RUN(rec, 0);
+      labels << name << "\t" << cls << (o == 0 ? "\t0\t0.2" : "") << "\n";  // 0.2 s: 5 records, 3 frames (4 x 4 + 2 x 3 = 22)
+    }
+  }
+  labels.close();
+  const std::string l = (dir_ / "labels.tsv").string();
+  const CliRun fit = tlvlink("heads fit " + kInt8 + " --recordings " + l +
+                             " --sensor gelsight-mini-processed --head colour -o " +
+                             (dir_ / "rec.tlvm").string());
+  EXPECT_RUN(fit, 0);
+  for (const char* s : {"22 in 2 classes, 6 groups (grouping: recordings)",
+                        "read as 22 as gelsight-mini-processed 320x240"}) {
+    EXPECT_NE(fit.out.find(s), std::string::npos) << s << "\n" << fit.out;
+  }
+  // 320x240 MJPEG is both a processed Mini's and an R1.5's stream: the sensor must be named.
+  const CliRun ambiguous = tlvlink("heads fit " + kInt8 + " --recordings " + l +
+                                   " --head colour -o " + (dir_ / "x.tlvm").string());
+  EXPECT_NE(ambiguous.exit_code, 0);
+  EXPECT_NE(ambiguous.out.find("name the sensor (--sensor)"), std::string::npos) << ambiguous.out;
+  std::ofstream(dir_ / "bad.tsv") << "warm0.tlvraw\twarm\n# next\ncool0.tlvraw\tcool\t2\t1\n";
+  const CliRun bad = tlvlink("heads fit " + kInt8 + " --recordings " + (dir_ / "bad.tsv").string() +
+                             " --head colour -o " + (dir_ / "y.tlvm").string());
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.out.find("bad.tsv:3"), std::string::npos) << bad.out;
+  std::ofstream(dir_ / "empty.tsv") << "warm0.tlvraw\twarm\t50\t60\ncool0.tlvraw\tcool\n";
+  const CliRun empty = tlvlink("heads fit " + kInt8 + " --recordings " + (dir_ / "empty.tsv").string() +
+                               " --head colour -o " + (dir_ / "z.tlvm").string());
+  EXPECT_NE(empty.exit_code, 0);
+  EXPECT_NE(empty.out.find("empty.tsv:1: no frame"), std::string::npos) << empty.out;
+}
+
 }  // namespace
 }  // namespace tlvlink

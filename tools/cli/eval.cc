@@ -26,7 +26,7 @@ struct EvalCommand {
   bool json = false;
   bool no_paper = false;
   bool no_model_heads = false;
-  std::string images, head, sensor;
+  std::string images, recordings, head, sensor;
 };
 
 // One head on labelled frames, beside the accuracy its trust record claims.
@@ -39,7 +39,8 @@ int run_eval_images(const EvalCommand& c) {
   }
   auto model = load_model(c.job.model_path);
   if (!model.ok()) return report_error(command, model.error());
-  auto frames = eval::read_labelled_folder(c.images);
+  auto frames = c.recordings.empty() ? eval::read_labelled_folder(c.images)
+                                     : eval::read_labelled_recordings(c.recordings);
   if (!frames.ok()) return report_error(command, frames.error());
   for (const std::string& s : frames->skipped) std::fprintf(stderr, "note: skipped %s\n", s.c_str());
   eval::EmbedderOptions eo;
@@ -98,7 +99,7 @@ int run_eval_images(const EvalCommand& c) {
 }
 
 int run_eval(EvalCommand& c) {
-  if (!c.images.empty()) return run_eval_images(c);
+  if (!c.images.empty() || !c.recordings.empty()) return run_eval_images(c);
   const char* command = "eval";
   auto data = c.flags.data();
   if (!data.ok()) return report_error(command, data.error());
@@ -157,7 +158,10 @@ void add_eval_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--images", c->images,
                   "Score one of the model's heads (--head) on labelled frames: DIR/<class>/*.png|jpg, "
                   "class folders named after the head's labels (groups as `heads fit --images`)");
-  cmd->add_option("--head", c->head, "With --images: the linear head to score");
+  cmd->add_option("--recordings", c->recordings,
+                  "Score one of the model's heads (--head) on camera recordings named in a labels "
+                  "file (as `heads fit --recordings`)");
+  cmd->add_option("--head", c->head, "With --images / --recordings: the linear head to score");
   cmd->add_option("--sensor", c->sensor,
                   "With --images: the sensor the frames come from (" +
                       tools::known_sensor_names() + "); default: detected from each frame's size");

@@ -25,8 +25,8 @@ struct HeadsFitCommand {
   bool no_zero_shot = false;
   bool keep_untrusted_zero_shot = false;
   // --images: a head of the user's own
-  std::string images, head, sensor;
-  int folds = 5;
+  std::string images, recordings, head, sensor;
+  int folds = 5, stride = 1;
   bool learning_curve = false, overwrite = false;
 };
 
@@ -48,7 +48,12 @@ int run_user_head_fit(const HeadsFitCommand& c) {
   }
   auto model = load_model(c.model);
   if (!model.ok()) return report_error(command, model.error());
-  auto frames = eval::read_labelled_folder(c.images);
+  if (!c.images.empty() && !c.recordings.empty()) {
+    return report_error(command, Error::make(ErrorCode::kInvalidArgument,
+                                             "--images and --recordings: give one of them"));
+  }
+  auto frames = c.recordings.empty() ? eval::read_labelled_folder(c.images)
+                                     : eval::read_labelled_recordings(c.recordings, c.stride);
   if (!frames.ok()) return report_error(command, frames.error());
   for (const std::string& s : frames->skipped) std::fprintf(stderr, "note: skipped %s\n", s.c_str());
   eval::UserHeadOptions o;
@@ -83,7 +88,7 @@ int run_user_head_fit(const HeadsFitCommand& c) {
 }
 
 int run_heads_fit(const HeadsFitCommand& c) {
-  if (!c.images.empty()) return run_user_head_fit(c);
+  if (!c.images.empty() || !c.recordings.empty()) return run_user_head_fit(c);
   const char* command = "heads fit";
   eval::HeadsFitJob job;
   auto data = c.flags.data();
@@ -137,8 +142,15 @@ void add_heads_command(CLI::App& app, int& exit_code) {
                   "Fit one head of your own from labelled frames: DIR/<class>/*.png|jpg (classes "
                   "are the folder names), grouped by DIR/groups.tsv (<class>/<file><TAB><group>) "
                   "or by DIR/<class>/<group>/ folders; validated by grouped cross-validation");
+  cmd->add_option("--recordings", c->recordings,
+                  "Fit one head of your own from camera recordings (.tlvraw) named in a labels "
+                  "file: <recording><TAB><class>[<TAB><from_s><TAB><to_s>][<TAB><group>] per "
+                  "line; frames decoded by the daemon's decoder in the sensor's view; groups: "
+                  "the recordings");
+  cmd->add_option("--stride", c->stride, "With --recordings: keep every N-th frame")
+      ->check(CLI::Range(1, 100000));
   cmd->add_option("--head", c->head,
-                  "With --images: the head's name (a linear head of that name is replaced)");
+                  "With --images / --recordings: the head's name (a linear head of that name is replaced)");
   cmd->add_option("--sensor", c->sensor,
                   "With --images: the sensor the frames come from (" + tools::known_sensor_names() +
                       "); default: detected from each frame's size");

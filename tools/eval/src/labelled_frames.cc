@@ -91,6 +91,7 @@ const char* grouping_name(Grouping g) {
     case Grouping::kGroupsFile: return "groups.tsv";
     case Grouping::kSubfolders: return "subfolders";
     case Grouping::kNone: return "none (one group per frame)";
+    case Grouping::kRecordings: return "recordings";
   }
   return "?";
 }
@@ -158,7 +159,8 @@ Result<LabelledFrames> read_labelled_folder(const std::string& dir) {
           break;
         }
         case Grouping::kSubfolders: group = set.classes[c] + "/" + f.subfolder; break;
-        case Grouping::kNone: group = f.relative; break;
+        case Grouping::kNone:
+        case Grouping::kRecordings: group = f.relative; break;
       }
       set.frames.push_back({std::move(f.path), std::move(f.relative), static_cast<int32_t>(c),
                             std::move(group)});

@@ -8,7 +8,10 @@
 #include <map>
 #include <set>
 
+#include "tlvlink/capture/recording.h"
+#include "tlvlink/capture/sensor_models.h"
 #include "tlvlink/eval/trust.h"
+#include "tlvlink/image/frame_decoder.h"
 #include "tlvlink/heads/head_math.h"
 #include "tlvlink/image/preprocess.h"
 #include "tlvlink/eval/labelled_frames.h"
@@ -30,6 +33,75 @@ std::string percent(double v) {
   return b;
 }
 
+// Frames of camera recordings through the sensor's live view: the daemon's FrameDecoder on the
+// recorded bytes, the same pixels tlvlinkd would hand the model.
+class RecordedFrames {
+ public:
+  explicit RecordedFrames(std::string sensor) : sensor_(std::move(sensor)) {}
+
+  Result<tools::SensorFrame> frame(const LabelledFrame& f) {
+    auto it = open_.find(f.path);
+    if (it == open_.end()) {
+      TLV_ASSIGN_OR_RETURN(capture::RecordingReader reader, capture::RecordingReader::open(f.path));
+      TLV_ASSIGN_OR_RETURN(const capture::SensorModel* model, sensor_of(reader, f.path));
+      TLV_ASSIGN_OR_RETURN(image::FrameDecoder decoder,
+                           image::FrameDecoder::create(reader.summary().format.format, model->view));
+      Open o{std::move(reader), std::move(decoder), model, {}, {}};
+      o.bytes.resize(o.reader.summary().max_frame_bytes);
+      o.rgb.resize(o.decoder.output_bytes());
+      it = open_.emplace(f.path, std::move(o)).first;
+    }
+    Open& o = it->second;
+    capture::RecordInfo info;
+    TLV_ASSIGN_OR_RETURN(bool found, o.reader.record_at(f.record_offset, info));
+    TLV_ENSURE(found, ErrorCode::kFormat, "%s: no record at offset %llu", f.path.c_str(),
+               static_cast<unsigned long long>(f.record_offset));
+    const std::span<uint8_t> bytes = std::span<uint8_t>(o.bytes).first(info.bytes);
+    TLV_TRY(o.reader.read_frame(info, bytes, /*verify=*/true));
+    TLV_TRY(o.decoder.decode(bytes, o.rgb, f.relative.c_str()));
+    tools::SensorFrame out;
+    out.sensor = std::string(o.model->name);
+    out.view = image::Image{o.model->view.width, o.model->view.height, 3, o.rgb};
+    return out;
+  }
+
+ private:
+  struct Open {
+    capture::RecordingReader reader;
+    image::FrameDecoder decoder;
+    const capture::SensorModel* model;
+    std::vector<uint8_t> bytes, rgb;
+  };
+  // The named sensor, else the one sensor model whose camera streams what was recorded.
+  Result<const capture::SensorModel*> sensor_of(const capture::RecordingReader& r,
+                                                const std::string& path) const {
+    if (!sensor_.empty()) {
+      const capture::SensorModel* m = capture::find_sensor_model(sensor_);
+      TLV_ENSURE(m != nullptr, ErrorCode::kInvalidArgument, "unknown sensor '%s' (known: %s)",
+                 sensor_.c_str(), tools::known_sensor_names().c_str());
+      return m;
+    }
+    const image::FrameFormat& f = r.summary().format.format;
+    std::vector<const capture::SensorModel*> found;
+    std::string names;
+    for (const capture::SensorModel& m : capture::sensor_models()) {
+      if (m.format == f.format && m.width == f.width && m.height == f.height) {
+        found.push_back(&m);
+        names += (names.empty() ? "" : ", ") + std::string(m.name);
+      }
+    }
+    TLV_ENSURE(found.size() == 1, ErrorCode::kInvalidArgument,
+               "%s: a recording of %s %dx%d is %s; name the sensor (--sensor)", path.c_str(),
+               image::pixel_format_name(f.format), f.width, f.height,
+               found.empty() ? "no known sensor's camera stream"
+                             : ("the stream of several sensors (" + names + ")").c_str());
+    return found[0];
+  }
+
+  std::string sensor_;
+  std::map<std::string, Open> open_;
+};
+
 }  // namespace
 
 Result<FrameFeatures> frame_features(const Model& model, const LabelledFrames& frames,
@@ -42,11 +114,19 @@ Result<FrameFeatures> frame_features(const Model& model, const LabelledFrames& f
   f.embeddings.resize(frames.frames.size() * static_cast<size_t>(f.dim));
   f.pixels.resize(frames.frames.size() * pixel_dim);
   std::map<std::string, int64_t> views;
+  RecordedFrames recorded(sensor);
   sim::RgbImage rgb;
   for (size_t i = 0; i < frames.frames.size(); ++i) {
     const LabelledFrame& lf = frames.frames[i];
-    TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, tools::read_file(lf.path, kMaxFrameFileBytes));
-    TLV_ASSIGN_OR_RETURN(tools::SensorFrame sf, tools::sensor_frame_from_bytes(bytes, lf.path, sensor));
+    tools::SensorFrame sf;
+    if (lf.record_offset > 0) {
+      auto r = recorded.frame(lf);
+      if (!r.ok()) return r.error();
+      sf = std::move(r).value();
+    } else {
+      TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, tools::read_file(lf.path, kMaxFrameFileBytes));
+      TLV_ASSIGN_OR_RETURN(sf, tools::sensor_frame_from_bytes(bytes, lf.path, sensor));
+    }
     TLV_ENSURE(sf.view.channels == 3, ErrorCode::kFormat, "%s: %d channel(s); frames must be RGB",
                lf.path.c_str(), sf.view.channels);
     char size[48];
