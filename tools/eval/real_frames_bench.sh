@@ -48,6 +48,21 @@ echo "-- GelSight Mini billets, roughness (rough = unground, smooth = ground; gr
 "$tlvlink" eval "$model" --images "$work/billets" --head rough_smooth | sed 's/^/shipped rough_smooth: /'
 "$tlvlink" heads fit "$model" --images "$work/billets" --head roughness --learning-curve \
   -o "$work/billets.tlvm"
+echo "-- roughness fitted on two billets per class, scored on the third pair (recorded interval vs new billets)"
+for held in $(ls "$work/billets/rough"); do
+  n=${held#steel_}; n=${n%%_*}   # billet1, billet2, ...
+  rm -rf "$work/fit" "$work/new"
+  for cls in rough smooth; do
+    mkdir -p "$work/fit/$cls" "$work/new/$cls"
+    for g in "$work/billets/$cls"/*; do
+      case "$(basename "$g")" in *"${n}_"*) cp -P -r "$g" "$work/new/$cls/" ;; *) cp -P -r "$g" "$work/fit/$cls/" ;; esac
+    done
+  done
+  "$tlvlink" heads fit "$model" --images "$work/fit" --head rough_smooth -o "$work/held.tlvm" \
+    --overwrite > /dev/null
+  "$tlvlink" eval "$work/held.tlvm" --images "$work/new" --head rough_smooth |
+    grep -E "accuracy|recorded|interval" | sed "s/^/  $n held out: /"
+done
 echo "-- GelSight Mini slip episodes, slip (contact frames; groups: objects; the shipped model has no slip head)"
 "$tlvlink" heads fit "$model" --images "$work/slip" --head slip --learning-curve -o "$work/slip.tlvm"
 

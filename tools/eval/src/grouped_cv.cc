@@ -300,8 +300,23 @@ Interval group_bootstrap_interval(std::span<const uint8_t> correct,
     resampled.push_back(static_cast<double>(right) / static_cast<double>(rows));
   }
   if (resampled.empty()) return {accuracy, accuracy};
-  return {std::min(accuracy, quantile(resampled, 0.025)),
-          std::max(accuracy, quantile(resampled, 0.975))};
+  // With few groups the percentile interval collapses to a point when every group is all right
+  // (or all wrong): "100 % [100, 100]" from 4 objects. So the interval also holds Wilson's score
+  // interval at the effective sample size n / design effect, where the design effect is how much
+  // the groups widen the binomial variance (>= 1; 1 when neither varies).
+  double mean = 0, var = 0;
+  for (double v : resampled) mean += v / static_cast<double>(resampled.size());
+  for (double v : resampled) var += (v - mean) * (v - mean) / static_cast<double>(resampled.size());
+  const auto n = static_cast<double>(correct.size());
+  const double binomial = accuracy * (1 - accuracy) / n;
+  const double design_effect = binomial > 0 ? std::max(1.0, var / binomial) : 1.0;
+  const double n_eff = n / design_effect;
+  constexpr double z = 1.959964;  // 95 %
+  const double centre = (accuracy + z * z / (2 * n_eff)) / (1 + z * z / n_eff);
+  const double half = z / (1 + z * z / n_eff) *
+                      std::sqrt(accuracy * (1 - accuracy) / n_eff + z * z / (4 * n_eff * n_eff));
+  return {std::min({accuracy, quantile(resampled, 0.025), centre - half}),
+          std::max({accuracy, quantile(resampled, 0.975), centre + half})};
 }
 
 Result<std::vector<CurvePoint>> learning_curve(const GroupedRows& r, const CvOptions& o,

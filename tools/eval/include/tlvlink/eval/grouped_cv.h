@@ -61,8 +61,10 @@ Result<double> choose_l2(const GroupedRows& rows, const CvOptions& options);
 Result<FittedProbe> fit_grouped(const GroupedRows& rows, const CvOptions& options);
 
 // 95 % interval of an accuracy whose rows come in groups: the groups resampled with replacement
-// (`resamples` times, seeded), the 2.5 and 97.5 percentiles; it always holds the accuracy itself.
-// Frames of one object are not independent, so resampling frames would be too narrow.
+// (`resamples` times, seeded), the 2.5 and 97.5 percentiles, widened to hold Wilson's score
+// interval at the effective sample size (n / the design effect the groups' resampling shows), so
+// a perfect score on few groups is not a point. Frames of one object are not independent, so
+// resampling frames would be too narrow.
 struct Interval {
   double low = 0, high = 0;
 };
