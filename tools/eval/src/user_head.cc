@@ -130,8 +130,8 @@ Result<FrameFeatures> frame_features(const Model& model, const LabelledFrames& f
     TLV_ENSURE(sf.view.channels == 3, ErrorCode::kFormat, "%s: %d channel(s); frames must be RGB",
                lf.path.c_str(), sf.view.channels);
     char size[48];
-    std::snprintf(size, sizeof size, " %dx%d", sf.view.width, sf.view.height);
-    ++views[(sf.sensor.empty() ? "no known sensor" : sf.sensor) + size];
+    std::snprintf(size, sizeof size, " %dx%d", sf.view.width, sf.view.height);  // "a processed view 320x240"
+    ++views[(sf.sensor.empty() ? "a processed view" : sf.sensor) + size];
     rgb.width = sf.view.width;
     rgb.height = sf.view.height;
     rgb.rgb = sf.view.pixels;
