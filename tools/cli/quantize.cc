@@ -1,5 +1,5 @@
 // tlvlink quantize FLOAT.tlvm --calib DATA -o INT8.tlvm: flags -> quantize::run_quantize (the
-// pipeline in quantize/pipeline) -> the summary on stdout.
+// pipeline in tools/quantize) -> the summary on stdout.
 
 #include <cstdio>
 

@@ -1,4 +1,4 @@
-// tlvlink quantize-sweep: flags -> quantize::run_sweep (quantize/pipeline: error against run time
+// tlvlink quantize-sweep: flags -> quantize::run_sweep (tools/quantize: error against run time
 // for each model and variant, CSV / JSON / SVG written) -> the table on stdout.
 
 #include <cstdio>
