@@ -2,7 +2,8 @@
 // counted, named with its reason in the summary and makes the exit code 1; a reader that closes
 // the pipe ends the run with its summary (no SIGPIPE death); a pty link over somebody's file and
 // FIFOs where files are expected are refused by --check and at start, without hanging (every run
-// under `timeout 30`: exit 124 = it hung); a recording with no good frame stops the loop.
+// under `timeout -k 5 30`: exit 124 = it hung; -k because a daemon stuck before its signal loop
+// has SIGTERM blocked); a recording with no good frame stops the loop.
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -29,7 +30,7 @@ using testing::run_cli;
 constexpr const char* kModel = TLVLINK_SOURCE_DIR "/firmware/models/touch-tiny-int8.tlvm";
 constexpr int kW = 320, kH = 240, kFrames = 40;  // a DIGIT's YUYV stream
 
-CliRun tlvlinkd(const std::string& args) { return run_cli("timeout 30 " TLVLINKD_BINARY, args); }
+CliRun tlvlinkd(const std::string& args) { return run_cli("timeout -k 5 30 " TLVLINKD_BINARY, args); }
 
 bool contains(const CliRun& r, const std::string& text) { return r.out.find(text) != std::string::npos; }
 

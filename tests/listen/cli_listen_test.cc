@@ -164,10 +164,10 @@ TEST(CliListen, FifosAreRefusedWithoutHanging) {
   TempDir dir("listen");
   const std::string fifo = dir / "fifo";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  const CliRun replay = run_cli("timeout 30 " TLVLINK_CLI_BINARY, "replay " + fifo);
+  const CliRun replay = run_cli("timeout -k 5 30 " TLVLINK_CLI_BINARY, "replay " + fifo);
   EXPECT_RUN(replay, 1);
   EXPECT_NE(replay.out.find(fifo + ": not a regular file (FIFO)"), std::string::npos) << replay.out;
-  const CliRun record = run_cli("timeout 30 " TLVLINK_CLI_BINARY,
+  const CliRun record = run_cli("timeout -k 5 30 " TLVLINK_CLI_BINARY,
                                 "listen --serial " + dir / "tty" + " --no-reconnect --record " + fifo);
   EXPECT_RUN(record, 1);
   EXPECT_NE(record.out.find(fifo + ": not a regular file (FIFO)"), std::string::npos) << record.out;

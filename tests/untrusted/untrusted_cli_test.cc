@@ -25,7 +25,7 @@ using testing::CliRun;
 using testing::run_cli;
 
 CliRun tlvlink(const std::string& args) {
-  return run_cli("timeout 30 " TLVLINK_CLI_BINARY, args);
+  return run_cli("timeout -k 5 30 " TLVLINK_CLI_BINARY, args);
 }
 
 std::string slurp(const fs::path& path) {
