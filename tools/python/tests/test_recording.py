@@ -69,3 +69,34 @@ def test_writer_reader_round_trip_and_bad_files(tmp_path):
     (tmp_path / "x").write_text("not a recording at all, honestly")
     with pytest.raises(RecordingError, match="not a tlvlink recording"):
         RecordingReader(str(tmp_path / "x"))
+
+
+def _pong_recording(path, sent):
+    """Link up, then a Pong to command #1 sent at t1 = 7 s; with `sent`, this client's own
+    TimeSync #1 at that t1 is in the recording (kind 4), otherwise it was another host's."""
+    from tlvlink_stream import wire
+    from tlvlink_stream.commands import Command
+    from tlvlink_stream.flatbuf import build_table
+    from tlvlink_stream.recording import LINK_UP, RECEIVED, SENT_AUTO
+    t1, offset = 7_000_000_000, 5_000_000_000
+    w = RecordingWriter(str(path))
+    w.write(LINK_UP, t1 - 1000, b"serial:/dev/ttyACM0 (test)")
+    if sent:
+        w.write(SENT_AUTO, t1, Command.ping().frame(1, t1))
+    pong = build_table([(0, "I", 1), (1, "q", t1), (2, "q", t1 + offset + 50_000)])
+    w.write(RECEIVED, t1 + 110_000, wire.encode_frame(wire.Header(type=0x08, sequence=0, send_ns=t1 + offset + 60_000), pong))
+    w.close()
+
+
+def test_a_pong_to_another_hosts_ping_does_not_set_the_clock(tmp_path):
+    """Issue 31: only a Pong echoing a command this client sent (sequence and t1) is a clock
+    exchange; another host's Pong set an offset off by the hosts' difference."""
+    _pong_recording(tmp_path / "foreign", sent=False)
+    client = Client(f"replay:{tmp_path / 'foreign'}")
+    got = list(client.messages())
+    assert [m.type for m in got] == ["pong"]  # not ours: delivered
+    assert not client.clock().valid
+    _pong_recording(tmp_path / "own", sent=True)
+    client = Client(f"replay:{tmp_path / 'own'}")
+    assert list(client.messages()) == []  # our own TimeSync's Pong: consumed
+    assert client.clock().valid
