@@ -29,13 +29,13 @@ void write_repacked(const std::string& dir, int32_t objects, int32_t grasps,
   ASSERT_TRUE((*writer)->finish().ok());
 }
 
-std::vector<sim::GraspEpisode> load_repacked(const std::string& dir, FeelLoaderOptions o,
+std::vector<datasets::GraspEpisode> load_repacked(const std::string& dir, FeelLoaderOptions o,
                                              LoadReport* report = nullptr) {
-  std::vector<sim::GraspEpisode> out;
+  std::vector<datasets::GraspEpisode> out;
   auto loader = open_feel_repacked(dir, o);
   EXPECT_TRUE(loader.ok()) << loader.error().message();
   if (!loader.ok()) return out;
-  sim::GraspEpisode e;
+  datasets::GraspEpisode e;
   for (;;) {
     auto more = (*loader)->next(e);
     EXPECT_TRUE(more.ok());

@@ -17,14 +17,14 @@ namespace {
 
 using testing::TempDir;
 
-std::vector<sim::GraspEpisode> episodes(int32_t objects, int32_t grasps) {
-  std::vector<sim::GraspEpisode> out;
+std::vector<datasets::GraspEpisode> episodes(int32_t objects, int32_t grasps) {
+  std::vector<datasets::GraspEpisode> out;
   for (int32_t o = 0; o < objects; ++o)
     for (int32_t g = 0; g < grasps; ++g) out.push_back(testing::grasp_episode(o, g));
   return out;
 }
 
-void write_h5(const std::string& dir, const std::vector<sim::GraspEpisode>& eps,
+void write_h5(const std::string& dir, const std::vector<datasets::GraspEpisode>& eps,
               FeelWriterOptions o = {}) {
   o.records_per_file = 5;
   o.test_fraction = 0.25;
@@ -36,7 +36,7 @@ void write_h5(const std::string& dir, const std::vector<sim::GraspEpisode>& eps,
 }
 
 struct LoadedFeel {
-  std::vector<sim::GraspEpisode> episodes;
+  std::vector<datasets::GraspEpisode> episodes;
   std::vector<std::string> keys;
   LoadReport report;
 };
@@ -46,7 +46,7 @@ LoadedFeel load_feel(const std::string& path, FeelLoaderOptions o = {}) {
   auto loader = open_feel(path, o);
   EXPECT_TRUE(loader.ok()) << loader.error().message();
   if (!loader.ok()) return out;
-  sim::GraspEpisode e;
+  datasets::GraspEpisode e;
   for (;;) {
     auto more = (*loader)->next(e);
     EXPECT_TRUE(more.ok());

@@ -151,7 +151,7 @@ TEST(Generated, GraspEpisodesLoadBackFromHdf5AndRepacked) {
   auto generator = sim::GraspEpisodeGenerator::create(gen);
   ASSERT_TRUE(generator.ok()) << generator.error().message();
   FeelWriterOptions wo;
-  wo.generator_json = grasp_set_options_json(gen);
+  wo.generator_json = sim::grasp_set_options_json(gen);
   wo.camera_jpeg_quality = 95;
   auto h5 = create_feel_writer(tmp / "h5", wo);
   auto repacked = create_feel_repacked_writer(tmp / "repacked", wo);

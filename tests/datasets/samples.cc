@@ -9,8 +9,8 @@
 
 namespace tlvlink::testing {
 
-sim::RgbImage smooth_image(int32_t height, int32_t width, uint64_t seed) {
-  sim::RgbImage img;
+datasets::RgbImage smooth_image(int32_t height, int32_t width, uint64_t seed) {
+  datasets::RgbImage img;
   img.height = height;
   img.width = width;
   img.rgb.resize(static_cast<size_t>(height) * static_cast<size_t>(width) * 3);
@@ -28,8 +28,8 @@ sim::RgbImage smooth_image(int32_t height, int32_t width, uint64_t seed) {
   return img;
 }
 
-sim::TouchSample touch_sample(int32_t session, int32_t frame) {
-  sim::TouchSample s;
+datasets::TouchSample touch_sample(int32_t session, int32_t frame) {
+  datasets::TouchSample s;
   char name[32];
   std::snprintf(name, sizeof name, "20220101_0000%02d", session);
   s.session = name;
@@ -57,15 +57,15 @@ sim::TouchSample touch_sample(int32_t session, int32_t frame) {
   return s;
 }
 
-std::vector<sim::TouchSample> touch_set(int32_t sessions, int32_t frames) {
-  std::vector<sim::TouchSample> out;
+std::vector<datasets::TouchSample> touch_set(int32_t sessions, int32_t frames) {
+  std::vector<datasets::TouchSample> out;
   for (int32_t s = 0; s < sessions; ++s)
     for (int32_t f = 0; f < frames; ++f) out.push_back(touch_sample(s, f));
   return out;
 }
 
-sim::GraspEpisode grasp_episode(int32_t object, int32_t grasp) {
-  sim::GraspEpisode e;
+datasets::GraspEpisode grasp_episode(int32_t object, int32_t grasp) {
+  datasets::GraspEpisode e;
   char name[32];
   std::snprintf(name, sizeof name, "object_%02d", object);
   e.object_name = name;
@@ -93,7 +93,7 @@ sim::GraspEpisode grasp_episode(int32_t object, int32_t grasp) {
   return e;
 }
 
-ImageDiff image_diff(const sim::RgbImage& a, const sim::RgbImage& b) {
+ImageDiff image_diff(const datasets::RgbImage& a, const datasets::RgbImage& b) {
   ImageDiff d;
   if (a.height != b.height || a.width != b.width || a.rgb.size() != b.rgb.size() || a.rgb.empty())
     return {255, 255};

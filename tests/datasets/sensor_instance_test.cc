@@ -20,14 +20,14 @@ namespace {
 
 using testing::TempDir;
 
-std::vector<sim::TouchSample> touch_set_on_instances() {
+std::vector<datasets::TouchSample> touch_set_on_instances() {
   auto samples = testing::touch_set(3, 2);  // sessions of two frames
   for (size_t i = 0; i < samples.size(); ++i)
     samples[i].sensor_instance = 2 + 3 * static_cast<int32_t>(i / 2);  // 2, 5, 8
   return samples;
 }
 
-void write_touch100k(const std::string& dir, const std::vector<sim::TouchSample>& samples,
+void write_touch100k(const std::string& dir, const std::vector<datasets::TouchSample>& samples,
                      bool sidecar = true) {
   WriterOptions o;
   o.sidecar = sidecar;
@@ -43,7 +43,7 @@ std::vector<int32_t> touch100k_instances(const std::string& dir, LoadReport* rep
   auto loader = open_touch100k(dir, o);
   EXPECT_TRUE(loader.ok());
   std::vector<int32_t> out;
-  sim::TouchSample s;
+  datasets::TouchSample s;
   s.sensor_instance = 99;  // a reused sample must not keep an old value
   while (loader.ok() && (*loader)->next(s).value()) out.push_back(s.sensor_instance);
   if (loader.ok() && report) *report = (*loader)->report();
@@ -79,7 +79,7 @@ TEST(SensorInstanceMeta, TouchInstancesRoundTripInBothFormats) {
   ASSERT_TRUE(tag.ok());
   std::map<std::string, int32_t> want;
   for (const auto& s : samples) want[s.session] = s.sensor_instance;
-  sim::TouchSample s;
+  datasets::TouchSample s;
   int n = 0;
   while ((*tag)->next(s).value()) {
     EXPECT_EQ(s.sensor_instance, want.at(s.session)) << s.session;
@@ -124,7 +124,7 @@ TEST(SensorInstanceMeta, MalformedInstanceIsASidecarProblem) {
 
 TEST(SensorInstanceMeta, GraspFingerInstancesRoundTripAndOldSidecars) {
   TempDir tmp;
-  std::vector<sim::GraspEpisode> episodes;
+  std::vector<datasets::GraspEpisode> episodes;
   for (int32_t g = 0; g < 3; ++g) {
     episodes.push_back(testing::grasp_episode(0, g));
     episodes.back().sensor_instance[0] = g;
@@ -143,7 +143,7 @@ TEST(SensorInstanceMeta, GraspFingerInstancesRoundTripAndOldSidecars) {
     auto loader = open_feel_repacked(tmp.path(), o);
     EXPECT_TRUE(loader.ok());
     std::vector<std::pair<int32_t, int32_t>> out;
-    sim::GraspEpisode e;
+    datasets::GraspEpisode e;
     while (loader.ok() && (*loader)->next(e).value())
       out.emplace_back(e.sensor_instance[0], e.sensor_instance[1]);
     if (loader.ok()) {

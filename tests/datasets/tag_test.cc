@@ -22,7 +22,7 @@ using testing::TempDir;
 
 constexpr double kTagJpegMeanTolerance = 3.0;  // q=90 on smooth images (see touch100k_test)
 
-void write_tag_set(const std::string& dir, const std::vector<sim::TouchSample>& samples,
+void write_tag_set(const std::string& dir, const std::vector<datasets::TouchSample>& samples,
                    double test_fraction = 0.3) {
   WriterOptions o;
   o.test_fraction = test_fraction;
@@ -34,7 +34,7 @@ void write_tag_set(const std::string& dir, const std::vector<sim::TouchSample>& 
 
 struct Loaded {
   std::vector<std::string> keys;
-  std::vector<sim::TouchSample> samples;
+  std::vector<datasets::TouchSample> samples;
   LoadReport report;
 };
 
@@ -43,7 +43,7 @@ Loaded load(const std::string& dir, TagLoaderOptions options) {
   auto loader = open_touch_and_go(dir, options);
   EXPECT_TRUE(loader.ok()) << loader.error().message();
   if (!loader.ok()) return out;
-  sim::TouchSample s;
+  datasets::TouchSample s;
   for (;;) {
     auto more = (*loader)->next(s);
     EXPECT_TRUE(more.ok());
@@ -77,15 +77,15 @@ TEST(TouchAndGo, RoundTripWithLabels) {
   const Loaded all = load(tmp.path(), o);
   ASSERT_EQ(all.samples.size(), samples.size());
   EXPECT_EQ(all.report.problem_count(), 0) << all.report.summary();
-  std::map<std::string, const sim::TouchSample*> by_key;
+  std::map<std::string, const datasets::TouchSample*> by_key;
   for (const auto& s : samples) {
     char name[32];
     std::snprintf(name, sizeof name, "%010d.jpg", s.frame_index);
     by_key[s.session + "/" + name] = &s;
   }
   for (size_t i = 0; i < all.samples.size(); ++i) {
-    const sim::TouchSample& want = *by_key.at(all.keys[i]);
-    const sim::TouchSample& got = all.samples[i];
+    const datasets::TouchSample& want = *by_key.at(all.keys[i]);
+    const datasets::TouchSample& got = all.samples[i];
     EXPECT_EQ(got.session, want.session);
     EXPECT_EQ(got.frame_index, want.frame_index);
     EXPECT_EQ(got.material.class_id, want.material.class_id);

@@ -22,7 +22,7 @@ using testing::TempDir;
 constexpr double kTouch100kJpegMeanTolerance = 3.0;
 constexpr int kJpegMaxTolerance = 40;
 
-void write_touch100k_set(const std::string& dir, const std::vector<sim::TouchSample>& samples,
+void write_touch100k_set(const std::string& dir, const std::vector<datasets::TouchSample>& samples,
                          WriterOptions options = {}) {
   options.generator_json = R"({"seed": 7, "sessions": 3})";
   auto writer = create_touch100k_writer(dir, options);
@@ -32,13 +32,13 @@ void write_touch100k_set(const std::string& dir, const std::vector<sim::TouchSam
   EXPECT_EQ((*writer)->summary().items, static_cast<int64_t>(samples.size()));
 }
 
-std::vector<sim::TouchSample> load_all(const std::string& dir, LoadReport* report_out = nullptr,
+std::vector<datasets::TouchSample> load_all(const std::string& dir, LoadReport* report_out = nullptr,
                                        Touch100kLoaderOptions options = {}) {
   auto loader = open_touch100k(dir, options);
   EXPECT_TRUE(loader.ok()) << loader.error().message();
-  std::vector<sim::TouchSample> out;
+  std::vector<datasets::TouchSample> out;
   if (!loader.ok()) return out;
-  sim::TouchSample s;
+  datasets::TouchSample s;
   for (;;) {
     auto more = (*loader)->next(s);
     EXPECT_TRUE(more.ok());
@@ -118,7 +118,7 @@ TEST(Touch100k, RecordedSplitFromTheSidecar) {
   auto loader = open_touch100k(tmp.path(), lo);
   ASSERT_TRUE(loader.ok()) << loader.error().message();
   std::map<std::string, std::set<Split>> by_session;
-  sim::TouchSample s;
+  datasets::TouchSample s;
   while ((*loader)->next(s).value()) by_session[s.session].insert((*loader)->recorded_split());
   ASSERT_EQ(by_session.size(), 4u);
   int test_sessions = 0;

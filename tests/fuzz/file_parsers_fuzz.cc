@@ -60,7 +60,7 @@ void write_file(const std::string& path, std::span<const uint8_t> bytes) {
 }
 
 void drain(datasets::TouchSampleLoader& loader) {
-  sim::TouchSample s;
+  datasets::TouchSample s;
   for (int i = 0; i < 1000; ++i) {  // the input is < 1 MB: far fewer lines than this
     auto r = loader.next(s);
     if (!r.ok() || !*r) break;

@@ -19,7 +19,7 @@
 #include "tlvlink/listen/client.h"
 #include "tlvlink/listen/recording.h"
 #include "tlvlink/protocol/encode.h"
-#include "transport/stream_fixture.h"
+#include "stream_fixture.h"
 
 namespace tlvlink::listen {
 namespace {

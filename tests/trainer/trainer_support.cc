@@ -13,6 +13,7 @@
 #include "tlvlink/io/npy_image.h"
 #include "tlvlink/datasets/touch100k.h"
 #include "tlvlink/sim/generate.h"
+#include "tlvlink/sim/sets.h"
 
 namespace tlvlink::trainer::testing {
 
@@ -26,7 +27,7 @@ Status write_touch_set(const std::string& dir, int32_t sessions, int32_t frames,
   TLV_ASSIGN_OR_RETURN(auto generator, sim::TouchSampleGenerator::create(gen));
   datasets::WriterOptions wo;
   wo.test_fraction = 0.25;
-  wo.generator_json = datasets::touch_set_options_json(gen);
+  wo.generator_json = sim::touch_set_options_json(gen);
   TLV_ASSIGN_OR_RETURN(auto writer, datasets::create_touch100k_writer(dir, wo));
   sim::TouchSample s;
   for (int64_t i = 0; i < generator->size(); ++i) {

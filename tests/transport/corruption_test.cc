@@ -14,8 +14,8 @@
 #include "tlvlink/transport/sender.h"
 #include "tlvlink/transport/serial.h"
 #include "tlvlink/transport/time.h"
-#include "transport/pty_cable.h"
-#include "transport/stream_fixture.h"
+#include "pty_cable.h"
+#include "stream_fixture.h"
 #include "transport/test_host.h"
 
 namespace tlvlink::transport {

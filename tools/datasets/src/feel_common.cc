@@ -27,7 +27,7 @@ Status validate(const FeelWriterOptions& o) {
   return {};
 }
 
-Status check_episode(const sim::GraspEpisode& e, bool need_vision) {
+Status check_episode(const GraspEpisode& e, bool need_vision) {
   TLV_ENSURE(!e.object_name.empty(), ErrorCode::kInvalidArgument,
              "grasp episode without an object_name");
   for (int f = 0; f < heads::kFingers; ++f)
@@ -39,17 +39,17 @@ Status check_episode(const sim::GraspEpisode& e, bool need_vision) {
   return {};
 }
 
-void reset_episode(sim::GraspEpisode& e) {
+void reset_episode(GraspEpisode& e) {
   e.object_name.clear();
   e.object_id = -1;
   for (int32_t& k : e.sensor_instance) k = -1;  // unknown unless the metadata says
   e.sensor.clear();
-  e.material = sim::MaterialSample{};
+  e.material = touch::MaterialSample{};
   e.material.class_id = -1;
-  e.variables = sim::GraspVariables{};
+  e.variables = GraspVariables{};
   e.is_gripping = false;
   for (auto& finger : e.states)
-    for (auto& s : finger) s = sim::ContactState{};
+    for (auto& s : finger) s = touch::ContactState{};
 }
 
 }  // namespace tlvlink::datasets

@@ -17,8 +17,8 @@ std::string kinect_key(int moment);                // "kinectA_rgb_before"
 Status validate(const FeelWriterOptions& options);
 Status validate(const FeelLoaderOptions& options);
 // Non-empty object name; GelSight frames (and the kinect images when need_vision) RGB.
-Status check_episode(const sim::GraspEpisode& episode, bool need_vision);
+Status check_episode(const GraspEpisode& episode, bool need_vision);
 // Clears what a loaded episode does not overwrite, keeping the image buffers for reuse.
-void reset_episode(sim::GraspEpisode& episode);
+void reset_episode(GraspEpisode& episode);
 
 }  // namespace tlvlink::datasets

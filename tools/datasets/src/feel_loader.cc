@@ -39,7 +39,7 @@ class FeelLoader final : public GraspEpisodeLoader {
     return {};
   }
 
-  Result<bool> next(sim::GraspEpisode& out) override {
+  Result<bool> next(GraspEpisode& out) override {
     for (;;) {
       if (!file_.valid()) {
         if (file_index_ >= files_.size()) return false;
@@ -96,7 +96,7 @@ class FeelLoader final : public GraspEpisodeLoader {
 
   // Reads one image key: absent = malformed record, unreadable = corrupt file.
   bool read_image(hid_t group, const std::string& record, const std::string& key,
-                  sim::RgbImage& out) {
+                  RgbImage& out) {
     if (!h5::exists(group, key.c_str()))
       return problem(ProblemKind::kMalformedRecord, record, "no '" + key + "'");
     if (Status s = h5::read_image(group, key.c_str(), out); !s.ok())
@@ -104,7 +104,7 @@ class FeelLoader final : public GraspEpisodeLoader {
     return true;
   }
 
-  bool load_record(const std::string& record, sim::GraspEpisode& out) {
+  bool load_record(const std::string& record, GraspEpisode& out) {
     h5::Handle group(H5Gopen2(file_.get(), record.c_str(), H5P_DEFAULT), H5Gclose);
     if (!group.valid()) return problem(ProblemKind::kCorruptFile, record, h5::last_error());
     auto name = h5::read_string(group.get(), "object_name");
@@ -137,9 +137,9 @@ class FeelLoader final : public GraspEpisodeLoader {
     out.is_gripping = gripping.value() != 0;
     for (int f = 0; f < heads::kFingers; ++f) {
       for (int m = 0; m < heads::kMoments; ++m) {
-        sim::RgbImage& frame = out.frames[f][m];
+        RgbImage& frame = out.frames[f][m];
         if (!options_.load_images) {
-          frame = sim::RgbImage{};
+          frame = RgbImage{};
           continue;
         }
         if (!read_image(group.get(), record, gelsight_key(f, m), frame)) return false;
@@ -151,9 +151,9 @@ class FeelLoader final : public GraspEpisodeLoader {
       const bool want = options_.load_images && options_.load_vision;
       if (want && !read_image(group.get(), record, kinect_key(m), out.vision[m])) {
         if (options_.require_vision) return false;
-        out.vision[m] = sim::RgbImage{};
+        out.vision[m] = RgbImage{};
       } else if (!want) {
-        out.vision[m] = sim::RgbImage{};
+        out.vision[m] = RgbImage{};
       }
     }
     std::string why;

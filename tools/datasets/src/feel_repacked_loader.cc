@@ -26,7 +26,7 @@ class FeelRepackedLoader final : public GraspEpisodeLoader {
     return open_split(0);
   }
 
-  Result<bool> next(sim::GraspEpisode& out) override {
+  Result<bool> next(GraspEpisode& out) override {
     while (split_ < splits_.size()) {
       std::string line;
       while (info_.next(line)) {
@@ -59,7 +59,7 @@ class FeelRepackedLoader final : public GraspEpisodeLoader {
     return false;
   }
 
-  bool load_line(const std::string& line, sim::GraspEpisode& out) {
+  bool load_line(const std::string& line, GraspEpisode& out) {
     if (line.size() > kMaxLineBytes) return malformed("line too long");
     Json j;
     std::string why;
@@ -93,16 +93,16 @@ class FeelRepackedLoader final : public GraspEpisodeLoader {
     out.is_gripping = gripping;
     for (int f = 0; f < heads::kFingers; ++f) {
       for (int m = 0; m < heads::kMoments; ++m) {
-        sim::RgbImage& frame = out.frames[f][m];
+        RgbImage& frame = out.frames[f][m];
         if (!options_.load_images) {
-          frame = sim::RgbImage{};
+          frame = RgbImage{};
           continue;
         }
         const std::string path = join_path(dir_, "data/" + dir + "/" + gelsight_key(f, m) + ".jpg");
         if (!load_jpeg_image(path, options_.scale_denominator, frame, report_)) return false;
       }
     }
-    for (auto& v : out.vision) v = sim::RgbImage{};  // the repacked layout has no camera images
+    for (auto& v : out.vision) v = RgbImage{};  // the repacked layout has no camera images
     // The sidecar carries the labels: a bad line drops the episode rather than score it wrong.
     if (meta != nullptr && !apply_grasp_meta(*meta, out, why)) {
       report_.add(

@@ -33,7 +33,7 @@ class FeelRepackedWriter final : public GraspDatasetWriter {
     return {};
   }
 
-  Status write(const sim::GraspEpisode& e) override {
+  Status write(const GraspEpisode& e) override {
     TLV_ENSURE(!finished_, ErrorCode::kInvalidState, "%s: write after finish", dir_.c_str());
     TLV_TRY(check_episode(e, /*need_vision=*/false));
     TLV_ENSURE(is_safe_name(e.object_name), ErrorCode::kInvalidArgument,
@@ -46,7 +46,7 @@ class FeelRepackedWriter final : public GraspDatasetWriter {
     TLV_TRY(make_dirs(join_path(dir_, "data/" + touch_dir)));
     for (int f = 0; f < heads::kFingers; ++f) {
       for (int m = 0; m < heads::kMoments; ++m) {
-        sim::RgbImage image = e.frames[f][m];
+        RgbImage image = e.frames[f][m];
         if (options_.camera_jpeg_quality > 0 && !options_.gelsight_live_path && !e.live_path)
           TLV_TRY(jpeg_round_trip(image, options_.camera_jpeg_quality));
         const std::string path =

@@ -35,7 +35,7 @@ class FeelWriter final : public GraspDatasetWriter {
     return make_dirs(dir_);
   }
 
-  Status write(const sim::GraspEpisode& e) override {
+  Status write(const GraspEpisode& e) override {
     TLV_ENSURE(!finished_, ErrorCode::kInvalidState, "%s: write after finish", dir_.c_str());
     TLV_TRY(check_episode(e, /*need_vision=*/true));
     const bool test = splitter_.is_test(e.object_name);
@@ -52,7 +52,7 @@ class FeelWriter final : public GraspDatasetWriter {
         h5::write_u8(group.get(), "is_gripping", e.is_gripping ? 1 : 0, where + "/is_gripping"));
     for (int f = 0; f < heads::kFingers; ++f) {
       for (int m = 0; m < heads::kMoments; ++m) {
-        sim::RgbImage image = e.frames[f][m];
+        RgbImage image = e.frames[f][m];
         if (options_.camera_jpeg_quality > 0 && !options_.gelsight_live_path && !e.live_path)
           TLV_TRY(jpeg_round_trip(image, options_.camera_jpeg_quality));
         image = rotate_quarter_turns(image, options_.gelsight_quarter_turns);
@@ -62,7 +62,7 @@ class FeelWriter final : public GraspDatasetWriter {
       }
     }
     for (int m = 0; m < heads::kMoments; ++m) {
-      sim::RgbImage image = e.vision[m];
+      RgbImage image = e.vision[m];
       if (options_.camera_jpeg_quality > 0)
         TLV_TRY(jpeg_round_trip(image, options_.camera_jpeg_quality));
       const std::string key = kinect_key(m);

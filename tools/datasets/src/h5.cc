@@ -105,7 +105,7 @@ Status write_u8(hid_t loc, const char* name, uint8_t value, const std::string& w
   return {};
 }
 
-Status write_image(hid_t loc, const char* name, const sim::RgbImage& image, int32_t deflate_level,
+Status write_image(hid_t loc, const char* name, const RgbImage& image, int32_t deflate_level,
                    const std::string& what) {
   const hsize_t dims[3] = {static_cast<hsize_t>(image.height), static_cast<hsize_t>(image.width),
                            3};
@@ -186,7 +186,7 @@ Result<int64_t> read_integer(hid_t loc, const char* name) {
   return static_cast<int64_t>(u);
 }
 
-Status read_image(hid_t loc, const char* name, sim::RgbImage& out) {
+Status read_image(hid_t loc, const char* name, RgbImage& out) {
   TLV_ENSURE(exists(loc, name), ErrorCode::kFormat, "no '%s'", name);
   Handle ds = open_dataset(loc, name);
   TLV_ENSURE(ds.valid(), ErrorCode::kFormat, "'%s' is not a dataset: %s", name,

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "tlvlink/error.h"
-#include "tlvlink/sim/dataset.h"
+#include "tlvlink/datasets/records.h"
 
 namespace tlvlink::datasets::h5 {
 
@@ -56,7 +56,7 @@ std::string last_error();
 // Writing (group = a record group). Errors name `what` (file:/group/key).
 Status write_string(hid_t loc, const char* name, const std::string& value, const std::string& what);
 Status write_u8(hid_t loc, const char* name, uint8_t value, const std::string& what);
-Status write_image(hid_t loc, const char* name, const sim::RgbImage& image, int32_t deflate_level,
+Status write_image(hid_t loc, const char* name, const RgbImage& image, int32_t deflate_level,
                    const std::string& what);
 Status write_string_attribute(hid_t loc, const char* name, const std::string& value,
                               const std::string& what);
@@ -65,7 +65,7 @@ Status write_string_attribute(hid_t loc, const char* name, const std::string& va
 bool exists(hid_t loc, const char* name);
 Result<std::string> read_string(hid_t loc, const char* name);
 Result<int64_t> read_integer(hid_t loc, const char* name);  // integer/bool-enum scalar
-Status read_image(hid_t loc, const char* name, sim::RgbImage& out);
+Status read_image(hid_t loc, const char* name, RgbImage& out);
 bool has_attribute(hid_t loc, const char* name);
 Result<std::string> read_string_attribute(hid_t loc, const char* name);
 

@@ -11,7 +11,7 @@
 namespace tlvlink::datasets {
 namespace {
 
-tools::Image to_tool_image(const sim::RgbImage& image) {
+tools::Image to_tool_image(const RgbImage& image) {
   tools::Image out;
   out.width = image.width;
   out.height = image.height;
@@ -20,7 +20,7 @@ tools::Image to_tool_image(const sim::RgbImage& image) {
   return out;
 }
 
-void take_tool_image(tools::Image&& image, sim::RgbImage& out) {
+void take_tool_image(tools::Image&& image, RgbImage& out) {
   out.width = image.width;
   out.height = image.height;
   out.rgb = std::move(image.pixels);
@@ -33,7 +33,7 @@ bool file_exists(const std::string& path) {
 
 }  // namespace
 
-Status check_image(const sim::RgbImage& image, const std::string& what) {
+Status check_image(const RgbImage& image, const std::string& what) {
   TLV_ENSURE(image.height >= 1 && image.width >= 1 && image.height <= image::kMaxJpegSide &&
                  image.width <= image::kMaxJpegSide,
              ErrorCode::kInvalidArgument, "%s: image size %dx%d outside 1..%d", what.c_str(),
@@ -46,7 +46,7 @@ Status check_image(const sim::RgbImage& image, const std::string& what) {
   return {};
 }
 
-Result<int64_t> write_jpeg_image(const std::string& path, const sim::RgbImage& image,
+Result<int64_t> write_jpeg_image(const std::string& path, const RgbImage& image,
                                  int32_t quality) {
   TLV_TRY(check_image(image, path));
   auto encoded = image::encode_jpeg(to_tool_image(image), quality);
@@ -55,7 +55,7 @@ Result<int64_t> write_jpeg_image(const std::string& path, const sim::RgbImage& i
   return static_cast<int64_t>(encoded.value().size());
 }
 
-Status jpeg_round_trip(sim::RgbImage& image, int32_t quality) {
+Status jpeg_round_trip(RgbImage& image, int32_t quality) {
   TLV_ASSIGN_OR_RETURN(std::vector<uint8_t> bytes,
                        image::encode_jpeg(to_tool_image(image), quality));
   TLV_ASSIGN_OR_RETURN(tools::Image decoded, image::decode_jpeg(bytes, "camera JPEG stage"));
@@ -63,7 +63,7 @@ Status jpeg_round_trip(sim::RgbImage& image, int32_t quality) {
   return {};
 }
 
-bool load_jpeg_image(const std::string& path, int32_t scale_denominator, sim::RgbImage& out,
+bool load_jpeg_image(const std::string& path, int32_t scale_denominator, RgbImage& out,
                      LoadReport& report) {
   if (!file_exists(path)) {
     report.add({ProblemKind::kMissingFile, path, 0, "not found"});
@@ -78,11 +78,11 @@ bool load_jpeg_image(const std::string& path, int32_t scale_denominator, sim::Rg
   return true;
 }
 
-sim::RgbImage rotate_quarter_turns(const sim::RgbImage& image, int32_t quarter_turns) {
+RgbImage rotate_quarter_turns(const RgbImage& image, int32_t quarter_turns) {
   const int32_t k = ((quarter_turns % 4) + 4) % 4;
   if (k == 0) return image;
   const int32_t h = image.height, w = image.width;
-  sim::RgbImage out;
+  RgbImage out;
   out.height = k == 2 ? h : w;
   out.width = k == 2 ? w : h;
   out.rgb.resize(image.rgb.size());

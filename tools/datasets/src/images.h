@@ -6,25 +6,25 @@
 
 #include "tlvlink/datasets/report.h"
 #include "tlvlink/error.h"
-#include "tlvlink/sim/dataset.h"
+#include "tlvlink/datasets/records.h"
 
 namespace tlvlink::datasets {
 
 // kInvalidArgument naming `what` unless the image is non-empty RGB of height * width * 3 bytes.
-Status check_image(const sim::RgbImage& image, const std::string& what);
+Status check_image(const RgbImage& image, const std::string& what);
 
 // Encodes and writes a JPEG; returns the bytes written.
-Result<int64_t> write_jpeg_image(const std::string& path, const sim::RgbImage& image,
+Result<int64_t> write_jpeg_image(const std::string& path, const RgbImage& image,
                                  int32_t quality);
 // JPEG encode + decode at `quality` (a camera's MJPEG stage), in place.
-Status jpeg_round_trip(sim::RgbImage& image, int32_t quality);
+Status jpeg_round_trip(RgbImage& image, int32_t quality);
 
 // Reads a JPEG into `out`. A missing or undecodable file is added to `report` (kind, path,
 // reason) and false is returned.
-bool load_jpeg_image(const std::string& path, int32_t scale_denominator, sim::RgbImage& out,
+bool load_jpeg_image(const std::string& path, int32_t scale_denominator, RgbImage& out,
                      LoadReport& report);
 
 // Rotates by `quarter_turns` * 90 degrees counterclockwise (negative: clockwise).
-sim::RgbImage rotate_quarter_turns(const sim::RgbImage& image, int32_t quarter_turns);
+RgbImage rotate_quarter_turns(const RgbImage& image, int32_t quarter_turns);
 
 }  // namespace tlvlink::datasets

@@ -4,12 +4,12 @@
 
 #include <string>
 
-#include "tlvlink/sim/materials.h"
+#include "tlvlink/touch/materials.h"
 
 namespace tlvlink::datasets {
 namespace {
 
-OrderedJson material_json(const sim::MaterialSample& m) {
+OrderedJson material_json(const touch::MaterialSample& m) {
   return {{"class_id", m.class_id}, {"modulus_pa", m.modulus_pa},
           {"poisson", m.poisson},   {"friction", m.friction},
           {"sq_um", m.sq_um},       {"correlation_length_mm", m.correlation_length_mm},
@@ -40,13 +40,13 @@ int32_t read_int(const Json& object, const char* key, const char* what, int64_t 
 // table later (exit 2 naming nothing) or read as "unlabelled" (-5) and be scored silently.
 int32_t read_class_id(const Json& material) {
   const std::string range =
-      "0.." + std::to_string(sim::kMaterialClassCount - 1) + " (or -1, unlabelled)";
+      "0.." + std::to_string(touch::kMaterialClassCount - 1) + " (or -1, unlabelled)";
   const int32_t id = read_int(material, "class_id", "material class_id", -1,
-                              sim::kMaterialClassCount - 1, range.c_str());
+                              touch::kMaterialClassCount - 1, range.c_str());
   return id;
 }
 
-void read_material(const Json& j, sim::MaterialSample& m) {
+void read_material(const Json& j, touch::MaterialSample& m) {
   m.class_id = read_class_id(j);
   m.modulus_pa = j.at("modulus_pa").get<double>();
   m.poisson = j.at("poisson").get<double>();
@@ -59,7 +59,7 @@ void read_material(const Json& j, sim::MaterialSample& m) {
   m.layer_mm = j.value("layer_mm", 0.0);  // recorded since issue 16; 0 = bulk or not recorded
 }
 
-OrderedJson contact_json(const sim::ContactState& c) {
+OrderedJson contact_json(const touch::ContactState& c) {
   return {{"in_contact", c.in_contact},
           {"force_n", c.force_n},
           {"press_mm", c.press_mm},
@@ -75,7 +75,7 @@ OrderedJson contact_json(const sim::ContactState& c) {
           {"mean_shear_mm", c.mean_shear_mm}};
 }
 
-void read_contact(const Json& j, sim::ContactState& c) {
+void read_contact(const Json& j, touch::ContactState& c) {
   c.in_contact = j.at("in_contact").get<bool>();
   c.force_n = j.at("force_n").get<double>();
   c.press_mm = j.at("press_mm").get<double>();
@@ -91,7 +91,7 @@ void read_contact(const Json& j, sim::ContactState& c) {
   c.mean_shear_mm = j.at("mean_shear_mm").get<double>();
 }
 
-OrderedJson variables_json(const sim::GraspVariables& v) {
+OrderedJson variables_json(const GraspVariables& v) {
   return {{"grip_force_n", v.grip_force_n},
           {"friction", v.friction},
           {"contact_area_mm2", {v.contact_area_mm2[0], v.contact_area_mm2[1]}},
@@ -103,7 +103,7 @@ OrderedJson variables_json(const sim::GraspVariables& v) {
           {"margin", v.margin}};
 }
 
-void read_variables(const Json& j, sim::GraspVariables& v) {
+void read_variables(const Json& j, GraspVariables& v) {
   v.grip_force_n = j.at("grip_force_n").get<double>();
   v.friction = j.at("friction").get<double>();
   for (int f = 0; f < heads::kFingers; ++f) {
@@ -139,7 +139,7 @@ bool parse_json(const std::string& text, Json& out, std::string& why) {
   }
 }
 
-OrderedJson touch_meta(const sim::TouchSample& s, const std::string& key, bool test) {
+OrderedJson touch_meta(const TouchSample& s, const std::string& key, bool test) {
   return {{"key", key},
           {"split", test ? "test" : "train"},
           {"session", s.session},
@@ -151,7 +151,7 @@ OrderedJson touch_meta(const sim::TouchSample& s, const std::string& key, bool t
           {"contact", contact_json(s.contact)}};
 }
 
-OrderedJson grasp_meta(const sim::GraspEpisode& e, const std::string& key, bool test) {
+OrderedJson grasp_meta(const GraspEpisode& e, const std::string& key, bool test) {
   OrderedJson states = OrderedJson::array();
   for (int f = 0; f < heads::kFingers; ++f) {
     OrderedJson finger = OrderedJson::array();
@@ -171,7 +171,7 @@ OrderedJson grasp_meta(const sim::GraspEpisode& e, const std::string& key, bool 
           {"states", std::move(states)}};
 }
 
-bool apply_touch_meta(const Json& meta, sim::TouchSample& out, std::string& why) {
+bool apply_touch_meta(const Json& meta, TouchSample& out, std::string& why) {
   try {
     out.object_id = meta.at("object_id").get<int32_t>();
     out.sensor_instance = read_instance(meta, 0);
@@ -185,7 +185,7 @@ bool apply_touch_meta(const Json& meta, sim::TouchSample& out, std::string& why)
   }
 }
 
-bool apply_grasp_meta(const Json& meta, sim::GraspEpisode& out, std::string& why) {
+bool apply_grasp_meta(const Json& meta, GraspEpisode& out, std::string& why) {
   try {
     out.object_id = meta.at("object_id").get<int32_t>();
     for (int f = 0; f < heads::kFingers; ++f) out.sensor_instance[f] = read_instance(meta, f);

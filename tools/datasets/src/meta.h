@@ -8,7 +8,7 @@
 
 #include "line_io.h"
 #include "tlvlink/datasets/report.h"
-#include "tlvlink/sim/dataset.h"
+#include "tlvlink/datasets/records.h"
 
 namespace tlvlink::datasets {
 
@@ -18,14 +18,14 @@ using OrderedJson = nlohmann::ordered_json;
 // Parses one JSON text; false with the parser's reason.
 bool parse_json(const std::string& text, Json& out, std::string& why);
 
-OrderedJson touch_meta(const sim::TouchSample& sample, const std::string& key, bool test);
-OrderedJson grasp_meta(const sim::GraspEpisode& episode, const std::string& key, bool test);
+OrderedJson touch_meta(const TouchSample& sample, const std::string& key, bool test);
+OrderedJson grasp_meta(const GraspEpisode& episode, const std::string& key, bool test);
 // Fill the simulator fields (object id, material, contact / variables, states) from metadata;
 // false with the reason when a field is missing, of the wrong type or out of range (a material
 // class_id outside 0..kMaterialClassCount-1; -1, "unlabelled", is what writers store for an
 // unknown class). On false `out` may be partly filled: the caller drops the item.
-bool apply_touch_meta(const Json& meta, sim::TouchSample& out, std::string& why);
-bool apply_grasp_meta(const Json& meta, sim::GraspEpisode& out, std::string& why);
+bool apply_touch_meta(const Json& meta, TouchSample& out, std::string& why);
+bool apply_grasp_meta(const Json& meta, GraspEpisode& out, std::string& why);
 
 // Reads a sidecar line for line with its index file. Absent file: inactive, no problem.
 // A line whose "key" differs from the index's, or a malformed line, is reported once as

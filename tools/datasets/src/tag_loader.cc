@@ -49,7 +49,7 @@ class TagLoader final : public TouchSampleLoader {
     return open_file(0);
   }
 
-  Result<bool> next(sim::TouchSample& out) override {
+  Result<bool> next(TouchSample& out) override {
     while (file_ < material_files_.size()) {
       std::string line;
       while (labels_.next(line)) {
@@ -104,11 +104,11 @@ class TagLoader final : public TouchSampleLoader {
     return false;
   }
 
-  bool load_line(const std::string& line, sim::TouchSample& out) {
+  bool load_line(const std::string& line, TouchSample& out) {
     auto parsed = parse_tag_label_line(line);
     if (!parsed.ok()) return malformed(parsed.error().message());
     TagLabelLine& l = parsed.value();
-    if (l.label < 0 || l.label >= sim::kMaterialClassCount)
+    if (l.label < 0 || l.label >= touch::kMaterialClassCount)
       return malformed("material id " + std::to_string(l.label) + " outside 0..19");
     const Json* meta = sidecar_.next(l.key, report_);
     if (options_.resplit &&
@@ -118,19 +118,19 @@ class TagLoader final : public TouchSampleLoader {
     out.frame_index = l.frame_index;
     out.object_id = -1;
     out.sensor_instance = -1;  // unknown unless the sidecar says
-    out.material = sim::MaterialSample{};
+    out.material = touch::MaterialSample{};
     out.material.class_id = l.label;
     const auto hard = hard_.find(l.key);
     out.material.hard = hard != hard_.end() ? hard->second == 1 : !class_is_soft(l.label);
     const auto rough = rough_.find(l.key);
     out.material.rough = rough != rough_.end() ? rough->second : -1;
-    out.contact = sim::ContactState{};
+    out.contact = touch::ContactState{};
     out.sentence_desc.clear();
     out.phrases.clear();
     const std::string frame = l.key.substr(l.session.size() + 1);
     if (!options_.load_images) {
-      out.touch = sim::RgbImage{};
-      out.vision = sim::RgbImage{};
+      out.touch = RgbImage{};
+      out.vision = RgbImage{};
     } else {
       if (!load_jpeg_image(join_path(dir_, l.session + "/gelsight_frame/" + frame),
                            options_.scale_denominator, out.touch, report_))
@@ -139,12 +139,12 @@ class TagLoader final : public TouchSampleLoader {
                              load_jpeg_image(join_path(dir_, l.session + "/video_frame/" + frame),
                                              options_.scale_denominator, out.vision, report_);
       if (options_.load_vision && !vision_ok && options_.require_vision) return false;
-      if (!vision_ok) out.vision = sim::RgbImage{};
+      if (!vision_ok) out.vision = RgbImage{};
     }
     std::string why;
     if (meta != nullptr) {
       // The labels stay those of the label files; the sidecar adds physics and contact.
-      const sim::MaterialSample labels = out.material;
+      const touch::MaterialSample labels = out.material;
       if (apply_touch_meta(*meta, out, why)) {
         out.material.class_id = labels.class_id;
         out.material.hard = labels.hard;

@@ -52,12 +52,12 @@ class TagWriter final : public TouchDatasetWriter {
     return {};
   }
 
-  Status write(const sim::TouchSample& s) override {
+  Status write(const TouchSample& s) override {
     TLV_ENSURE(!finished_, ErrorCode::kInvalidState, "%s: write after finish", dir_.c_str());
     TLV_TRY(check_touch_sample(s));
-    TLV_ENSURE(s.material.class_id >= 0 && s.material.class_id < sim::kMaterialClassCount,
+    TLV_ENSURE(s.material.class_id >= 0 && s.material.class_id < touch::kMaterialClassCount,
                ErrorCode::kInvalidArgument, "touch sample %s/%d: material class %d outside 0..%d",
-               s.session.c_str(), s.frame_index, s.material.class_id, sim::kMaterialClassCount - 1);
+               s.session.c_str(), s.frame_index, s.material.class_id, touch::kMaterialClassCount - 1);
     TLV_ASSIGN_OR_RETURN(const bool test, splitter_.is_test(s));
     if (s.session != last_session_) {
       TLV_TRY(make_dirs(join_path(dir_, s.session + "/gelsight_frame")));

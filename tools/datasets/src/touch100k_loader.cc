@@ -19,14 +19,14 @@ Status validate(const LoaderOptions& o) {
 namespace {
 
 // Resets what a loaded sample does not overwrite, keeping the image buffers for reuse.
-void reset_touch(sim::TouchSample& s) {
+void reset_touch(TouchSample& s) {
   s.session.clear();
   s.frame_index = -1;
   s.object_id = -1;
   s.sensor_instance = -1;  // unknown unless the sidecar says
-  s.material = sim::MaterialSample{};
+  s.material = touch::MaterialSample{};
   s.material.class_id = -1;
-  s.contact = sim::ContactState{};
+  s.contact = touch::ContactState{};
   s.sentence_desc.clear();
   s.phrases.clear();
 }
@@ -42,7 +42,7 @@ class Touch100kLoader final : public TouchSampleLoader {
     return {};
   }
 
-  Result<bool> next(sim::TouchSample& out) override {
+  Result<bool> next(TouchSample& out) override {
     std::string line;
     while (index_.next(line)) {
       if (is_blank(line)) continue;
@@ -78,7 +78,7 @@ class Touch100kLoader final : public TouchSampleLoader {
     return Split::kAll;
   }
 
-  bool load_line(const std::string& line, sim::TouchSample& out) {
+  bool load_line(const std::string& line, TouchSample& out) {
     if (line.size() > kMaxLineBytes) {
       return malformed("line longer than " + std::to_string(kMaxLineBytes) + " bytes");
     }
@@ -109,8 +109,8 @@ class Touch100kLoader final : public TouchSampleLoader {
     const Json* meta = sidecar_.next(name, report_);
     reset_touch(out);
     if (!options_.load_images) {
-      out.touch = sim::RgbImage{};
-      out.vision = sim::RgbImage{};
+      out.touch = RgbImage{};
+      out.vision = RgbImage{};
     } else {
       if (!load_jpeg_image(join_path(dir_, "touch/" + name), options_.scale_denominator, out.touch,
                            report_))
@@ -119,10 +119,10 @@ class Touch100kLoader final : public TouchSampleLoader {
         if (!load_jpeg_image(join_path(dir_, "vision/" + name), options_.scale_denominator,
                              out.vision, report_)) {
           if (options_.require_vision) return false;
-          out.vision = sim::RgbImage{};
+          out.vision = RgbImage{};
         }
       } else {
-        out.vision = sim::RgbImage{};
+        out.vision = RgbImage{};
       }
     }
     if (!parse_tag_frame_key(name, out.session, out.frame_index)) out.session = name;

@@ -28,7 +28,7 @@ class Touch100kWriter final : public TouchDatasetWriter {
     return {};
   }
 
-  Status write(const sim::TouchSample& s) override {
+  Status write(const TouchSample& s) override {
     TLV_ENSURE(!finished_, ErrorCode::kInvalidState, "%s: write after finish", dir_.c_str());
     TLV_TRY(check_touch_sample(s));
     TLV_ASSIGN_OR_RETURN(const bool test, splitter_.is_test(s));

@@ -33,7 +33,7 @@ bool parse_tag_frame_key(std::string_view key, std::string& session, int32_t& fr
   return true;
 }
 
-Status check_touch_sample(const sim::TouchSample& s) {
+Status check_touch_sample(const TouchSample& s) {
   TLV_ENSURE(is_safe_name(s.session), ErrorCode::kInvalidArgument,
              "touch sample session '%s' is not a safe folder name (letters, digits, _-.)",
              s.session.c_str());
@@ -45,7 +45,7 @@ Status check_touch_sample(const sim::TouchSample& s) {
   return {};
 }
 
-Result<bool> TouchSplitter::is_test(const sim::TouchSample& sample) {
+Result<bool> TouchSplitter::is_test(const TouchSample& sample) {
   const bool test = objects_.is_test(std::to_string(sample.object_id));
   auto [it, inserted] = sessions_.emplace(sample.session, test);
   if (inserted) {

@@ -8,7 +8,7 @@
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/datasets/writer.h"
 #include "tlvlink/error.h"
-#include "tlvlink/sim/dataset.h"
+#include "tlvlink/datasets/records.h"
 
 namespace tlvlink::datasets {
 
@@ -18,13 +18,13 @@ std::string tag_frame_key(const std::string& session, int32_t frame_index);
 bool parse_tag_frame_key(std::string_view key, std::string& session, int32_t& frame_index);
 
 // Checks what a touch writer needs: a safe session name, frame_index >= 0, RGB images.
-Status check_touch_sample(const sim::TouchSample& sample);
+Status check_touch_sample(const TouchSample& sample);
 
 // Assigns the split of a touch sample by object and insists every session stays in one split.
 class TouchSplitter {
  public:
   explicit TouchSplitter(double test_fraction) : objects_(test_fraction) {}
-  Result<bool> is_test(const sim::TouchSample& sample);
+  Result<bool> is_test(const TouchSample& sample);
   void fill(WriteSummary& summary) const;
 
  private:

@@ -9,7 +9,7 @@
 #include "stream_generated.h"
 #include "tlvlink/listen/recording.h"
 #include "tlvlink/protocol/encode.h"
-#include "transport/stream_fixture.h"
+#include "stream_fixture.h"
 
 namespace tlvlink::listen {
 namespace {

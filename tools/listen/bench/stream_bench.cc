@@ -32,7 +32,7 @@
 #include "tlvlink/transport/pty.h"
 #include "tlvlink/transport/sender.h"
 #include "tlvlink/transport/time.h"
-#include "transport/stream_fixture.h"
+#include "stream_fixture.h"
 
 namespace {
 

@@ -7,7 +7,7 @@
 //       fast as the poster can; every 10th frame also a grasp), Stats every second, answering
 //       commands (set bad=... is refused); then holds the link S seconds and flushes. With
 //       --byte-errors/--byte-drops the bytes are damaged between the Sender and the link
-//       (tests/transport/corrupting_transport.h), so the damage crosses the real wire.
+//       (corrupting_transport.h), so the damage crosses the real wire.
 //   tlvlink_stream_check check --source SOURCE [--frames N] [--timeout S] [--clean | --lossy]
 //                              [--start-any] [--no-commands] [--expect-reconnects K]
 //                              [--expect-board-reconnects K] [--idle S] [--label NAME]
@@ -45,8 +45,8 @@
 #include "tlvlink/transport/sender.h"
 #include "tlvlink/transport/time.h"
 #include "tlvlink/transport/transport_spec.h"
-#include "transport/corrupting_transport.h"
-#include "transport/stream_fixture.h"
+#include "corrupting_transport.h"
+#include "stream_fixture.h"
 
 namespace {
 

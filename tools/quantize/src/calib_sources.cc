@@ -22,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-tools::Image to_image(const sim::RgbImage& rgb) {
+tools::Image to_image(const datasets::RgbImage& rgb) {
   return tools::Image{rgb.width, rgb.height, 3, rgb.rgb};
 }
 
@@ -107,7 +107,7 @@ Result<std::vector<Item>> list_all(CalibFormat format, const std::string& path,
     case CalibFormat::kTag: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_touch(format, path, false, split));
       if (problems != nullptr) loader->report().on_problem = problems->callback();
-      sim::TouchSample s;
+      datasets::TouchSample s;
       for (;;) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
         if (!more) break;
@@ -120,7 +120,7 @@ Result<std::vector<Item>> list_all(CalibFormat format, const std::string& path,
     case CalibFormat::kFeelRepacked: {
       TLV_ASSIGN_OR_RETURN(auto loader, open_grasp(format, path, false, split));
       if (problems != nullptr) loader->report().on_problem = problems->callback();
-      sim::GraspEpisode e;
+      datasets::GraspEpisode e;
       for (;;) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(e));
         if (!more) break;
@@ -200,7 +200,7 @@ Status read_frames(CalibFormat format, const std::string& path,
       TLV_ASSIGN_OR_RETURN(auto loader, open_touch(format, path, true));
       // Index lines were reported by the listing pass.
       if (problems != nullptr) loader->report().on_problem = problems->callback(false);
-      sim::TouchSample s;
+      datasets::TouchSample s;
       while (seen < wanted.size()) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
         if (!more) break;
@@ -218,7 +218,7 @@ Status read_frames(CalibFormat format, const std::string& path,
       TLV_ASSIGN_OR_RETURN(auto loader, open_grasp(format, path, true));
       // Index lines were reported by the listing pass.
       if (problems != nullptr) loader->report().on_problem = problems->callback(false);
-      sim::GraspEpisode e;
+      datasets::GraspEpisode e;
       while (seen < wanted.size()) {
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(e));
         if (!more) break;

@@ -94,7 +94,7 @@ Result<FrameReader> images_in(const std::string& dir, bool& as_is, std::vector<s
   });
 }
 
-image::Image image_of(const sim::RgbImage& in) {
+image::Image image_of(const datasets::RgbImage& in) {
   image::Image out;
   out.width = in.width;
   out.height = in.height;
@@ -105,7 +105,7 @@ image::Image image_of(const sim::RgbImage& in) {
 
 Result<FrameReader> touch_frames(std::unique_ptr<datasets::TouchSampleLoader> loader) {
   auto l = std::shared_ptr<datasets::TouchSampleLoader>(std::move(loader));
-  auto sample = std::make_shared<sim::TouchSample>();
+  auto sample = std::make_shared<datasets::TouchSample>();
   return FrameReader([l, sample](Frame& f) -> Result<bool> {
     TLV_ASSIGN_OR_RETURN(const bool more, l->next(*sample));
     if (!more) return false;
@@ -117,10 +117,10 @@ Result<FrameReader> touch_frames(std::unique_ptr<datasets::TouchSampleLoader> lo
 
 Result<FrameReader> feel_frames(std::unique_ptr<datasets::GraspEpisodeLoader> loader, int32_t finger) {
   auto l = std::shared_ptr<datasets::GraspEpisodeLoader>(std::move(loader));
-  auto episode = std::make_shared<sim::GraspEpisode>();
-  auto moment = std::make_shared<int32_t>(sim::kMoments);
+  auto episode = std::make_shared<datasets::GraspEpisode>();
+  auto moment = std::make_shared<int32_t>(datasets::kMoments);
   return FrameReader([l, episode, moment, finger](Frame& f) -> Result<bool> {
-    if (*moment == sim::kMoments) {
+    if (*moment == datasets::kMoments) {
       TLV_ASSIGN_OR_RETURN(const bool more, l->next(*episode));
       if (!more) return false;
       *moment = 0;

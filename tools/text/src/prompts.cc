@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "tlvlink/sim/materials.h"
+#include "tlvlink/touch/materials.h"
 #include "tlvlink/text/text_encoder.h"
 
 namespace tlvlink::text {
@@ -36,7 +36,7 @@ std::vector<std::string> PromptSet::prompts_for(size_t class_index) const {
 PromptSet material_prompts() {
   PromptSet p;
   p.task = "material";
-  for (const sim::MaterialClass& c : sim::material_classes()) {
+  for (const touch::MaterialClass& c : touch::material_classes()) {
     p.class_names.emplace_back(c.name);
   }
   p.templates = {"the object being touched is {c}, it is an image of {c}."};

@@ -114,7 +114,7 @@ Result<DataCache> load_cache(const CacheOptions& o) {
   lo.load_images = false;
   TLV_ASSIGN_OR_RETURN(auto loader, datasets::open_touch100k(o.dir, lo));
   std::vector<Pending> pending;
-  sim::TouchSample s;
+  datasets::TouchSample s;
   for (;;) {
     TLV_ASSIGN_OR_RETURN(const bool more, loader->next(s));
     if (!more) break;

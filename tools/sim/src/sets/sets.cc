@@ -49,7 +49,7 @@ Result<datasets::WriteSummary> write_touch_set(const TouchSetJob& job) {
   TLV_ASSIGN_OR_RETURN(auto generators,
                        make_generators<TouchSampleGenerator>(job.generator, job.threads));
   datasets::WriterOptions wo = job.writer;
-  wo.generator_json = datasets::touch_set_options_json(job.generator);
+  wo.generator_json = touch_set_options_json(job.generator);
   TLV_ASSIGN_OR_RETURN(auto writer, job.format == TouchSetFormat::kTouchAndGo
                                         ? datasets::create_tag_writer(job.dir, wo)
                                         : datasets::create_touch100k_writer(job.dir, wo));
@@ -61,7 +61,7 @@ Result<GraspSetSummary> write_grasp_set(const GraspSetJob& job) {
   TLV_ASSIGN_OR_RETURN(auto generators,
                        make_generators<GraspEpisodeGenerator>(job.generator, job.threads));
   datasets::FeelWriterOptions wo = job.writer;
-  wo.generator_json = datasets::grasp_set_options_json(job.generator);
+  wo.generator_json = grasp_set_options_json(job.generator);
   wo.gelsight_live_path = job.generator.live_path;  // no second camera round trip
   TLV_ASSIGN_OR_RETURN(auto writer, job.repacked
                                         ? datasets::create_feel_repacked_writer(job.dir, wo)

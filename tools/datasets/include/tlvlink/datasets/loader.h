@@ -11,7 +11,7 @@
 #include "tlvlink/datasets/report.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/error.h"
-#include "tlvlink/sim/dataset.h"
+#include "tlvlink/datasets/records.h"
 
 namespace tlvlink::datasets {
 
@@ -28,7 +28,7 @@ class TouchSampleLoader {
  public:
   virtual ~TouchSampleLoader() = default;
   // Fills `out` with the next good sample; false at the end.
-  virtual Result<bool> next(sim::TouchSample& out) = 0;
+  virtual Result<bool> next(TouchSample& out) = 0;
   // The format's key of the sample last returned: the `img` of Touch100k, the
   // "SESSION/NNNNNNNNNN.jpg" of Touch-and-Go.
   virtual const std::string& key() const = 0;
@@ -41,7 +41,7 @@ class TouchSampleLoader {
 class GraspEpisodeLoader {
  public:
   virtual ~GraspEpisodeLoader() = default;
-  virtual Result<bool> next(sim::GraspEpisode& out) = 0;
+  virtual Result<bool> next(GraspEpisode& out) = 0;
   // "calandra_corl2017_003.h5:/0042" (HDF5) or the touch_dir (repacked).
   virtual const std::string& key() const = 0;
   virtual LoadReport& report() = 0;

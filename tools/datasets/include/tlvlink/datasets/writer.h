@@ -11,8 +11,7 @@
 #include <string>
 
 #include "tlvlink/error.h"
-#include "tlvlink/sim/dataset.h"
-#include "tlvlink/sim/generate.h"
+#include "tlvlink/datasets/records.h"
 
 namespace tlvlink::datasets {
 
@@ -20,7 +19,7 @@ struct WriterOptions {
   int32_t jpeg_quality = 90;          // [1, 100], every JPEG the writer stores
   double test_fraction = 0.2;         // [0, 1], share of sessions/objects in the test split
   std::string generator_json = "{}";  // JSON object describing what made the samples
-                                      // (e.g. touch_set_options_json()); stored in tlvlink_sim.json
+                                      // (e.g. sim::touch_set_options_json()); in tlvlink_sim.json
   bool sidecar = true;                // write the tlvlink_sim_*.jsonl ground-truth sidecars
 };
 Status validate(const WriterOptions& options);
@@ -37,7 +36,7 @@ class TouchDatasetWriter {
  public:
   virtual ~TouchDatasetWriter() = default;
   // Writes one sample. Sample images must be non-empty RGB (height * width * 3 bytes).
-  virtual Status write(const sim::TouchSample& sample) = 0;
+  virtual Status write(const TouchSample& sample) = 0;
   // Closes the index files and writes tlvlink_sim.json; nothing may be written afterwards.
   virtual Status finish() = 0;
   virtual const WriteSummary& summary() const = 0;
@@ -46,13 +45,9 @@ class TouchDatasetWriter {
 class GraspDatasetWriter {
  public:
   virtual ~GraspDatasetWriter() = default;
-  virtual Status write(const sim::GraspEpisode& episode) = 0;
+  virtual Status write(const GraspEpisode& episode) = 0;
   virtual Status finish() = 0;
   virtual const WriteSummary& summary() const = 0;
 };
-
-// The generators' options as JSON objects for WriterOptions::generator_json.
-std::string touch_set_options_json(const sim::TouchSetOptions& options);
-std::string grasp_set_options_json(const sim::GraspSetOptions& options);
 
 }  // namespace tlvlink::datasets

@@ -20,6 +20,10 @@
 
 namespace tlvlink::sim {
 
+// The generators' options as JSON objects for datasets::WriterOptions::generator_json.
+std::string touch_set_options_json(const TouchSetOptions& options);
+std::string grasp_set_options_json(const GraspSetOptions& options);
+
 enum class TouchSetFormat : uint8_t { kTouch100k, kTouchAndGo };
 
 struct TouchSetJob {

@@ -1,4 +1,4 @@
-#include "transport/pty_cable.h"
+#include "pty_cable.h"
 
 #include <fcntl.h>
 #include <poll.h>

@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "tlvlink/error.h"
-#include "transport/byte_faults.h"
+#include "byte_faults.h"
 
 namespace tlvlink::testing {
 

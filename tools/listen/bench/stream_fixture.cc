@@ -1,4 +1,4 @@
-#include "transport/stream_fixture.h"
+#include "stream_fixture.h"
 
 #include <cstring>
 

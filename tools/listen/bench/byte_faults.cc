@@ -1,4 +1,4 @@
-#include "transport/byte_faults.h"
+#include "byte_faults.h"
 
 namespace tlvlink::testing {
 

@@ -16,7 +16,7 @@
 #include <string>
 
 #include "tlvlink/transport/transport.h"
-#include "transport/byte_faults.h"
+#include "byte_faults.h"
 
 namespace tlvlink::testing {
 

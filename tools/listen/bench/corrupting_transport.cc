@@ -1,4 +1,4 @@
-#include "transport/corrupting_transport.h"
+#include "corrupting_transport.h"
 
 #include <algorithm>
 #include <cstdio>
