@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""Checks the runtime's component boundaries (run by ctest): every header in runtime/<c>/src is
-guarded by TLVLINK_<C>_PRIVATE, and including it from outside the component fails to compile
-with the guard's #error (the compiler gets every include path, so nothing else can be missing).
+"""Checks the components' boundaries (run by ctest): every header in runtime/<c>/src is guarded
+by TLVLINK_<C>_PRIVATE, every header in a src/ folder of quantize/ and tools/ by the guard its
+component defines (HOST_GUARDS below), and including it from outside the component fails to
+compile with the guard's #error (the compiler gets every include path of the three floors).
 
   check_private_headers.py REPO CXX
 Prints one line per problem and exits 1 if there is any.
@@ -15,18 +16,44 @@ import tempfile
 
 repo, cxx = os.path.abspath(sys.argv[1]), sys.argv[2]
 problems = []
+# The host components' src/ folders and the guard each defines while compiling itself (its
+# CMakeLists): the folder name, except where two folders share a name.
+HOST_GUARDS = {
+    'quantize/src': 'TLVLINK_QUANTIZE_PRIVATE',
+    'quantize/writer/src': 'TLVLINK_MODEL_WRITER_PRIVATE',
+    'tools/quantize/src': 'TLVLINK_QUANTIZE_PIPELINE_PRIVATE',
+    'tools/io/src': 'TLVLINK_IO_PRIVATE',
+}
 includes = []
-for d in sorted(glob.glob(os.path.join(repo, 'runtime', '*'))):
-    for sub in ('include', 'src'):
-        if os.path.isdir(os.path.join(d, sub)):
-            includes += ['-I', os.path.join(d, sub)]
+for top in ('runtime', 'quantize', 'tools'):
+    for d in sorted(glob.glob(os.path.join(repo, top, '**', ''), recursive=True)):
+        if os.path.basename(os.path.dirname(d)) in ('include', 'src'):
+            includes += ['-I', d]
 includes += ['-I', os.path.join(repo, 'runtime', 'include')]
 
-headers = sorted(glob.glob(os.path.join(repo, 'runtime', '*', 'src', '**', '*.h'), recursive=True))
+
+def guard_of(rel):
+    """The guard a private header must carry, or None if `rel` is no private header."""
+    parts = rel.split(os.sep)
+    if parts[0] == 'runtime':
+        return f'TLVLINK_{parts[1].upper()}_PRIVATE' if parts[2] == 'src' else None
+    for folder, guard in HOST_GUARDS.items():
+        if rel.startswith(folder + os.sep):
+            return guard
+    if parts[0] == 'tools' and len(parts) > 3 and parts[2] == 'src':
+        return f'TLVLINK_{parts[1].upper()}_PRIVATE'
+    return None
+
+
+headers = []
+for top in ('runtime', 'quantize', 'tools'):
+    for h in sorted(glob.glob(os.path.join(repo, top, '**', 'src', '**', '*.h'), recursive=True)):
+        if guard_of(os.path.relpath(h, repo)):
+            headers.append(h)
 for h in headers:
     rel = os.path.relpath(h, repo)
-    component = rel.split(os.sep)[1]
-    guard = f'TLVLINK_{component.upper()}_PRIVATE'
+    component = os.path.dirname(rel).split(os.sep + 'src')[0]
+    guard = guard_of(rel)
     text = open(h, encoding='utf-8').read()
     m = re.search(r'#ifndef\s+' + guard + r'\b[^\n]*\n\s*#error\s+"([^"]*)"', text)
     if not m:

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_QUANTIZE_PRIVATE
+#error "encoder_internal.h is internal to quantize: include its public headers instead"
+#endif
 // Internals of the reference encoder generator.
 
 #include <cstdint>

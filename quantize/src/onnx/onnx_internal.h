@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_QUANTIZE_PRIVATE
+#error "onnx_internal.h is internal to quantize: include its public headers instead"
+#endif
 // Internals of the ONNX importer. The importer walks the ONNX graph once, in its (required)
 // topological order, and builds a small IR of tlvlink operators in NHWC layout:
 // - constants (initializers, Constant nodes, and shape arithmetic the exporter left behind,

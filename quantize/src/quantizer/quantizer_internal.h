@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_QUANTIZE_PRIVATE
+#error "quantizer_internal.h is internal to quantize: include its public headers instead"
+#endif
 // Internals of the quantizer: the operator plan (fusion, denylist), weight/bias quantization
 // with the int8 constraints, and the graph emitter.
 

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_MODEL_WRITER_PRIVATE
+#error "writer_internal.h is internal to quantize/writer: include its public headers instead"
+#endif
 // Serialisation helpers shared by the ModelBuilder's files.
 
 #include "tlvlink/quantize/model_builder.h"

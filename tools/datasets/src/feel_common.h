@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_DATASETS_PRIVATE
+#error "feel_common.h is internal to tools/datasets: include its public headers instead"
+#endif
 // Pieces the Feel HDF5 and repacked writers/loaders share. Internal.
 
 #include <string>

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_DATASETS_PRIVATE
+#error "h5.h is internal to tools/datasets: include its public headers instead"
+#endif
 // Thin RAII and read/write helpers over the HDF5 C API for the Feel files. HDF5's own error
 // printing is switched off; failures come back as messages built from its error stack.
 // Internal to tlvlink_datasets.

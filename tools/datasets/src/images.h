@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_DATASETS_PRIVATE
+#error "images.h is internal to tools/datasets: include its public headers instead"
+#endif
 // Dataset images: checks, JPEG files, rotations. Internal to tlvlink_datasets.
 
 #include <cstdint>

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_DATASETS_PRIVATE
+#error "line_io.h is internal to tools/datasets: include its public headers instead"
+#endif
 // Line-oriented text files of the dataset formats (label files, JSON-lines): a reader that
 // counts lines for file:line messages and a writer that counts bytes and reports errors with
 // the path. Internal to tlvlink_datasets.

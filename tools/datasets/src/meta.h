@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_DATASETS_PRIVATE
+#error "meta.h is internal to tools/datasets: include its public headers instead"
+#endif
 // The simulator's ground truth per item as JSON (tlvlink_sim_*.jsonl sidecars, the HDF5
 // `tlvlink_sim` attribute), both ways, and the lock-step sidecar reader. Internal.
 

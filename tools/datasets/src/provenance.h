@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_DATASETS_PRIVATE
+#error "provenance.h is internal to tools/datasets: include its public headers instead"
+#endif
 // tlvlink_sim.json: what made a dataset and how it was written. Internal.
 
 #include <string>

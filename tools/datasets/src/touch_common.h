@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_DATASETS_PRIVATE
+#error "touch_common.h is internal to tools/datasets: include its public headers instead"
+#endif
 // Pieces the Touch100k and Touch-and-Go writers/loaders share. Internal.
 
 #include <string>

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_EVAL_PRIVATE
+#error "data_paths.h is internal to tools/eval: include its public headers instead"
+#endif
 // Dataset directory probing shared by the touch and grasp extraction. Format detection and the
 // split rule are tools/datasets' (tlvlink/datasets/detect.h); this maps them onto EvalData's
 // formats and adds what only the reports need (split source text, progress totals).

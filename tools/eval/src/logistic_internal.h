@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_EVAL_PRIVATE
+#error "logistic_internal.h is internal to tools/eval: include its public headers instead"
+#endif
 // Multinomial logistic regression on standardised features, by full-batch L-BFGS (double,
 // fixed summation order, so the same data gives the same bits).
 

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_IO_PRIVATE
+#error "npy_header.h is internal to tools/io: include its public headers instead"
+#endif
 // The .npy header: a Python dict literal such as
 //   {'descr': '<f4', 'fortran_order': False, 'shape': (2, 3), }
 // parsed by a small strict tokenizer (no eval): exactly the three keys, each once.

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_QUANTIZE_PIPELINE_PRIVATE
+#error "calib_sources.h is internal to tools/quantize: include its public headers instead"
+#endif
 // Internals of calib_data.cc: listing the items of a calibration source without decoding
 // images (pass 1), then reading the frames of the selected items (pass 2).
 

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SCORE_PRIVATE
+#error "truth.h is internal to tools/score: include its public headers instead"
+#endif
 // The scenario's ground truth (truth.jsonl) and the JSON-lines reader, shared by the scorer and
 // the live/offline comparison. Internal to tools/score.
 

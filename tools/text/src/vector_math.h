@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TEXT_PRIVATE
+#error "vector_math.h is internal to tools/text: include its public headers instead"
+#endif
 // Small helpers shared by the text encoders: L2 normalisation with a finite, non-zero check.
 
 #include <cmath>

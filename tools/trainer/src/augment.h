@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TRAINER_PRIVATE
+#error "augment.h is internal to tools/trainer: include its public headers instead"
+#endif
 // Photometric augmentation of cached touch frames (trainer.h AugmentOptions). No libtorch:
 // operates on the uint8 HWC cache, so the result is a camera-like frame the runtime could see.
 

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TRAINER_PRIVATE
+#error "augment_rng.h is internal to tools/trainer: include its public headers instead"
+#endif
 // The augmentations' random draws: splitmix64 streams, so every draw is a function of a seed
 // (runs and resumes stay bit-identical) and nothing is shared between threads.
 

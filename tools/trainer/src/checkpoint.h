@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TRAINER_PRIVATE
+#error "checkpoint.h is internal to tools/trainer: include its public headers instead"
+#endif
 // Checkpoints (internal, libtorch): one file written with torch::serialize::OutputArchive,
 // holding
 //   "meta"                JSON string: format tag, settings (options_to_json), arch, input

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TRAINER_PRIVATE
+#error "data_cache.h is internal to tools/trainer: include its public headers instead"
+#endif
 // The training set in memory: every sample of the requested split decoded once, resized to the
 // model input (and the teacher input) with the runtime's own resize (tools/io/preprocess.h), kept
 // as uint8 HWC. The runtime later sees exactly these pixels for the same frame, so train and

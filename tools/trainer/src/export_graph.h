@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TRAINER_PRIVATE
+#error "export_graph.h is internal to tools/trainer: include its public headers instead"
+#endif
 // The trained student as plain arrays (no libtorch) and its .tlvm graph: BatchNorm folded into
 // each conv, ReLU6 fused into Conv2D / Add, NHWC activations and OHWI weights like the
 // reference encoder (quantize/src/encoder/encoder_graph.cc).

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TRAINER_PRIVATE
+#error "net.h is internal to tools/trainer: include its public headers instead"
+#endif
 // libtorch side of the trainer (internal; includes torch headers — keep out of non-torch code).
 // EncoderNet is the module an ArchSpec describes; the exporter walks the same layer list.
 

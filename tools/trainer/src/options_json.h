@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TRAINER_PRIVATE
+#error "options_json.h is internal to tools/trainer: include its public headers instead"
+#endif
 // TrainOptions <-> JSON: recorded in every checkpoint (a resumed run takes its settings from
 // there) and in the exported model's provenance.
 

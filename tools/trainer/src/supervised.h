@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TRAINER_PRIVATE
+#error "supervised.h is internal to tools/trainer: include its public headers instead"
+#endif
 // Supervised heads of the trainer (internal; libtorch): linear layers on the student's raw
 // embedding for the labels a simulated set records (material: 20 Touch-and-Go classes,
 // hard/soft, rough/smooth), trained with cross-entropy. They serve two objectives beside

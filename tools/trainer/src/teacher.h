@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TRAINER_PRIVATE
+#error "teacher.h is internal to tools/trainer: include its public headers instead"
+#endif
 // The vision teacher of TLV-Link (internal, libtorch). It is frozen while the student trains and
 // there is no augmentation, so its embedding of every training sample is computed once.
 //  - built-in: a `builtin_arch` EncoderNet pre-trained from scratch on the paired vision images

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TRAINER_PRIVATE
+#error "view_augment.h is internal to tools/trainer: include its public headers instead"
+#endif
 // The sensor-view augmentation (trainer.h ViewAugmentOptions, README "Sensor-view
 // augmentation"): a touch frame at the sensor's processed size becomes one of the frames real
 // sensors and links give of the same touch (mounting, optics, LEDs, dust, focus, noise, codec),

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TRAINER_PRIVATE
+#error "view_batches.h is internal to tools/trainer: include its public headers instead"
+#endif
 // The touch frames of a training step under the sensor-view augmentation, each made at the
 // frame's own size and orientation (DataCache::turned), made on a worker
 // thread while the previous step trains (a libtorch step holds one core; this the other). No

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_TRAINER_PRIVATE
+#error "view_optics.h is internal to tools/trainer: include its public headers instead"
+#endif
 // The sensor-view augmentation's image operations on a float RGB frame (view_augment.h): each
 // takes its parameters already drawn, so tests can call them with fixed values. No allocation
 // except where a scratch vector is passed in and grown once.

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "contact_area.h is internal to tools/sim: include its public headers instead"
+#endif
 // A coarse, fast version of the renderer's contact mechanics (gelsight-sim.md, STATIC FRAME
 // steps 1-3: gap, compliance split, Winkler layer plus membrane tension, bisection on the press
 // depth; constants shared with the renderer through

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "grasp_model.h is internal to tools/sim: include its public headers instead"
+#endif
 // The grasp prior: how objects and grasps are drawn, shared by the episode generator and the
 // oracle so that the oracle's Monte Carlo uses exactly the generator's distribution. Ranges and
 // the reasons for them: tools/sim/REFERENCE.md ("Grasp episodes").

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "grasp_oracle.h is internal to tools/sim: include its public headers instead"
+#endif
 // The Bayes-optimal grasp predictor from the visible variables alone, and its accuracy.
 
 #include <cstdint>

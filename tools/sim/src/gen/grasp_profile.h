@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "grasp_profile.h is internal to tools/sim: include its public headers instead"
+#endif
 // The contact-area model of a sensor profile (the grasp variables and the oracle use the gel of
 // the sensor the episodes are rendered with).
 

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "phrase_data.h is internal to tools/sim: include its public headers instead"
+#endif
 // The phrase vocabulary and its rules, embedded at build time from tools/sim/data/ by CMake
 // (phrase_data.cc.in): the library never reads these files at run time.
 

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "phrase_vocabulary.h is internal to tools/sim: include its public headers instead"
+#endif
 // Parsing of the phrase vocabulary (phrase, count) and its rule file (phrase, facets, rule);
 // see tools/sim/data/phrase-rules.tsv for the rule language.
 

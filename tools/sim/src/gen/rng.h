@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "rng.h is internal to tools/sim: include its public headers instead"
+#endif
 // Counter-based seeding and a small portable generator for the dataset generators. Every random
 // stream is derived from (seed, tags...) by hashing, so item i depends only on (seed, i) and can
 // be generated in any order or on any thread. std:: distributions are implementation-defined,

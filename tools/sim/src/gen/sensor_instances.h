@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "sensor_instances.h is internal to tools/sim: include its public headers instead"
+#endif
 // Domain randomization over sensor instances (generate.h): which instance draws a session or a
 // finger, and the few Renderers a generator keeps for them. Internal.
 

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "session_names.h is internal to tools/sim: include its public headers instead"
+#endif
 // Names of generated sessions and objects: unique within a dataset, deterministic, and in the
 // real datasets' shapes (Touch-and-Go sessions are "YYYYMMDD_HHMMSS" recording start times).
 

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "vision_noise.h is internal to tools/sim: include its public headers instead"
+#endif
 // Procedural noise for the vision images: hashed-lattice value noise, fractal sums of it, and
 // cellular (Worley) distances. Pure functions of (position, seed): no tables, no state.
 

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "vision_patterns.h is internal to tools/sim: include its public headers instead"
+#endif
 // Surface patterns of the vision images, one per material appearance ("grain", "weave", ...).
 // A pattern maps object coordinates to a shade (multiplies the object colour) and a mix
 // towards a secondary colour (mortar, grout, veins, a second thread colour, ...).

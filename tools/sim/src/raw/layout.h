@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "layout.h is internal to tools/sim: include its public headers instead"
+#endif
 // Raw-frame geometry shared by RawCamera and RawDecoder: how a processed pixel maps into the
 // raw frame and how wide a periphery the renderer must draw to fill it.
 

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "blur.h is internal to tools/sim: include its public headers instead"
+#endif
 // Separable Gaussian blur of a float plane (or a rectangle of one) with per-side edge modes.
 // Small sigmas use a direct kernel; sigma >= kRecursiveMinSigma uses Deriche's fourth-order
 // recursive Gaussian (cost independent of sigma) along columns, with a transpose for the rows,

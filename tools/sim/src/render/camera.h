@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "camera.h is internal to tools/sim: include its public headers instead"
+#endif
 // The camera end of the pipeline (gelsight-sim.md step 7): the colour-change planes are blurred
 // (5x5, sigma 1) where they are non-zero, added to the sensor's pre-blurred background, scaled by
 // LED gain, channel gain and vignetting, and get Gaussian noise; then clamp and round to uint8.

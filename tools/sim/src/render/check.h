@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "check.h is internal to tools/sim: include its public headers instead"
+#endif
 // Named range checks for parameter validation: every error names the field and its value, and
 // a NaN or Inf is reported as "not finite" before any range test (NaN compares false).
 

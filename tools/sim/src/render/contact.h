@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "contact.h is internal to tools/sim: include its public headers instead"
+#endif
 // Normal contact (gelsight-sim.md steps 1-3): gap, compliance split kappa, the force model
 // (Winkler layer + membrane tension, model_constants.h) and the force -> press-depth solve.
 //

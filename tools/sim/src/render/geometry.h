@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "geometry.h is internal to tools/sim: include its public headers instead"
+#endif
 // Object surface height maps (mm, positive toward the gel; analytic shapes have their highest
 // point at 0) and the membrane-tension curvature term of the contact force.
 

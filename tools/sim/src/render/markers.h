@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "markers.h is internal to tools/sim: include its public headers instead"
+#endif
 // Marker dots: the normal-dilation field of a press (FOTS: markers are pushed outward around an
 // indentation) and drawing dark Gaussian dots into the colour-change planes.
 //

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "model_constants.h is internal to tools/sim: include its public headers instead"
+#endif
 // Constants of the frame model (tools/sim/REFERENCE.md), in one place so each is named
 // once with its reason. Lengths in mm, moduli in N/mm^2 (= MPa) inside the renderer.
 

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "renderer_internal.h is internal to tools/sim: include its public headers instead"
+#endif
 // A renderer that also draws the camera's field beyond the processed frame (the raw camera
 // path, tools/sim/src/raw). Not part of the public API: its frames are larger than the profile
 // says.

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "rng.h is internal to tools/sim: include its public headers instead"
+#endif
 // Small, fast, reproducible randomness for the renderer: a stateless 64-bit hash (lattice values
 // of the texture, per-sensor draws), xoshiro256** for the camera noise stream, and a table of
 // unit-normal samples indexed by 12 random bits (no per-pixel log/sqrt/cos).

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "sensor_tables.h is internal to tools/sim: include its public headers instead"
+#endif
 // Everything about one sensor instance that does not change from frame to frame, computed once
 // in Renderer::create: pixel grid, background, vignetting, gains, dome, lights, marker grid.
 // The per-instance variation (illumination polynomial, LED and white-balance gains) is drawn

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "shading.h is internal to tools/sim: include its public headers instead"
+#endif
 // Photometric shading (gelsight-sim.md step 6): the colour change of a pixel whose gel surface
 // normal tilts from n0 to n, under the sensor's coloured lights (diffuse + Phong specular).
 

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "shear.h is internal to tools/sim: include its public headers instead"
+#endif
 // Tangential contact (gelsight-sim.md MARKERS/SHEAR): limit-surface slip ratio rho, the
 // Cattaneo-Mindlin stick radius c = a (1 - rho)^(1/3), the rigid shift and twist of the stick
 // region, the lagging slip annulus, the decay outside the contact, and gross slip (rho >= 1).

@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "spreading.h is internal to tools/sim: include its public headers instead"
+#endif
 // Membrane spreading (gelsight-sim.md step 4, Taxim-style): the gel surface around a contact is
 // pulled down with it. z = -u_g is blurred at six shrinking scales (0.90 ... 0.03 mm, scaled by
 // t_g / 4 mm); after each blur the core of the contact (u > 0.4 max u) gets its indentation back;

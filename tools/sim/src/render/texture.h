@@ -1,4 +1,7 @@
 #pragma once
+#ifndef TLVLINK_SIM_PRIVATE
+#error "texture.h is internal to tools/sim: include its public headers instead"
+#endif
 // Fractal surface texture (gelsight-sim.md step 1): fractional-Brownian value noise. Octave k has
 // lattice spacing correlation_length / 2^k and amplitude 2^(-k H) (self-affine with Hurst
 // exponent H), down to 2 px; lattice values are a hash of (seed, octave, cell), interpolated with
