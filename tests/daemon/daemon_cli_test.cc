@@ -121,6 +121,12 @@ TEST_F(DaemonCli, JsonlOutputThatCannotWriteIsNamedAndExitOne) {
   EXPECT_TRUE(contains(r, "output jsonl:/dev/full: ")) << r.out;
   EXPECT_TRUE(contains(r, "record(s) not written (")) << r.out;
   EXPECT_TRUE(contains(r, ": disk full)")) << r.out;
+  // One count everywhere: the drops line, the output's line and the last line agree.
+  const size_t at = r.out.find("output jsonl:/dev/full: ");
+  ASSERT_NE(at, std::string::npos);
+  const std::string lost = r.out.substr(at + 24, r.out.find(' ', at + 24) - at - 24);
+  EXPECT_TRUE(contains(r, "write errors " + lost + ";")) << r.out;
+  EXPECT_TRUE(contains(r, "tlvlinkd: " + lost + " record(s) not written to an output")) << r.out;
 }
 
 // Item 7: `jsonl:-` into `head -n 3`: no death by SIGPIPE; the run ends (the replay loops forever

@@ -192,6 +192,10 @@ void OutputWorker::run() {
   if (status_line_) [[maybe_unused]] ssize_t w = ::write(STDERR_FILENO, "\n", 1);
   report(monotonic_ns(), true);
   for (OutputSink* sink : sinks_) sink->close();
+  // The summary record itself (and what close() flushed) may have failed too: the totals the
+  // daemon prints and exits on count every record lost, as each sink's problem() does.
+  final_.write_errors = 0;
+  for (const OutputSink* sink : sinks_) final_.write_errors += sink->failed();
 }
 
 RunTotals OutputWorker::totals() const { return final_; }
