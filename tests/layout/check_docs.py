@@ -6,7 +6,9 @@
   - the indexes list every folder: tools/README.md (tools/*), tests/README.md (tests/*),
     runtime/README.md (runtime/*);
   - tools/cli/README.md names every subcommand `tlvlink --help` prints (when given the binary);
-  - relative links in Markdown files resolve, and no document points outside the repository.
+  - relative links in Markdown files resolve, and no document points outside the repository;
+  - the top README's layout block names every tools/ folder, runtime component and quantize/
+    folder.
 
   check_docs.py REPO [TLVLINK_BINARY]
 Prints one line per problem ("path: what") and exits 1 if there is any.
@@ -87,6 +89,19 @@ for root, dirs, files in os.walk(repo):
                 problems.append(f'{rel(path)}: link {target} leaves the repository')
             elif not os.path.exists(resolved):
                 problems.append(f'{rel(path)}: broken link {target}')
+
+# 5. The top README's layout block lists what is there (it had fallen behind the tree).
+m = re.search(r'^## Layout\n\n```\n(.*?)```', read('README.md'), re.S | re.M)
+block = m.group(1) if m else ''
+if not m:
+    problems.append('README.md: no "## Layout" block')
+for n in subdirs('tools'):
+    if not re.search(r'^tools/' + re.escape(n) + r'/', block, re.M):
+        problems.append(f'README.md: the layout block does not list tools/{n}/')
+for top in ('runtime', 'quantize'):
+    for n in subdirs(top):
+        if n != 'include' and not re.search(r'\b' + re.escape(n) + r'\b', block):
+            problems.append(f'README.md: the layout block does not name {top}/{n}')
 
 for p in problems:
     print(p)

@@ -5,8 +5,9 @@
 //   TLV_LOG(kLogCapture, kWarning, "%s: reopened after %d ms", path, ms);
 // - Levels per category from the environment, read once: TLVLINK_LOG_LEVELS="capture:debug,*:warn"
 //   (names debug, info, warn, error, off; "*" sets the default). Default: info.
-// - A compile-time floor, TLVLINK_LOG_MIN_LEVEL (0 debug .. 4 off; board builds set it): calls
-//   below it compile to nothing, arguments unevaluated.
+// - A compile-time floor, TLVLINK_LOG_MIN_LEVEL (0 debug .. 4 off; default 0, and no preset or
+//   board sets it: pass -DTLVLINK_LOG_MIN_LEVEL=N to CMake): calls below it compile to nothing,
+//   arguments unevaluated.
 // - No heap: a line is formatted into a fixed buffer (kMaxLogLine, longer lines end in "...")
 //   and written with one write(2), so lines of concurrent threads never interleave.
 // - Output goes to stderr, or to a sink installed with set_log_sink (tests, the daemon).
