@@ -58,7 +58,7 @@ for spec in "${scenarios[@]}"; do
   [ "${markers:-}" = markers ] && args+=(--markers)
   if [ ! -f "$dir/truth.jsonl" ] || [ ! -f "$dir/A.offline.tlvraw" ] || [ ! -f "$dir/commands.txt" ] || [ "$(cat "$dir/args" 2>/dev/null)" != "${args[*]}" ]; then
     echo "== render $spec"
-    "$tlvlink" sim scenario -o "$dir" "${args[@]}" | tail -1
+    "$tlvlink" sim scenario -o "$dir" "${args[@]}" --overwrite | tail -1  # this script's own folder
     echo "${args[*]}" >"$dir/args"
   fi
   # Both paths play at the cameras' pace, side by side (a daemon uses ~25 % of a core): the
