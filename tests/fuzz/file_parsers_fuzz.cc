@@ -36,7 +36,7 @@ namespace {
 
 using namespace tlvlink;
 
-void touch(const image::Image& img) {
+void read_pixels(const image::Image& img) {
   g_parser_fuzz_sink += static_cast<uint64_t>(img.width) * 3 + static_cast<uint64_t>(img.height);
   if (!img.pixels.empty()) g_parser_fuzz_sink += img.pixels.front() + img.pixels.back();
 }
@@ -73,7 +73,7 @@ void fuzz_npy(std::span<const std::byte> b) {
   auto a = tools::parse_npy(b, "fuzz.npy");
   if (!a.ok()) return;
   g_parser_fuzz_sink += a->shape.size() + a->data.size();
-  if (auto img = tools::image_from_npy(*a, "fuzz.npy"); img.ok()) touch(*img);
+  if (auto img = tools::image_from_npy(*a, "fuzz.npy"); img.ok()) read_pixels(*img);
 }
 
 void fuzz_touch100k(std::span<const uint8_t> b) {
@@ -154,15 +154,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   switch (mode) {
     case 0: fuzz_npy(bytes); break;
     case 1:
-      if (auto img = tools::parse_pnm(bytes, "fuzz.ppm"); img.ok()) touch(*img);
+      if (auto img = tools::parse_pnm(bytes, "fuzz.ppm"); img.ok()) read_pixels(*img);
       break;
     case 2:
-      if (auto img = tools::decode_png(bytes, "fuzz.png"); img.ok()) touch(*img);
+      if (auto img = tools::decode_png(bytes, "fuzz.png"); img.ok()) read_pixels(*img);
       break;
     case 3: {
       static constexpr int32_t kScales[] = {1, 2, 4, 8};
       const std::span<const uint8_t> jpeg = rest.subspan(1);
-      if (auto img = image::decode_jpeg(jpeg, "fuzz.jpg", kScales[arg % 4]); img.ok()) touch(*img);
+      auto img = image::decode_jpeg(jpeg, "fuzz.jpg", kScales[arg % 4]);
+      if (img.ok()) read_pixels(*img);
       break;
     }
     case 4: {
