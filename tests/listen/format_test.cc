@@ -41,6 +41,11 @@ TEST(Format, JsonOfEveryMessageType) {
   EXPECT_EQ(hello["type"], "hello");
   EXPECT_EQ(hello["boot_id"], "0000000000005eed");
   EXPECT_EQ(hello["heads"][0]["labels"][1], "metal");
+  EXPECT_NEAR(hello["heads"][0]["accuracy"].get<double>(), 0.158, 1e-6);
+  // The fixture's heads record no cross-validation (minor 1's fields): null, and 0 groups.
+  EXPECT_TRUE(hello["heads"][0]["accuracy_ci95"][0].is_null());
+  EXPECT_TRUE(hello["heads"][0]["baseline_accuracy"].is_null());
+  EXPECT_EQ(hello["heads"][0]["groups"], 0);
   EXPECT_EQ(hello["sensors"][1]["name"], "right");
   const auto& frame = p.json[1];
   EXPECT_EQ(frame["type"], "frame_prediction");

@@ -54,7 +54,7 @@ TEST(Frame, LayoutIsTheSpecified24ByteHeaderPayloadCrc) {
   const auto f = decoded_frame(sample_header(), payload);
   ASSERT_EQ(f.size(), kHeaderSize + payload.size() + kCrcSize);
   EXPECT_EQ(std::vector<std::byte>(f.begin(), f.begin() + kHeaderSize),
-            bytes_of({0x54, 0x4C, 1, 0, 0x02, 0x00, 0x01, 0x00, 0x04, 0x03, 0x02, 0x01, 3, 0, 0, 0,
+            bytes_of({0x54, 0x4C, 1, kVersionMinor, 0x02, 0x00, 0x01, 0x00, 0x04, 0x03, 0x02, 0x01, 3, 0, 0, 0,
                       0x88, 0x77, 0x66, 0x55, 0x44, 0x33, 0x22, 0x11}));
   EXPECT_EQ(std::vector<std::byte>(f.begin() + kHeaderSize, f.end() - 4), payload);
   const uint32_t crc = crc32(std::span(f).first(f.size() - 4));

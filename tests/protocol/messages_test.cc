@@ -76,6 +76,13 @@ TEST(Messages, HelloRoundTrip) {
       EXPECT_EQ(v.accuracy(), in.heads[i].accuracy);
       EXPECT_EQ(v.majority_rate(), in.heads[i].majority_rate);
     }
+    // Minor 1's cross-validated record: NaN in, NaN out.
+    const auto same = [](float got, float want) { return std::isnan(want) ? std::isnan(got) : got == want; };
+    EXPECT_TRUE(same(v.accuracy_ci_low(), in.heads[i].accuracy_ci_low)) << i;
+    EXPECT_TRUE(same(v.accuracy_ci_high(), in.heads[i].accuracy_ci_high)) << i;
+    EXPECT_TRUE(same(v.balanced_accuracy(), in.heads[i].balanced_accuracy)) << i;
+    EXPECT_TRUE(same(v.baseline_accuracy(), in.heads[i].baseline_accuracy)) << i;
+    EXPECT_EQ(v.groups(), in.heads[i].groups);
   }
   ASSERT_EQ(h.stage_name_count(), in.stage_names.size());
   for (size_t i = 0; i < in.stage_names.size(); ++i) EXPECT_EQ(h.stage_name(i), in.stage_names[i]);

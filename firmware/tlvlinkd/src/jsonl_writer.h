@@ -27,6 +27,12 @@ struct OutputNames {
     // The model's trust record (metadata.h HeadTrust), NaN when the head has none.
     float accuracy = std::numeric_limits<float>::quiet_NaN();
     float majority = std::numeric_limits<float>::quiet_NaN();
+    // Cross-validated records (`heads fit --images`), NaN / 0 when the head has none.
+    float ci_low = std::numeric_limits<float>::quiet_NaN();
+    float ci_high = std::numeric_limits<float>::quiet_NaN();
+    float balanced = std::numeric_limits<float>::quiet_NaN();
+    float baseline = std::numeric_limits<float>::quiet_NaN();
+    uint32_t groups = 0;
   };
   std::vector<Head> heads;  // in FramePrediction::heads[].head index order (all per-frame heads)
   std::string grasp_head;

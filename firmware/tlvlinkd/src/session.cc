@@ -1,6 +1,9 @@
 #include "tlvlink/daemon/session.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <thread>
 
 #include "capture_worker.h"
@@ -68,8 +71,15 @@ internal::OutputNames names(const DaemonConfig& c, const pipeline::FrameProcesso
     h.kind = heads::head_kind_name(r.kind);
     for (std::string_view l : r.labels) h.labels.emplace_back(l);
     if (r.trust != nullptr && r.trust->present) {
-      h.accuracy = r.trust->accuracy;
-      h.majority = r.trust->majority;
+      const HeadTrust& t = *r.trust;
+      h.accuracy = t.accuracy;
+      h.majority = t.majority;
+      const auto recorded = [](float v) { return v >= 0 ? v : std::numeric_limits<float>::quiet_NaN(); };
+      h.ci_low = recorded(t.ci_low);
+      h.ci_high = recorded(t.ci_high);
+      h.balanced = recorded(t.balanced_accuracy);
+      h.baseline = recorded(t.baseline_accuracy);
+      h.groups = static_cast<uint32_t>(std::clamp<int64_t>(t.groups, 0, UINT32_MAX));
     }
     n.heads.push_back(std::move(h));
   }

@@ -115,6 +115,11 @@ void StreamSink::build_hello(const DaemonConfig& config, const Model& model,
     info.labels = label_views_.back();
     info.accuracy = h.accuracy;  // NaN (protocol::kNotRecorded) when the model has no record
     info.majority_rate = h.majority;
+    info.accuracy_ci_low = h.ci_low;
+    info.accuracy_ci_high = h.ci_high;
+    info.balanced_accuracy = h.balanced;
+    info.baseline_accuracy = h.baseline;
+    info.groups = h.groups;
     heads_.push_back(info);
   }
   if (!names.grasp_head.empty()) {

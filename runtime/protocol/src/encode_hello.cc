@@ -68,6 +68,11 @@ Result<std::span<const std::byte>> encode_payload(const Hello& m, std::span<std:
       hb.add_labels(labels);
       hb.add_accuracy(h.accuracy);
       hb.add_majority_rate(h.majority_rate);
+      hb.add_accuracy_ci_low(h.accuracy_ci_low);
+      hb.add_accuracy_ci_high(h.accuracy_ci_high);
+      hb.add_balanced_accuracy(h.balanced_accuracy);
+      hb.add_baseline_accuracy(h.baseline_accuracy);
+      hb.add_groups(h.groups);
       heads[i] = hb.Finish();
     }
     const auto sensor_vec = m.sensors.empty() ? 0 : fbb.CreateVector(sensors.data(), m.sensors.size());

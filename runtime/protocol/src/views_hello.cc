@@ -21,6 +21,11 @@ size_t HeadInfoView::label_count() const { return size_of(head_info(table_)->lab
 std::string_view HeadInfoView::label(size_t i) const { return view(head_info(table_)->labels()->Get(static_cast<flatbuffers::uoffset_t>(i))); }
 float HeadInfoView::accuracy() const { return head_info(table_)->accuracy(); }
 float HeadInfoView::majority_rate() const { return head_info(table_)->majority_rate(); }
+float HeadInfoView::accuracy_ci_low() const { return head_info(table_)->accuracy_ci_low(); }
+float HeadInfoView::accuracy_ci_high() const { return head_info(table_)->accuracy_ci_high(); }
+float HeadInfoView::balanced_accuracy() const { return head_info(table_)->balanced_accuracy(); }
+float HeadInfoView::baseline_accuracy() const { return head_info(table_)->baseline_accuracy(); }
+uint32_t HeadInfoView::groups() const { return head_info(table_)->groups(); }
 
 std::string_view HelloView::device() const { return view(hello(table_)->device()); }
 std::string_view HelloView::board() const { return view(hello(table_)->board()); }

@@ -9,8 +9,10 @@ using namespace tlvlink::protocol;
 
 constexpr std::array<std::string_view, 4> kMaterial = {"rubber", "metal", "wood", "fabric"};
 constexpr std::array<std::string_view, 2> kHardness = {"hard", "soft"};
-const std::array<HeadInfo, 2> kHeads = {HeadInfo{"material", HeadKind::kLinear, kMaterial, 0.158f, 0.12f},
-                                        HeadInfo{"hardness", HeadKind::kLinear, kHardness, 0.737f, 0.5f}};
+constexpr float kNone = protocol::kNotRecorded;
+const std::array<HeadInfo, 2> kHeads = {
+    HeadInfo{"material", HeadKind::kLinear, kMaterial, 0.158f, 0.12f, kNone, kNone, kNone, kNone, 0},
+    HeadInfo{"hardness", HeadKind::kLinear, kHardness, 0.737f, 0.5f, kNone, kNone, kNone, kNone, 0}};
 const std::array<SensorInfo, 2> kSensors = {SensorInfo{0, "left", "DIGIT", "D0001", "yuyv", 320, 240, 60},
                                             SensorInfo{1, "right", "DIGIT", "D0002", "yuyv", 320, 240, 60}};
 constexpr std::array<std::string_view, 5> kStages = {"dequeue", "decode", "preprocess", "encoder", "heads"};

@@ -60,7 +60,11 @@ void hello_json(const protocol::HelloView& h, ordered_json& j) {
     ordered_json labels = ordered_json::array();
     for (size_t k = 0; k < v.label_count(); ++k) labels.push_back(v.label(k));
     heads.push_back({{"name", v.name()}, {"kind", enum_json(v.kind(), protocol::head_kind_name)}, {"labels", labels},
-                     {"accuracy", number_or_null(v.accuracy())}, {"majority_rate", number_or_null(v.majority_rate())}});
+                     {"accuracy", number_or_null(v.accuracy())}, {"majority_rate", number_or_null(v.majority_rate())},
+                     {"accuracy_ci95", {number_or_null(v.accuracy_ci_low()), number_or_null(v.accuracy_ci_high())}},
+                     {"balanced_accuracy", number_or_null(v.balanced_accuracy())},
+                     {"baseline_accuracy", number_or_null(v.baseline_accuracy())},
+                     {"groups", v.groups()}});
   }
   j["heads"] = heads;
   ordered_json stages = ordered_json::array();

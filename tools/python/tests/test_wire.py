@@ -42,7 +42,7 @@ def test_cobs_random_round_trips():
 def test_frame_layout():
     h = wire.Header(type=0x02, flags=1, sequence=0x01020304, send_ns=0x1122334455667788)
     f = wire.cobs_decode(wire.encode_frame(h, b"\xaa\x00\xbb")[:-1])
-    assert f[:24] == bytes([0x54, 0x4C, 1, 0, 2, 0, 1, 0, 4, 3, 2, 1, 3, 0, 0, 0,
+    assert f[:24] == bytes([0x54, 0x4C, 1, wire.VERSION_MINOR, 2, 0, 1, 0, 4, 3, 2, 1, 3, 0, 0, 0,
                             0x88, 0x77, 0x66, 0x55, 0x44, 0x33, 0x22, 0x11])
     assert f[24:27] == b"\xaa\x00\xbb"
     assert struct.unpack("<I", f[27:])[0] == wire.crc32(f[:27])

@@ -47,6 +47,12 @@ class HeadInfo:
     labels: List[str]
     accuracy: float = NAN        # NaN: not recorded in the model file
     majority_rate: float = NAN
+    # minor 1: a head fitted by grouped cross-validation (NaN / 0: not recorded)
+    accuracy_ci_low: float = NAN
+    accuracy_ci_high: float = NAN
+    balanced_accuracy: float = NAN
+    baseline_accuracy: float = NAN
+    groups: int = 0
 
 
 @dataclass
@@ -166,7 +172,9 @@ def _hello(t: Table) -> Hello:
         H = "HeadInfo"
         heads.append(HeadInfo(_s(h, H, "name"), enum_name("HeadKind", _f(h, H, "kind", "B")),
                               h.strings(slot(H, "labels")), _f(h, H, "accuracy", "f", NAN),
-                              _f(h, H, "majority_rate", "f", NAN)))
+                              _f(h, H, "majority_rate", "f", NAN), _f(h, H, "accuracy_ci_low", "f", NAN),
+                              _f(h, H, "accuracy_ci_high", "f", NAN), _f(h, H, "balanced_accuracy", "f", NAN),
+                              _f(h, H, "baseline_accuracy", "f", NAN), _f(h, H, "groups", "I")))
     return Hello(_s(t, T, "device"), _s(t, T, "board"), _s(t, T, "firmware_version"), _f(t, T, "boot_id", "Q"),
                  _f(t, T, "schema_hash", "Q"), _s(t, T, "model_id"), _f(t, T, "model_checksum", "Q"), sensors, heads,
                  t.strings(slot(T, "stage_names")), _f(t, T, "embedding_dim", "H"), _s(t, T, "clock"),
@@ -292,7 +300,10 @@ class Message:
                      model_id=b.model_id, model_checksum=f"{b.model_checksum:016x}",
                      sensors=[vars(s).copy() for s in b.sensors],
                      heads=[{"name": h.name, "kind": h.kind, "labels": list(h.labels),
-                             "accuracy": _float_or_none(h.accuracy), "majority_rate": _float_or_none(h.majority_rate)}
+                             "accuracy": _float_or_none(h.accuracy), "majority_rate": _float_or_none(h.majority_rate),
+                             "accuracy_ci95": [_float_or_none(h.accuracy_ci_low), _float_or_none(h.accuracy_ci_high)],
+                             "balanced_accuracy": _float_or_none(h.balanced_accuracy),
+                             "baseline_accuracy": _float_or_none(h.baseline_accuracy), "groups": h.groups}
                             for h in b.heads],
                      stage_names=list(b.stage_names), embedding_dim=b.embedding_dim, clock=b.clock,
                      max_frame_size=b.max_frame_size)

@@ -9,7 +9,7 @@ import re
 
 # Hash of the stream.fbs this package decodes (README "Schema hash"). A Hello carries the board's;
 # a different value means fields may be unknown to one side (they are skipped), not an error.
-SCHEMA_HASH = 0xa9d518b3f7f1f538
+SCHEMA_HASH = 0xb4dc24c2500243e7
 
 MESSAGE_TYPES = {
     0x01: "hello",
@@ -27,7 +27,8 @@ MESSAGE_TYPE_NUMBERS = {name: number for number, name in MESSAGE_TYPES.items()}
 # Fields of every table, in slot order (slot n is vtable entry n).
 TABLES = {
     "SensorInfo": ["index", "name", "model", "serial", "pixel_format", "width", "height", "fps"],
-    "HeadInfo": ["name", "kind", "labels", "accuracy", "majority_rate"],
+    "HeadInfo": ["name", "kind", "labels", "accuracy", "majority_rate", "accuracy_ci_low", "accuracy_ci_high",
+                 "balanced_accuracy", "baseline_accuracy", "groups"],
     "Hello": ["device", "board", "firmware_version", "boot_id", "schema_hash", "model_id", "model_checksum",
               "sensors", "heads", "stage_names", "embedding_dim", "clock", "max_frame_size"],
     "HeadOutput": ["head", "probabilities"],

@@ -45,6 +45,10 @@ struct HeadInfo {
   std::span<const std::string_view> labels;
   float accuracy = kNotRecorded;       // from the model file, when it records it
   float majority_rate = kNotRecorded;
+  // Cross-validated records (minor 1): NaN / 0 when the model records none.
+  float accuracy_ci_low = kNotRecorded, accuracy_ci_high = kNotRecorded;
+  float balanced_accuracy = kNotRecorded, baseline_accuracy = kNotRecorded;
+  uint32_t groups = 0;
 };
 
 // Sent at every (re)connect and in answer to Info. The encoder adds schema_hash().

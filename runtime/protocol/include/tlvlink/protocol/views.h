@@ -23,6 +23,12 @@ class HeadInfoView {
   std::string_view label(size_t i) const;
   float accuracy() const;       // NaN when not recorded
   float majority_rate() const;  // NaN when not recorded
+  // Minor 1 (NaN / 0 when not recorded, and from a board of minor 0).
+  float accuracy_ci_low() const;
+  float accuracy_ci_high() const;
+  float balanced_accuracy() const;
+  float baseline_accuracy() const;
+  uint32_t groups() const;
 
  private:
   friend class HelloView;

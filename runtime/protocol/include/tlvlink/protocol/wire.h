@@ -11,7 +11,7 @@ namespace tlvlink::protocol {
 inline constexpr uint8_t kMagic0 = 0x54;  // 'T'
 inline constexpr uint8_t kMagic1 = 0x4C;  // 'L'
 inline constexpr uint8_t kVersionMajor = 1;
-inline constexpr uint8_t kVersionMinor = 0;
+inline constexpr uint8_t kVersionMinor = 1;  // 1: HeadInfo's cross-validated records
 
 inline constexpr size_t kHeaderSize = 24;
 inline constexpr size_t kCrcSize = 4;
