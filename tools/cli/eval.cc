@@ -51,18 +51,16 @@ int run_eval_images(const EvalCommand& c) {
   auto score = eval::score_model_head(**model, *features, *frames, c.head);
   if (!score.ok()) return report_error(command, score.error());
   const Metadata& m = (*model)->metadata();
-  const HeadTrust* recorded = nullptr;
+  const LinearHead* head = nullptr;  // score_model_head found it: it exists
   for (const LinearHead& h : m.linear_heads)
-    if (h.name == c.head) recorded = &h.trust;
-  const bool has_interval = recorded != nullptr && recorded->present && recorded->ci_low >= 0;
+    if (h.name == c.head) head = &h;
+  const HeadTrust* recorded = &head->trust;
+  const bool has_interval = recorded->present && recorded->ci_low >= 0;
   const bool within = has_interval && score->accuracy >= static_cast<double>(recorded->ci_low) - 1e-6 &&
                       score->accuracy <= static_cast<double>(recorded->ci_high) + 1e-6;
   std::string answers;
   for (size_t k = 0; k < score->predicted_counts.size(); ++k) {
-    const LinearHead* h = nullptr;
-    for (const LinearHead& l : m.linear_heads)
-      if (l.name == c.head) h = &l;
-    answers += (answers.empty() ? "" : ", ") + std::string(h->labels[k]) + " " +
+    answers += (answers.empty() ? "" : ", ") + std::string(head->labels[k]) + " " +
                std::to_string(score->predicted_counts[k]);
   }
   if (c.json) {
@@ -73,7 +71,7 @@ int run_eval_images(const EvalCommand& c) {
                         {"balanced_accuracy", score->balanced_accuracy},
                         {"majority", score->majority},
                         {"answers", score->predicted_counts},
-                        {"recorded", recorded != nullptr ? inspect::trust_text(*recorded, true) : ""},
+                        {"recorded", inspect::trust_text(*recorded, true)},
                         {"within_recorded_interval", has_interval ? nlohmann::json(within)
                                                                   : nlohmann::json(nullptr)}};
     std::printf("%s\n", j.dump(2).c_str());
@@ -88,12 +86,9 @@ int run_eval_images(const EvalCommand& c) {
               100 * score->accuracy, 100 * score->ci_low, 100 * score->ci_high,
               100 * score->balanced_accuracy, 100 * score->majority);
   std::printf("  answers: %s\n", answers.c_str());
-  if (recorded != nullptr) {
-    std::printf("  recorded: %s\n", inspect::trust_text(*recorded, true).c_str());
-    if (has_interval) {
-      std::printf("  the accuracy here is %s the recorded interval\n",
-                  within ? "within" : "OUTSIDE");
-    }
+  std::printf("  recorded: %s\n", inspect::trust_text(*recorded, true).c_str());
+  if (has_interval) {
+    std::printf("  the accuracy here is %s the recorded interval\n", within ? "within" : "OUTSIDE");
   }
   return kExitOk;
 }

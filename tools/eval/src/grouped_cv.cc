@@ -238,37 +238,47 @@ Result<CvResult> cross_validate(const GroupedRows& r, const CvOptions& o) {
   if (!predicted.ok()) return predicted.error();
   cv.predicted = std::move(predicted).value();
 
-  const auto classes = static_cast<size_t>(r.classes);
-  cv.class_rows.assign(classes, 0);
-  cv.class_groups.assign(classes, 0);
-  std::vector<int64_t> class_correct(classes, 0);
-  int64_t correct = 0;
-  for (size_t i = 0; i < r.labels.size(); ++i) {
-    const auto c = static_cast<size_t>(r.labels[i]);
-    const bool right = cv.predicted[i] == r.labels[i];
-    ++cv.class_rows[c];
-    class_correct[c] += right ? 1 : 0;
-    correct += right ? 1 : 0;
-  }
-  for (size_t c = 0; c < classes; ++c) cv.class_groups[c] = static_cast<int64_t>(ix.groups_with[c].size());
-  cv.accuracy = static_cast<double>(correct) / static_cast<double>(cv.n);
-  cv.majority = static_cast<double>(*std::max_element(cv.class_rows.begin(), cv.class_rows.end())) /
-                static_cast<double>(cv.n);
-  double recall_sum = 0;
-  int32_t present = 0;
-  for (size_t c = 0; c < classes; ++c) {
-    if (cv.class_rows[c] == 0) continue;
-    recall_sum += static_cast<double>(class_correct[c]) / static_cast<double>(cv.class_rows[c]);
-    ++present;
-  }
-  cv.balanced_accuracy = recall_sum / present;
-
   std::vector<uint8_t> right(r.labels.size());
   for (size_t i = 0; i < right.size(); ++i) right[i] = cv.predicted[i] == r.labels[i] ? 1 : 0;
+  ClassMetrics m = class_metrics(r.labels, right, r.classes);
+  cv.accuracy = m.accuracy;
+  cv.balanced_accuracy = m.balanced_accuracy;
+  cv.majority = m.majority;
+  cv.class_rows = std::move(m.class_rows);
+  cv.class_groups.assign(static_cast<size_t>(r.classes), 0);
+  for (size_t c = 0; c < cv.class_groups.size(); ++c)
+    cv.class_groups[c] = static_cast<int64_t>(ix.groups_with[c].size());
   const Interval ci = group_bootstrap_interval(right, r.groups, o.seed, o.bootstrap);
   cv.ci_low = ci.low;
   cv.ci_high = ci.high;
   return cv;
+}
+
+ClassMetrics class_metrics(std::span<const int32_t> labels, std::span<const uint8_t> correct,
+                           int32_t classes) {
+  ClassMetrics m;
+  m.class_rows.assign(static_cast<size_t>(classes), 0);
+  std::vector<int64_t> class_correct(static_cast<size_t>(classes), 0);
+  int64_t total = 0;
+  for (size_t i = 0; i < labels.size(); ++i) {
+    const auto c = static_cast<size_t>(labels[i]);
+    ++m.class_rows[c];
+    class_correct[c] += correct[i] ? 1 : 0;
+    total += correct[i] ? 1 : 0;
+  }
+  if (labels.empty()) return m;
+  const auto n = static_cast<double>(labels.size());
+  m.accuracy = static_cast<double>(total) / n;
+  m.majority = static_cast<double>(*std::max_element(m.class_rows.begin(), m.class_rows.end())) / n;
+  double recall = 0;
+  int32_t present = 0;
+  for (size_t c = 0; c < m.class_rows.size(); ++c) {
+    if (m.class_rows[c] == 0) continue;
+    recall += static_cast<double>(class_correct[c]) / static_cast<double>(m.class_rows[c]);
+    ++present;
+  }
+  m.balanced_accuracy = recall / present;
+  return m;
 }
 
 Interval group_bootstrap_interval(std::span<const uint8_t> correct,

@@ -251,10 +251,8 @@ Result<HeadScore> score_model_head(const Model& model, const FrameFeatures& f,
   s.predicted_counts.assign(h.labels.size(), 0);
   std::vector<float> logits(h.labels.size());
   std::vector<uint8_t> right(f.labels.size());
-  std::vector<int64_t> rows(frames.classes.size(), 0), correct(frames.classes.size(), 0);
   std::set<std::string> groups(f.groups.begin(), f.groups.end());
   s.groups = static_cast<int64_t>(groups.size());
-  int64_t total = 0;
   for (size_t i = 0; i < f.labels.size(); ++i) {
     heads::linear_logits(h.weight, h.bias,
                          std::span<const float>(f.embeddings)
@@ -262,24 +260,14 @@ Result<HeadScore> score_model_head(const Model& model, const FrameFeatures& f,
                          logits);
     const int32_t answer = heads::argmax(logits);
     ++s.predicted_counts[static_cast<size_t>(answer)];
-    const auto c = static_cast<size_t>(f.labels[i]);
-    right[i] = answer == to_head[c] ? 1 : 0;
-    ++rows[c];
-    correct[c] += right[i];
-    total += right[i];
+    right[i] = answer == to_head[static_cast<size_t>(f.labels[i])] ? 1 : 0;
   }
   if (s.n == 0) return s;
-  s.accuracy = static_cast<double>(total) / static_cast<double>(s.n);
-  s.majority = static_cast<double>(*std::max_element(rows.begin(), rows.end())) /
-               static_cast<double>(s.n);
-  double recall = 0;
-  int32_t present = 0;
-  for (size_t c = 0; c < rows.size(); ++c) {
-    if (rows[c] == 0) continue;
-    recall += static_cast<double>(correct[c]) / static_cast<double>(rows[c]);
-    ++present;
-  }
-  s.balanced_accuracy = recall / present;
+  const ClassMetrics metrics =
+      class_metrics(f.labels, right, static_cast<int32_t>(frames.classes.size()));
+  s.accuracy = metrics.accuracy;
+  s.balanced_accuracy = metrics.balanced_accuracy;
+  s.majority = metrics.majority;
   const Interval ci = group_bootstrap_interval(right, f.groups, seed);
   s.ci_low = ci.low;
   s.ci_high = ci.high;

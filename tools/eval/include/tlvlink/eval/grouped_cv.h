@@ -60,6 +60,15 @@ Result<double> choose_l2(const GroupedRows& rows, const CvOptions& options);
 // The head fitted on every row with choose_l2's strength, in raw form (probe.h FittedProbe).
 Result<FittedProbe> fit_grouped(const GroupedRows& rows, const CvOptions& options);
 
+// Accuracy, balanced accuracy (mean per-class recall over the classes present) and the majority
+// rate of answers scored against labels in [0, classes): the figures every head report states.
+struct ClassMetrics {
+  double accuracy = 0, balanced_accuracy = 0, majority = 0;
+  std::vector<int64_t> class_rows;  // rows per class
+};
+ClassMetrics class_metrics(std::span<const int32_t> labels, std::span<const uint8_t> correct,
+                           int32_t classes);
+
 // 95 % interval of an accuracy whose rows come in groups: the groups resampled with replacement
 // (`resamples` times, seeded), the 2.5 and 97.5 percentiles, widened to hold Wilson's score
 // interval at the effective sample size (n / the design effect the groups' resampling shows), so
