@@ -4,8 +4,6 @@
 
 #include <optional>
 
-#include "tlvlink/eval/labelled_frames.h"
-#include "tlvlink/io/file.h"
 #include "tlvlink/io/sensor_frame.h"
 
 namespace tlvlink::eval {
@@ -13,8 +11,7 @@ namespace {
 
 
 Result<image::Image> read_view(const std::string& path, const std::string& sensor) {
-  TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, tools::read_file(path, kMaxFrameFileBytes));
-  TLV_ASSIGN_OR_RETURN(tools::SensorFrame f, tools::sensor_frame_from_bytes(bytes, path, sensor));
+  TLV_ASSIGN_OR_RETURN(tools::SensorFrame f, tools::sensor_frame_from_file(path, sensor));
   return std::move(f.view);
 }
 

@@ -15,7 +15,6 @@
 #include "tlvlink/heads/head_math.h"
 #include "tlvlink/image/preprocess.h"
 #include "tlvlink/eval/labelled_frames.h"
-#include "tlvlink/io/file.h"
 #include "tlvlink/io/sensor_frame.h"
 #include "tlvlink/quantize/model_copy.h"
 
@@ -124,8 +123,7 @@ Result<FrameFeatures> frame_features(const Model& model, const LabelledFrames& f
       if (!r.ok()) return r.error();
       sf = std::move(r).value();
     } else {
-      TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, tools::read_file(lf.path, kMaxFrameFileBytes));
-      TLV_ASSIGN_OR_RETURN(sf, tools::sensor_frame_from_bytes(bytes, lf.path, sensor));
+      TLV_ASSIGN_OR_RETURN(sf, tools::sensor_frame_from_file(lf.path, sensor));
     }
     TLV_ENSURE(sf.view.channels == 3, ErrorCode::kFormat, "%s: %d channel(s); frames must be RGB",
                lf.path.c_str(), sf.view.channels);

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tlvlink/capture/still_frame.h"
+#include "tlvlink/io/file.h"
 #include "tlvlink/io/model_input.h"
 
 namespace tlvlink::tools {
@@ -112,6 +113,11 @@ Result<SensorFrame> sensor_frame_from_bytes(std::span<const std::byte> bytes,
   f.view = std::move(image);
   f.note = note;
   return f;
+}
+
+Result<SensorFrame> sensor_frame_from_file(const std::string& path, std::string_view sensor) {
+  TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, read_file(path, kMaxSensorFrameFileBytes));
+  return sensor_frame_from_bytes(bytes, path, sensor);
 }
 
 std::vector<std::string> trained_sensors(const Model& model) {

@@ -31,9 +31,6 @@
 
 namespace tlvlink::eval {
 
-// Largest frame file read (PNG / JPEG of a camera frame are far smaller): checked before reading.
-inline constexpr size_t kMaxFrameFileBytes = size_t{64} << 20;
-
 struct LabelledFrame {
   std::string path;      // as found under the folder (DIR/<class>/...), or the recording
   std::string relative;  // <class>/... (the key of groups.tsv)

@@ -33,6 +33,11 @@ struct SensorFrame {
 Result<SensorFrame> sensor_frame_from_bytes(std::span<const std::byte> bytes,
                                             const std::string& name, std::string_view sensor);
 
+// The same for a frame file (PNG, JPEG, PPM), read only when a regular file of at most
+// kMaxSensorFrameFileBytes (checked before reading; a camera frame's file is far smaller).
+inline constexpr size_t kMaxSensorFrameFileBytes = size_t{64} << 20;
+Result<SensorFrame> sensor_frame_from_file(const std::string& path, std::string_view sensor);
+
 // The known sensor names, comma-separated (for help texts and errors).
 std::string known_sensor_names();
 
