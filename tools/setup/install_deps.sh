@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs everything tlvlink needs from Debian's packages. Idempotent; safe to rerun.
 #   install_deps.sh [core|test|cross|rig|bench|all]   (default: all: everything but bench)
-# core  : compilers, cmake, XNNPACK stack, flatbuffers, libsodium (the model file's hash and
+# core  : compilers, cmake, ccache (cmake/ccache.cmake), XNNPACK stack, flatbuffers, libsodium (the model file's hash and
 #         signatures: every build that loads a model), CLI/JSON libraries, JPEG, PNG, HDF5, ONNX,
 #         libcamera (the libcamera frame source, TLVLINK_WITH_LIBCAMERA), toml++ (tlvlinkd's
 #         configuration), libusb (the host side of the USB stream link, tools/listen)
@@ -19,7 +19,7 @@ what=${1:-all}
 export DEBIAN_FRONTEND=noninteractive
 SUDO=""; [ "$(id -u)" = 0 ] || SUDO=sudo
 
-core_pkgs=(build-essential cmake ninja-build pkg-config
+core_pkgs=(build-essential cmake ninja-build pkg-config ccache
   libxnnpack-dev libpthreadpool-dev libcpuinfo-dev
   libflatbuffers-dev flatbuffers-compiler libsodium-dev
   libcli11-dev nlohmann-json3-dev

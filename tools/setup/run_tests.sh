@@ -18,10 +18,11 @@ fuzz_seconds=${TLVLINK_FUZZ_SECONDS:-60}
 
 bash tools/setup/install_deps.sh all || { echo "run_tests: dependency installation failed" >&2; exit 1; }
 
-passed=0; failed=0; failed_names=()
+passed=0; failed=0; failed_names=(); stage_times=()
 stage_start() { echo; echo "=== stage $1 ($(date -u +%H:%M:%S)) ==="; stage_t0=$(date +%s); }
 stage_end() {  # $1 name, $2 status
   local dt=$(( $(date +%s) - stage_t0 ))
+  stage_times+=("$1 ${dt}s")
   if [ "$2" -eq 0 ]; then passed=$((passed + 1)); echo "=== stage $1 passed in ${dt}s ===";
   else failed=$((failed + 1)); failed_names+=("$1"); echo "=== stage $1 FAILED in ${dt}s ==="; fi
 }
@@ -162,6 +163,8 @@ run_minimal() {
 
 t0=$(date +%s)
 mkdir -p build/logs
+# Compiled objects are reused across runs and clones (cmake/ccache.cmake): count this run's hits.
+command -v ccache >/dev/null && ccache -z >/dev/null 2>&1
 tests_passed=0; tests_failed=0
 start_later_builds "${stages[@]}"
 for i in "${!stages[@]}"; do
@@ -198,7 +201,20 @@ for i in "${!stages[@]}"; do
   if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then tests_failed=$((tests_failed + 1)); fi
 done
 [ -z "$later_builds_pid" ] || wait "$later_builds_pid"
+# CI keeps only the end of this output: what failed is repeated here, a few lines per stage
+# (the whole log stays in build/logs/<stage>.log).
+for s in "${failed_names[@]}"; do
+  echo
+  echo "--- what failed in stage $s (build/logs/$s.log) ---"
+  grep -E "\(Failed\)|\(Timeout\)|\(SEGFAULT\)|\(Subprocess aborted\)|[Ff][Aa][Ii][Ll]([^a-z]|$)|FAILED|error:|Error [0-9]" \
+    "build/logs/$s.log" 2>/dev/null | grep -vE "(^|[^0-9])0 (tests )?failed" | tail -25
+done
 echo
+echo "run_tests: stage wall times: ${stage_times[*]}"
+if command -v ccache >/dev/null; then
+  echo "run_tests: ccache ($(ccache -k cache_dir 2>/dev/null)): $(ccache --print-stats 2>/dev/null |
+    awk -F'\t' '$1=="direct_cache_hit"||$1=="preprocessed_cache_hit"{h+=$2} $1=="cache_miss"{m=$2} END {printf "%d hits, %d misses in this run", h, m}')"
+fi
 echo "run_tests: wall time $(( $(date +%s) - t0 ))s; failed stages: ${failed_names[*]:-none}"
 echo "stages: $passed passed, $failed failed"
 echo "tests: $tests_passed passed, $tests_failed failed"
