@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <string>
 
@@ -16,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/cli_run.h"
+#include "support/labelled_folder.h"
 
 namespace tlvlink {
 namespace {
@@ -24,6 +26,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 using ::tlvlink::testing::CliRun;
+using ::tlvlink::testing::write_colour_folder;
 
 // stdout only unless `merge`.
 // stdout only unless `merge`.
@@ -205,35 +208,17 @@ TEST_F(EvalCli, BadInputsGiveClearErrors) {
   EXPECT_RUN(r, 1);
   r = tlvlink("heads fit " + kFp32 + kTouch);  // no -o
   EXPECT_RUN(r, 2);
+  // An existing output is refused before any fitting and left as it was.
+  const fs::path mine = dir_ / "mine.tlvm";
+  { std::ofstream(mine) << "not ours"; }
+  r = tlvlink("heads fit " + kFp32 + kTouch + kGrasp + " -q -o " + mine.string());
+  EXPECT_RUN(r, 1);
+  EXPECT_NE(r.out.find("exists; pass --overwrite"), std::string::npos) << r.out;
+  std::ifstream kept(mine);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(kept), {}), "not ours");
   r = tlvlink("eval " + kFp32 + " --touch " + kData + "/feel");  // a grasp set given as touch
   EXPECT_RUN(r, 1);
   EXPECT_NE(r.out.find("not a touch dataset"), std::string::npos) << r.out;
-}
-
-// A labelled folder of 320x240 PPM frames (a processed view's size): class "warm" redder than
-// "cool", 3 objects per class with their own brightness, 4 frames each with noise.
-void write_colour_folder(const fs::path& dir, int objects_per_class = 3) {
-  uint32_t state = 12345;
-  auto noise = [&state] {
-    state = state * 1664525u + 1013904223u;
-    return static_cast<int>((state >> 24) % 21) - 10;
-  };
-  for (const char* cls : {"warm", "cool"}) {
-    for (int o = 0; o < objects_per_class; ++o) {
-      const fs::path group = dir / cls / ("object" + std::to_string(o));
-      fs::create_directories(group);
-      for (int f = 0; f < 4; ++f) {
-        std::ofstream out(group / ("frame" + std::to_string(f) + ".ppm"), std::ios::binary);
-        out << "P6\n320 240\n255\n";
-        const bool warm = cls[0] == 'w';
-        for (int i = 0; i < 320 * 240; ++i) {
-          const int base = 90 + 15 * o;
-          const int rgb[3] = {base + (warm ? 40 : 0), base, base + (warm ? 0 : 40)};
-          for (int c : rgb) out.put(static_cast<char>(std::clamp(c + noise(), 0, 255)));
-        }
-      }
-    }
-  }
 }
 
 TEST_F(EvalCli, HeadsFitImagesAddsAValidatedHeadAndEvalScoresIt) {

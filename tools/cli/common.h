@@ -55,6 +55,7 @@ void add_quantize_command(CLI::App& app, int& exit_code);        // quantize.cc
 void add_quantize_sweep_command(CLI::App& app, int& exit_code);  // quantize_sweep.cc
 void add_train_command(CLI::App& app, int& exit_code);   // train.cc or train_unavailable.cc
 void add_export_command(CLI::App& app, int& exit_code);  // export.cc or train_unavailable.cc
+void add_adapt_command(CLI::App& app, int& exit_code);   // adapt.cc or train_unavailable.cc
 void add_eval_command(CLI::App& app, int& exit_code);    // eval.cc
 void add_heads_command(CLI::App& app, int& exit_code);   // heads_fit.cc (`heads fit`)
 void add_listen_command(CLI::App& app, int& exit_code);  // listen.cc or listen_unavailable.cc

@@ -41,11 +41,6 @@ int run_user_head_fit(const HeadsFitCommand& c) {
     return report_error(command, Error::make(ErrorCode::kInvalidArgument,
                                              "--images needs --head NAME (e.g. roughness, slip)"));
   }
-  if (!c.overwrite && std::filesystem::exists(c.output)) {
-    return report_error(command, Error::make(ErrorCode::kIo,
-                                             "%s exists; pass --overwrite to replace it",
-                                             c.output.c_str()));
-  }
   auto model = load_model(c.model);
   if (!model.ok()) return report_error(command, model.error());
   if (!c.images.empty() && !c.recordings.empty()) {
@@ -88,8 +83,14 @@ int run_user_head_fit(const HeadsFitCommand& c) {
 }
 
 int run_heads_fit(const HeadsFitCommand& c) {
-  if (!c.images.empty() || !c.recordings.empty()) return run_user_head_fit(c);
   const char* command = "heads fit";
+  // Checked before any fitting: a run of minutes must not end by replacing someone's file.
+  if (!c.overwrite && std::filesystem::exists(c.output)) {
+    return report_error(command, Error::make(ErrorCode::kIo,
+                                             "%s exists; pass --overwrite to replace it",
+                                             c.output.c_str()));
+  }
+  if (!c.images.empty() || !c.recordings.empty()) return run_user_head_fit(c);
   eval::HeadsFitJob job;
   auto data = c.flags.data();
   if (!data.ok()) return report_error(command, data.error());
@@ -158,7 +159,7 @@ void add_heads_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(2, 50));
   cmd->add_flag("--learning-curve", c->learning_curve,
                 "With --images: also print how accuracy grows with the labelled groups per class");
-  cmd->add_flag("--overwrite", c->overwrite, "With --images: replace an existing output file");
+  cmd->add_flag("--overwrite", c->overwrite, "Replace an existing output file (refused without it)");
   cmd->footer(kExitCodeFooter);
   cmd->callback([c, &exit_code] { exit_code = run_heads_fit(*c); });
 }

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   add_quantize_sweep_command(app, exit_code);
   add_train_command(app, exit_code);
   add_export_command(app, exit_code);
+  add_adapt_command(app, exit_code);
   add_eval_command(app, exit_code);
   add_heads_command(app, exit_code);
   add_listen_command(app, exit_code);

@@ -55,6 +55,12 @@ void add_train_command(CLI::App& app, int& exit_code) {
               "against frozen text features) on a Touch100k-format set [runs tlvlink-train]");
 }
 
+void add_adapt_command(CLI::App& app, int& exit_code) {
+  add_forward(app, exit_code, "adapt",
+              "Does adapting the encoder's last layer(s) to your labelled frames beat a linear "
+              "head? Both on the same grouped folds [runs tlvlink-train]");
+}
+
 void add_export_command(CLI::App& app, int& exit_code) {
   add_forward(app, exit_code, "export",
               "Export a `tlvlink train` checkpoint to a float .tlvm (BatchNorm folded, input "

@@ -1,4 +1,4 @@
-// `tlvlink-train`: the libtorch half of the CLI (`train`, `export`). `tlvlink train|export ...`
+// `tlvlink-train`: the libtorch half of the CLI (`train`, `export`, `adapt`). `tlvlink train|export|adapt ...`
 // runs this program with the same arguments (tools/cli/train_forward.cc), so the main `tlvlink`
 // binary does not load libtorch.
 
@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   int exit_code = kExitOk;
   add_train_command(app, exit_code);
   add_export_command(app, exit_code);
+  add_adapt_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

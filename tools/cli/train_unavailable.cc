@@ -1,4 +1,4 @@
-// `tlvlink train` and `tlvlink export` in a build without the trainer (TLVLINK_BUILD_TRAINER=OFF):
+// `tlvlink train`, `export` and `adapt` in a build without the trainer (TLVLINK_BUILD_TRAINER=OFF):
 // the commands exist so their absence is explained instead of being unknown subcommands.
 
 #include <cstdio>
@@ -25,6 +25,10 @@ void add_unavailable(CLI::App& app, int& exit_code, const char* name, const char
 
 void add_train_command(CLI::App& app, int& exit_code) {
   add_unavailable(app, exit_code, "train", "Train an edge touch encoder with TLV-Link");
+}
+
+void add_adapt_command(CLI::App& app, int& exit_code) {
+  add_unavailable(app, exit_code, "adapt", "Compare an encoder adapted on your frames with a linear head");
 }
 
 void add_export_command(CLI::App& app, int& exit_code) {

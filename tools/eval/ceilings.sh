@@ -31,7 +31,7 @@ train() {  # name objective arch [--no-curriculum]
     TLVLINK_TRAIN_ARCH="$3" bash tools/trainer/train_default.sh ${4:-} "$out"
 }
 fit() {  # model.tlvm -> heads.tlvm
-  "$tlvlink" heads fit "$1" --touch "$out/heads-touch" --grasp "$out/feel" -q -o "$2" > /dev/null
+  "$tlvlink" heads fit "$1" --touch "$out/heads-touch" --grasp "$out/feel" -q --overwrite -o "$2" > /dev/null
 }
 # name | objective | arch | extra train flags: trained into $out/NAME.tlvm unless it is there
 # (the shipped recipe's ablation trains into $out/no-curriculum/tiny.tlvm, train_default.sh's

@@ -10,13 +10,19 @@
 #   contact    the board's contact gate calibrated on each session's no-contact reference frame:
 #              contact frames seen, no-contact frames (other than the reference) called contact
 #   stability  embedding cosine under JPEG re-encoding and +-3 DN (`tlvlink stability --real`)
+#   adapt      (with CHECKPOINT) the encoder's last conv layer adapted on each set vs the linear
+#              head, on the same grouped folds (`tlvlink adapt`; needs the trainer build and the
+#              checkpoint the shipped model came from: tools/setup/make_default_models.sh OUT
+#              leaves it as OUT/tiny.ckpt, too large to ship)
 # Every figure is on REAL frames; none is a simulator figure.
-#   tools/eval/real_frames_bench.sh REAL_DIR [MODEL]
+#   tools/eval/real_frames_bench.sh REAL_DIR [MODEL [CHECKPOINT [FP32_MODEL]]]
 # Environment: TLVLINK_BUILD (default build/host).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 real=${1:?usage: real_frames_bench.sh REAL_DIR [MODEL]}
 model=${2:-firmware/models/touch-tiny-int8.tlvm}
+checkpoint=${3:-}
+fp32_model=${4:-firmware/models/touch-tiny-fp32.tlvm}
 manifest=$real/MANIFEST.tsv
 [ -f "$manifest" ] || { echo "real_frames_bench: $manifest absent: no real frames to measure" >&2; exit 2; }
 tlvlink=${TLVLINK_BUILD:-build/host}/tools/cli/tlvlink
@@ -65,6 +71,18 @@ for held in $(ls "$work/billets/rough"); do
 done
 echo "-- GelSight Mini slip episodes, slip (contact frames; groups: objects; the shipped model has no slip head)"
 "$tlvlink" heads fit "$model" --images "$work/slip" --head slip --learning-curve -o "$work/slip.tlvm"
+
+if [ -n "$checkpoint" ]; then
+  echo
+  echo "== adapting the encoder on real frames vs the linear head (fp32 $fp32_model, checkpoint $checkpoint)"
+  for set in billets:roughness slip:slip; do
+    for layers in 1 2; do
+      echo "-- ${set%%:*}, last $layers conv layer(s) + FC"
+      "$tlvlink" adapt "$fp32_model" --checkpoint "$checkpoint" --images "$work/${set%%:*}" \
+        --head "${set#*:}" --layers "$layers" --threads 2
+    done
+  done
+fi
 
 echo
 echo "== contact gate on real frames (calibrated on each session's reference frame)"

@@ -83,7 +83,7 @@ fi
 
 echo "== heads fit -> $out/touch-tiny-fp32.tlvm"
 "$tlvlink" heads fit "$out/tiny.tlvm" --touch "$heads" --grasp "$feel" -q \
-  --grasp-features before-during-difference -o "$out/touch-tiny-fp32.tlvm"
+  --grasp-features before-during-difference --overwrite -o "$out/touch-tiny-fp32.tlvm"
 
 echo "== quantize -> $out/touch-tiny-int8.tlvm"
 "$tlvlink" quantize "$out/touch-tiny-fp32.tlvm" --calib "$out/data" --calib-split train \

@@ -237,6 +237,10 @@ Result<CvResult> cross_validate(const GroupedRows& r, const CvOptions& o) {
   auto predicted = out_of_fold(r, o, ix, cv.folds, -1, &cv.fold_l2);
   if (!predicted.ok()) return predicted.error();
   cv.predicted = std::move(predicted).value();
+  const std::vector<int32_t> group_fold = fold_of_groups(ix, cv.folds);
+  cv.fold.resize(cv.predicted.size());
+  for (size_t i = 0; i < cv.fold.size(); ++i)
+    cv.fold[i] = group_fold[static_cast<size_t>(ix.group_of_row[i])];
 
   std::vector<uint8_t> right(r.labels.size());
   for (size_t i = 0; i < right.size(); ++i) right[i] = cv.predicted[i] == r.labels[i] ? 1 : 0;

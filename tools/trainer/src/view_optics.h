@@ -6,6 +6,7 @@
 // takes its parameters already drawn, so tests can call them with fixed values. No allocation
 // except where a scratch vector is passed in and grown once.
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 

@@ -45,6 +45,7 @@ struct CvResult {
   double majority = 0;           // share of the commonest class
   std::vector<int64_t> class_rows, class_groups;
   std::vector<int32_t> predicted;  // per row, by the fold's model that did not see it
+  std::vector<int32_t> fold;       // per row, the fold that scored it (its groups' fold)
   std::vector<double> fold_l2;     // the strength chosen inside each fitting fold
 };
 
