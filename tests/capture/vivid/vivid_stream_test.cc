@@ -3,9 +3,11 @@
 // timeouts and the stall watchdog, and no heap allocation per frame.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <thread>
+#include <vector>
 
 #include "support/alloc_counter.h"
 #include "tlvlink/capture/v4l2_source.h"
@@ -47,19 +49,16 @@ TEST_F(VividStream, NewestFrameUnderASlowConsumer) {
   const double period_ns = 1e9 / 25;
   uint64_t last_sequence = 0;
   uint32_t skipped_total = 0;
+  std::vector<double> ages_ms;
   for (int i = 0; i < kFrames; ++i) {
     // Age at the call, not at the return: a guest thread descheduled inside next() (a loaded
     // emulated board) returns later, but the frame it chose was the newest when it looked.
     const int64_t asked_ns = vivid::now_ns();
     auto f = (*src)->next(2000);
     ASSERT_TRUE(f.ok()) << f.error().message();
-    const double age_ms =
-        (static_cast<double>(asked_ns) - static_cast<double>(f->timestamp_ns)) / 1e6;
     if (i > 0) {
-      // The newest frame: at most about one frame period old, never a backlog of older ones.
-      // Under 3 periods (120 ms); the oldest ready frame after 150 ms of work would be older.
-      // (Negative: the frame arrived while next() waited.)
-      EXPECT_LT(age_ms, 3 * period_ns / 1e6) << "frame " << i << " is " << age_ms << " ms old";
+      ages_ms.push_back(
+          (static_cast<double>(asked_ns) - static_cast<double>(f->timestamp_ns)) / 1e6);
       EXPECT_GT(f->sequence, last_sequence + 1)
           << "a slow consumer must not see consecutive frames";
     }
@@ -68,6 +67,14 @@ TEST_F(VividStream, NewestFrameUnderASlowConsumer) {
     std::this_thread::sleep_for(std::chrono::milliseconds(kWorkMs));
     (*src)->release();
   }
+  // The newest frame is on average half a period old when asked for (negative: it arrived while
+  // next() waited); a backlog (the oldest ready frame) would be over 100 ms old every time
+  // after 150 ms of work. The median, not each frame: a loaded emulated board stalls vivid's
+  // generator now and then (its buffers full, the newest frame then ~130 ms old).
+  std::sort(ages_ms.begin(), ages_ms.end());
+  const double median_age_ms = ages_ms[ages_ms.size() / 2];
+  EXPECT_LT(median_age_ms, 2 * period_ns / 1e6) << "median age at the call " << median_age_ms
+                                                << " ms, oldest " << ages_ms.back() << " ms";
   const SourceStats& s = (*src)->stats();
   std::printf(
       "note: slow consumer: %llu delivered, %llu stale skipped, %llu dropped by the device (all "
