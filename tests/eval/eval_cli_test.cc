@@ -115,6 +115,32 @@ TEST_F(EvalCli, TableLikeThePapers) {
   }
 }
 
+// --train-jpeg: every train frame also through each JPEG quality, same labels: the fits see
+// (1 + qualities) x the rows; the test split (the recorded trust) is not re-encoded.
+TEST_F(EvalCli, HeadsFitOnJpegPathsAddsTrainRowsOnly) {
+  const auto rows_and_n = [](const std::string& out) {
+    std::smatch m;
+    const std::regex re(R"(material\s+l2=\S+\s+train acc [0-9.]+ \(([0-9]+) rows\)\s+test acc [0-9.]+ \(n=([0-9]+)\))");
+    EXPECT_TRUE(std::regex_search(out, m, re)) << out;
+    return m.size() == 3 ? std::pair<long, long>{std::stol(m[1]), std::stol(m[2])}
+                         : std::pair<long, long>{0, 0};
+  };
+  const CliRun plain = tlvlink("heads fit " + kFp32 + kTouch + " -q -o " + (dir_ / "plain.tlvm").string());
+  EXPECT_RUN(plain, 0);
+  const CliRun coded = tlvlink("heads fit " + kFp32 + kTouch + " --train-jpeg 75,90 -q -o " +
+                               (dir_ / "coded.tlvm").string());
+  EXPECT_RUN(coded, 0);
+  const auto [plain_rows, plain_n] = rows_and_n(plain.out);
+  const auto [coded_rows, coded_n] = rows_and_n(coded.out);
+  EXPECT_GT(plain_rows, 0);
+  EXPECT_EQ(coded_rows, 3 * plain_rows);
+  EXPECT_EQ(coded_n, plain_n);
+  const CliRun bad = tlvlink("heads fit " + kFp32 + kTouch + " --train-jpeg 0 -q -o " +
+                             (dir_ / "bad.tlvm").string());
+  EXPECT_RUN(bad, 2);  // an invalid argument
+  EXPECT_NE(bad.out.find("--train-jpeg 0"), std::string::npos) << bad.out;
+}
+
 TEST_F(EvalCli, HeadsFitWritesAModelThatRunsIdenticallyAndBeatsChance) {
   const std::string out = (dir_ / "heads.tlvm").string();
   const CliRun fit = tlvlink("heads fit " + kFp32 + kTouch + kGrasp + " -q -o " + out);

@@ -24,6 +24,10 @@ void EvalFlags::add_to(CLI::App& app) {
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--split-seed", split_seed, "Seed of the hash split")->capture_default_str();
   app.add_option("--problems", problems, "Write every load problem (file:line: kind: reason) to FILE; stderr shows the first 10");
+  app.add_option("--train-jpeg", train_jpeg,
+                 "Also fit on the touch train frames saved as JPEG at these qualities (e.g. "
+                 "75,90): heads fitted across the codec paths a board's frames take")
+      ->delimiter(',');
   app.add_option("--max-touch", max_touch, "Touch samples per split (0 = all)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
@@ -82,6 +86,7 @@ Result<eval::EvalData> EvalFlags::data() const {
   d.scale_denominator = jpeg_scale;
   d.gelsight_quarter_turns = quarter_turns;
   d.max_touch_samples = max_touch;
+  d.train_jpeg_qualities = train_jpeg;
   d.max_grasp_episodes = max_grasp;
   TLV_ENSURE(!touch.empty() || !grasp.empty(), ErrorCode::kInvalidArgument,
              "give a dataset: --touch DIR and/or --grasp DIR");

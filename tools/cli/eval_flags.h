@@ -20,6 +20,7 @@ struct EvalFlags {
   double resplit = -1;  // < 0: recorded split for generated sets, hash split otherwise
   uint64_t split_seed = 0;
   int64_t max_touch = 0, max_grasp = 0;
+  std::vector<int32_t> train_jpeg;
   int jpeg_scale = 1;
   int quarter_turns = 0;
   std::string grasp_features = "before-during-difference";

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "tlvlink/datasets/detect.h"
+#include "tlvlink/image/jpeg.h"
 #include "tlvlink/io/file.h"
 #include "tlvlink/datasets/touch100k.h"
 
@@ -149,6 +150,13 @@ void fill_split_counts(SplitInfo& info, const std::vector<std::string>& groups,
   }
   info.train_groups = static_cast<int64_t>(train.size());
   info.test_groups = static_cast<int64_t>(test.size());
+}
+
+Result<datasets::RgbImage> jpeg_path(const datasets::RgbImage& frame, int32_t quality) {
+  const image::Image in{frame.width, frame.height, 3, frame.rgb};
+  TLV_ASSIGN_OR_RETURN(const std::vector<uint8_t> bytes, image::encode_jpeg(in, quality));
+  TLV_ASSIGN_OR_RETURN(image::Image out, image::decode_jpeg(bytes, "JPEG path"));
+  return datasets::RgbImage{out.height, out.width, std::move(out.pixels)};
 }
 
 }  // namespace tlvlink::eval::internal

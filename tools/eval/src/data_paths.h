@@ -12,6 +12,7 @@
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/error.h"
 #include "tlvlink/eval/embeddings.h"
+#include "tlvlink/datasets/records.h"
 
 namespace tlvlink::eval::internal {
 
@@ -33,6 +34,10 @@ std::optional<std::string> generator_json(const std::string& path);
 std::optional<datasets::HashSplit> split_to_apply(const EvalData& data, const std::string& path,
                                                   datasets::DatasetFormat format);
 std::string split_source(const std::optional<datasets::HashSplit>& split);
+
+// The frame saved as a JPEG at `quality` (4:2:0, as datasets and tools save) and read back: the
+// codec path of stability.h and of EvalData::train_jpeg_qualities.
+Result<datasets::RgbImage> jpeg_path(const datasets::RgbImage& frame, int32_t quality);
 
 // Non-blank lines of a text file (0 when it cannot be read): progress totals.
 int64_t count_lines(const std::string& path);

@@ -22,15 +22,31 @@ struct TouchSink {
   tools::Progress& progress;
   int64_t cap = 0;  // per split, 0 = none
   int64_t taken[2] = {0, 0};
+  std::vector<int32_t> train_jpeg = {};  // EvalData::train_jpeg_qualities
 
   bool full(bool test) const { return cap > 0 && taken[test ? 1 : 0] >= cap; }
 
   Status add(const sim::TouchSample& s, const std::string& key, bool test, bool has_labels) {
     if (full(test)) return {};
+    TLV_TRY(add_row(s, s.touch, key, test, has_labels));
+    if (!test) {
+      for (const int32_t q : train_jpeg) {
+        TLV_ASSIGN_OR_RETURN(const sim::RgbImage j, internal::jpeg_path(s.touch, q));
+        TLV_TRY(add_row(s, j, key + "#jpeg-q" + std::to_string(q), test, has_labels));
+      }
+    }
+    ++taken[test ? 1 : 0];
+    progress.add();
+    return {};
+  }
+
+  // One row: `frame` (the sample's or a re-encoding of it) with the sample's labels.
+  Status add_row(const sim::TouchSample& s, const sim::RgbImage& frame, const std::string& key,
+                 bool test, bool has_labels) {
     const size_t d = static_cast<size_t>(out.dim);
     out.values.resize(out.values.size() + d);
     std::span<float> row(out.values.data() + out.values.size() - d, d);
-    if (Status st = embedder.embed(s.touch, row); !st.ok())
+    if (Status st = embedder.embed(frame, row); !st.ok())
       return st.error().with_context("touch sample '%s'", key.c_str());
     out.material.push_back(has_labels ? s.material.class_id : -1);
     out.hard.push_back(has_labels ? (s.material.hard ? 1 : 0) : -1);
@@ -41,8 +57,6 @@ struct TouchSink {
     out.hidden_material.push_back(s.material);
     if (!has_labels) out.hidden_material.back().class_id = -1;
     out.hidden_contact.push_back(s.contact);
-    ++taken[test ? 1 : 0];
-    progress.add();
     return {};
   }
 };
@@ -118,7 +132,7 @@ Result<TouchEmbeddings> extract_touch(Embedder& embedder, const EvalData& data,
   tools::Progress progress("embedding touch frames", total, stderr,
                            options.progress ? tools::ProgressMode::kAuto
                                             : tools::ProgressMode::kQuiet);
-  TouchSink sink{embedder, out, progress, data.max_touch_samples, {0, 0}};
+  TouchSink sink{embedder, out, progress, data.max_touch_samples, {0, 0}, data.train_jpeg_qualities};
   if (format == TouchFormat::kTouch100k) {
     TLV_TRY(run_touch100k(data, sink));
   } else {
@@ -256,6 +270,10 @@ Result<EmbeddingSet> extract_embeddings(const Model& model, const EvalData& data
              "no dataset given (a touch dir and/or a grasp dir)");
   TLV_ENSURE(data.max_touch_samples >= 0 && data.max_grasp_episodes >= 0,
              ErrorCode::kInvalidArgument, "sample caps must be >= 0 (0 = all)");
+  for (const int32_t q : data.train_jpeg_qualities) {
+    TLV_ENSURE(q >= 1 && q <= 100, ErrorCode::kInvalidArgument,
+               "--train-jpeg %d: a JPEG quality is 1..100", q);
+  }
   TLV_ASSIGN_OR_RETURN(std::unique_ptr<Embedder> embedder, Embedder::create(model, options));
   const auto t0 = std::chrono::steady_clock::now();
   EmbeddingSet set;

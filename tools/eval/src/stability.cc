@@ -3,6 +3,8 @@
 
 #include "tlvlink/eval/stability.h"
 
+#include "data_paths.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -94,13 +96,6 @@ class Probe {
   std::vector<int32_t> reference_tops_;
 };
 
-Result<sim::RgbImage> jpeg_path(const sim::RgbImage& frame, int32_t quality) {
-  const image::Image in{frame.width, frame.height, 3, frame.rgb};
-  TLV_ASSIGN_OR_RETURN(const std::vector<uint8_t> bytes, image::encode_jpeg(in, quality));
-  TLV_ASSIGN_OR_RETURN(image::Image out, image::decode_jpeg(bytes, "stability path"));
-  return sim::RgbImage{out.height, out.width, std::move(out.pixels)};
-}
-
 sim::RgbImage offset_path(const sim::RgbImage& frame, int32_t dn) {
   sim::RgbImage out = frame;
   for (uint8_t& v : out.rgb) v = static_cast<uint8_t>(std::clamp(v + dn, 0, 255));
@@ -135,7 +130,7 @@ Status simulated_scenes(const StabilityOptions& o, Probe& probe, std::vector<Pat
                   s.sensor.c_str(), s.sensor_instance);
     TLV_TRY(probe.reference(s.touch));
     for (int32_t q : {95, 90, 75}) {
-      TLV_ASSIGN_OR_RETURN(const sim::RgbImage j, jpeg_path(s.touch, q));
+      TLV_ASSIGN_OR_RETURN(const sim::RgbImage j, internal::jpeg_path(s.touch, q));
       TLV_TRY(probe.compare(j, item, tally(all, "simulated", "jpeg-q" + std::to_string(q))));
     }
     auto& path = live[s.sensor];
@@ -171,7 +166,7 @@ Status real_frames(const std::string& dir, Probe& probe, std::vector<PathTally>&
     const std::string item = std::filesystem::relative(f, dir).string();
     TLV_TRY(probe.reference(frame));
     for (int32_t q : {95, 90, 75}) {
-      TLV_ASSIGN_OR_RETURN(const sim::RgbImage j, jpeg_path(frame, q));
+      TLV_ASSIGN_OR_RETURN(const sim::RgbImage j, internal::jpeg_path(frame, q));
       TLV_TRY(probe.compare(j, item, tally(all, "real", "jpeg-q" + std::to_string(q))));
     }
     TLV_TRY(probe.compare(offset_path(frame, 3), item, tally(all, "real", "+3 DN")));

@@ -47,6 +47,10 @@ struct EvalData {
   datasets::HashSplit default_split = datasets::kDefaultSplit;  // when the data records none
   int32_t scale_denominator = 1;                  // JPEG decode at 1/1, 1/2, 1/4, 1/8
   int32_t gelsight_quarter_turns = 0;             // Feel HDF5: undo the stored rotation (0..3)
+  // Touch TRAIN samples are also embedded after a JPEG re-encoding at each of these qualities
+  // (extra train rows: same labels, same session), so probes fitted on them are fitted across
+  // the codec paths a board's frames take (`--train-jpeg`). Test rows are never re-encoded.
+  std::vector<int32_t> train_jpeg_qualities;
   // Caps per split (train and test each), for quick runs; 0 = all. Items beyond are not read.
   int64_t max_touch_samples = 0;
   int64_t max_grasp_episodes = 0;
