@@ -4,7 +4,8 @@
 # core  : compilers, cmake, ccache (cmake/ccache.cmake), XNNPACK stack, flatbuffers, libsodium (the model file's hash and
 #         signatures: every build that loads a model), CLI/JSON libraries, JPEG, PNG, HDF5, ONNX,
 #         libcamera (the libcamera frame source, TLVLINK_WITH_LIBCAMERA), toml++ (tlvlinkd's
-#         configuration), libusb (the host side of the USB stream link, tools/listen)
+#         configuration), libusb (the host side of the USB stream link, tools/listen), websocketpp
+#         + standalone asio (the Foxglove WebSocket server of `tlvlink listen --foxglove`, tools/foxglove)
 # test  : core + GoogleTest/Benchmark, clang (libFuzzer, sanitizers), Debian's torch + onnx
 #         (the ONNX import tests export their models with /usr/bin/python3), libtorch-dev
 #         (the trainer, TLVLINK_BUILD_TRAINER in the host preset); the Python stream client's
@@ -25,7 +26,8 @@ core_pkgs=(build-essential cmake ninja-build pkg-config ccache
   libcli11-dev nlohmann-json3-dev
   libturbojpeg0-dev libpng-dev libhdf5-dev
   libonnx-dev libprotobuf-dev
-  libjpeg62-turbo-dev libcamera-dev libtomlplusplus-dev libusb-1.0-0-dev)
+  libjpeg62-turbo-dev libcamera-dev libtomlplusplus-dev libusb-1.0-0-dev
+  libwebsocketpp-dev libasio-dev)
 test_pkgs=(libgtest-dev libgmock-dev clang libclang-rt-14-dev llvm
   python3-torch python3-onnx python3-numpy libtorch-dev
   python3-serial python3-usb python3-pytest)
