@@ -150,6 +150,33 @@ McapStatistics statistics(ByteReader& r) {
   return s;
 }
 
+// The summary's CRC, checked before its records are read (a damaged summary is named as such,
+// not as whatever its damaged records seem to say). Only when the file ends with a Footer and
+// the magic; a file that does not is refused later, in order.
+Status check_summary_crc(std::span<const std::byte> bytes, const std::string& name, McapFile& file) {
+  constexpr size_t kFooterRecord = internal::kRecordPrefix + 20, kMagic = sizeof(kMcapMagic);
+  if (bytes.size() < 2 * kMagic + kFooterRecord) return Status();
+  const size_t footer = bytes.size() - kMagic - kFooterRecord;
+  if (std::memcmp(bytes.data() + bytes.size() - kMagic, kMcapMagic, kMagic) != 0 ||
+      static_cast<uint8_t>(bytes[footer]) != internal::kFooter) {
+    return Status();
+  }
+  ByteReader r(bytes.subspan(footer + internal::kRecordPrefix, 20), footer + internal::kRecordPrefix, "Footer");
+  const uint64_t summary_start = r.u64("summary_start");
+  (void)r.u64("summary_offset_start");
+  const uint32_t crc = r.u32("summary_crc");
+  if (crc == 0) return Status();
+  TLV_ENSURE(summary_start <= footer, ErrorCode::kFormat,
+             "%s: Footer at offset %zu: summary_start %llu is after the Footer", name.c_str(), footer,
+             static_cast<unsigned long long>(summary_start));
+  const size_t from = summary_start ? summary_start : footer;
+  const uint32_t actual = crc32(bytes.subspan(from, footer + internal::kRecordPrefix + 16 - from));
+  TLV_ENSURE(actual == crc, ErrorCode::kFormat, "%s: the summary (offsets %zu..%zu) has CRC-32 %08x; the Footer says %08x",
+             name.c_str(), from, footer, actual, crc);
+  file.summary_crc_checked = true;
+  return Status();
+}
+
 }  // namespace
 
 const McapChannel* McapFile::channel(uint16_t id) const {
@@ -172,6 +199,7 @@ Result<McapFile> read_mcap(std::span<const std::byte> bytes, const std::string& 
   TLV_ENSURE(bytes.size() >= kMagic && std::memcmp(bytes.data(), kMcapMagic, kMagic) == 0, ErrorCode::kFormat,
              "%s is not an MCAP file (no MCAP magic at offset 0)", n);
   McapFile file;
+  TLV_TRY(check_summary_crc(bytes, name, file));
   Parser parser(file, name);
   bool header = false, footer = false;
   uint64_t data_end_at = 0;
@@ -221,19 +249,10 @@ Result<McapFile> read_mcap(std::span<const std::byte> bytes, const std::string& 
       }
       case internal::kFooter: {
         const uint64_t summary_start = r.u64("summary_start");
-        (void)r.u64("summary_offset_start");
-        const uint32_t crc = r.u32("summary_crc");
         if (r.error()) break;
         TLV_ENSURE(summary_start == 0 || (summary_start > data_end_at && summary_start <= pos), ErrorCode::kFormat,
                    "%s: Footer at offset %zu: summary_start %llu is not between the Data End and the Footer", n, pos,
                    static_cast<unsigned long long>(summary_start));
-        if (crc != 0) {
-          const size_t from = summary_start ? summary_start : pos;
-          const uint32_t actual = crc32(bytes.subspan(from, pos + internal::kRecordPrefix + 16 - from));
-          TLV_ENSURE(actual == crc, ErrorCode::kFormat, "%s: the summary (offsets %zu..%zu) has CRC-32 %08x; the Footer says %08x",
-                     n, from, pos, actual, crc);
-          file.summary_crc_checked = true;
-        }
         footer = true;
         break;
       }
