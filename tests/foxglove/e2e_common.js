@@ -56,9 +56,9 @@ function undeclaredKeys(value, schema, where, out = []) {
 }
 
 // The fake board (the real Sender) on a pty; resolves once its pty exists.
-async function startBoard(check_binary, tty, frames, rate) {
+async function startBoard(check_binary, tty, frames, rate, extra = []) {
   const board = spawn(check_binary, ["board", "--link", `pty:${tty}`, "--frames", `${frames}`, "--rate", `${rate}`,
-                                     "--hold", "3"], { stdio: ["ignore", "ignore", "inherit"] });
+                                     "--hold", "3", ...extra], { stdio: ["ignore", "ignore", "inherit"] });
   // The board creates the pty link when it is ready to serve: wait for it (bounded, 5 s).
   for (let i = 0; i < 500 && !fs.existsSync(tty); i++) await new Promise((r) => setTimeout(r, 10));
   check(fs.existsSync(tty), `the fake board made its pty ${tty}`);

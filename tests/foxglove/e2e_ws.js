@@ -37,9 +37,43 @@ function collect(label, address) {
   });
 }
 
-async function serveAndCompare(label, args) {
+// Clients that do not follow the protocol (run while the server waits for a subscriber): a
+// handshake without the subprotocol is refused; a subscription to an unknown channel, an
+// unknown operation, a non-JSON and a binary message are each answered by an error status.
+async function badClients(address) {
+  const refused = await new Promise((resolve) => {
+    const ws = new WebSocket(`ws://${address}`);
+    ws.on("unexpected-response", (req, res) => resolve(res.statusCode));
+    ws.on("open", () => (ws.close(), resolve("accepted")));
+    ws.on("error", () => {});
+  });
+  t.check(refused === 400, "a client without the foxglove.websocket.v1 subprotocol is refused (HTTP 400)", refused);
+  const statuses = await new Promise((resolve) => {
+    const ws = new WebSocket(`ws://${address}`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
+    const seen = [];
+    ws.on("open", () => {
+      ws.send(JSON.stringify({ op: "subscribe", subscriptions: [{ id: 1, channelId: 999 }] }));
+      ws.send(JSON.stringify({ op: "advertise", channels: [] }));
+      ws.send("not json");
+      ws.send(Buffer.from([1, 2, 3]));
+    });
+    ws.on("message", (data, binary) => {
+      const j = binary ? {} : JSON.parse(data.toString());
+      if (j.op === "status") seen.push(j);
+      if (seen.length === 4) (ws.close(), resolve(seen));
+    });
+  });
+  t.check(statuses.every((s) => s.level === 2), "each bad request is answered by an error status");
+  t.check(/no channel 999/.test(statuses[0].message), "an unknown channel is named", statuses[0].message);
+  t.check(/unsupported operation 'advertise'/.test(statuses[1].message), "an unsupported operation is named", statuses[1].message);
+  t.check(/JSON object/.test(statuses[2].message) && /binary/.test(statuses[3].message), "non-JSON and binary messages",
+          JSON.stringify(statuses.slice(2)));
+}
+
+async function serveAndCompare(label, args, before) {
   const server = await t.startServing(tlvlink, args);
   t.check(/^127\.0\.0\.1:\d+$/.test(server.address), `${label}: serving on 127.0.0.1 (${server.address})`);
+  if (before) await before(server.address);
   const got = await collect(label, server.address);
   const done = await server.exited;
   t.check(done.code === 0, `${label}: tlvlink exited 0`, done.stderr.slice(-2000));
@@ -75,15 +109,65 @@ async function serveAndCompare(label, args) {
   t.check(declared === lines.length, `${label}: every key of every message is in its schema (${declared})`);
   t.check(got.unadvertised.length === kTopics.length, `${label}: every channel unadvertised at the end`);
   const summary = /foxglove: (\d+) clients, (\d+) messages sent, (\d+) dropped/.exec(done.stderr);
-  t.check(summary && summary[1] === "1" && Number(summary[2]) === lines.length && summary[3] === "0",
-          `${label}: the server reports 1 client, every message sent, none dropped`, summary && summary[0]);
+  const clients = before ? "2" : "1";  // the bad client that spoke the subprotocol connected too
+  t.check(summary && summary[1] === clients && Number(summary[2]) === lines.length && summary[3] === "0",
+          `${label}: the server reports ${clients} clients, every message sent, none dropped`, summary && summary[0]);
   return lines;
+}
+
+// A client that stops reading: the listener goes on printing (it never waits for a client), the
+// server drops that client's oldest queued messages and counts them. The client reads again
+// once the session has ended (its last stdout line), while the server drains: it receives the
+// printed messages minus the dropped ones, in order, the last one included.
+async function slowClient(tty) {
+  // The listener waits (--foxglove-wait) for this client before opening the link; the board
+  // starts once the client is subscribed and has stopped reading, so the listener sees it all.
+  let board;
+  const server = await t.startServing(tlvlink, ["listen", "--serial", tty, "--json", "--count", "5000", "--duration", "60",
+                                                "--foxglove", "127.0.0.1:0", "--foxglove-queue", "16", "--foxglove-wait", "20"]);
+  const got = await new Promise((resolve) => {
+    const ws = new WebSocket(`ws://${server.address}`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
+    const client = new FoxgloveClient({ ws });
+    const texts = [];
+    client.on("advertise", (channels) => {
+      for (const c of channels) client.subscribe(c.id);
+      ws._socket.pause();  // reads nothing more until the session is over
+      board = t.startBoard(streamCheck, tty, 12000, 4000, ["--embedding"]);
+      let out = "";
+      server.process.stdout.on("data", (d) => {
+        out = (out + d).slice(-4096);
+        if (out.includes('{"type":"link_stats"')) ws._socket.resume();
+      });
+    });
+    client.on("message", ({ data }) => texts.push(new TextDecoder().decode(data)));
+    client.on("close", () => resolve(texts));
+  });
+  const done = await server.exited;
+  (await board).kill("SIGTERM");
+  t.check(done.code === 0, "slow client: tlvlink exited 0", done.stderr.slice(-2000));
+  const lines = t.messageLines(done.stdout).map((l) => JSON.stringify(l));
+  t.check(lines.length >= 5001, `slow client: the listener printed every message (${lines.length})`);
+  const summary = /foxglove: (\d+) clients, (\d+) messages sent, (\d+) dropped/.exec(done.stderr);
+  const dropped = summary ? Number(summary[3]) : -1;
+  t.check(dropped > 0, `slow client: the server dropped and counted (${dropped})`, summary && summary[0]);
+  t.check(got.length + dropped === lines.length, `slow client: received ${got.length} + dropped ${dropped} = printed ${lines.length}`);
+  let j = 0;
+  for (const text of got) {
+    const { json } = t.splitTimestamp(text);
+    const s = JSON.stringify(json);
+    while (j < lines.length && lines[j] !== s) j++;
+    j++;
+  }
+  t.check(j <= lines.length, "slow client: what arrived is the printed messages in order, some left out");
+  t.check(got.length > 0 && JSON.stringify(t.splitTimestamp(got[got.length - 1]).json) === lines[lines.length - 1],
+          "slow client: the oldest were dropped: the last message arrived");
 }
 
 (async () => {
   const fixture = path.join(work, "fixture.tlvrec");
   t.check(t.run(streamCheck, ["record", fixture]).code === 0, "fixture recording written");
-  const replayed = await serveAndCompare("replay", ["replay", fixture, "--json", "--foxglove", "127.0.0.1:0", "--foxglove-wait", "20"]);
+  const replayed = await serveAndCompare("replay", ["replay", fixture, "--json", "--foxglove", "127.0.0.1:0", "--foxglove-wait", "20"],
+                                         badClients);
   t.check(replayed.length >= 13, `replay: the fixture's messages (${replayed.length})`);
 
   const tty = path.join(work, "tty");
@@ -92,6 +176,7 @@ async function serveAndCompare(label, args) {
                                               "--foxglove", "127.0.0.1:0", "--foxglove-wait", "20"]);
   board.kill("SIGTERM");
   t.check(live.filter((l) => l.type === "frame_prediction").length === 200, "live: 200 predictions");
+  await slowClient(path.join(work, "tty-slow"));
   t.finish("e2e_ws");
 })().catch((e) => {
   console.error(e);
