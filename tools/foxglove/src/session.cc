@@ -53,7 +53,10 @@ Result<int> run_session_with_outputs(listen::SessionOptions options, const Sessi
   }
   if (mcap) {
     // The summary is written even after an error elsewhere: what was recorded stays readable.
+    // A write that failed during the session was reported there (and ended it with exit 1).
+    const bool reported = mcap->failed();
     if (Status st = mcap->close(); !st.ok()) {
+      if (reported) return 1;
       std::fprintf(log, "tlvlink: error [%s]: %s\n", error_code_name(st.error().code()), st.error().message());
       return 1;
     }

@@ -228,7 +228,7 @@ std::unique_ptr<WsServerCore> WsServerCore::start(const std::string& host, uint1
     s.address = (bound.address().is_v6() ? "[" + ip + "]" : ip) + ":" + std::to_string(bound.port());
     s.server.start_accept();
   } catch (const std::exception& e) {
-    *error = "serving on " + host + ":" + std::to_string(port) + ": " + e.what();
+    *error = "cannot serve on " + host + ":" + std::to_string(port) + ": " + e.what();
     return nullptr;
   }
   s.thread = std::thread([&s] {

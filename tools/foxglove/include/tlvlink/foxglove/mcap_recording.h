@@ -40,6 +40,7 @@ class McapRecording : public listen::RecordSink, public listen::MessageSink {
   // Writes the summary and the Footer; the file is complete only after this.
   Status close();
   uint64_t message_count() const { return writer_->message_count(); }
+  bool failed() const { return writer_->failed(); }  // a write failed (the session reported it)
 
  private:
   explicit McapRecording(std::unique_ptr<McapWriter> writer) : writer_(std::move(writer)) {}

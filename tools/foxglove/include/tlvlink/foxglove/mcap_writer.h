@@ -56,6 +56,8 @@ class McapWriter {
   Status close();
 
   uint64_t message_count() const { return message_count_; }
+  // A write failed (every later call returns that error).
+  bool failed() const { return failed_.has_value(); }
   const std::string& path() const { return path_; }
 
  private:
