@@ -2,6 +2,7 @@
 // Foxglove WebSocket protocol. C++17: see ws_server_core.h.
 #include "ws_server_core.h"
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -9,6 +10,8 @@
 #include <mutex>
 #include <set>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 #include <websocketpp/config/asio_no_tls.hpp>
@@ -137,21 +140,37 @@ struct WsServerCore::Impl {
   }
 
   // On the io thread: hands queued frames to websocketpp while its buffer has room; retries soon
-  // when a client is still behind. When draining and everything went out, unadvertises and closes.
+  // when a client is still behind. When draining and everything went out, unadvertises and
+  // closes. The frames are taken under the mutex and sent after it: publish() waits for a few
+  // pointer moves, never for websocketpp's copying.
   void flush() {
+    std::vector<std::pair<Hdl, std::string>> out;
+    {
+      std::lock_guard lock(mutex);
+      flush_posted = false;
+      for (auto& [h, c] : clients) {
+        websocketpp::lib::error_code ec;
+        Server::connection_ptr con = server.get_con_from_hdl(h, ec);
+        if (ec) continue;
+        size_t room = kMaxBufferedBytes - std::min(kMaxBufferedBytes, con->get_buffered_amount());
+        while (!c.queue.empty() && room > 0) {
+          room -= std::min(room, c.queue.front().size());
+          out.emplace_back(h, std::move(c.queue.front()));
+          c.queue.pop_front();
+          ++counters.messages_sent;
+        }
+      }
+    }
+    for (auto& [h, frame] : out) {
+      websocketpp::lib::error_code ec;
+      server.send(h, frame, websocketpp::frame::opcode::binary, ec);
+    }
     std::unique_lock lock(mutex);
-    flush_posted = false;
     bool behind = false;
     for (auto& [h, c] : clients) {
       websocketpp::lib::error_code ec;
       Server::connection_ptr con = server.get_con_from_hdl(h, ec);
-      if (ec) continue;
-      while (!c.queue.empty() && con->get_buffered_amount() < kMaxBufferedBytes) {
-        con->send(c.queue.front(), websocketpp::frame::opcode::binary);
-        c.queue.pop_front();
-        ++counters.messages_sent;
-      }
-      behind = behind || !c.queue.empty() || con->get_buffered_amount() > 0;
+      if (!ec) behind = behind || !c.queue.empty() || con->get_buffered_amount() > 0;
     }
     if (draining && !behind) {
       finish(lock);
