@@ -15,8 +15,9 @@ const t = require("./e2e_common");
 const [tlvlink, streamCheck, work] = process.argv.slice(2);
 const kTopics = ["hello", "frame_prediction", "grasp_prediction", "stats", "error", "ack", "nack", "pong"];
 
-// Connects, subscribes to everything advertised, collects until the server unadvertises and closes.
-function collect(label, address) {
+// Connects, subscribes to everything advertised, collects until the server unadvertises and
+// closes; calls onMessage(message) for each.
+function collect(label, address, onMessage = () => {}) {
   return new Promise((resolve) => {
     const ws = new WebSocket(`ws://${address}`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
     const client = new FoxgloveClient({ ws });
@@ -30,6 +31,7 @@ function collect(label, address) {
     });
     client.on("message", ({ subscriptionId, timestamp, data }) => {
       got.messages.push({ channel: channelOf.get(subscriptionId), timestamp, text: new TextDecoder().decode(data) });
+      onMessage(got.messages[got.messages.length - 1]);
     });
     client.on("unadvertise", (ids) => got.unadvertised.push(...ids));
     client.on("error", (e) => t.check(false, `${label}: websocket error`, e.message));
@@ -70,11 +72,32 @@ async function badClients(address) {
           JSON.stringify(statuses.slice(2)));
 }
 
-async function serveAndCompare(label, args, before) {
+// A client that comes late (after the board's Hello went out) and subscribes to /tlvlink/hello
+// only: it gets that Hello at once (the channel is latched), and nothing else.
+function lateHelloSubscriber(address) {
+  return new Promise((resolve) => {
+    const client = new FoxgloveClient({ ws: new WebSocket(`ws://${address}`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]) });
+    const texts = [];
+    client.on("advertise", (channels) => client.subscribe(channels.find((c) => c.topic === "/tlvlink/hello").id));
+    client.on("message", ({ data }) => texts.push(new TextDecoder().decode(data)));
+    client.on("close", () => resolve(texts));
+  });
+}
+
+async function serveAndCompare(label, args, before, late = false) {
   const server = await t.startServing(tlvlink, args);
   t.check(/^127\.0\.0\.1:\d+$/.test(server.address), `${label}: serving on 127.0.0.1 (${server.address})`);
   if (before) await before(server.address);
-  const got = await collect(label, server.address);
+  let lateClient;
+  const got = await collect(label, server.address, (m) => {
+    if (late && !lateClient && m.channel.topic === "/tlvlink/frame_prediction") lateClient = lateHelloSubscriber(server.address);
+  });
+  if (late) {
+    const hellos = await lateClient;
+    const first = got.messages.find((m) => m.channel.topic === "/tlvlink/hello");
+    t.check(hellos.length === 1 && first && hellos[0] === first.text, `${label}: a late subscriber to /tlvlink/hello gets the board's Hello`,
+            `${hellos.length} messages`);
+  }
   const done = await server.exited;
   t.check(done.code === 0, `${label}: tlvlink exited 0`, done.stderr.slice(-2000));
   const lines = t.messageLines(done.stdout);
@@ -109,8 +132,9 @@ async function serveAndCompare(label, args, before) {
   t.check(declared === lines.length, `${label}: every key of every message is in its schema (${declared})`);
   t.check(got.unadvertised.length === kTopics.length, `${label}: every channel unadvertised at the end`);
   const summary = /foxglove: (\d+) clients, (\d+) messages sent, (\d+) dropped/.exec(done.stderr);
-  const clients = before ? "2" : "1";  // the bad client that spoke the subprotocol connected too
-  t.check(summary && summary[1] === clients && Number(summary[2]) === lines.length && summary[3] === "0",
+  const clients = before || late ? "2" : "1";  // the bad or the late client connected too
+  const sent = lines.length + (late ? 1 : 0);  // and the late client's Hello
+  t.check(summary && summary[1] === clients && Number(summary[2]) === sent && summary[3] === "0",
           `${label}: the server reports ${clients} clients, every message sent, none dropped`, summary && summary[0]);
   return lines;
 }
@@ -174,7 +198,7 @@ async function slowClient(tty) {
   const tty = path.join(work, "tty");
   const board = await t.startBoard(streamCheck, tty, 200, 400);
   const live = await serveAndCompare("live", ["listen", "--serial", tty, "--json", "--count", "200", "--duration", "30",
-                                              "--foxglove", "127.0.0.1:0", "--foxglove-wait", "20"]);
+                                              "--foxglove", "127.0.0.1:0", "--foxglove-wait", "20"], undefined, true);
   board.kill("SIGTERM");
   t.check(live.filter((l) => l.type === "frame_prediction").length === 200, "live: 200 predictions");
   await slowClient(path.join(work, "tty-slow"));

@@ -33,8 +33,9 @@ Server::~Server() { shutdown(); }
 Result<std::unique_ptr<Server>> Server::start(const ServerOptions& options) {
   std::vector<internal::WsChannel> channels;
   for (const ChannelSpec& c : channel_table()) {
+    // The Hello comes once per connect: a client that subscribes later still gets the board's.
     channels.push_back({c.id, std::string(c.topic), std::string(kMessageEncoding), std::string(c.schema_name),
-                        std::string(c.schema), std::string(kSchemaEncoding)});
+                        std::string(c.schema), std::string(kSchemaEncoding), c.topic == "/tlvlink/hello"});
   }
   std::string error;
   std::unique_ptr<internal::WsServerCore> core = internal::WsServerCore::start(

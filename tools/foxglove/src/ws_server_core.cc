@@ -28,6 +28,14 @@ constexpr const char* kSubprotocol = "foxglove.websocket.v1";
 // websocketpp's own buffer per client: beyond this, messages wait in our bounded queue.
 constexpr size_t kMaxBufferedBytes = 1 << 20;
 
+std::string message_data(uint32_t subscription, uint64_t timestamp_ns, const std::string& payload) {
+  std::string frame(1 + 4 + 8, '\0');
+  frame[0] = 1;  // messageData
+  for (int i = 0; i < 4; ++i) frame[1 + i] = static_cast<char>((subscription >> (8 * i)) & 0xFF);
+  for (int i = 0; i < 8; ++i) frame[5 + i] = static_cast<char>((timestamp_ns >> (8 * i)) & 0xFF);
+  return frame + payload;
+}
+
 struct Client {
   std::map<uint32_t, uint32_t> subscriptions;  // subscription id -> channel id
   std::deque<std::string> queue;               // messageData frames waiting for websocketpp
@@ -50,6 +58,7 @@ struct WsServerCore::Impl {
   mutable std::mutex mutex;  // guards clients and counters (publish() runs on another thread)
   std::condition_variable subscribed;
   std::map<Hdl, Client, std::owner_less<Hdl>> clients;
+  std::map<uint32_t, std::pair<uint64_t, std::string>> last;  // latched channel -> its last message
   WsCounters counters;
   bool flush_posted = false, draining = false, closed = false;
   std::condition_variable drained;
@@ -125,6 +134,13 @@ struct WsServerCore::Impl {
         if (!has_channel(channel)) return "subscribe: no channel " + std::to_string(channel);
         if (client->second.subscriptions.count(id)) return "subscribe: subscription id " + std::to_string(id) + " is in use";
         client->second.subscriptions[id] = channel;
+        if (auto l = last.find(channel); l != last.end()) {
+          client->second.queue.push_back(message_data(id, l->second.first, l->second.second));
+          if (!flush_posted) {
+            flush_posted = true;
+            asio::post(server.get_io_service(), [this] { flush(); });
+          }
+        }
       }
       subscribed.notify_all();
       return "";
@@ -268,15 +284,13 @@ void WsServerCore::publish(uint32_t channel_id, uint64_t timestamp_ns, const std
   {
     std::lock_guard lock(s.mutex);
     if (s.draining) return;
+    for (const WsChannel& ch : s.channels) {
+      if (ch.id == channel_id && ch.latched) s.last[channel_id] = {timestamp_ns, payload};
+    }
     for (auto& [h, c] : s.clients) {
       for (const auto& [sub, channel] : c.subscriptions) {
         if (channel != channel_id) continue;
-        std::string frame(1 + 4 + 8, '\0');
-        frame[0] = 1;  // messageData
-        for (int i = 0; i < 4; ++i) frame[1 + i] = static_cast<char>((sub >> (8 * i)) & 0xFF);
-        for (int i = 0; i < 8; ++i) frame[5 + i] = static_cast<char>((timestamp_ns >> (8 * i)) & 0xFF);
-        frame += payload;
-        c.queue.push_back(std::move(frame));
+        c.queue.push_back(message_data(sub, timestamp_ns, payload));
         if (c.queue.size() > s.queue_limit) {
           c.queue.pop_front();
           ++s.counters.messages_dropped;

@@ -23,6 +23,7 @@ namespace tlvlink::foxglove::internal {
 struct WsChannel {
   uint32_t id;
   std::string topic, encoding, schema_name, schema, schema_encoding;
+  bool latched = false;  // a new subscriber gets the last message at once (the board's Hello)
 };
 
 struct WsCounters {
