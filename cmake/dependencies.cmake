@@ -73,6 +73,15 @@ if(TLVLINK_BUILD_HOST_TOOLS)
   find_package(PkgConfig REQUIRED)
   pkg_check_modules(HDF5 IMPORTED_TARGET hdf5)
   tlvlink_require(HDF5_FOUND "HDF5 C library" libhdf5-dev)
+  # The Foxglove WebSocket server of `tlvlink listen --foxglove` (tools/foxglove): websocketpp
+  # (header-only) on standalone asio.
+  find_path(WEBSOCKETPP_INCLUDE_DIR websocketpp/server.hpp)
+  tlvlink_require(WEBSOCKETPP_INCLUDE_DIR "websocketpp (websocketpp/server.hpp)" libwebsocketpp-dev)
+  find_path(ASIO_INCLUDE_DIR asio.hpp)
+  tlvlink_require(ASIO_INCLUDE_DIR "standalone asio (asio.hpp)" libasio-dev)
+  add_library(tlvlink::websocketpp INTERFACE IMPORTED)
+  target_include_directories(tlvlink::websocketpp SYSTEM INTERFACE ${WEBSOCKETPP_INCLUDE_DIR} ${ASIO_INCLUDE_DIR})
+  target_compile_definitions(tlvlink::websocketpp INTERFACE ASIO_STANDALONE)
   # PNG images (tools/io/png.cc: calibration folders).
   find_package(PNG QUIET)
   tlvlink_require(PNG_FOUND "libpng" libpng-dev)

@@ -6,6 +6,7 @@
 //   2 PNG  (decode_png)                            7 recorded raw stream (*.tlvraw, the reader)
 //   3 JPEG (decode_jpeg at a scale from byte 1)    8 camera frame (FrameDecoder: the Mini's
 //   4 TAG label line (parse_tag_label_line)          MJPEG with crop, DIGIT YUYV, NV12, GREY)
+//                                                  9 MCAP file (read_mcap: tlvlink replay X.mcap)
 // The loaders read a file, so modes 5-7 write the input into a private temporary directory
 // first (slower, but it fuzzes the real line reader and its limits). Every result that parses
 // is read in full. Run by tools/setup/run_tests.sh fuzz (seeds from make_parser_fuzz_corpus).
@@ -22,6 +23,7 @@
 
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/datasets/touch100k.h"
+#include "tlvlink/foxglove/mcap_reader.h"
 #include "tlvlink/datasets/touch_and_go.h"
 #include "tlvlink/image/frame_decoder.h"
 #include "tlvlink/image/jpeg.h"
@@ -143,11 +145,23 @@ void fuzz_camera_frame(uint8_t kind, std::span<const uint8_t> b) {
   if (dec.decode(b, out, "fuzz frame").ok()) g_parser_fuzz_sink += out[0] + out.back();
 }
 
+// A file that reads is read in full: every schema, channel and message.
+void fuzz_mcap(std::span<const uint8_t> bytes) {
+  auto f = foxglove::read_mcap(std::as_bytes(bytes), "fuzz.mcap");
+  if (!f.ok()) return;
+  for (const auto& s : f->schemas) g_parser_fuzz_sink += s.id + s.name.size() + s.data.size();
+  for (const auto& c : f->channels) g_parser_fuzz_sink += c.id + c.topic.size() + c.metadata.size();
+  for (const auto& m : f->messages) {
+    g_parser_fuzz_sink += m.channel_id + m.log_time + m.data.size();
+    if (!m.data.empty()) g_parser_fuzz_sink += static_cast<uint8_t>(m.data.back());
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 2) return 0;
-  const uint8_t mode = data[0] % 9;
+  const uint8_t mode = data[0] % 10;
   const uint8_t arg = data[1];
   const std::span<const uint8_t> rest(data + 1, size - 1);
   const std::span<const std::byte> bytes = std::as_bytes(rest);
@@ -176,6 +190,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     case 6: fuzz_tag(rest); break;
     case 7: fuzz_recording(rest); break;
     case 8: fuzz_camera_frame(arg, rest.subspan(1)); break;
+    case 9: fuzz_mcap(rest); break;
   }
   return 0;
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "tlvlink/capture/recording.h"
+#include "tlvlink/foxglove/mcap_writer.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/io/npy.h"
 
@@ -73,6 +74,33 @@ Bytes recording(const std::string& dir, const Bytes& frame) {
   if (!first.ok() || !w->append(frame, 17'000'000, 1, capture::kRecordErrorFlag).ok() ||
       !w->append_repeat(*first, 34'000'000, 3).ok() || !w->close().ok())
     return {};
+  std::ifstream in(path, std::ios::binary);
+  Bytes out((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  unlink(path.c_str());
+  return out;
+}
+
+// An MCAP file as tlvlink writes one: two schemas, a channel with metadata, one without schema,
+// messages in several chunks (small chunks: more structure for the mutator to hit).
+Bytes mcap(const std::string& dir) {
+  const std::string path = dir + "/.seed.mcap";
+  foxglove::McapWriterOptions o;
+  o.chunk_bytes = 96;
+  auto w = foxglove::McapWriter::create(path, true, o);
+  if (!w.ok()) return {};
+  auto& m = *w.value();
+  const std::string payload = "{\"type\":\"frame_prediction\",\"contact\":true}";
+  const auto data = std::as_bytes(std::span(payload.data(), payload.size()));
+  if (!m.add_schema({1, "tlvlink.FramePrediction", "jsonschema", "{\"type\":\"object\"}"}).ok() ||
+      !m.add_schema({2, "tlvlink.Stats", "jsonschema", "{}"}).ok() ||
+      !m.add_channel({1, 1, "/tlvlink/frame_prediction", "json", {{"k", "v"}}}).ok() ||
+      !m.add_channel({2, 2, "/tlvlink/stats", "json", {}}).ok() ||
+      !m.add_channel({100, 0, "/tlvlink/records", "tlvlink.record", {}}).ok())
+    return {};
+  for (uint64_t i = 0; i < 6; ++i) {
+    if (!m.write_message(static_cast<uint16_t>(i % 3 == 2 ? 100 : i % 2 + 1), 1000 * i, 1000 * i + 5, data).ok()) return {};
+  }
+  if (!m.close().ok()) return {};
   std::ifstream in(path, std::ios::binary);
   Bytes out((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   unlink(path.c_str());
@@ -152,5 +180,8 @@ int main(int argc, char** argv) {
   save(dir, "frame_yuyv", 8, yuyv, 2);
   save(dir, "frame_nv12", 8, nv12, 3);
   save(dir, "frame_grey", 8, grey, 4);
+  const Bytes mcap_seed = mcap(dir);
+  if (mcap_seed.empty()) ++g_failures, std::fprintf(stderr, "make_parser_fuzz_corpus: cannot write the MCAP seed\n");
+  save(dir, "mcap", 9, mcap_seed);
   return g_failures == 0 ? 0 : 1;
 }

@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "fixture_recording.h"
+#include "listen/board_process.h"
 #include "support/cli_run.h"
 #include "support/temp_dir.h"
 
@@ -25,32 +26,6 @@ extern char** environ;
 
 namespace tlvlink::testing {
 namespace {
-
-// A board process for the duration of a test (killed by its pid at the end).
-class BoardProcess {
- public:
-  BoardProcess(const std::string& link, int frames, double rate, double hold_s) {
-    const std::string f = std::to_string(frames), r = std::to_string(rate), h = std::to_string(hold_s);
-    const char* argv[] = {TLVLINK_STREAM_CHECK, "board", "--link", link.c_str(), "--frames", f.c_str(), "--rate",
-                          r.c_str(), "--hold", h.c_str(), nullptr};
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    EXPECT_EQ(posix_spawn(&pid_, argv[0], &actions, nullptr, const_cast<char**>(argv), environ), 0);
-    posix_spawn_file_actions_destroy(&actions);
-    const std::string path = link.substr(4);  // "pty:PATH"
-    for (int i = 0; i < 300 && ::access(path.c_str(), F_OK) != 0; ++i) ::usleep(10'000);
-  }
-  ~BoardProcess() {
-    if (pid_ > 0) {
-      ::kill(pid_, SIGTERM);
-      ::waitpid(pid_, nullptr, 0);
-    }
-  }
-
- private:
-  pid_t pid_ = -1;
-};
 
 std::vector<nlohmann::json> json_lines(const std::string& out, bool messages_only = true) {
   std::vector<nlohmann::json> lines;

@@ -121,6 +121,14 @@ echo "   predictions, $(count stats) stats; the daemon wrote $(grep -c '"type":"
 echo "   link statistics (tlvlink listen; send -> received on this machine's one clock):"
 sed -n '/^link:/,$p' "$out/listen.log" | sed 's/^/     /'
 echo "   stream: $out/stream.jsonl (JSON lines), $out/stream.tlvrec (tlvlink replay $out/stream.tlvrec)"
+# The same run as an MCAP file for Foxglove (tools/foxglove): converted from the recording, so
+# it holds exactly what the listener received.
+if "$tlvlink" replay "$out/stream.tlvrec" --overwrite --record "$out/stream.mcap" >/dev/null 2>"$out/mcap.log"; then
+  echo "   Foxglove: $out/stream.mcap (open it in Foxglove, or serve it live:"
+  echo "     $tlvlink replay $out/stream.mcap --realtime --foxglove :8765  -> ws://127.0.0.1:8765)"
+else
+  echo "   Foxglove: the MCAP file could not be written: $(tail -1 "$out/mcap.log")"
+fi
 
 step "7/7 the live predictions against the simulator's ground truth, and against the offline path (tlvlink score)"
 # Ten events are ten answers: read the intervals. live vs offline pairs the same frames through

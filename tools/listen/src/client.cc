@@ -56,6 +56,20 @@ Result<std::unique_ptr<Client>> Client::open(std::string_view source, const Clie
     TLV_ENSURE(impl->replay == nullptr, ErrorCode::kInvalidArgument, "--record with a replay: copy the file instead");
     TLV_ASSIGN_OR_RETURN(impl->recorder, RecordingWriter::create(options.record, options.overwrite_record));
   }
+  impl->sink = options.record_sink;
+  return std::unique_ptr<Client>(new Client(std::move(impl)));
+}
+
+Result<std::unique_ptr<Client>> Client::open_replay(std::unique_ptr<RecordSource> records, std::string name,
+                                                    const ClientOptions& options) {
+  TLV_ENSURE(records != nullptr, ErrorCode::kInvalidArgument, "replay %s: no records", name.c_str());
+  TLV_ENSURE(options.record.empty(), ErrorCode::kInvalidArgument, "--record with a replay: copy the file instead");
+  auto impl = std::make_unique<Impl>();
+  impl->source = std::move(name);
+  impl->options = options;
+  impl->replay = std::move(records);
+  impl->sent_deframer = std::make_unique<protocol::Deframer>();
+  impl->sink = options.record_sink;
   return std::unique_ptr<Client>(new Client(std::move(impl)));
 }
 

@@ -36,12 +36,13 @@ bool Client::Impl::sent_by_us(uint32_t sequence, int64_t send_ns) const {
 
 // Flushed per record: a recorder that is killed keeps everything it had received.
 void Client::Impl::record(RecordKind kind, int64_t time_ns, std::span<const std::byte> data) {
-  if (!recorder) return;
-  Status st = recorder->write(kind, time_ns, data);
-  if (st.ok()) st = recorder->flush();
-  if (st.ok()) return;
-  record_error = st.error();  // next() returns it; nothing more is recorded
-  recorder.reset();
+  for (RecordSink* to : {static_cast<RecordSink*>(recorder.get()), sink}) {
+    if (to == nullptr || record_error) continue;
+    Status st = to->write(kind, time_ns, data);
+    if (st.ok()) st = to->flush();
+    if (!st.ok()) record_error = st.error();  // next() returns it; nothing more is recorded
+  }
+  if (record_error) recorder.reset(), sink = nullptr;
 }
 
 // The board's sequence: +1 per frame it sends; a jump forward is frames lost or rejected on the

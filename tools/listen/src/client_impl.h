@@ -24,8 +24,9 @@ struct Client::Impl {
   std::string source;
   ClientOptions options;
   std::unique_ptr<transport::Transport> link;   // live sources
-  std::unique_ptr<RecordingReader> replay;      // replay sources
-  std::unique_ptr<RecordingWriter> recorder;    // --record
+  std::unique_ptr<RecordSource> replay;         // replay sources
+  std::unique_ptr<RecordingWriter> recorder;    // --record FILE (.tlvrec)
+  RecordSink* sink = nullptr;                   // options.record_sink (borrowed)
   std::optional<Error> record_error;            // the write that failed; recording stopped
   std::unique_ptr<protocol::Deframer> deframer = std::make_unique<protocol::Deframer>();
   std::unique_ptr<protocol::Deframer> sent_deframer;  // replay: the client's own commands

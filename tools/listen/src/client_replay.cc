@@ -67,6 +67,8 @@ Status Client::Impl::pump_replay(int64_t deadline) {
         break;
       default: break;  // a newer recorder's record kinds
     }
+    // A replay copied into another container (`replay run.tlvrec --record run.mcap`).
+    record(r.kind, r.time_ns, r.data);
     pending_record.reset();
     if (!options.realtime && transport::monotonic_ns() >= deadline) return Status();
   }

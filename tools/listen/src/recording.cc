@@ -31,35 +31,38 @@ uint64_t get64(const std::byte* p) {
 
 }  // namespace
 
-// File header: magic[8] version:u16 header_size:u16 reserved:u32 start_wall_ns:i64 start_mono_ns:i64.
-// Record: time_ns:i64 length:u32 kind:u8 reserved[3] data[length]. All little-endian.
-Result<std::unique_ptr<RecordingWriter>> RecordingWriter::create(const std::string& path, bool overwrite) {
+Result<std::FILE*> create_recording_file(const std::string& path, bool overwrite, const char* what) {
   struct stat st {};
   if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
-    return Error::make(ErrorCode::kIo, "recording %s: not a regular file (%s)", path.c_str(),
-                       file_type_name(st.st_mode));
+    return Error::make(ErrorCode::kIo, "%s %s: not a regular file (%s)", what, path.c_str(), file_type_name(st.st_mode));
   }
   // O_NONBLOCK: a FIFO put there since the stat fails at once (ENXIO) instead of blocking the
   // open, or is refused below. O_EXCL unless told to replace what is there.
   const int fd = ::open(path.c_str(),
                         O_WRONLY | O_CREAT | O_CLOEXEC | O_NONBLOCK | (overwrite ? 0 : O_EXCL), 0644);
   TLV_ENSURE(fd >= 0 || errno != EEXIST, ErrorCode::kInvalidArgument,
-             "recording %s already exists (give --overwrite to replace it)", path.c_str());
-  TLV_ENSURE(fd >= 0, ErrorCode::kIo, "creating recording %s: %s", path.c_str(), std::strerror(errno));
+             "%s %s already exists (give --overwrite to replace it)", what, path.c_str());
+  TLV_ENSURE(fd >= 0, ErrorCode::kIo, "creating %s %s: %s", what, path.c_str(), std::strerror(errno));
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
     ::close(fd);
-    return Error::make(ErrorCode::kIo, "recording %s: not a regular file (%s)", path.c_str(),
-                       file_type_name(st.st_mode));
+    return Error::make(ErrorCode::kIo, "%s %s: not a regular file (%s)", what, path.c_str(), file_type_name(st.st_mode));
   }
   ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
   if (overwrite && ::ftruncate(fd, 0) != 0) {
     const int err = errno;
     ::close(fd);
-    return Error::make(ErrorCode::kIo, "recording %s: %s", path.c_str(), std::strerror(err));
+    return Error::make(ErrorCode::kIo, "%s %s: %s", what, path.c_str(), std::strerror(err));
   }
   std::FILE* f = ::fdopen(fd, "wb");
   if (f == nullptr) ::close(fd);
-  TLV_ENSURE(f != nullptr, ErrorCode::kIo, "creating recording %s: %s", path.c_str(), std::strerror(errno));
+  TLV_ENSURE(f != nullptr, ErrorCode::kIo, "creating %s %s: %s", what, path.c_str(), std::strerror(errno));
+  return f;
+}
+
+// File header: magic[8] version:u16 header_size:u16 reserved:u32 start_wall_ns:i64 start_mono_ns:i64.
+// Record: time_ns:i64 length:u32 kind:u8 reserved[3] data[length]. All little-endian.
+Result<std::unique_ptr<RecordingWriter>> RecordingWriter::create(const std::string& path, bool overwrite) {
+  TLV_ASSIGN_OR_RETURN(std::FILE* f, create_recording_file(path, overwrite));
   std::byte header[kRecordingHeaderSize] = {};
   std::memcpy(header, kRecordingMagic, 8);
   header[8] = std::byte{kRecordingVersion & 0xFF};

@@ -64,7 +64,8 @@ Result<int> run_session(const SessionOptions& o, std::FILE* out, std::FILE* log,
     TLV_ASSIGN_OR_RETURN(protocol::Command c, parse_command(text));
     commands.push_back(c);
   }
-  TLV_ASSIGN_OR_RETURN(std::unique_ptr<Client> client, Client::open(o.source, o.client));
+  TLV_ASSIGN_OR_RETURN(std::unique_ptr<Client> client,
+                       o.open_client ? o.open_client(o.client) : Client::open(o.source, o.client));
   std::unique_ptr<StdinCommands> typed;
   if (o.stdin_commands) typed = std::make_unique<StdinCommands>(*client, log, stop);
 
@@ -110,6 +111,13 @@ Result<int> run_session(const SessionOptions& o, std::FILE* out, std::FILE* log,
     const FormatContext context{hello ? &*hello : nullptr};
     std::fprintf(out, "%s\n", (o.json ? json_line(m, context) : text_line(m, context)).c_str());
     std::fflush(out);
+    for (MessageSink* sink : o.sinks) {
+      if (Status st = sink->on_message(m, context); !st.ok()) {
+        std::fprintf(log, "tlvlink listen: error [%s]: %s\n", error_code_name(st.error().code()), st.error().message());
+        print_stats();
+        return 1;
+      }
+    }
     // Replies to our commands.
     uint32_t answered = 0;
     bool have_answer = false, ok = true;

@@ -34,6 +34,9 @@
 
 namespace tlvlink::listen {
 
+class RecordSink;    // recording.h
+class RecordSource;
+
 struct ClientOptions {
   bool reconnect = true;         // reopen after a disconnect or a failed open (live sources)
   int reconnect_min_ms = 100;    // backoff doubles up to the max
@@ -43,6 +46,10 @@ struct ClientOptions {
   std::string record;            // also write what arrives into this recording file
   bool overwrite_record = false; // replace an existing `record` file (else it is an error)
   bool realtime = false;         // replay: pace records at their recorded times
+  // Borrowed for the client's lifetime: also (or instead of `record`) receives every record a
+  // .tlvrec would get, from a live source or copied from a replayed one (tools/foxglove's MCAP
+  // recordings carry them). A write error ends the client as a `record` write error does.
+  RecordSink* record_sink = nullptr;
 };
 
 struct LinkEvent {
@@ -60,6 +67,10 @@ class Client {
   // A live source that is absent is not an error here (the client keeps trying); a malformed
   // source string or an unreadable recording is.
   static Result<std::unique_ptr<Client>> open(std::string_view source, const ClientOptions& options = {});
+  // A replay of records from any container (an MCAP recording's record channel); `name` is the
+  // source() string.
+  static Result<std::unique_ptr<Client>> open_replay(std::unique_ptr<RecordSource> records, std::string name,
+                                                     const ClientOptions& options = {});
   ~Client();
   Client(const Client&) = delete;
   Client& operator=(const Client&) = delete;

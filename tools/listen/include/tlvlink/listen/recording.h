@@ -37,16 +37,40 @@ struct Record {
   std::vector<std::byte> data;
 };
 
-class RecordingWriter {
+// Creates a recording file of any format (.tlvrec, .mcap) by one rule: an existing file is an
+// error unless `overwrite` (then it is truncated); anything but a regular file (a FIFO, a
+// device) is refused without blocking. `what` names the file in errors ("recording").
+Result<std::FILE*> create_recording_file(const std::string& path, bool overwrite, const char* what = "recording");
+
+// Where a client writes what it reads and sends (a .tlvrec file, or another container that
+// carries the same records: tools/foxglove's MCAP recordings).
+class RecordSink {
+ public:
+  virtual ~RecordSink() = default;
+  virtual Status write(RecordKind kind, int64_t time_ns, std::span<const std::byte> data) = 0;
+  virtual Status flush() = 0;
+};
+
+// Where a replaying client reads records from.
+class RecordSource {
+ public:
+  virtual ~RecordSource() = default;
+  // The next record; false at the end.
+  virtual Result<bool> next(Record& record) = 0;
+  // The last record was cut short (its writer was killed while writing).
+  virtual bool truncated() const = 0;
+};
+
+class RecordingWriter : public RecordSink {
  public:
   // Creates the file and writes its header with the current wall and monotonic times. An
   // existing file is an error unless `overwrite` (then it is truncated); anything but a regular
   // file (a FIFO, a device) is refused without blocking. Write errors name the path and the
   // reason ("disk full", "file size limit reached").
   static Result<std::unique_ptr<RecordingWriter>> create(const std::string& path, bool overwrite = false);
-  ~RecordingWriter();
-  Status write(RecordKind kind, int64_t time_ns, std::span<const std::byte> data);
-  Status flush();
+  ~RecordingWriter() override;
+  Status write(RecordKind kind, int64_t time_ns, std::span<const std::byte> data) override;
+  Status flush() override;
 
  private:
   explicit RecordingWriter(std::FILE* file, std::string path) : file_(file), path_(std::move(path)) {}
@@ -54,16 +78,16 @@ class RecordingWriter {
   std::string path_;
 };
 
-class RecordingReader {
+class RecordingReader : public RecordSource {
  public:
   static Result<std::unique_ptr<RecordingReader>> open(const std::string& path);
-  ~RecordingReader();
+  ~RecordingReader() override;
   int64_t start_wall_ns() const { return start_wall_ns_; }
   int64_t start_monotonic_ns() const { return start_mono_ns_; }
   // The next record; false at the end. A record cut short (the recorder was killed while
   // writing) ends the file: truncated() says so.
-  Result<bool> next(Record& record);
-  bool truncated() const { return truncated_; }
+  Result<bool> next(Record& record) override;
+  bool truncated() const override { return truncated_; }
 
  private:
   RecordingReader(std::FILE* file, std::string path) : file_(file), path_(std::move(path)) {}

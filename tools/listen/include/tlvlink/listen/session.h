@@ -6,13 +6,24 @@
 #include <atomic>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "tlvlink/error.h"
 #include "tlvlink/listen/client.h"
+#include "tlvlink/listen/format.h"
 
 namespace tlvlink::listen {
+
+// Receives every message the session prints, with the same context (tools/foxglove: an MCAP
+// recording, a Foxglove WebSocket server). An error ends the session with exit code 1.
+class MessageSink {
+ public:
+  virtual ~MessageSink() = default;
+  virtual Status on_message(const Message& message, const FormatContext& context) = 0;
+};
 
 struct SessionOptions {
   std::string source;                 // Client::open()'s source string
@@ -25,6 +36,9 @@ struct SessionOptions {
   uint64_t max_predictions = 0;       // stop after this many FramePredictions (0: no limit)
   int stats_every_ms = 0;             // also print the link statistics this often (0: only at the end)
   int reply_timeout_ms = 5000;        // exit_after_replies: give up waiting after this long
+  std::vector<MessageSink*> sinks;    // borrowed for the call
+  // Opens the client instead of Client::open(source, client) (a replay of another container).
+  std::function<Result<std::unique_ptr<Client>>(const ClientOptions&)> open_client;
 };
 
 // Prints messages to `out`, events and statistics to `log`. Returns the exit code: 0, or 1 when

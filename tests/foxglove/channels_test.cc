@@ -1,0 +1,98 @@
+// The channel table (tools/foxglove/channels.h) on every message of the fixture recording: each
+// message's JSON is the listener's JSON line plus `timestamp` (its log time), and every key it
+// carries is declared by its channel's JSON Schema.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "fixture_recording.h"
+#include "support/temp_dir.h"
+#include "tlvlink/foxglove/channels.h"
+#include "tlvlink/listen/client.h"
+
+namespace tlvlink::foxglove {
+namespace {
+
+using nlohmann::json;
+
+struct Mapped {
+  std::string line;  // json_line
+  listen::Message message;
+  std::optional<ChannelMessage> channel;
+};
+
+std::vector<Mapped> map_fixture() {
+  testing::TempDir dir("chan");
+  EXPECT_TRUE(listen::write_fixture_recording(dir / "f", false).ok());
+  auto c = listen::Client::open("replay:" + dir / "f").value();
+  std::vector<Mapped> out;
+  std::optional<listen::Message> hello;
+  while (!c->ended()) {
+    auto m = c->next(100);
+    if (!m.ok() || !m.value()) continue;
+    if (m.value()->type() == protocol::MessageType::kHello) hello = *m.value();
+    const listen::FormatContext context{hello ? &*hello : nullptr};
+    out.push_back({listen::json_line(*m.value(), context), *m.value(), to_channel_message(*m.value(), context)});
+  }
+  return out;
+}
+
+// Every key of `value` (recursively, through arrays) is in `schema`'s properties.
+void expect_declared(const json& value, const json& schema, const std::string& where) {
+  if (value.is_object()) {
+    ASSERT_TRUE(schema.contains("properties")) << where << ": an object where the schema has no properties";
+    for (const auto& [k, v] : value.items()) {
+      ASSERT_TRUE(schema["properties"].contains(k)) << where << "." << k << " is not in the schema";
+      expect_declared(v, schema["properties"][k], where + "." + k);
+    }
+  } else if (value.is_array() && schema.contains("items")) {
+    for (const json& v : value) expect_declared(v, schema["items"], where + "[]");
+  }
+}
+
+TEST(Channels, TheTableHasUniqueIdsTopicsAndJsonSchemas) {
+  std::set<uint16_t> ids;
+  std::set<std::string_view> topics;
+  for (const ChannelSpec& c : channel_table()) {
+    EXPECT_TRUE(ids.insert(c.id).second) << c.id;
+    EXPECT_TRUE(topics.insert(c.topic).second) << c.topic;
+    const json schema = json::parse(c.schema);
+    EXPECT_EQ(schema["type"], "object") << c.topic;
+    EXPECT_TRUE(schema["properties"].contains("timestamp")) << c.topic;
+  }
+  EXPECT_EQ(ids.size(), 8u);
+}
+
+TEST(Channels, EveryMessageIsItsJsonLinePlusItsLogTime) {
+  const std::vector<Mapped> all = map_fixture();
+  ASSERT_EQ(all.size(), 13u);  // the fixture's messages (tests/listen/format_test.cc)
+  std::set<uint16_t> used;
+  for (const Mapped& m : all) {
+    ASSERT_TRUE(m.channel.has_value()) << m.line;
+    const ChannelMessage& c = *m.channel;
+    used.insert(c.channel_id);
+    json j = json::parse(c.json);
+    const json stamp = j["timestamp"];
+    j.erase("timestamp");
+    EXPECT_EQ(j.dump(), json::parse(m.line).dump()) << "the listener's line, key for key";
+    EXPECT_EQ(c.json.substr(0, m.line.size() - 1), m.line.substr(0, m.line.size() - 1)) << "and byte for byte";
+    EXPECT_EQ(stamp["sec"].get<int64_t>() * 1'000'000'000 + stamp["nsec"].get<int64_t>(), c.log_time_ns);
+    EXPECT_EQ(c.publish_time_ns, m.message.receive_ns());
+    const ChannelSpec& spec = channel_table()[c.channel_id - 1];
+    EXPECT_EQ(std::string(spec.topic), "/tlvlink/" + j["type"].get<std::string>()) << "one channel per type";
+    expect_declared(j, json::parse(spec.schema), std::string(spec.topic));
+    // Log time: the board's time on the host clock once the offset is known (capture time for frames).
+    if (!m.message.clock().valid) {
+      EXPECT_EQ(c.log_time_ns, m.message.receive_ns()) << m.line;
+    } else if (j["type"] == "frame_prediction") {
+      EXPECT_EQ(c.log_time_ns, j["capture_host_ns"].get<int64_t>());
+    } else {
+      EXPECT_EQ(c.log_time_ns, j["send_host_ns"].get<int64_t>());
+    }
+  }
+  EXPECT_GE(used.size(), 7u) << "the fixture has every type but error or pong at least";
+}
+
+}  // namespace
+}  // namespace tlvlink::foxglove
