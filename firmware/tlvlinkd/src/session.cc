@@ -208,7 +208,7 @@ uint64_t Session::frames_processed() const { return impl_->inference->snapshot()
 
 bool Session::command(std::string_view line) {
   internal::Command c;
-  if (!internal::parse_command(line, internal::monotonic_ns(), c)) return false;
+  if (!internal::parse_command(line, board_clock_ns(), c)) return false;
   return impl_->commands.push(c);
 }
 

@@ -43,7 +43,7 @@ Result<std::unique_ptr<StreamSink>> StreamSink::open(const std::string& spec,
   sink->hello_.emplace(board, model, config.model, sensors, names);
   TLV_TRY(sink->sender_->set_hello(sink->hello_->hello()));
   TLV_TRY(sink->sender_->set_command_handler([&commands](const protocol::Command& c) -> Status {
-    TLV_ASSIGN_OR_RETURN(const Command cmd, stream::from_protocol(c, monotonic_ns()));
+    TLV_ASSIGN_OR_RETURN(const Command cmd, stream::from_protocol(c, board_clock_ns()));
     TLV_ENSURE(commands.push(cmd), ErrorCode::kInvalidState, "command queue full");
     return {};
   }));

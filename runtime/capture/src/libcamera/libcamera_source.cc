@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-#include "clock.h"
+#include "tlvlink/clock.h"
 #include "libcamera/libcamera_internal.h"
 
 namespace tlvlink::capture {
@@ -33,7 +33,7 @@ Error begin_outage(LibcameraSource::State& s) {
   s.session.reset();
   s.stats.connected = false;
   ++s.stats.disconnects;
-  const int64_t now = internal::monotonic_ns();
+  const int64_t now = board_clock_ns();
   s.backoff.lost(now, s.streamed);  // tlvlink/capture/reconnect_backoff.h, as the V4L2 source
   s.stats.outage_ns = s.backoff.outage_ns(now);
   return Error::make(ErrorCode::kCaptureDisconnected,
@@ -44,10 +44,10 @@ Error begin_outage(LibcameraSource::State& s) {
 // Bounded reopening while the camera is gone (same scheme as the V4L2 source).
 Status reconnect(LibcameraSource::State& s, int64_t deadline) {
   for (;;) {
-    int64_t now = internal::monotonic_ns();
+    int64_t now = board_clock_ns();
     if (s.backoff.due(now)) {
       Status st = open_session(s);
-      now = internal::monotonic_ns();
+      now = board_clock_ns();
       if (st.ok()) {
         s.backoff.reopened(now);
         s.stats.outage_ns = s.backoff.outage_ns(now);
@@ -60,13 +60,13 @@ Status reconnect(LibcameraSource::State& s, int64_t deadline) {
     }
     s.stats.outage_ns = s.backoff.outage_ns(now);
     if (s.backoff.next_attempt_ns() > deadline) {
-      internal::sleep_until_ns(deadline);
+      sleep_until_ns(deadline);
       return Error::make(ErrorCode::kCaptureDisconnected,
                          "%s: disconnected, %llu reopen attempts failed: %s", s.name,
                          static_cast<unsigned long long>(s.stats.reconnect_attempts),
                          s.last_reopen_error.message());
     }
-    internal::sleep_until_ns(s.backoff.next_attempt_ns());
+    sleep_until_ns(s.backoff.next_attempt_ns());
   }
 }
 
@@ -139,7 +139,7 @@ void LibcameraSource::stop() {
   State& s = *state_;
   if (!s.started) return;
   if (s.backoff.in_outage()) {
-    const int64_t now = internal::monotonic_ns();
+    const int64_t now = board_clock_ns();
     s.backoff.reopened(now);  // the outage's clock stops with the source
     s.stats.outage_ns = s.backoff.outage_ns(now);
   }
@@ -169,7 +169,7 @@ Result<CapturedFrame> LibcameraSource::next(int32_t timeout_ms) {
   if (!s.started) return Error::make(ErrorCode::kInvalidState, "%s: next() before start()", s.name);
   release();
   const int64_t deadline =
-      internal::monotonic_ns() + (timeout_ms > 0 ? timeout_ms : 0) * internal::kNsPerMs;
+      board_clock_ns() + (timeout_ms > 0 ? timeout_ms : 0) * kNsPerMs;
   if (!s.test_mode) {
     if (s.session && s.session->disconnected()) return begin_outage(s);
     if (!s.session) TLV_TRY(reconnect(s, deadline));
@@ -208,14 +208,14 @@ Result<CapturedFrame> LibcameraSource::next(int32_t timeout_ms) {
       return frame;
     }
     if (s.session && s.session->disconnected()) return begin_outage(s);
-    const int64_t now = internal::monotonic_ns();
+    const int64_t now = board_clock_ns();
     if (now >= deadline) {
       ++s.stats.timeouts;
       return Error::make(ErrorCode::kCaptureTimeout, "%s: no frame within %d ms", s.name,
                          timeout_ms);
     }
     s.completions.wait(
-        static_cast<int>((deadline - now + internal::kNsPerMs - 1) / internal::kNsPerMs));
+        static_cast<int>((deadline - now + kNsPerMs - 1) / kNsPerMs));
   }
 }
 
