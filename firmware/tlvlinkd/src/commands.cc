@@ -64,27 +64,17 @@ Result<std::vector<ScriptedCommand>> load_command_script(const std::string& path
 
 bool CommandQueue::push(const Command& c) {
   std::lock_guard lock(mutex_);
-  if (count_ == kCapacity) {
-    ++dropped_;
-    return false;
-  }
-  ring_[(head_ + count_) % kCapacity] = c;
-  ++count_;
-  return true;
+  return ring_.try_push(c);
 }
 
 bool CommandQueue::pop(Command& out) {
   std::lock_guard lock(mutex_);
-  if (count_ == 0) return false;
-  out = ring_[head_];
-  head_ = (head_ + 1) % kCapacity;
-  --count_;
-  return true;
+  return ring_.pop(out);
 }
 
 uint64_t CommandQueue::dropped() const {
   std::lock_guard lock(mutex_);
-  return dropped_;
+  return ring_.rejected();
 }
 
 }  // namespace tlvlink::daemon::internal

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "tlvlink/drop_oldest_ring.h"
 #include "tlvlink/error.h"
 #include "tlvlink/stream/commands.h"
 
@@ -40,15 +41,14 @@ Result<std::vector<ScriptedCommand>> load_command_script(const std::string& path
 class CommandQueue {
  public:
   static constexpr size_t kCapacity = 32;
-  bool push(const Command& c);  // false when full (the command is dropped and counted)
+  bool push(const Command& c);  // false when full (the newest command is dropped and counted)
   bool pop(Command& out);
   uint64_t dropped() const;
 
  private:
   mutable std::mutex mutex_;
-  std::array<Command, kCapacity> ring_{};
-  size_t head_ = 0, count_ = 0;
-  uint64_t dropped_ = 0;
+  std::array<Command, kCapacity> storage_{};
+  DropOldestRing<Command> ring_{storage_};
 };
 
 }  // namespace tlvlink::daemon::internal
