@@ -243,6 +243,8 @@ TEST(Replay, NoFrameBeforeItsTimeIsATimeout) {
   ASSERT_TRUE(w.ok());
   ASSERT_TRUE(w->append(frame_bytes(0), 300 * kMs, 0).ok());
   ASSERT_TRUE(w->close().ok());
+  FakeClock clock;  // the replay's waits move it instead of taking 300 ms
+  const int64_t t0 = clock.now_ns();
   ReplayConfig c;
   c.path = path;
   auto src = make_replay_source(c);
@@ -251,8 +253,10 @@ TEST(Replay, NoFrameBeforeItsTimeIsATimeout) {
   ASSERT_FALSE(none.ok());
   EXPECT_EQ(none.error().code(), ErrorCode::kCaptureTimeout);
   EXPECT_EQ((*src)->stats().timeouts, 1u);
+  EXPECT_EQ(clock.now_ns() - t0, 1 * kMs) << "the timeout waited exactly its 1 ms";
   auto f = (*src)->next(2000);
   ASSERT_TRUE(f.ok()) << f.error().message();
+  EXPECT_EQ(f->timestamp_ns - t0, 300 * kMs) << "delivered when it fell due";
   std::remove(path.c_str());
 }
 

@@ -4,9 +4,9 @@
 #include <optional>
 #include <vector>
 
-#include "tlvlink/clock.h"
 #include "tlvlink/capture/frame_accounting.h"
 #include "tlvlink/capture/recording.h"
+#include "tlvlink/clock.h"
 #include "tlvlink/log.h"
 
 namespace tlvlink::capture {

@@ -7,6 +7,7 @@
 
 #include <cstring>
 
+#include "tlvlink/capture/outage.h"
 #include "v4l2_internal.h"
 
 namespace tlvlink::capture {
@@ -24,55 +25,22 @@ int64_t timestamp_of(const v4l2_buffer& b, SourceStats& stats, int64_t dequeued_
   return dequeued_ns;
 }
 
+OutageBook outage_book(V4l2Source::State& s) { return {s.backoff, s.stats, s.last_reopen_error}; }
+
 // Ends the stream and begins an outage; the returned error is what next() reports. The backoff
 // restarts from backoff_initial_ms only if the device had delivered a frame since it was opened.
 Error begin_outage(V4l2Source::State& s, const char* why, int err) {
   internal::close_device(s);
-  const int64_t now = board_clock_ns();
-  ++s.stats.disconnects;
-  s.backoff.lost(now, s.streamed);
-  s.stats.outage_ns = s.backoff.outage_ns(now);
+  capture::begin_outage(outage_book(s), s.streamed);
   return Error::make(ErrorCode::kCaptureDisconnected,
                      "%s: %s%s%s; reconnecting (first reopen in %d ms)", s.name, why,
                      err ? ": " : "", err ? std::strerror(err) : "", s.backoff.delay_ms());
 }
 
-// While disconnected: reopen attempts when the backoff allows, until deadline_ns; between them
-// the thread sleeps, so a caller calling next() in a loop waits its timeout per call. Ok once
-// streaming again.
+// While disconnected (outage.h): reopen attempts until deadline_ns. Ok once streaming again.
 Status reconnect(V4l2Source::State& s, int64_t deadline_ns) {
-  for (;;) {
-    int64_t now = board_clock_ns();
-    if (s.backoff.due(now)) {
-      Status st = internal::open_device(s);
-      now = board_clock_ns();
-      if (st.ok()) {
-        s.backoff.reopened(now);
-        s.stats.outage_ns = s.backoff.outage_ns(now);
-        ++s.stats.reconnects;
-        return Status();
-      }
-      ++s.stats.reconnect_attempts;
-      s.last_reopen_error = st.error();
-      s.backoff.attempt_failed(now);
-    }
-    s.stats.outage_ns = s.backoff.outage_ns(now);
-    if (s.backoff.next_attempt_ns() > deadline_ns) {
-      sleep_until_ns(deadline_ns);
-      now = board_clock_ns();
-      s.stats.outage_ns = s.backoff.outage_ns(now);
-      const char* reason = s.last_reopen_error.code() == ErrorCode::kOk
-                               ? "not reopened yet"
-                               : s.last_reopen_error.message();
-      return Error::make(
-          ErrorCode::kCaptureDisconnected,
-          "%s: disconnected for %lld ms, %llu reopen attempts failed, next in %lld ms: %s", s.name,
-          static_cast<long long>(s.backoff.current_outage_ns(now) / kNsPerMs),
-          static_cast<unsigned long long>(s.stats.reconnect_attempts),
-          static_cast<long long>((s.backoff.next_attempt_ns() - now) / kNsPerMs), reason);
-    }
-    sleep_until_ns(s.backoff.next_attempt_ns());
-  }
+  auto reopen = [&s] { return internal::open_device(s); };
+  return reconnect_until(outage_book(s), s.name, deadline_ns, reopen);
 }
 
 bool requeue(V4l2Source::State& s, uint32_t index, int& err) {
@@ -111,11 +79,7 @@ Status V4l2Source::start() {
 void V4l2Source::stop() {
   State& s = *state_;
   if (!s.started) return;
-  if (s.backoff.in_outage()) {
-    const int64_t now = board_clock_ns();
-    s.backoff.reopened(now);  // the outage's clock stops with the source
-    s.stats.outage_ns = s.backoff.outage_ns(now);
-  }
+  end_outage_at_stop(outage_book(s));
   internal::close_device(s);
   s.started = false;
 }

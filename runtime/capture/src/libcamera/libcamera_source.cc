@@ -4,8 +4,9 @@
 
 #include <cstdio>
 
-#include "tlvlink/clock.h"
 #include "libcamera/libcamera_internal.h"
+#include "tlvlink/capture/outage.h"
+#include "tlvlink/clock.h"
 
 namespace tlvlink::capture {
 namespace {
@@ -29,45 +30,23 @@ Status open_session(LibcameraSource::State& s) {
   return Status();
 }
 
+OutageBook outage_book(LibcameraSource::State& s) {
+  return {s.backoff, s.stats, s.last_reopen_error};
+}
+
 Error begin_outage(LibcameraSource::State& s) {
   s.session.reset();
   s.stats.connected = false;
-  ++s.stats.disconnects;
-  const int64_t now = board_clock_ns();
-  s.backoff.lost(now, s.streamed);  // tlvlink/capture/reconnect_backoff.h, as the V4L2 source
-  s.stats.outage_ns = s.backoff.outage_ns(now);
+  capture::begin_outage(outage_book(s), s.streamed);  // outage.h, as the V4L2 source
   return Error::make(ErrorCode::kCaptureDisconnected,
                      "%s: camera disconnected; reconnecting (first reopen in %d ms)", s.name,
                      s.backoff.delay_ms());
 }
 
-// Bounded reopening while the camera is gone (same scheme as the V4L2 source).
+// Bounded reopening while the camera is gone (outage.h: the V4L2 source's loop).
 Status reconnect(LibcameraSource::State& s, int64_t deadline) {
-  for (;;) {
-    int64_t now = board_clock_ns();
-    if (s.backoff.due(now)) {
-      Status st = open_session(s);
-      now = board_clock_ns();
-      if (st.ok()) {
-        s.backoff.reopened(now);
-        s.stats.outage_ns = s.backoff.outage_ns(now);
-        ++s.stats.reconnects;
-        return Status();
-      }
-      ++s.stats.reconnect_attempts;
-      s.last_reopen_error = st.error();
-      s.backoff.attempt_failed(now);
-    }
-    s.stats.outage_ns = s.backoff.outage_ns(now);
-    if (s.backoff.next_attempt_ns() > deadline) {
-      sleep_until_ns(deadline);
-      return Error::make(ErrorCode::kCaptureDisconnected,
-                         "%s: disconnected, %llu reopen attempts failed: %s", s.name,
-                         static_cast<unsigned long long>(s.stats.reconnect_attempts),
-                         s.last_reopen_error.message());
-    }
-    sleep_until_ns(s.backoff.next_attempt_ns());
-  }
+  auto reopen = [&s] { return open_session(s); };
+  return reconnect_until(outage_book(s), s.name, deadline, reopen);
 }
 
 }  // namespace
@@ -138,11 +117,7 @@ Status LibcameraSource::start() {
 void LibcameraSource::stop() {
   State& s = *state_;
   if (!s.started) return;
-  if (s.backoff.in_outage()) {
-    const int64_t now = board_clock_ns();
-    s.backoff.reopened(now);  // the outage's clock stops with the source
-    s.stats.outage_ns = s.backoff.outage_ns(now);
-  }
+  end_outage_at_stop(outage_book(s));
   s.session.reset();
   s.completions.clear();
   s.held = -1;
