@@ -10,6 +10,7 @@
 
 #include "clock.h"
 #include "tlvlink/pipeline/contact_gate.h"
+#include "tlvlink/stream/stages.h"
 
 namespace tlvlink::daemon::internal {
 namespace {
@@ -32,10 +33,13 @@ double pct(int64_t cpu_ns, int64_t wall_ns) {
 
 }  // namespace
 
+// The stages up to the heads are the stream's (stage_ns, named in the Hello); write and total
+// are the daemon's own.
+static_assert(stream::kStageNames.size() == static_cast<size_t>(kHeads) + 1, "the stream's stages are the first ones");
+
 const char* stage_name(int32_t s) {
-  static constexpr const char* kNames[kStages] = {"dequeue", "decode", "queue", "preprocess",
-                                                  "encoder", "heads",  "write", "total"};
-  return s >= 0 && s < kStages ? kNames[s] : "?";
+  if (s >= 0 && s <= kHeads) return stream::kStageNames[static_cast<size_t>(s)];
+  return s == kWrite ? "write" : s == kTotal ? "total" : "?";
 }
 
 OutputWorker::OutputWorker(std::vector<OutputSink*> sinks, const OutputNames& names, OutputQueue& queue,
