@@ -57,8 +57,10 @@ function undeclaredKeys(value, schema, where, out = []) {
 
 // The fake board (the real Sender) on a pty; resolves once its pty exists.
 async function startBoard(check_binary, tty, frames, rate, extra = []) {
+  // --wait-host: the board posts once the listener has connected and synchronised its clock, so
+  // a listener that opens the link late (it waits for its Foxglove client first) misses nothing.
   const board = spawn(check_binary, ["board", "--link", `pty:${tty}`, "--frames", `${frames}`, "--rate", `${rate}`,
-                                     "--hold", "3", ...extra], { stdio: ["ignore", "ignore", "inherit"] });
+                                     "--hold", "3", "--wait-host", "20", ...extra], { stdio: ["ignore", "ignore", "inherit"] });
   // The board creates the pty link when it is ready to serve: wait for it (bounded, 5 s).
   for (let i = 0; i < 500 && !fs.existsSync(tty); i++) await new Promise((r) => setTimeout(r, 10));
   check(fs.existsSync(tty), `the fake board made its pty ${tty}`);

@@ -1,11 +1,13 @@
 // tlvlink_stream_check: the stream end to end over any link, in two processes (or two machines,
 // or the emulated board and its USB host side):
 //   tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] [--embedding] [--hold S] [--boot-id N]
-//                              [--byte-errors P] [--byte-drops Q] [--seed S]
+//                              [--byte-errors P] [--byte-drops Q] [--seed S] [--wait-host S]
 //       a board: the Sender on LINK (make_transport: serial:PATH, pty:LINK, usb[:FFS_DIR,...])
 //       posting N fixture predictions at HZ (sensor n % 2: 120 Hz = two sensors at 60 fps; 0 = as
 //       fast as the poster can; every 10th frame also a grasp), Stats every second, answering
 //       commands (set bad=... is refused); then holds the link S seconds and flushes. With
+//       --wait-host S it posts nothing until a host has synchronised its clock (a listener that
+//       opens the link late misses nothing; at most S seconds, then it posts anyway). With
 //       --byte-errors/--byte-drops the bytes are damaged between the Sender and the link
 //       (corrupting_transport.h), so the damage crosses the real wire.
 //   tlvlink_stream_check check --source SOURCE [--frames N] [--timeout S] [--clean | --lossy]
@@ -59,7 +61,7 @@ extern "C" void on_signal(int) { g_stop = true; }
 struct Args {
   std::string mode, link, source, file, label = "stream";
   uint32_t frames = 100, expect_reconnects = 0, expect_board_reconnects = 0;
-  double rate = 120, hold_s = 1, timeout_s = 30, idle_s = 3;
+  double rate = 120, hold_s = 1, timeout_s = 30, idle_s = 3, wait_host_s = 0;
   double byte_errors = 0, byte_drops = 0;
   uint64_t boot_id = 0x5EED, seed = 1;
   bool embedding = false, cut = false, clean = false, lossy = false, start_any = false, commands = true;
@@ -76,6 +78,7 @@ bool parse(int argc, char** argv, Args& a) {
     else if (k == "--frames") a.frames = static_cast<uint32_t>(std::strtoul(value(), nullptr, 10));
     else if (k == "--rate") a.rate = std::strtod(value(), nullptr);
     else if (k == "--hold") a.hold_s = std::strtod(value(), nullptr);
+    else if (k == "--wait-host") a.wait_host_s = std::strtod(value(), nullptr);
     else if (k == "--timeout") a.timeout_s = std::strtod(value(), nullptr);
     else if (k == "--embedding") a.embedding = true;
     else if (k == "--boot-id") a.boot_id = std::strtoull(value(), nullptr, 0);
@@ -123,6 +126,11 @@ int board(const Args& a) {
   (void)sender.start();
   std::printf("board: ready on %s\n", a.link.c_str());
   std::fflush(stdout);
+  // A host that talks has sent TimeSyncs with its estimate (the listener does so at connect).
+  for (int64_t end = monotonic_ns() + static_cast<int64_t>(a.wait_host_s * 1e9);
+       monotonic_ns() < end && !sender.host_clock().valid && !g_stop;) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
   const int64_t period = a.rate > 0 ? static_cast<int64_t>(1e9 / a.rate) : 0;
   int64_t next = monotonic_ns(), next_stats = next + 1'000'000'000;
   testing::PredictionStorage st;
@@ -335,7 +343,7 @@ int main(int argc, char** argv) {
   if (!parse(argc, argv, a) || (a.mode == "board" && a.link.empty()) || (a.mode == "check" && a.source.empty()) ||
       (a.mode == "record" && a.file.empty())) {
     std::fprintf(stderr,
-                 "usage: tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] [--embedding] [--hold S] [--boot-id N]\n"
+                 "usage: tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] [--embedding] [--hold S] [--boot-id N] [--wait-host S]\n"
                  "                                  [--byte-errors P] [--byte-drops Q] [--seed S]\n"
                  "       tlvlink_stream_check check --source SOURCE [--frames N] [--timeout S] [--clean | --lossy] [--start-any]\n"
                  "                                  [--no-commands] [--expect-reconnects K] [--expect-board-reconnects K]\n"
