@@ -206,7 +206,7 @@ done
 for s in "${failed_names[@]}"; do
   echo
   echo "--- what failed in stage $s (build/logs/$s.log) ---"
-  grep -E "\(Failed\)|\(Timeout\)|\(SEGFAULT\)|\(Subprocess aborted\)|[Ff][Aa][Ii][Ll]([^a-z]|$)|FAILED|error:|Error [0-9]" \
+  grep -E "\(Failed\)|\(Timeout\)|\(SEGFAULT\)|\(Subprocess aborted\)|(^|[^A-Za-z])FAIL(ED)?([^A-Za-z]|$)|MISMATCH|error:|Error [0-9]" \
     "build/logs/$s.log" 2>/dev/null | grep -vE "(^|[^0-9])0 (tests )?failed" | tail -25
 done
 echo
