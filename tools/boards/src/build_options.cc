@@ -25,7 +25,9 @@ Result<BuildPlan> plan_build(const Board& board, const daemon::Scene& scene) {
   if (!needs.stream) {
     off("TLVLINK_WITH_USB", "USB transport", "no stream link: JSON lines only");
     off("TLVLINK_WITH_SERIAL", "serial transports and the sender", "no stream link: JSON lines only");
-    off("TLVLINK_WITH_PROTOCOL", "stream protocol", "no stream link: JSON lines only");
+    // The daemon names its outputs and stages through runtime/stream, which links the protocol
+    // library (flatbuffers only, no transport): kept, with no link to send over.
+    p.options.push_back({"TLVLINK_WITH_PROTOCOL", "ON", "the daemon's output names (runtime/stream)"});
   } else {
     p.options.push_back({"TLVLINK_WITH_PROTOCOL", "ON", "a stream link"});
     p.options.push_back({"TLVLINK_WITH_SERIAL", "ON", "a stream link"});
