@@ -15,6 +15,7 @@
 
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/capture/replay_source.h"
+#include "tlvlink/clock.h"
 #include "tlvlink/crc32.h"
 
 namespace tlvlink::capture {
@@ -191,6 +192,7 @@ TEST(Replay, CorruptFrameIsCountedAndSkipped) {
 
 TEST(Replay, RealtimeKeepsTheCamerasPaceAndSkipsStaleFrames) {
   const std::string path = write_recording("realtime", 10);  // 10 frames over 360 ms
+  FakeClock clock;
   ReplayConfig c;
   c.path = path;
   auto src = make_replay_source(c);
@@ -198,12 +200,12 @@ TEST(Replay, RealtimeKeepsTheCamerasPaceAndSkipsStaleFrames) {
   auto first = (*src)->next(1000);
   ASSERT_TRUE(first.ok());
   EXPECT_EQ(first->sequence, 0u);
-  // A consumer busy for 130 ms: the frames that became due meanwhile are skipped for the newest
-  // (frame 3 on an idle machine; later ones under an emulator: the assertions hold for any).
-  ::usleep(130'000);
+  // A consumer busy for 130 ms: the frames that became due meanwhile (40, 80, 120 ms) are
+  // skipped for the newest.
+  clock.advance_ms(130);
   auto f = (*src)->next(1000);
   ASSERT_TRUE(f.ok());
-  EXPECT_GE(f->sequence, 3u);
+  EXPECT_EQ(f->sequence, 3u);
   EXPECT_EQ(f->skipped_before, f->sequence - 1);
   EXPECT_EQ(f->timestamp_ns - first->timestamp_ns,
             static_cast<int64_t>(f->sequence) * 40 * kMs);  // the recorded spacing, exactly
@@ -217,14 +219,15 @@ TEST(Replay, FramesDueBeforeTheFirstReadKeepTheRecordingsNumbers) {
   // as stale, and the first frame delivered keeps its recorded sequence (it was numbered 0,
   // shifting every later frame against the recording and its ground truth).
   const std::string path = write_recording("late_reader", 10);  // 10 frames, 40 ms apart
+  FakeClock clock;
   ReplayConfig c;
   c.path = path;
   auto src = make_replay_source(c);
   ASSERT_TRUE((*src)->start().ok());
-  ::usleep(130'000);
+  clock.advance_ms(130);
   auto f = (*src)->next(1000);
   ASSERT_TRUE(f.ok());
-  EXPECT_GE(f->sequence, 3u);
+  EXPECT_EQ(f->sequence, 3u);
   EXPECT_EQ(f->skipped_before, f->sequence);  // every earlier frame, counted as stale
   EXPECT_EQ((*src)->stats().skipped_stale, f->sequence);
   std::remove(path.c_str());
@@ -240,6 +243,8 @@ TEST(Replay, NoFrameBeforeItsTimeIsATimeout) {
   ASSERT_TRUE(w.ok());
   ASSERT_TRUE(w->append(frame_bytes(0), 300 * kMs, 0).ok());
   ASSERT_TRUE(w->close().ok());
+  FakeClock clock;  // the replay's waits move it instead of taking 300 ms
+  const int64_t t0 = clock.now_ns();
   ReplayConfig c;
   c.path = path;
   auto src = make_replay_source(c);
@@ -248,8 +253,10 @@ TEST(Replay, NoFrameBeforeItsTimeIsATimeout) {
   ASSERT_FALSE(none.ok());
   EXPECT_EQ(none.error().code(), ErrorCode::kCaptureTimeout);
   EXPECT_EQ((*src)->stats().timeouts, 1u);
+  EXPECT_EQ(clock.now_ns() - t0, 1 * kMs) << "the timeout waited exactly its 1 ms";
   auto f = (*src)->next(2000);
   ASSERT_TRUE(f.ok()) << f.error().message();
+  EXPECT_EQ(f->timestamp_ns - t0, 300 * kMs) << "delivered when it fell due";
   std::remove(path.c_str());
 }
 
@@ -304,9 +311,10 @@ TEST(Replay, EveryFrameBeforeTheFirstDeliveredIsCountedOnce) {
   ReplayConfig c;
   c.path = path;
   c.warmup_frames = 1;
+  FakeClock clock;
   auto src = make_replay_source(c);
   ASSERT_TRUE((*src)->start().ok());
-  ::usleep(130'000);
+  clock.advance_ms(130);
   auto f = (*src)->next(1000);
   ASSERT_TRUE(f.ok()) << f.error().message();
   const SourceStats& st = (*src)->stats();

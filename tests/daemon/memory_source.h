@@ -3,7 +3,6 @@
 // frame rate (or as fast as asked), timestamps on CLOCK_MONOTONIC like a camera's. next()
 // allocates nothing.
 
-#include <time.h>
 
 #include <chrono>
 #include <cstdint>
@@ -12,6 +11,7 @@
 #include <vector>
 
 #include "tlvlink/capture/frame_source.h"
+#include "tlvlink/clock.h"
 
 namespace tlvlink::testing {
 
@@ -56,11 +56,7 @@ class MemorySource final : public capture::FrameSource {
   const char* name() const override { return name_.c_str(); }
 
  private:
-  static int64_t now() {
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-  }
+  static int64_t now() { return board_clock_ns(); }
   std::string name_;
   image::FrameFormat format_;
   std::vector<std::vector<uint8_t>> frames_;

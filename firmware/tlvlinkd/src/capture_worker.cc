@@ -32,7 +32,7 @@ CaptureWorker::CaptureWorker(int32_t index, std::string name,
 
 void CaptureWorker::event(bool error, const char* format, ...) {
   EventRecord e;
-  e.t_ns = monotonic_ns();
+  e.t_ns = board_clock_ns();
   e.sensor = index_;
   e.error = error;
   va_list args;
@@ -58,7 +58,7 @@ void CaptureWorker::handle_error(const Error& e) {
 void CaptureWorker::run() {
   cpu_clock_ = this_thread_cpu_clock();
   while (!stop_.load(std::memory_order_relaxed)) {
-    const int64_t asked_ns = monotonic_ns();
+    const int64_t asked_ns = board_clock_ns();
     auto frame = source_->next(kPollMs);
     if (!frame.ok() && frame.error().code() == ErrorCode::kCaptureEndOfStream) {
       event(false, "%s", frame.error().message());  // a replay without loop: nothing more comes
@@ -76,11 +76,7 @@ void CaptureWorker::run() {
       // Sources wait their timeout while a camera is gone; one that fails at once must not turn
       // this loop into a spin either: an error costs at least one poll period.
       const int64_t until = asked_ns + kPollNs;
-      if (monotonic_ns() < until) {
-        timespec ts{static_cast<time_t>(until / 1'000'000'000),
-                    static_cast<long>(until % 1'000'000'000)};
-        ::clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
-      }
+      if (board_clock_ns() < until) sleep_until_ns(until);
     } else {
       if (in_outage_) {
         const capture::SourceStats& st = source_->stats();
@@ -94,15 +90,15 @@ void CaptureWorker::run() {
       slot->sequence = frame->sequence;
       slot->times = {};
       slot->times.capture_ns = frame->timestamp_ns;
-      slot->times.dequeued_ns = monotonic_ns();
+      slot->times.dequeued_ns = board_clock_ns();
       const Status decoded = decoder_.decode(frame->bytes, slot->rgb, name_.c_str());
       source_->release();  // the camera gets its buffer back before anything else
       if (decoded.ok()) {
-        slot->times.decoded_ns = monotonic_ns();
+        slot->times.decoded_ns = board_clock_ns();
         ring_.publish(slot);
       } else {
         ring_.discard(slot);
-        const int64_t now = monotonic_ns();
+        const int64_t now = board_clock_ns();
         std::lock_guard lock(mutex_);
         ++snapshot_.decode_errors;
         if (now - last_decode_event_ns_ >= kDecodeEventIntervalNs) {

@@ -2,20 +2,16 @@
 #ifndef TLVLINK_DAEMON_PRIVATE
 #error "clock.h is internal to firmware/tlvlinkd"
 #endif
-// CLOCK_MONOTONIC (the clock of V4L2 buffer timestamps) and per-thread CPU time.
+// Per-thread CPU time. The board clock itself is core's (tlvlink/clock.h: board_clock_ns).
 
 #include <pthread.h>
 #include <time.h>
 
 #include <cstdint>
 
-namespace tlvlink::daemon::internal {
+#include "tlvlink/clock.h"
 
-inline int64_t monotonic_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
+namespace tlvlink::daemon::internal {
 
 // The calling thread's CPU clock, for another thread to read (thread_cpu_ns).
 inline clockid_t this_thread_cpu_clock() {

@@ -2,8 +2,9 @@
 #ifndef TLVLINK_DAEMON_PRIVATE
 #error "commands.h is internal to firmware/tlvlinkd"
 #endif
-// Commands from the controller (stdin lines today; the stream link later) to the inference
-// thread, which owns the pipeline: a small fixed queue, never blocking the sender.
+// Commands from the controller (stdin lines, the stream link, a replayed command script) to the
+// inference thread, which owns the pipeline: a small fixed queue, never blocking the sender. The
+// commands themselves and their parsing are runtime/stream's (tlvlink/stream/commands.h).
 
 #include <array>
 #include <cstdint>
@@ -12,20 +13,15 @@
 #include <string_view>
 #include <vector>
 
+#include "tlvlink/drop_oldest_ring.h"
 #include "tlvlink/error.h"
+#include "tlvlink/stream/commands.h"
 
 namespace tlvlink::daemon::internal {
 
-enum class CommandKind : uint8_t { kRezero, kClosed, kLifting };
-
-struct Command {
-  CommandKind kind = CommandKind::kRezero;
-  int64_t t_ns = 0;     // when it was given (CLOCK_MONOTONIC)
-  int32_t sensor = -1;  // rezero: -1 = all
-};
-
-// "rezero [SENSOR_INDEX]", "closed", "lifting" (a trailing newline is fine). False: not a command.
-bool parse_command(std::string_view line, int64_t now_ns, Command& out);
+using stream::Command;
+using stream::CommandKind;
+using stream::parse_command;
 
 // A controller's closed / lifting marks tied to frames (`command_script`): the command is given
 // when the inference thread takes `sensor`'s frame `sequence` (or the first one after it), at
@@ -45,15 +41,14 @@ Result<std::vector<ScriptedCommand>> load_command_script(const std::string& path
 class CommandQueue {
  public:
   static constexpr size_t kCapacity = 32;
-  bool push(const Command& c);  // false when full (the command is dropped and counted)
+  bool push(const Command& c);  // false when full (the newest command is dropped and counted)
   bool pop(Command& out);
   uint64_t dropped() const;
 
  private:
   mutable std::mutex mutex_;
-  std::array<Command, kCapacity> ring_{};
-  size_t head_ = 0, count_ = 0;
-  uint64_t dropped_ = 0;
+  std::array<Command, kCapacity> storage_{};
+  DropOldestRing<Command> ring_{storage_};
 };
 
 }  // namespace tlvlink::daemon::internal

@@ -81,13 +81,13 @@ int run_daemon(const std::string& path) {
       close(sfd);
       return session.error().code() == ErrorCode::kInvalidArgument ? kExitConfig : kExitRuntime;
     }
-    const int64_t started = internal::monotonic_ns();
+    const int64_t started = board_clock_ns();
     bool stdin_open = true;
     Wake why = Wake::kNothing;
     while (why == Wake::kNothing) {
       why = wait(sfd, current.control == ControlInput::kStdin, **session, stdin_open);
       const bool timed_out = current.run_for_ms > 0 &&
-                             internal::monotonic_ns() - started >= current.run_for_ms * 1'000'000;
+                             board_clock_ns() - started >= current.run_for_ms * 1'000'000;
       if (why == Wake::kNothing && (timed_out || (*session)->limit_reached())) why = Wake::kStop;
       if (why == Wake::kReload) {
         auto reloaded = load_config(path);

@@ -6,38 +6,31 @@ namespace tlvlink::daemon::internal {
 
 FrameRing::FrameRing(int32_t waiting, size_t frame_bytes, Doorbell& doorbell)
     : slots_(static_cast<size_t>(waiting) + 2),
-      state_(slots_.size(), State::kFree),
-      order_(slots_.size(), 0),
+      free_storage_(slots_.size(), nullptr),
+      waiting_storage_(slots_.size(), nullptr),
+      free_(free_storage_),
+      waiting_(waiting_storage_),
       doorbell_(doorbell) {
-  for (DecodedFrame& f : slots_) f.rgb.assign(frame_bytes, 0);
+  for (DecodedFrame& f : slots_) {
+    f.rgb.assign(frame_bytes, 0);
+    free_.push(&f);
+  }
 }
 
 DecodedFrame* FrameRing::acquire() {
   std::lock_guard lock(mutex_);
-  for (size_t i = 0; i < slots_.size(); ++i) {
-    if (state_[i] == State::kFree) {
-      state_[i] = State::kWriting;
-      return &slots_[i];
-    }
-  }
+  DecodedFrame* slot = nullptr;
+  if (free_.pop(slot)) return slot;
   // No free slot: the oldest waiting frame gives way.
-  size_t oldest = slots_.size();
-  for (size_t i = 0; i < slots_.size(); ++i) {
-    if (state_[i] == State::kWaiting && (oldest == slots_.size() || order_[i] < order_[oldest]))
-      oldest = i;
-  }
-  if (oldest == slots_.size()) return nullptr;  // cannot happen: one writer, one reader
+  if (!waiting_.pop(slot)) return nullptr;  // cannot happen: one writer, one reader
   ++dropped_;
-  state_[oldest] = State::kWriting;
-  return &slots_[oldest];
+  return slot;
 }
 
 void FrameRing::publish(DecodedFrame* frame) {
   {
     std::lock_guard lock(mutex_);
-    const auto i = static_cast<size_t>(frame - slots_.data());
-    state_[i] = State::kWaiting;
-    order_[i] = ++published_;
+    waiting_.push(frame);
   }
   {
     std::lock_guard lock(doorbell_.mutex);
@@ -48,37 +41,23 @@ void FrameRing::publish(DecodedFrame* frame) {
 
 void FrameRing::discard(DecodedFrame* frame) {
   std::lock_guard lock(mutex_);
-  state_[static_cast<size_t>(frame - slots_.data())] = State::kFree;
+  free_.push(frame);
 }
 
 DecodedFrame* FrameRing::take() {
   std::lock_guard lock(mutex_);
-  size_t oldest = slots_.size();
-  for (size_t i = 0; i < slots_.size(); ++i) {
-    if (state_[i] == State::kWaiting && (oldest == slots_.size() || order_[i] < order_[oldest]))
-      oldest = i;
-  }
-  if (oldest == slots_.size()) return nullptr;
-  state_[oldest] = State::kReading;
-  return &slots_[oldest];
+  DecodedFrame* slot = nullptr;
+  return waiting_.pop(slot) ? slot : nullptr;
 }
 
 void FrameRing::recycle(DecodedFrame* frame) {
   std::lock_guard lock(mutex_);
-  state_[static_cast<size_t>(frame - slots_.data())] = State::kFree;
+  free_.push(frame);
 }
 
 int64_t FrameRing::oldest_capture_ns() {
   std::lock_guard lock(mutex_);
-  int64_t best = INT64_MAX;
-  uint64_t best_order = UINT64_MAX;
-  for (size_t i = 0; i < slots_.size(); ++i) {
-    if (state_[i] == State::kWaiting && order_[i] < best_order) {
-      best_order = order_[i];
-      best = slots_[i].times.capture_ns;
-    }
-  }
-  return best;
+  return waiting_.empty() ? INT64_MAX : waiting_.front()->times.capture_ns;
 }
 
 uint64_t FrameRing::dropped() const {

@@ -5,13 +5,15 @@
 // Decoded frames of one sensor on their way from its capture thread to the inference thread: a
 // fixed set of slots (allocated at start), never blocking the producer. When every slot holds a
 // frame not yet taken, the oldest waiting one is recycled and counted as dropped: the capture
-// thread keeps up with the camera whatever the consumer does.
+// thread keeps up with the camera whatever the consumer does. The waiting frames are a
+// DropOldestRing of slots (tlvlink/drop_oldest_ring.h), the free ones another.
 
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
 #include <vector>
 
+#include "tlvlink/drop_oldest_ring.h"
 #include "tlvlink/pipeline/predictions.h"
 
 namespace tlvlink::daemon::internal {
@@ -48,12 +50,13 @@ class FrameRing {
   uint64_t dropped() const;  // frames recycled before the consumer took them
 
  private:
-  enum class State : uint8_t { kFree, kWriting, kWaiting, kReading };
   mutable std::mutex mutex_;
   std::vector<DecodedFrame> slots_;
-  std::vector<State> state_;
-  std::vector<uint64_t> order_;  // publish order of waiting slots
-  uint64_t published_ = 0, dropped_ = 0;
+  // Slots not being written or read: free ones, and waiting ones oldest first. Each holds every
+  // slot at most once, so neither ever overflows.
+  std::vector<DecodedFrame*> free_storage_, waiting_storage_;
+  DropOldestRing<DecodedFrame*> free_, waiting_;
+  uint64_t dropped_ = 0;
   Doorbell& doorbell_;
 };
 

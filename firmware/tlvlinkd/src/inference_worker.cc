@@ -75,7 +75,7 @@ bool InferenceWorker::process_one() {
   if (!st.ok()) {
     errors_.fetch_add(1);
     EventRecord e;
-    e.t_ns = monotonic_ns();
+    e.t_ns = board_clock_ns();
     e.sensor = static_cast<int32_t>(best);
     e.error = true;
     std::snprintf(e.text.data(), e.text.size(), "%s", st.error().message());
@@ -112,7 +112,7 @@ void InferenceWorker::run() {
       }
       backlog = n + 1 == kFramesPerTurn;
     }
-    processor_.tick(monotonic_ns());
+    processor_.tick(board_clock_ns());
     drain_grasps();
     {
       std::lock_guard lock(mutex_);

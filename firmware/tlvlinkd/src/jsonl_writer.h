@@ -16,28 +16,11 @@
 #include "line_buffer.h"
 #include "output_queue.h"
 #include "tlvlink/error.h"
+#include "tlvlink/stream/names.h"
 
 namespace tlvlink::daemon::internal {
 
-struct OutputNames {
-  std::vector<std::string> sensors;
-  struct Head {
-    std::string name, kind;
-    std::vector<std::string> labels;
-    // The model's trust record (metadata.h HeadTrust), NaN when the head has none.
-    float accuracy = std::numeric_limits<float>::quiet_NaN();
-    float majority = std::numeric_limits<float>::quiet_NaN();
-    // Cross-validated records (`heads fit --images`), NaN / 0 when the head has none.
-    float ci_low = std::numeric_limits<float>::quiet_NaN();
-    float ci_high = std::numeric_limits<float>::quiet_NaN();
-    float balanced = std::numeric_limits<float>::quiet_NaN();
-    float baseline = std::numeric_limits<float>::quiet_NaN();
-    uint32_t groups = 0;
-  };
-  std::vector<Head> heads;  // in FramePrediction::heads[].head index order (all per-frame heads)
-  std::string grasp_head;
-  Head grasp;  // the grasp head's trust record (name and labels unused)
-};
+using stream::OutputNames;
 
 class JsonlWriter {
  public:

@@ -4,30 +4,21 @@
 
 namespace tlvlink::daemon::internal {
 
-OutputQueue::OutputQueue(int32_t capacity) : ring_(static_cast<size_t>(capacity)) {}
+OutputQueue::OutputQueue(int32_t capacity)
+    : storage_(static_cast<size_t>(capacity)), ring_(storage_) {}
 
 void OutputQueue::push(const OutputRecord& record) {
   {
     std::lock_guard lock(mutex_);
-    if (count_ == ring_.size()) {
-      head_ = (head_ + 1) % ring_.size();
-      --count_;
-      ++dropped_;
-    }
-    ring_[(head_ + count_) % ring_.size()] = record;
-    ++count_;
+    ring_.push(record);
   }
   cv_.notify_one();
 }
 
 bool OutputQueue::pop(OutputRecord& out, int32_t timeout_ms) {
   std::unique_lock lock(mutex_);
-  cv_.wait_for(lock, std::chrono::milliseconds(timeout_ms), [&] { return count_ > 0 || closed_; });
-  if (count_ == 0) return false;
-  out = ring_[head_];
-  head_ = (head_ + 1) % ring_.size();
-  --count_;
-  return true;
+  cv_.wait_for(lock, std::chrono::milliseconds(timeout_ms), [&] { return !ring_.empty() || closed_; });
+  return ring_.pop(out);
 }
 
 void OutputQueue::close() {
@@ -40,12 +31,12 @@ void OutputQueue::close() {
 
 uint64_t OutputQueue::dropped() const {
   std::lock_guard lock(mutex_);
-  return dropped_;
+  return ring_.dropped();
 }
 
 size_t OutputQueue::size() const {
   std::lock_guard lock(mutex_);
-  return count_;
+  return ring_.size();
 }
 
 }  // namespace tlvlink::daemon::internal

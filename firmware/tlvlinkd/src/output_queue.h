@@ -2,9 +2,9 @@
 #ifndef TLVLINK_DAEMON_PRIVATE
 #error "output_queue.h is internal to firmware/tlvlinkd"
 #endif
-// Records on their way to the output thread: a fixed ring (allocated at start), never blocking
-// the producers (inference, capture events): when full, the oldest record is dropped and counted,
-// so a slow link or file costs old records, never inference.
+// Records on their way to the output thread: a fixed ring (core's DropOldestRing over storage
+// allocated at start), never blocking the producers (inference, capture events): when full, the
+// oldest record is dropped and counted, so a slow link or file costs old records, never inference.
 
 #include <array>
 #include <condition_variable>
@@ -13,6 +13,7 @@
 #include <variant>
 #include <vector>
 
+#include "tlvlink/drop_oldest_ring.h"
 #include "tlvlink/pipeline/predictions.h"
 
 namespace tlvlink::daemon::internal {
@@ -44,9 +45,8 @@ class OutputQueue {
  private:
   mutable std::mutex mutex_;
   std::condition_variable cv_;
-  std::vector<OutputRecord> ring_;
-  size_t head_ = 0, count_ = 0;
-  uint64_t dropped_ = 0;
+  std::vector<OutputRecord> storage_;
+  DropOldestRing<OutputRecord> ring_;
   bool closed_ = false;
 };
 

@@ -10,6 +10,7 @@
 
 #include "clock.h"
 #include "tlvlink/pipeline/contact_gate.h"
+#include "tlvlink/stream/stages.h"
 
 namespace tlvlink::daemon::internal {
 namespace {
@@ -32,10 +33,13 @@ double pct(int64_t cpu_ns, int64_t wall_ns) {
 
 }  // namespace
 
+// The stages up to the heads are the stream's (stage_ns, named in the Hello); write and total
+// are the daemon's own.
+static_assert(stream::kStageNames.size() == static_cast<size_t>(kHeads) + 1, "the stream's stages are the first ones");
+
 const char* stage_name(int32_t s) {
-  static constexpr const char* kNames[kStages] = {"dequeue", "decode", "queue", "preprocess",
-                                                  "encoder", "heads",  "write", "total"};
-  return s >= 0 && s < kStages ? kNames[s] : "?";
+  if (s >= 0 && s <= kHeads) return stream::kStageNames[static_cast<size_t>(s)];
+  return s == kWrite ? "write" : s == kTotal ? "total" : "?";
 }
 
 OutputWorker::OutputWorker(std::vector<OutputSink*> sinks, const OutputNames& names, OutputQueue& queue,
@@ -163,15 +167,15 @@ void OutputWorker::status_line(int64_t now_ns) {
 
 void OutputWorker::run() {
   cpu_clock_ = this_thread_cpu_clock();
-  start_ns_ = monotonic_ns();
+  start_ns_ = board_clock_ns();
   start_cpu_ns_ = process_cpu_ns();
   int64_t next_report = start_ns_ + static_cast<int64_t>(interval_ms_) * 1'000'000;
   OutputRecord record;
   for (;;) {
-    const int64_t now = monotonic_ns();
+    const int64_t now = board_clock_ns();
     const auto wait_ms = static_cast<int32_t>(std::clamp<int64_t>((next_report - now) / 1'000'000, 0, interval_ms_));
     if (queue_.pop(record, wait_ms)) {
-      const int64_t written = monotonic_ns();
+      const int64_t written = board_clock_ns();
       if (auto* p = std::get_if<pipeline::FramePrediction>(&record)) {
         p->times.written_ns = written;
         account(*p, written);
@@ -181,7 +185,7 @@ void OutputWorker::run() {
       }
       for (OutputSink* sink : sinks_) sink->record(record, written);
     }
-    const int64_t t = monotonic_ns();
+    const int64_t t = board_clock_ns();
     if (t >= next_report) {
       report(t, false);
       if (status_line_) status_line(t);
@@ -190,7 +194,7 @@ void OutputWorker::run() {
     if (stop_.load() && queue_.size() == 0) break;
   }
   if (status_line_) [[maybe_unused]] ssize_t w = ::write(STDERR_FILENO, "\n", 1);
-  report(monotonic_ns(), true);
+  report(board_clock_ns(), true);
   for (OutputSink* sink : sinks_) sink->close();
   // The summary record itself (and what close() flushed) may have failed too: the totals the
   // daemon prints and exits on count every record lost, as each sink's problem() does.

@@ -24,6 +24,7 @@
 #include "tlvlink/log.h"
 #include "tlvlink/model.h"
 #include "tlvlink/pipeline/frame_processor.h"
+#include "tlvlink/stream/names.h"
 #include "tlvlink/verify/golden.h"
 
 namespace tlvlink::daemon {
@@ -60,35 +61,6 @@ Result<std::unique_ptr<Executor>> make(const Model& m, const DaemonConfig& c) {
   o.threads = c.threads;
   o.expose_all_tensors = c.processing.report_embedding;  // the int8 tensor it reports
   return make_executor(m, kind, o);
-}
-
-internal::OutputNames names(const DaemonConfig& c, const pipeline::FrameProcessor& p) {
-  internal::OutputNames n;
-  for (const SensorConfig& s : c.sensors) n.sensors.push_back(s.name);
-  for (const heads::HeadResult& r : p.heads().results()) {
-    internal::OutputNames::Head h;
-    h.name = std::string(r.name);
-    h.kind = heads::head_kind_name(r.kind);
-    for (std::string_view l : r.labels) h.labels.emplace_back(l);
-    if (r.trust != nullptr && r.trust->present) {
-      const HeadTrust& t = *r.trust;
-      h.accuracy = t.accuracy;
-      h.majority = t.majority;
-      const auto recorded = [](float v) { return v >= 0 ? v : std::numeric_limits<float>::quiet_NaN(); };
-      h.ci_low = recorded(t.ci_low);
-      h.ci_high = recorded(t.ci_high);
-      h.balanced = recorded(t.balanced_accuracy);
-      h.baseline = recorded(t.baseline_accuracy);
-      h.groups = static_cast<uint32_t>(std::clamp<int64_t>(t.groups, 0, UINT32_MAX));
-    }
-    n.heads.push_back(std::move(h));
-  }
-  n.grasp_head = std::string(p.heads().grasp_name());
-  if (p.heads().has_grasp() && p.heads().grasp_trust().present) {
-    n.grasp.accuracy = p.heads().grasp_trust().accuracy;
-    n.grasp.majority = p.heads().grasp_trust().majority;
-  }
-  return n;
 }
 
 // One log line per head at start: whether it is reported and the trust record that decides it,
@@ -164,7 +136,9 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
   TLV_ASSIGN_OR_RETURN(s.processor, pipeline::FrameProcessor::create(*s.model, *s.executor, setups,
                                                                        config.processing));
   s.queue = std::make_unique<internal::OutputQueue>(config.output_queue);
-  s.names = names(config, *s.processor);
+  std::vector<std::string> sensor_names;
+  for (const SensorConfig& c : config.sensors) sensor_names.push_back(c.name);
+  s.names = stream::output_names(std::move(sensor_names), s.processor->heads());
   for (const std::string& o : config.outputs) {
     if (o.rfind("jsonl:", 0) == 0) {
       TLV_ASSIGN_OR_RETURN(internal::JsonlWriter writer, internal::JsonlWriter::open(o.substr(6), s.names));
@@ -234,7 +208,7 @@ uint64_t Session::frames_processed() const { return impl_->inference->snapshot()
 
 bool Session::command(std::string_view line) {
   internal::Command c;
-  if (!internal::parse_command(line, internal::monotonic_ns(), c)) return false;
+  if (!internal::parse_command(line, board_clock_ns(), c)) return false;
   return impl_->commands.push(c);
 }
 

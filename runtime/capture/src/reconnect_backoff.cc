@@ -1,11 +1,8 @@
 #include "tlvlink/capture/reconnect_backoff.h"
 
+#include "tlvlink/clock.h"
+
 namespace tlvlink::capture {
-namespace {
-
-constexpr int64_t kNsPerMs = 1000000;
-
-}  // namespace
 
 void ReconnectBackoff::lost(int64_t now_ns, bool streamed) {
   if (streamed || delay_ms_ == 0) {

@@ -4,15 +4,14 @@
 #include <optional>
 #include <vector>
 
-#include "clock.h"
 #include "tlvlink/capture/frame_accounting.h"
 #include "tlvlink/capture/recording.h"
+#include "tlvlink/clock.h"
 #include "tlvlink/log.h"
 
 namespace tlvlink::capture {
 namespace {
 
-using internal::monotonic_ns;
 
 TLV_LOG_CATEGORY(kLogReplay, "replay");
 
@@ -56,15 +55,15 @@ class ReplaySource final : public FrameSource {
               static_cast<unsigned long long>(s.frames));
     }
     next_record_ = reader_->first_record();
-    start_ns_ = monotonic_ns();
+    start_ns_ = board_clock_ns();
     return {};
   }
 
   Result<CapturedFrame> next(int32_t timeout_ms) override {
     TLV_ENSURE(reader_.has_value(), ErrorCode::kInvalidState, "replay '%s': not started",
                config_.label.c_str());
-    const int64_t deadline = monotonic_ns() + static_cast<int64_t>(std::max(timeout_ms, 0)) *
-                                                  internal::kNsPerMs;
+    const int64_t deadline = board_clock_ns() + static_cast<int64_t>(std::max(timeout_ms, 0)) *
+                                                  kNsPerMs;
     for (;;) {
       RecordInfo info;
       TLV_ASSIGN_OR_RETURN(bool have, peek(info));
@@ -81,18 +80,18 @@ class ReplaySource final : public FrameSource {
                  "failed its checksum or was flagged)",
                  config_.label.c_str(), config_.path.c_str(),
                  static_cast<unsigned long long>(reader_->summary().frames));
-      int64_t stamp = monotonic_ns();
+      int64_t stamp = board_clock_ns();
       uint32_t stale = 0;
       if (config_.realtime) {
         const int64_t due = due_ns(info);
         if (due > stamp) {
           if (due > deadline) {
-            internal::sleep_until_ns(deadline);
+            sleep_until_ns(deadline);
             ++stats_.timeouts;
             return Error::make(ErrorCode::kCaptureTimeout, "replay '%s': no frame within %d ms",
                                config_.label.c_str(), timeout_ms);
           }
-          internal::sleep_until_ns(due);
+          sleep_until_ns(due);
         }
         // Newest-frame policy: frames that became due while the consumer was busy are skipped.
         for (;;) {
@@ -101,7 +100,7 @@ class ReplaySource final : public FrameSource {
           const uint32_t saved_passes = passes_;
           next_record_ = info.next;
           TLV_ASSIGN_OR_RETURN(const bool more, peek(newer));
-          if (!more || due_ns(newer) > monotonic_ns()) {
+          if (!more || due_ns(newer) > board_clock_ns()) {
             next_record_ = saved;
             passes_ = saved_passes;
             break;

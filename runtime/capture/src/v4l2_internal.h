@@ -9,10 +9,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "clock.h"
 #include "tlvlink/capture/frame_accounting.h"
 #include "tlvlink/capture/reconnect_backoff.h"
 #include "tlvlink/capture/v4l2_source.h"
+#include "tlvlink/clock.h"
 
 namespace tlvlink::capture::internal {
 

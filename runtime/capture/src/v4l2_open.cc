@@ -64,7 +64,7 @@ Status open_device(V4l2Source::State& s) {
   }
   s.accounting.reset_stream(s.config.warmup_frames);
   // The first frame may take longer than the next ones (sensor start-up): one watchdog of grace.
-  s.last_frame_ns = monotonic_ns() + static_cast<int64_t>(s.watchdog_ms) * 1000000;
+  s.last_frame_ns = board_clock_ns() + static_cast<int64_t>(s.watchdog_ms) * 1000000;
   s.held = -1;
   s.pending_errno = 0;
   s.streamed = false;

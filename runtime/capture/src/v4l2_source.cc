@@ -7,11 +7,11 @@
 
 #include <cstring>
 
+#include "tlvlink/capture/outage.h"
 #include "v4l2_internal.h"
 
 namespace tlvlink::capture {
 
-using internal::monotonic_ns;
 using internal::xioctl;
 
 namespace {
@@ -25,55 +25,22 @@ int64_t timestamp_of(const v4l2_buffer& b, SourceStats& stats, int64_t dequeued_
   return dequeued_ns;
 }
 
+OutageBook outage_book(V4l2Source::State& s) { return {s.backoff, s.stats, s.last_reopen_error}; }
+
 // Ends the stream and begins an outage; the returned error is what next() reports. The backoff
 // restarts from backoff_initial_ms only if the device had delivered a frame since it was opened.
 Error begin_outage(V4l2Source::State& s, const char* why, int err) {
   internal::close_device(s);
-  const int64_t now = monotonic_ns();
-  ++s.stats.disconnects;
-  s.backoff.lost(now, s.streamed);
-  s.stats.outage_ns = s.backoff.outage_ns(now);
+  capture::begin_outage(outage_book(s), s.streamed);
   return Error::make(ErrorCode::kCaptureDisconnected,
                      "%s: %s%s%s; reconnecting (first reopen in %d ms)", s.name, why,
                      err ? ": " : "", err ? std::strerror(err) : "", s.backoff.delay_ms());
 }
 
-// While disconnected: reopen attempts when the backoff allows, until deadline_ns; between them
-// the thread sleeps, so a caller calling next() in a loop waits its timeout per call. Ok once
-// streaming again.
+// While disconnected (outage.h): reopen attempts until deadline_ns. Ok once streaming again.
 Status reconnect(V4l2Source::State& s, int64_t deadline_ns) {
-  for (;;) {
-    int64_t now = monotonic_ns();
-    if (s.backoff.due(now)) {
-      Status st = internal::open_device(s);
-      now = monotonic_ns();
-      if (st.ok()) {
-        s.backoff.reopened(now);
-        s.stats.outage_ns = s.backoff.outage_ns(now);
-        ++s.stats.reconnects;
-        return Status();
-      }
-      ++s.stats.reconnect_attempts;
-      s.last_reopen_error = st.error();
-      s.backoff.attempt_failed(now);
-    }
-    s.stats.outage_ns = s.backoff.outage_ns(now);
-    if (s.backoff.next_attempt_ns() > deadline_ns) {
-      internal::sleep_until_ns(deadline_ns);
-      now = monotonic_ns();
-      s.stats.outage_ns = s.backoff.outage_ns(now);
-      const char* reason = s.last_reopen_error.code() == ErrorCode::kOk
-                               ? "not reopened yet"
-                               : s.last_reopen_error.message();
-      return Error::make(
-          ErrorCode::kCaptureDisconnected,
-          "%s: disconnected for %lld ms, %llu reopen attempts failed, next in %lld ms: %s", s.name,
-          static_cast<long long>(s.backoff.current_outage_ns(now) / internal::kNsPerMs),
-          static_cast<unsigned long long>(s.stats.reconnect_attempts),
-          static_cast<long long>((s.backoff.next_attempt_ns() - now) / internal::kNsPerMs), reason);
-    }
-    internal::sleep_until_ns(s.backoff.next_attempt_ns());
-  }
+  auto reopen = [&s] { return internal::open_device(s); };
+  return reconnect_until(outage_book(s), s.name, deadline_ns, reopen);
 }
 
 bool requeue(V4l2Source::State& s, uint32_t index, int& err) {
@@ -102,7 +69,7 @@ Status V4l2Source::start() {
   if (!st.ok()) {
     if (!s.config.wait_for_device || st.error().code() != ErrorCode::kCaptureNoDevice) return st;
     // Absent at start and allowed to be: an outage from the start, first attempt right away.
-    s.backoff.absent_at_start(monotonic_ns());
+    s.backoff.absent_at_start(board_clock_ns());
     s.last_reopen_error = st.error();
   }
   s.started = true;
@@ -112,11 +79,7 @@ Status V4l2Source::start() {
 void V4l2Source::stop() {
   State& s = *state_;
   if (!s.started) return;
-  if (s.backoff.in_outage()) {
-    const int64_t now = monotonic_ns();
-    s.backoff.reopened(now);  // the outage's clock stops with the source
-    s.stats.outage_ns = s.backoff.outage_ns(now);
-  }
+  end_outage_at_stop(outage_book(s));
   internal::close_device(s);
   s.started = false;
 }
@@ -133,7 +96,7 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
   State& s = *state_;
   if (!s.started) return Error::make(ErrorCode::kInvalidState, "%s: next() before start()", s.name);
   release();
-  const int64_t deadline = monotonic_ns() + (timeout_ms > 0 ? timeout_ms : 0) * internal::kNsPerMs;
+  const int64_t deadline = board_clock_ns() + (timeout_ms > 0 ? timeout_ms : 0) * kNsPerMs;
   if (s.pending_errno != 0) return begin_outage(s, "VIDIOC_QBUF failed", s.pending_errno);
   if (!s.stats.connected) TLV_TRY(reconnect(s, deadline));
 
@@ -151,7 +114,7 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
       if (err != 0 || b.index >= s.buffer_count) {
         return begin_outage(s, "VIDIOC_DQBUF failed", err ? err : EINVAL);
       }
-      const int64_t now = monotonic_ns();
+      const int64_t now = board_clock_ns();
       s.last_frame_ns = now;
       const internal::MappedBuffer& m = s.buffers[b.index];
       RawFrame raw{{m.data, b.bytesused <= m.length ? b.bytesused : m.length},
@@ -183,9 +146,9 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
       return frame;
     }
 
-    const int64_t now = monotonic_ns();
+    const int64_t now = board_clock_ns();
     const int64_t watchdog_at =
-        s.last_frame_ns + static_cast<int64_t>(s.watchdog_ms) * internal::kNsPerMs;
+        s.last_frame_ns + static_cast<int64_t>(s.watchdog_ms) * kNsPerMs;
     if (now >= watchdog_at) {
       ++s.stats.stalls;
       return begin_outage(s, "no frame within the watchdog (device stalled)", 0);
@@ -198,7 +161,7 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
     const int64_t until = deadline < watchdog_at ? deadline : watchdog_at;
     pollfd p{s.fd, POLLIN, 0};
     const int rc = ::poll(
-        &p, 1, static_cast<int>((until - now + internal::kNsPerMs - 1) / internal::kNsPerMs));
+        &p, 1, static_cast<int>((until - now + kNsPerMs - 1) / kNsPerMs));
     if (rc < 0 && errno != EINTR) return begin_outage(s, "poll failed", errno);
     if (rc > 0 && (p.revents & (POLLERR | POLLHUP | POLLNVAL)) && !(p.revents & POLLIN)) {
       // An unregistered node (unplugged) polls POLLERR|POLLHUP; so does a queue in error state

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <ctime>
 
+#include "tlvlink/clock.h"
+
 namespace tlvlink {
 namespace {
 
@@ -59,11 +61,7 @@ LogLevel level_from_env(const char* category) {
   return has_own ? own : fallback;
 }
 
-double monotonic_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
-}
+double monotonic_seconds() { return static_cast<double>(board_clock_ns()) * 1e-9; }
 
 }  // namespace
 

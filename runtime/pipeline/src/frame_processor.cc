@@ -1,22 +1,15 @@
 #include "tlvlink/pipeline/frame_processor.h"
 
-#include <time.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <string_view>
 
+#include "tlvlink/clock.h"
 #include "tlvlink/quant_math.h"
 
 namespace tlvlink::pipeline {
 namespace {
-
-int64_t monotonic_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 // The reported heads: by name, or those heads::reported_by_default picks.
 Result<std::vector<int16_t>> select_heads(const heads::HeadEvaluator& h,
@@ -157,11 +150,11 @@ Result<std::unique_ptr<FrameProcessor>> FrameProcessor::create(
 
 Status FrameProcessor::embed(Sensor& s, const image::ImageView& frame, FrameTimes& times) {
   TLV_TRY(s.plan.run(frame, executor_.input(0)));
-  times.preprocessed_ns = monotonic_ns();
+  times.preprocessed_ns = board_clock_ns();
   // A frame from uint8 pixels through a plan whose every output is finite cannot hold NaN/Inf:
   // skip the input scan (it would cost a few percent of the encoder).
   TLV_TRY(s.plan.outputs_finite() ? executor_.invoke_trusted_inputs() : executor_.invoke());
-  times.inferred_ns = monotonic_ns();
+  times.inferred_ns = board_clock_ns();
   const Graph& g = model_.graph();
   const auto o = static_cast<size_t>(std::max(model_.metadata().embedding_output, 0));
   const Tensor& t = g.tensor(g.outputs[o]);
@@ -190,7 +183,7 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
   ++counters_.sensor_frames[static_cast<size_t>(index)];
   auto decision = s.gate.update(frame);
   if (!decision.ok()) return decision.error().with_context("sensor '%s'", s.setup.name.c_str());
-  out.times.gated_ns = monotonic_ns();
+  out.times.gated_ns = board_clock_ns();
   out.contact_state = static_cast<uint8_t>(decision->state);
   out.contact_score_dn = decision->score_dn;
   const bool contact = decision->state != ContactState::kNoContact;
@@ -205,7 +198,7 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
     if (Status st = embed(s, frame, out.times); !st.ok())
       return st.error().with_context("sensor '%s' frame %llu", s.setup.name.c_str(),
                                      static_cast<unsigned long long>(sequence));
-    out.times.heads_ns = monotonic_ns();
+    out.times.heads_ns = board_clock_ns();
     ++counters_.encoder_runs;
     ++counters_.sensor_encoder_runs[static_cast<size_t>(index)];
     counters_.grasp_forced += (!contact && wanted) ? 1 : 0;

@@ -8,7 +8,7 @@
 #include <algorithm>
 
 #include "sender_link.h"
-#include "tlvlink/transport/time.h"
+#include "tlvlink/clock.h"
 
 namespace tlvlink::transport {
 
@@ -81,7 +81,7 @@ Status Sender::post_message(const M& m) {
     const bool up = counters_.link_up;
     TLV_ASSIGN_OR_RETURN(const size_t dropped,
                          queue_.push(protocol::MessageTypeOf<M>::value, up ? 0 : protocol::kFlagDelayed,
-                                     monotonic_ns(), payload));
+                                     board_clock_ns(), payload));
     (up ? counters_.dropped_queue_full : counters_.dropped_link_down) += dropped;
     ++counters_.posted;
   }

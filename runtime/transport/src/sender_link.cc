@@ -4,7 +4,7 @@
 
 #include "tlvlink/protocol/names.h"
 #include "tlvlink/protocol/views.h"
-#include "tlvlink/transport/time.h"
+#include "tlvlink/clock.h"
 
 namespace tlvlink::transport {
 namespace {
@@ -21,12 +21,12 @@ Sender::Link::Link(Sender& sender)
 void Sender::Link::run() {
   while (!s_.stopping_) step(kWaitMs);
   // Flush: what is queued goes out while the link is up, for at most flush_ms.
-  const int64_t deadline = monotonic_ns() + static_cast<int64_t>(s_.config_.flush_ms) * 1'000'000;
-  for (int64_t now = monotonic_ns(); now < deadline && t_.is_open() && up_ && has_output(); now = monotonic_ns()) {
+  const int64_t deadline = board_clock_ns() + static_cast<int64_t>(s_.config_.flush_ms) * 1'000'000;
+  for (int64_t now = board_clock_ns(); now < deadline && t_.is_open() && up_ && has_output(); now = board_clock_ns()) {
     step(static_cast<int>(std::max<int64_t>(1, (deadline - now) / 1'000'000)));
   }
   if (t_.is_open() && up_) {
-    const int64_t left_ms = (deadline - monotonic_ns()) / 1'000'000;
+    const int64_t left_ms = (deadline - board_clock_ns()) / 1'000'000;
     t_.drain(static_cast<int>(std::max<int64_t>(left_ms, 0)));
   }
   t_.close();
@@ -70,7 +70,7 @@ void Sender::Link::step(int timeout_ms) {
   if (want_write && ready.value().writable) write_some();
   // A link that accepts nothing for stall_ms is down for accounting (drops, delayed flags), but
   // writing goes on: bytes moving again bring it back.
-  const int64_t now = monotonic_ns();
+  const int64_t now = board_clock_ns();
   if (!want_write) {
     last_progress_ns_ = now;
   } else if (!stalled_ && now - last_progress_ns_ > static_cast<int64_t>(s_.config_.stall_ms) * 1'000'000) {
@@ -85,7 +85,7 @@ void Sender::Link::on_up() {
   up_ = true;
   no_reader_reported_ = false;
   stalled_ = false;
-  last_progress_ns_ = monotonic_ns();
+  last_progress_ns_ = board_clock_ns();
   version_reported_ = false;
   deframer_.reset();
   control_.clear();
@@ -140,7 +140,7 @@ bool Sender::Link::take_message() {
     s_.stats_size_ = 0;
     return inflight_ = true;
   }
-  const int64_t now = monotonic_ns();
+  const int64_t now = board_clock_ns();
   SendQueue::Record r;
   while (s_.queue_.front(r)) {
     if (s_.config_.max_age_ms > 0 && now - r.enqueue_ns > s_.config_.max_age_ms * 1'000'000) {
@@ -178,7 +178,7 @@ void Sender::Link::encode(protocol::MessageType type, uint16_t flags, std::span<
   h.type = type;
   h.flags = flags;
   h.sequence = sequence_;
-  h.send_ns = monotonic_ns();
+  h.send_ns = board_clock_ns();
   // Cannot fail: every payload was size-checked when it was encoded.
   Result<size_t> n = protocol::encode_frame(h, payload, out_);
   if (!n.ok()) return;
@@ -195,7 +195,7 @@ void Sender::Link::write_some() {
   }
   if (n.value() == 0) return;
   out_pos_ += n.value();
-  last_progress_ns_ = monotonic_ns();
+  last_progress_ns_ = board_clock_ns();
   if (stalled_) {
     stalled_ = false;
     publish();
@@ -217,7 +217,7 @@ void Sender::Link::read_all() {
       return;
     }
     if (n.value() == 0) return;
-    const int64_t received = monotonic_ns();
+    const int64_t received = board_clock_ns();
     deframer_.feed(std::span<const std::byte>(rx_, n.value()),
                    [&](const protocol::ReceivedFrame& f) { on_frame(f, received); });
   }
@@ -248,7 +248,7 @@ void Sender::Link::on_frame(const protocol::ReceivedFrame& f, int64_t received_n
 void Sender::Link::reply_hello() {
   std::lock_guard lock(s_.mutex_);
   if (!s_.hello_payload_.empty()) {
-    (void)control_.push(protocol::MessageType::kHello, 0, monotonic_ns(), s_.hello_payload_);
+    (void)control_.push(protocol::MessageType::kHello, 0, board_clock_ns(), s_.hello_payload_);
   }
 }
 

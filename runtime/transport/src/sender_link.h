@@ -8,7 +8,7 @@
 
 #include "tlvlink/protocol/deframer.h"
 #include "tlvlink/transport/sender.h"
-#include "tlvlink/transport/time.h"
+#include "tlvlink/clock.h"
 
 namespace tlvlink::transport {
 
@@ -64,7 +64,7 @@ class Sender::Link {
 template <typename M>
 void Sender::Link::reply(const M& message) {
   Result<std::span<const std::byte>> p = protocol::encode_payload(message, scratch_);
-  if (p.ok()) (void)control_.push(protocol::MessageTypeOf<M>::value, 0, monotonic_ns(), p.value());
+  if (p.ok()) (void)control_.push(protocol::MessageTypeOf<M>::value, 0, board_clock_ns(), p.value());
 }
 
 }  // namespace tlvlink::transport

@@ -19,12 +19,7 @@ void Completions::push(const LibcameraCompletion& c) {
     std::lock_guard<std::mutex> lock(mu_);
     // At most one completion per buffer is outstanding; a full ring means a buffer completed
     // twice without a requeue, which libcamera does not do: keep the newest.
-    if (count_ == kMaxCompletions) {
-      head_ = (head_ + 1) % kMaxCompletions;
-      --count_;
-    }
-    ring_[(head_ + count_) % kMaxCompletions] = c;
-    ++count_;
+    ring_.push(c);
   }
   wake();
 }
@@ -36,11 +31,7 @@ void Completions::wake() {
 
 bool Completions::pop(LibcameraCompletion& c) {
   std::lock_guard<std::mutex> lock(mu_);
-  if (count_ == 0) return false;
-  c = ring_[head_];
-  head_ = (head_ + 1) % kMaxCompletions;
-  --count_;
-  return true;
+  return ring_.pop(c);
 }
 
 bool Completions::wait(int timeout_ms) {
@@ -56,7 +47,7 @@ bool Completions::wait(int timeout_ms) {
 
 void Completions::clear() {
   std::lock_guard<std::mutex> lock(mu_);
-  head_ = count_ = 0;
+  ring_.clear();
 }
 
 }  // namespace tlvlink::capture::internal

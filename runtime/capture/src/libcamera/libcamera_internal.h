@@ -5,6 +5,7 @@
 #error "runtime/capture internal header: include tlvlink/capture/libcamera_source.h instead"
 #endif
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -16,14 +17,15 @@
 #include "tlvlink/capture/frame_accounting.h"
 #include "tlvlink/capture/libcamera_source.h"
 #include "tlvlink/capture/reconnect_backoff.h"
+#include "tlvlink/drop_oldest_ring.h"
 
 namespace tlvlink::capture::internal {
 
 inline constexpr uint32_t kMaxCompletions =
     8;  // >= buffers in flight: each completes once per queue
 
-// Completed buffers, pushed by libcamera's thread (or a test), popped by next(). Fixed storage,
-// a mutex held for a copy, an eventfd to wake a waiting next().
+// Completed buffers, pushed by libcamera's thread (or a test), popped by next(). A drop-oldest
+// ring over fixed storage, a mutex held for a copy, an eventfd to wake a waiting next().
 class Completions {
  public:
   Completions();
@@ -38,8 +40,8 @@ class Completions {
 
  private:
   std::mutex mu_;
-  LibcameraCompletion ring_[kMaxCompletions];
-  uint32_t head_ = 0, count_ = 0;
+  std::array<LibcameraCompletion, kMaxCompletions> storage_{};
+  DropOldestRing<LibcameraCompletion> ring_{storage_};
   int efd_ = -1;
 };
 

@@ -4,8 +4,9 @@
 
 #include <cstdio>
 
-#include "clock.h"
 #include "libcamera/libcamera_internal.h"
+#include "tlvlink/capture/outage.h"
+#include "tlvlink/clock.h"
 
 namespace tlvlink::capture {
 namespace {
@@ -29,45 +30,23 @@ Status open_session(LibcameraSource::State& s) {
   return Status();
 }
 
+OutageBook outage_book(LibcameraSource::State& s) {
+  return {s.backoff, s.stats, s.last_reopen_error};
+}
+
 Error begin_outage(LibcameraSource::State& s) {
   s.session.reset();
   s.stats.connected = false;
-  ++s.stats.disconnects;
-  const int64_t now = internal::monotonic_ns();
-  s.backoff.lost(now, s.streamed);  // tlvlink/capture/reconnect_backoff.h, as the V4L2 source
-  s.stats.outage_ns = s.backoff.outage_ns(now);
+  capture::begin_outage(outage_book(s), s.streamed);  // outage.h, as the V4L2 source
   return Error::make(ErrorCode::kCaptureDisconnected,
                      "%s: camera disconnected; reconnecting (first reopen in %d ms)", s.name,
                      s.backoff.delay_ms());
 }
 
-// Bounded reopening while the camera is gone (same scheme as the V4L2 source).
+// Bounded reopening while the camera is gone (outage.h: the V4L2 source's loop).
 Status reconnect(LibcameraSource::State& s, int64_t deadline) {
-  for (;;) {
-    int64_t now = internal::monotonic_ns();
-    if (s.backoff.due(now)) {
-      Status st = open_session(s);
-      now = internal::monotonic_ns();
-      if (st.ok()) {
-        s.backoff.reopened(now);
-        s.stats.outage_ns = s.backoff.outage_ns(now);
-        ++s.stats.reconnects;
-        return Status();
-      }
-      ++s.stats.reconnect_attempts;
-      s.last_reopen_error = st.error();
-      s.backoff.attempt_failed(now);
-    }
-    s.stats.outage_ns = s.backoff.outage_ns(now);
-    if (s.backoff.next_attempt_ns() > deadline) {
-      internal::sleep_until_ns(deadline);
-      return Error::make(ErrorCode::kCaptureDisconnected,
-                         "%s: disconnected, %llu reopen attempts failed: %s", s.name,
-                         static_cast<unsigned long long>(s.stats.reconnect_attempts),
-                         s.last_reopen_error.message());
-    }
-    internal::sleep_until_ns(s.backoff.next_attempt_ns());
-  }
+  auto reopen = [&s] { return open_session(s); };
+  return reconnect_until(outage_book(s), s.name, deadline, reopen);
 }
 
 }  // namespace
@@ -138,11 +117,7 @@ Status LibcameraSource::start() {
 void LibcameraSource::stop() {
   State& s = *state_;
   if (!s.started) return;
-  if (s.backoff.in_outage()) {
-    const int64_t now = internal::monotonic_ns();
-    s.backoff.reopened(now);  // the outage's clock stops with the source
-    s.stats.outage_ns = s.backoff.outage_ns(now);
-  }
+  end_outage_at_stop(outage_book(s));
   s.session.reset();
   s.completions.clear();
   s.held = -1;
@@ -169,7 +144,7 @@ Result<CapturedFrame> LibcameraSource::next(int32_t timeout_ms) {
   if (!s.started) return Error::make(ErrorCode::kInvalidState, "%s: next() before start()", s.name);
   release();
   const int64_t deadline =
-      internal::monotonic_ns() + (timeout_ms > 0 ? timeout_ms : 0) * internal::kNsPerMs;
+      board_clock_ns() + (timeout_ms > 0 ? timeout_ms : 0) * kNsPerMs;
   if (!s.test_mode) {
     if (s.session && s.session->disconnected()) return begin_outage(s);
     if (!s.session) TLV_TRY(reconnect(s, deadline));
@@ -208,14 +183,14 @@ Result<CapturedFrame> LibcameraSource::next(int32_t timeout_ms) {
       return frame;
     }
     if (s.session && s.session->disconnected()) return begin_outage(s);
-    const int64_t now = internal::monotonic_ns();
+    const int64_t now = board_clock_ns();
     if (now >= deadline) {
       ++s.stats.timeouts;
       return Error::make(ErrorCode::kCaptureTimeout, "%s: no frame within %d ms", s.name,
                          timeout_ms);
     }
     s.completions.wait(
-        static_cast<int>((deadline - now + internal::kNsPerMs - 1) / internal::kNsPerMs));
+        static_cast<int>((deadline - now + kNsPerMs - 1) / kNsPerMs));
   }
 }
 

@@ -6,6 +6,7 @@
 #include "tlvlink/capture/frame_accounting.h"
 #include "tlvlink/capture/frame_check.h"
 #include "tlvlink/capture/frame_source.h"
+#include "tlvlink/capture/outage.h"
 #include "tlvlink/capture/reconnect_backoff.h"
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/capture/replay_source.h"

@@ -1,16 +1,14 @@
 #pragma once
-// The board clock every stream timestamp uses: CLOCK_MONOTONIC in nanoseconds (the clock of
-// V4L2 buffer timestamps). Hosts use their own CLOCK_MONOTONIC for receive times.
+// The board clock every stream timestamp uses is core's board_clock_ns() (tlvlink/clock.h:
+// CLOCK_MONOTONIC, the clock of V4L2 buffer timestamps, with a fake for tests). This name stays
+// for the host tools that read it for receive times (hosts use their own CLOCK_MONOTONIC).
 
 #include <cstdint>
-#include <ctime>
+
+#include "tlvlink/clock.h"
 
 namespace tlvlink::transport {
 
-inline int64_t monotonic_ns() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
+inline int64_t monotonic_ns() { return board_clock_ns(); }
 
 }  // namespace tlvlink::transport
