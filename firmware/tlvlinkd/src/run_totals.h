@@ -36,6 +36,8 @@ struct RunTotals {
       sensor_reopen_failures{};
   std::array<double, pipeline::kMaxSensors> sensor_outage_s{};
   double inference_cpu_pct = 0, output_cpu_pct = 0;
+  bool frame_images = false;                   // configured on
+  uint64_t images_sent = 0, drops_image = 0;   // FrameImages posted; not sent (image_busy)
   int64_t peak_rss_kb = 0;
 };
 
