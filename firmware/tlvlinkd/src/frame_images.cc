@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "clock.h"
 #include "tlvlink/log.h"
 #include "tlvlink/protocol/encode.h"
 
@@ -18,10 +19,11 @@ TLV_LOG_CATEGORY(kLogImages, "images");
 constexpr int32_t kMinQuality = 20;  // re-encoding to fit stops here
 constexpr int kEncoderNice = 10;     // the encoder thread yields to capture, inference and link
 
-// Bits per pixel a baseline 4:2:0 JPEG of a gel image stays under, by quality band: about twice
-// what libjpeg-turbo gives on the project's replayed GelSight Mini and DIGIT frames (smooth
-// shading; an imprint adds edges), so the check refuses a configuration that could not fit
-// rather than one that fits only on a quiet gel.
+// Bits per pixel a baseline 4:2:0 JPEG of a gel image stays under, by quality band. Measured on
+// the simulated GelSight Mini scenario (tools/bench/frame_images_latency.sh): the 320x240 view at
+// quality 70 takes 0.26 bpp at the median, 0.33 at most (2.5 / 3.2 KB); the bound is ~4x that,
+// room for real camera noise and sharp imprints, so a configuration that passes fits in practice
+// and one that could fit only on a quiet gel is refused.
 double bits_per_pixel(int32_t quality) {
   if (quality <= 50) return 1.0;
   if (quality <= 75) return 1.5;
@@ -144,12 +146,15 @@ void FrameImages::offer(int32_t sensor, uint64_t sequence, int64_t capture_ns, c
       busy_.fetch_add(1);           // the oldest waiting image gives way
     }
   }
+  const int64_t t0 = board_clock_ns();
   Slot& slot = slots_[i];
   slot.sensor = sensor;
   slot.sequence = sequence;
   slot.capture_ns = capture_ns;
   slot.contact = contact;
   fill(slot, sensor, frame);
+  copy_ns_.fetch_add(board_clock_ns() - t0);
+  copies_.fetch_add(1);
   {
     std::lock_guard lock(mutex_);
     ready_.push(i);
@@ -200,7 +205,10 @@ void FrameImages::run(const std::atomic<bool>& stop) {
       wake_.wait_for(lock, std::chrono::milliseconds(100), [&] { return !ready_.empty() || stop.load(); });
       if (!ready_.pop(i)) continue;
     }
+    const int64_t t0 = board_clock_ns();
     encode_and_post(slots_[i]);
+    encode_ns_.fetch_add(board_clock_ns() - t0);
+    encodes_.fetch_add(1);
     {
       std::lock_guard lock(mutex_);
       free_.push(i);

@@ -64,6 +64,12 @@ class FrameImages {
 
   uint64_t busy() const { return busy_.load(); }  // image_busy: dropped in a slot or by the link
   uint64_t sent() const { return sent_.load(); }
+  // Time spent per image: copying it on the inference thread, encoding it on the encoder thread
+  // (board clock, summed; two clock reads per image, none per frame).
+  int64_t copy_ns() const { return copy_ns_.load(); }
+  int64_t encode_ns() const { return encode_ns_.load(); }
+  uint64_t copies() const { return copies_.load(); }
+  uint64_t encodes() const { return encodes_.load(); }
 
  private:
   static constexpr size_t kSlots = 3;  // one encoding, one waiting, one being filled
@@ -94,7 +100,8 @@ class FrameImages {
   std::condition_variable wake_;
   DropOldestRing<uint8_t> free_, ready_;  // slot indices
   image::JpegEncoder encoder_;            // encoder thread only (after create's warm-up)
-  std::atomic<uint64_t> busy_{0}, sent_{0};
+  std::atomic<uint64_t> busy_{0}, sent_{0}, copies_{0}, encodes_{0};
+  std::atomic<int64_t> copy_ns_{0}, encode_ns_{0};
 };
 
 }  // namespace tlvlink::daemon::internal
