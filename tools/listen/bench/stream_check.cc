@@ -42,7 +42,9 @@
 #include <vector>
 
 #include "fixture_recording.h"
+#if defined(TLVLINK_STREAM_CHECK_IMAGES)
 #include "tlvlink/image/jpeg.h"
+#endif
 #include "tlvlink/listen/client.h"
 #include "tlvlink/listen/command_text.h"
 #include "tlvlink/protocol/names.h"
@@ -109,6 +111,10 @@ struct FixtureImage {
   std::array<uint8_t, 32 * 24 / 8> mask{};
 };
 bool make_fixture_jpeg(FixtureImage& out) {
+#if !defined(TLVLINK_STREAM_CHECK_IMAGES)
+  (void)out;
+  return false;  // built without tlvlink_image
+#else
   std::vector<uint8_t> rgb(64 * 48 * 3);
   for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<uint8_t>(90 + (i / 3) % 64 + (i % 3) * 30);
   image::JpegEncoder encoder;
@@ -116,6 +122,7 @@ bool make_fixture_jpeg(FixtureImage& out) {
   if (!j.ok()) return false;
   out.jpeg.assign(j.value().begin(), j.value().end());
   return true;
+#endif
 }
 protocol::FrameImage fixture_image(const protocol::FramePrediction& p, uint32_t k, FixtureImage& storage) {
   storage.mask.fill(0);
@@ -138,7 +145,7 @@ protocol::FrameImage fixture_image(const protocol::FramePrediction& p, uint32_t 
 
 int board(const Args& a) {
   FixtureImage image;
-  if (a.images > 0 && !make_fixture_jpeg(image)) return std::fprintf(stderr, "board: no fixture JPEG\n"), 2;
+  if (a.images > 0 && !make_fixture_jpeg(image)) return std::fprintf(stderr, "board: no fixture JPEG (built without tlvlink_image?)\n"), 2;
   Result<std::unique_ptr<transport::Transport>> link = transport::make_transport(a.link);
   if (!link.ok()) return std::fprintf(stderr, "board: %s\n", link.error().message()), 2;
   std::unique_ptr<transport::Transport> wire = std::move(link.value());
