@@ -344,8 +344,11 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
       if (auto st = m.value()->stats(); st.ok()) {
         ++stats_seen;
         std::set<int> causes;
-        for (size_t i = 0; i < st.value().drop_count(); ++i)
+        for (size_t i = 0; i < st.value().drop_count(); ++i) {
           if (!causes.insert(static_cast<int>(st.value().drop(i).cause)).second) ++stats_with_a_repeated_cause;
+          // Images off: no image_busy entry (a protocol 1.1 host would print an unknown cause).
+          if (st.value().drop(i).cause == protocol::DropCause::kImageBusy) ++stats_with_a_repeated_cause;
+        }
       }
     }
   });
@@ -386,6 +389,7 @@ TEST(DaemonSession, StreamsFrameImagesOverAPtyToTheClient) {
   auto client = listen::Client::open("serial:" + link);
   ASSERT_TRUE(client.ok()) << client.error().message();
   std::atomic<uint64_t> frames{0}, images{0}, bad_images{0}, masked_in_contact{0}, masked_without_contact{0};
+  std::atomic<int> stats_with_image_busy{0};
   std::atomic<bool> done{false};
   std::thread reader([&] {
     image::JpegDecoder decoder;
@@ -399,6 +403,10 @@ TEST(DaemonSession, StreamsFrameImagesOverAPtyToTheClient) {
       }
       quiet = 0;
       if (m.value()->frame_prediction().ok()) ++frames;
+      if (auto st = m.value()->stats(); st.ok()) {
+        for (size_t i = 0; i < st.value().drop_count(); ++i)
+          stats_with_image_busy += st.value().drop(i).cause == protocol::DropCause::kImageBusy ? 1 : 0;
+      }
       auto f = m.value()->frame_image();
       if (!f.ok()) continue;
       ++images;
@@ -424,6 +432,7 @@ TEST(DaemonSession, StreamsFrameImagesOverAPtyToTheClient) {
   EXPECT_EQ(bad_images.load(), 0u);
   EXPECT_GT(masked_in_contact.load(), 0u) << "the pressed frames' masks mark cells";
   EXPECT_EQ(masked_without_contact.load(), 0u);
+  EXPECT_GT(stats_with_image_busy.load(), 0) << "a board that sends images reports image_busy in its Stats";
 }
 
 #endif  // TLVLINK_HAVE_LISTEN
