@@ -140,6 +140,26 @@ TEST(DaemonConfig, RefusesWhatStartWouldRefuse) {
   EXPECT_NE(error_of(baud).find("output: serial link /dev/null: -5 baud is not a standard rate"), std::string::npos) << error_of(baud);
   const std::string name = with("name = \"left\"", "name = \"" + std::string(20000, 'x') + "\"");
   EXPECT_NE(error_of(name).find("sensor[0].name: 20000 bytes; at most 64"), std::string::npos);
+#if defined(TLVLINK_HAVE_STREAM_LINK)
+  // FrameImages (issue 33): on the stream link only; a rate, a quality and a size that fit.
+  const std::string images = with("output = \"jsonl:/tmp/out.jsonl\"", "output = \"serial:/dev/null\"\nframe_images = \"view\"");
+  EXPECT_EQ(error_of(images), "");
+  EXPECT_NE(error_of(with("output = \"jsonl:/tmp/out.jsonl\"", "frame_images = \"input\""))
+                .find("frame_images: images go on the stream link"),
+            std::string::npos);
+  const auto images_with = [&](const std::string& extra) {
+    std::string out = images;
+    out.replace(out.find("frame_images = \"view\""), 21, "frame_images = \"view\"\n" + extra);
+    return error_of(out);
+  };
+  EXPECT_NE(images_with("frame_images_per_second = 16").find("frame_images_per_second: 16 outside [1, 15]"),
+            std::string::npos);
+  EXPECT_NE(images_with("frame_images = 1").find("frame_images"), std::string::npos);
+  const std::string big = images_with("frame_image_max_side = 1024\nframe_image_quality = 95");
+  EXPECT_NE(big.find("frame_image_max_side: a "), std::string::npos) << big;
+  EXPECT_NE(big.find("a FrameImage carries"), std::string::npos) << big;
+  EXPECT_EQ(images_with("frame_image_max_side = 200\nframe_image_quality = 90"), "");
+#endif
 #if !defined(TLVLINK_HAVE_LIBCAMERA)
   const std::string libcamera = with("source = \"v4l2\"", "source = \"libcamera\"");
   EXPECT_NE(error_of(libcamera).find("sensor[1].source: this tlvlinkd was built without libcamera"),

@@ -3,6 +3,7 @@
 // model. Checks the output records, that grasps are reported, and that 1,000 frames in the
 // steady state allocate nothing (operator new, counted over every thread).
 #include <atomic>
+#include <cstdlib>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -106,20 +107,37 @@ Counted count_allocations_after_warmup(Session& session, int64_t warmup) {
   return c;
 }
 
-TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
+// images: FrameImages of the view at their highest rate on a pty whose reader (`cat`, another
+// process: its allocations are not counted) takes everything, so images are encoded and posted.
+void streams_without_allocating_per_frame(bool images) {
   testing::TempDir dir;
-  const std::string out = dir.path() + "/predictions.jsonl";
+  const std::string out = dir.path() + "/predictions.jsonl", link = dir.path() + "/board";
   constexpr int64_t kWarmup = 200, kCounted = 1000;
-  auto config = parse_config(config_text(out, kWarmup + kCounted), "test.toml");
+  std::string text = config_text(out, kWarmup + kCounted);
+  if (images) {
+    text.replace(text.find("output = \"jsonl:" + out + "\""), 16 + out.size() + 1,
+                 "output = [\"jsonl:" + out + "\", \"pty:" + link + "\"]\nframe_images = \"view\"\n"
+                 "frame_images_per_second = 15");
+  }
+  auto config = parse_config(text, "test.toml");
   ASSERT_TRUE(config.ok()) << config.error().message();
   auto session = Session::start_with_sources(*config, sources());
   ASSERT_TRUE(session.ok()) << session.error().message();
+  // It ends by itself when the board closes the pty (EIO).
+  if (images) {
+    ASSERT_EQ(std::system(("cat " + link + " > /dev/null 2>&1 &").c_str()), 0);
+  }
   const Counted counted = count_allocations_after_warmup(**session, kWarmup);
   ASSERT_TRUE(counted.limit_reached)
       << counted.frames << " of " << kWarmup + kCounted << " frames in 240 s";
   const size_t allocations = counted.allocations;
   const SessionTotals t = (*session)->stop();
-  EXPECT_EQ(allocations, 0u) << "heap allocations while " << kCounted << " frames went through";
+  EXPECT_EQ(allocations, 0u) << "heap allocations while " << kCounted << " frames went through"
+                             << (images ? " with frame images on" : "");
+  if (images) {
+    // 1,200 frames at 100 fps in all: ~6 s a sensor, ~90 images each at 15 a second.
+    EXPECT_GE(t.images_sent, 60u) << t.images_busy << " busy";
+  }
   EXPECT_GE(t.frames, static_cast<uint64_t>(kWarmup + kCounted));
   EXPECT_GT(t.encoded, 0u);
   EXPECT_GT(t.gated, 0u) << "idle frames must skip the encoder";
@@ -171,6 +189,16 @@ TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
   EXPECT_GE(stats, 1u);
   EXPECT_EQ(summaries, 1u);
 }
+
+TEST(DaemonSession, StreamsPredictionsAndGraspsWithoutAllocatingPerFrame) {
+  streams_without_allocating_per_frame(false);
+}
+
+#if defined(TLVLINK_HAVE_LISTEN)
+TEST(DaemonSession, StreamsPredictionsAndFrameImagesWithoutAllocatingPerFrame) {
+  streams_without_allocating_per_frame(true);
+}
+#endif
 
 // Cameras faster than the encoder (unpaced YUYV sources, gating off): there is always another frame.
 // The inference thread still publishes its counters and applies commands every few frames;
@@ -316,8 +344,11 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
       if (auto st = m.value()->stats(); st.ok()) {
         ++stats_seen;
         std::set<int> causes;
-        for (size_t i = 0; i < st.value().drop_count(); ++i)
+        for (size_t i = 0; i < st.value().drop_count(); ++i) {
           if (!causes.insert(static_cast<int>(st.value().drop(i).cause)).second) ++stats_with_a_repeated_cause;
+          // Images off: no image_busy entry (a protocol 1.1 host would print an unknown cause).
+          if (st.value().drop(i).cause == protocol::DropCause::kImageBusy) ++stats_with_a_repeated_cause;
+        }
       }
     }
   });
@@ -339,6 +370,69 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
   EXPECT_EQ(detected_grasps.load(), static_cast<int>(grasps.load())) << "grasp mode is detected";
   EXPECT_GT(stats_seen.load(), 0);
   EXPECT_EQ(stats_with_a_repeated_cause.load(), 0);
+}
+
+// Issue 33 item 1: FrameImages of the view, 10 a second per sensor, beside the predictions. The
+// client sees every image the board counted as sent, each a JPEG of the announced size with the
+// contact gate's 32x24 mask, marked cells only on frames in contact; no prediction is lost.
+TEST(DaemonSession, StreamsFrameImagesOverAPtyToTheClient) {
+  testing::TempDir dir;
+  const std::string jsonl = dir.path() + "/p.jsonl", link = dir.path() + "/board";
+  std::string text = config_text(jsonl, 400);
+  text.replace(text.find("output = \"jsonl:" + jsonl + "\""), 16 + jsonl.size() + 1,
+               "output = [\"jsonl:" + jsonl + "\", \"pty:" + link + "\"]\nframe_images = \"view\"\n"
+               "frame_images_per_second = 10\nframe_image_max_side = 200");
+  auto config = parse_config(text, "test.toml");
+  ASSERT_TRUE(config.ok()) << config.error().message();
+  auto session = Session::start_with_sources(*config, sources());
+  ASSERT_TRUE(session.ok()) << session.error().message();
+  auto client = listen::Client::open("serial:" + link);
+  ASSERT_TRUE(client.ok()) << client.error().message();
+  std::atomic<uint64_t> frames{0}, images{0}, bad_images{0}, masked_in_contact{0}, masked_without_contact{0};
+  std::atomic<int> stats_with_image_busy{0};
+  std::atomic<bool> done{false};
+  std::thread reader([&] {
+    image::JpegDecoder decoder;
+    int quiet = 0;
+    while (!done || quiet < 5) {
+      auto m = (*client)->next(200);
+      if (!m.ok()) break;
+      if (!m.value()) {
+        ++quiet;
+        continue;
+      }
+      quiet = 0;
+      if (m.value()->frame_prediction().ok()) ++frames;
+      if (auto st = m.value()->stats(); st.ok()) {
+        for (size_t i = 0; i < st.value().drop_count(); ++i)
+          stats_with_image_busy += st.value().drop(i).cause == protocol::DropCause::kImageBusy ? 1 : 0;
+      }
+      auto f = m.value()->frame_image();
+      if (!f.ok()) continue;
+      ++images;
+      const protocol::FrameImage& im = f.value();
+      auto h = decoder.read_header(im.data, "frame image");
+      const bool good = h.ok() && h->width == im.width && h->height == im.height && im.width == 200 &&
+                        im.height == 150 && im.kind == protocol::ImageKind::kView && im.mask_width == 32 &&
+                        im.mask_height == 24 && im.mask.size() == 96;
+      bad_images += good ? 0 : 1;
+      bool any = false;
+      for (uint8_t b : im.mask) any |= b != 0;
+      if (any) ++(im.contact ? masked_in_contact : masked_without_contact);
+    }
+  });
+  while (!(*session)->limit_reached()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const SessionTotals t = (*session)->stop();
+  done = true;
+  reader.join();
+  EXPECT_EQ(frames, t.frames);
+  EXPECT_EQ(images, t.images_sent);
+  // 400 frames at 100 fps in all: ~2 s a sensor, ~20 images each at 10 a second.
+  EXPECT_GE(t.images_sent, 20u) << t.images_busy << " busy";
+  EXPECT_EQ(bad_images.load(), 0u);
+  EXPECT_GT(masked_in_contact.load(), 0u) << "the pressed frames' masks mark cells";
+  EXPECT_EQ(masked_without_contact.load(), 0u);
+  EXPECT_GT(stats_with_image_busy.load(), 0) << "a board that sends images reports image_busy in its Stats";
 }
 
 #endif  // TLVLINK_HAVE_LISTEN

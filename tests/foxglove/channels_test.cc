@@ -10,6 +10,7 @@
 #include "support/temp_dir.h"
 #include "tlvlink/foxglove/channels.h"
 #include "tlvlink/listen/client.h"
+#include "tlvlink/protocol/encode.h"
 
 namespace tlvlink::foxglove {
 namespace {
@@ -61,7 +62,47 @@ TEST(Channels, TheTableHasUniqueIdsTopicsAndJsonSchemas) {
     EXPECT_EQ(schema["type"], "object") << c.topic;
     EXPECT_TRUE(schema["properties"].contains("timestamp")) << c.topic;
   }
-  EXPECT_EQ(ids.size(), 8u);
+  EXPECT_EQ(ids.size(), 9u);
+}
+
+// The frame image channel (issue 33 item 1): foxglove.CompressedImage's keys (frame_id, format,
+// data in base64) on the listener's line, so Foxglove's Image panel shows the gel.
+TEST(Channels, AFrameImageIsACompressedImage) {
+  static const uint8_t kJpeg[] = {0xFF, 0xD8, 0x01, 0x02, 0xFF, 0xD9};
+  static const uint8_t kMask[] = {0x01, 0x00, 0x00};
+  protocol::FrameImage image;
+  image.sensor = 1;
+  image.frame_sequence = 7;
+  image.capture_ns = 5'000'000'000;
+  image.width = 64;
+  image.height = 48;
+  image.contact = true;
+  image.mask_width = 6;
+  image.mask_height = 4;
+  image.mask = kMask;
+  image.data = kJpeg;
+  alignas(8) static std::byte scratch[protocol::kEncodeBufferSize];
+  const auto payload = protocol::encode_payload(image, scratch).value();
+  protocol::FrameHeader h;
+  h.type = protocol::MessageType::kFrameImage;
+  h.payload_length = static_cast<uint32_t>(payload.size());
+  h.send_ns = 5'001'000'000;
+  const listen::Message m(h, payload, 6'000'000'000);
+  const std::optional<ChannelMessage> c = to_channel_message(m, listen::FormatContext{});
+  ASSERT_TRUE(c.has_value());
+  const ChannelSpec& spec = channel_table()[c->channel_id - 1];
+  EXPECT_EQ(spec.topic, "/tlvlink/frame_image");
+  EXPECT_EQ(spec.schema_name, "foxglove.CompressedImage");
+  json j = json::parse(c->json);
+  expect_declared(j, json::parse(spec.schema), std::string(spec.topic));
+  EXPECT_EQ(j["frame_id"], "sensor1") << "no Hello: the sensor's number";
+  EXPECT_EQ(j["format"], "jpeg");
+  EXPECT_EQ(j["data"], "/9gBAv/Z");
+  EXPECT_EQ(j["mask"], json({"100000", "000000", "000000", "000000"}));
+  EXPECT_EQ(j["timestamp"]["sec"], 6) << "no clock estimate: the receive time";
+  j.erase("timestamp");
+  j.erase("frame_id");
+  EXPECT_EQ(j.dump(), json::parse(listen::json_line(m, listen::FormatContext{})).dump());
 }
 
 TEST(Channels, EveryMessageIsItsJsonLinePlusItsLogTime) {

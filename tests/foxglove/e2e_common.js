@@ -91,4 +91,23 @@ function startServing(binary, args) {
   });
 }
 
-module.exports = { check, finish, run, messageLines, splitTimestamp, undeclaredKeys, startBoard, startServing };
+// A /tlvlink/frame_image message as Foxglove's Image panel reads it (foxglove.CompressedImage:
+// frame_id, format "jpeg", data a base64 JPEG), and otherwise the listener's line; `json` loses
+// its frame_id (the one key the channel adds) so the caller compares the rest with the line.
+function checkCompressedImage(label, json, line) {
+  const id = line.sensor_name !== undefined ? line.sensor_name : `sensor${line.sensor}`;
+  check(json.frame_id === id, `${label}: a frame image's frame_id names its sensor`, `${json.frame_id} vs ${id}`);
+  check(json.format === "jpeg", `${label}: a frame image's format is jpeg`, json.format);
+  const jpeg = Buffer.from(json.data || "", "base64");
+  check(jpeg.length > 4 && jpeg[0] === 0xff && jpeg[1] === 0xd8 && jpeg[jpeg.length - 2] === 0xff && jpeg[jpeg.length - 1] === 0xd9,
+        `${label}: a frame image's data is a base64 JPEG (SOI .. EOI)`, jpeg.length);
+  check(Array.isArray(json.mask) && json.mask.length === json.mask_height && json.mask.every((r) => r.length === json.mask_width),
+        `${label}: a frame image's mask is mask_height rows of mask_width cells`);
+  delete json.frame_id;
+}
+function withoutFrameId(json) {
+  delete json.frame_id;
+  return json;
+}
+
+module.exports = { checkCompressedImage, withoutFrameId, check, finish, run, messageLines, splitTimestamp, undeclaredKeys, startBoard, startServing };

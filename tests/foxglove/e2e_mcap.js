@@ -11,7 +11,7 @@ const { McapIndexedReader, McapStreamReader } = require("@mcap/core");
 const t = require("./e2e_common");
 
 const [tlvlink, streamCheck, work] = process.argv.slice(2);
-const kTopics = ["hello", "frame_prediction", "grasp_prediction", "stats", "error", "ack", "nack", "pong"];
+const kTopics = ["hello", "frame_prediction", "grasp_prediction", "stats", "error", "ack", "nack", "pong", "frame_image"];
 
 function streamRead(bytes) {
   const reader = new McapStreamReader({ validateCrcs: true });
@@ -36,6 +36,7 @@ async function checkFile(label, file, lines) {
     const schema = indexed.schemasById.get(c.schemaId);
     t.check(schema && schema.encoding === "jsonschema", `${label}: /tlvlink/${type} has a jsonschema schema`);
     const parsed = JSON.parse(new TextDecoder().decode(schema.data));
+    if (type === "frame_image") t.check(schema.name === "foxglove.CompressedImage", `${label}: the image channel's schema is foxglove.CompressedImage`, schema.name);
     t.check(parsed.type === "object" && parsed.properties.timestamp, `${label}: ${schema.name} is an object schema with timestamp`);
   }
   const records = byTopic.get("/tlvlink/records");
@@ -53,6 +54,7 @@ async function checkFile(label, file, lines) {
   let declared = 0;
   streamed.forEach((m, i) => {
     const { json, ns } = t.splitTimestamp(new TextDecoder().decode(m.data));
+    if (lines[i].type === "frame_image") t.checkCompressedImage(label, json, lines[i]);
     if (JSON.stringify(json) === JSON.stringify(lines[i]) && channels.get(m.channelId).topic === `/tlvlink/${lines[i].type}`) same++;
     else if (same === i) t.check(false, `${label}: message ${i} equals its line`, `${JSON.stringify(json)}\n  vs ${JSON.stringify(lines[i])}`);
     if (ns === m.logTime) stamped++;
@@ -72,7 +74,7 @@ async function checkFile(label, file, lines) {
   let indexedSame = 0;
   for (const type of kTopics) {
     const id = byTopic.get(`/tlvlink/${type}`).id;
-    const got = perChannel(all, id).map((m) => t.splitTimestamp(new TextDecoder().decode(m.data)).json);
+    const got = perChannel(all, id).map((m) => t.withoutFrameId(t.splitTimestamp(new TextDecoder().decode(m.data)).json));
     const want = lines.filter((l) => l.type === type);
     t.check(got.length === want.length, `${label}: indexed /tlvlink/${type} count`, `${got.length} vs ${want.length}`);
     got.forEach((g, i) => (indexedSame += JSON.stringify(g) === JSON.stringify(want[i]) ? 1 : 0));
@@ -96,13 +98,15 @@ async function checkFile(label, file, lines) {
 
   // 2. A live session on the fake board.
   const tty = path.join(work, "tty");
-  const board = await t.startBoard(streamCheck, tty, 300, 600);
+  const board = await t.startBoard(streamCheck, tty, 300, 600, ["--images", "10"]);
   const live = path.join(work, "live.mcap");
   const listen = t.run(tlvlink, ["listen", "--serial", tty, "--json", "--count", "300", "--duration", "30", "--record", live]);
   board.kill("SIGTERM");
   t.check(listen.code === 0, "tlvlink listen --record live.mcap", listen.stderr);
   const liveLines = t.messageLines(listen.stdout);
   t.check(liveLines.filter((l) => l.type === "frame_prediction").length === 300, "300 predictions printed");
+  t.check(liveLines.filter((l) => l.type === "frame_image").length >= 29, "the fake board's frame images printed (one every 10 predictions)",
+          liveLines.filter((l) => l.type === "frame_image").length);
   await checkFile("live", live, liveLines);
   t.finish("e2e_mcap");
 })().catch((e) => {

@@ -13,7 +13,7 @@ const { WebSocket } = require("ws");
 const t = require("./e2e_common");
 
 const [tlvlink, streamCheck, work] = process.argv.slice(2);
-const kTopics = ["hello", "frame_prediction", "grasp_prediction", "stats", "error", "ack", "nack", "pong"];
+const kTopics = ["hello", "frame_prediction", "grasp_prediction", "stats", "error", "ack", "nack", "pong", "frame_image"];
 
 // Connects, subscribes to everything advertised, collects until the server unadvertises and
 // closes; calls onMessage(message) for each.
@@ -108,7 +108,8 @@ async function serveAndCompare(label, args, before, late = false) {
   for (const type of kTopics) {
     const c = got.channels.find((x) => x.topic === `/tlvlink/${type}`);
     if (!t.check(c !== undefined, `${label}: channel /tlvlink/${type} advertised`)) continue;
-    t.check(c.encoding === "json" && c.schemaEncoding === "jsonschema" && c.schemaName.startsWith("tlvlink."),
+    const name = type === "frame_image" ? "foxglove.CompressedImage" : `tlvlink.`;
+    t.check(c.encoding === "json" && c.schemaEncoding === "jsonschema" && c.schemaName.startsWith(name),
             `${label}: /tlvlink/${type}: json with a jsonschema`, JSON.stringify({ ...c, schema: undefined }));
     const schema = JSON.parse(c.schema);
     t.check(schema.type === "object" && schema.properties.timestamp, `${label}: ${c.schemaName} schema parses`);
@@ -122,6 +123,11 @@ async function serveAndCompare(label, args, before, late = false) {
   let declared = 0;
   got.messages.forEach((m, i) => {
     const { json, ns } = t.splitTimestamp(m.text);
+    if (lines[i]?.type === "frame_image") {
+      t.check(t.undeclaredKeys(json, schemas.get(m.channel.id), m.channel.topic).length === 0,
+              `${label}: a frame image's keys (frame_id too) are in its schema`);
+      t.checkCompressedImage(label, json, lines[i]);
+    }
     if (JSON.stringify(json) === JSON.stringify(lines[i]) && m.channel.topic === `/tlvlink/${lines[i]?.type}`) same++;
     else if (same === i) t.check(false, `${label}: message ${i} equals its line`, `${m.text}\n  vs ${JSON.stringify(lines[i])}`);
     if (ns === m.timestamp) stamped++;
@@ -196,11 +202,13 @@ async function slowClient(tty) {
   t.check(replayed.length >= 13, `replay: the fixture's messages (${replayed.length})`);
 
   const tty = path.join(work, "tty");
-  const board = await t.startBoard(streamCheck, tty, 200, 400);
+  const board = await t.startBoard(streamCheck, tty, 200, 400, ["--images", "10"]);
   const live = await serveAndCompare("live", ["listen", "--serial", tty, "--json", "--count", "200", "--duration", "30",
                                               "--foxglove", "127.0.0.1:0", "--foxglove-wait", "20"], undefined, true);
   board.kill("SIGTERM");
   t.check(live.filter((l) => l.type === "frame_prediction").length === 200, "live: 200 predictions");
+  t.check(live.filter((l) => l.type === "frame_image").length >= 19, "live: the fake board's frame images (one every 10 predictions)",
+          live.filter((l) => l.type === "frame_image").length);
   await slowClient(path.join(work, "tty-slow"));
   t.finish("e2e_ws");
 })().catch((e) => {

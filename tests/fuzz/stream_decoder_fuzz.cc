@@ -89,6 +89,9 @@ void walk(MessageType type, std::span<const std::byte> payload) {
     case MessageType::kPong:
       if (auto r = decode_pong(payload); r.ok()) g_sink += static_cast<uint64_t>(r.value().host_send_ns);
       break;
+    case MessageType::kFrameImage:
+      if (auto r = decode_frame_image(payload); r.ok()) g_sink += r.value().data.size() + r.value().mask.size();
+      break;
     case MessageType::kCommand:
       if (auto r = decode_command(payload); r.ok()) touch(r.value().key), touch(r.value().value);
       break;
@@ -97,7 +100,7 @@ void walk(MessageType type, std::span<const std::byte> payload) {
 
 constexpr MessageType kTypes[] = {MessageType::kHello, MessageType::kFramePrediction, MessageType::kGraspPrediction,
                                   MessageType::kStats, MessageType::kError, MessageType::kAck, MessageType::kNack,
-                                  MessageType::kPong, MessageType::kCommand};
+                                  MessageType::kPong, MessageType::kFrameImage, MessageType::kCommand};
 
 }  // namespace
 

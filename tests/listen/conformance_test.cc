@@ -164,6 +164,28 @@ ordered_json make_cases() {
                       wire(message(protocol::Nack{8, protocol::CommandKind::kSetConfig, 513, "no"}, 8)),
                       {"ok:nack"}));
   cases.push_back(one("pong", "", wire(message(protocol::Pong{9, 100, 200}, 9)), {"ok:pong"}));
+  {
+    // Minor 2. The image bytes are not a real JPEG: a receiver delivers them, it does not decode them.
+    static const uint8_t kJpeg[] = {0xFF, 0xD8, 0xFF, 0xE0, 0x00, 0x10, 0xFF, 0xD9};
+    static const uint8_t kMask[] = {0x21, 0x80};  // 4x3 cells: (0,0), (1,1), and bit 15 beyond the grid
+    protocol::FrameImage image;
+    image.sensor = 0;
+    image.frame_sequence = 41;
+    image.capture_ns = 2'000'000'000;
+    image.kind = protocol::ImageKind::kInput;
+    image.width = 224;
+    image.height = 224;
+    image.contact = true;
+    image.mask_width = 4;
+    image.mask_height = 3;
+    image.mask = kMask;
+    image.data = kJpeg;
+    ordered_json c = one("frame_image", "minor 2: a FrameImage; the mask as rows of 0/1, the image base64",
+                         wire(message(image, 10)), {"ok:frame_image"});
+    c["fields"] = {{"kind", "input"}, {"format", "jpeg"}, {"contact", true}, {"mask", {"1000", "0100", "0000"}},
+                   {"data", "/9j/4AAQ/9k="}};
+    cases.push_back(c);
+  }
   const Bytes ack = message(protocol::Ack{7, protocol::CommandKind::kStart}, 10);
   {
     Bytes b = wire(ack), again = wire(message(protocol::Ack{8, protocol::CommandKind::kStop}, 11));

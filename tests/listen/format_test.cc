@@ -8,6 +8,7 @@
 #include "support/temp_dir.h"
 #include "tlvlink/listen/client.h"
 #include "tlvlink/listen/format.h"
+#include "tlvlink/protocol/encode.h"
 
 namespace tlvlink::listen {
 namespace {
@@ -83,6 +84,39 @@ TEST(Format, TextLines) {
   EXPECT_NE(p.text[5].find("42=7"), std::string::npos) << p.text[5];
   EXPECT_NE(p.text[8].find("nack   #3 set_config: unknown key 'treads'"), std::string::npos) << p.text[8];
   EXPECT_NE(p.text[10].find("[delayed]"), std::string::npos);
+}
+
+// Protocol 1.2's FrameImage: the JSON line carries the mask as rows of 0/1 and the JPEG as base64
+// (every length's padding), the text line the sizes and the marked cells without the bytes.
+TEST(Format, FrameImageLines) {
+  static const uint8_t kMask[] = {0x81, 0x01};  // 3x3 cells: (0,0), (1,2), (2,2)
+  for (const auto& [data, base64] : std::initializer_list<std::pair<std::vector<uint8_t>, std::string>>{
+           {{0xFF}, "/w=="}, {{0xFF, 0xD8}, "/9g="}, {{0xFF, 0xD8, 0xFF}, "/9j/"}, {{}, ""}}) {
+    protocol::FrameImage image;
+    image.sensor = 1;
+    image.frame_sequence = 12;
+    image.kind = protocol::ImageKind::kInput;
+    image.width = 224;
+    image.height = 224;
+    image.contact = true;
+    image.mask_width = 3;
+    image.mask_height = 3;
+    image.mask = kMask;
+    image.data = data;
+    alignas(8) static std::byte scratch[protocol::kEncodeBufferSize];
+    const auto payload = protocol::encode_payload(image, scratch).value();
+    protocol::FrameHeader h;
+    h.type = protocol::MessageType::kFrameImage;
+    h.payload_length = static_cast<uint32_t>(payload.size());
+    const Message m(h, payload, 1);
+    const auto j = nlohmann::json::parse(json_line(m, {}));
+    EXPECT_EQ(j["type"], "frame_image");
+    EXPECT_EQ(j["kind"], "input");
+    EXPECT_EQ(j["mask"], nlohmann::json({"100", "000", "011"}));
+    EXPECT_EQ(j["data"], base64);
+    EXPECT_EQ(text_line(m, {}), "image  s1 #12      input 224x224 jpeg " + std::to_string(data.size()) +
+                                    " B contact, mask 3/9 cells");
+  }
 }
 
 // Issue 31 item 4: a string that is not UTF-8 (nothing on the wire says it must be) is printed

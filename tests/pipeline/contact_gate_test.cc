@@ -67,6 +67,38 @@ TEST(ContactGate, CalibratesOnNoiseAndSeesASmallImprint) {
   EXPECT_TRUE(d->onset);
 }
 
+// The mask marks the cells the imprint covers: a 30 DN imprint of radius 12 px at (160, 120) on
+// the default 32x24 grid of 10x10-px cells covers cells 14..17 x 10..13 (its edge cells partly).
+TEST(ContactGate, TheMaskMarksTheImprintsCells) {
+  testing::Rng rng(5);
+  auto fresh = ContactGate::create(kW, kH, 3, {});
+  ASSERT_TRUE(fresh.ok());
+  std::vector<uint8_t> bits(32 * 24 / 8, 0xFF);
+  ASSERT_TRUE(fresh->update(view(gel(rng, 0, 30))).ok());
+  ASSERT_TRUE(fresh->contact_mask(bits).ok());
+  for (uint8_t b : bits) EXPECT_EQ(b, 0) << "calibrating: no cell is marked";
+  ContactGate g = calibrated(rng);
+  ASSERT_TRUE(g.update(view(gel(rng, 0, 30))).value().onset);
+  ASSERT_TRUE(g.contact_mask(bits).ok());
+  const auto cell = [&](int x, int y) { return ((bits[static_cast<size_t>((y * 32 + x) / 8)] >> ((y * 32 + x) % 8)) & 1) != 0; };
+  EXPECT_TRUE(cell(15, 11) && cell(16, 11) && cell(15, 12) && cell(16, 12)) << "the imprint's centre cells";
+  int marked = 0;
+  for (int y = 0; y < 24; ++y)
+    for (int x = 0; x < 32; ++x) {
+      marked += cell(x, y) ? 1 : 0;
+      if (x < 14 || x > 17 || y < 10 || y > 13) {
+        EXPECT_FALSE(cell(x, y)) << x << "," << y;
+      }
+    }
+  EXPECT_LE(marked, 16);
+  std::vector<uint8_t> wrong(95);
+  EXPECT_EQ(g.contact_mask(wrong).error().code(), ErrorCode::kInvalidArgument);
+  testing::start_counting_allocations();
+  const Status st = g.contact_mask(bits);
+  EXPECT_EQ(testing::stop_counting_allocations(), 0u);
+  EXPECT_TRUE(st.ok());
+}
+
 TEST(ContactGate, ReleaseNeedsConsecutiveQuietFramesAndDriftIsFollowedOnlyWhileIdle) {
   testing::Rng rng(2);
   ContactGateOptions o;

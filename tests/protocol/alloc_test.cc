@@ -50,13 +50,14 @@ TEST(ProtocolAllocation, EncodeFrameDeframeDecodeAllocateNothing) {
     good += send(sample_ack(), deframer, i);
     good += send(sample_nack(), deframer, i);
     good += send(sample_pong(), deframer, i);
+    good += send(sample_frame_image(), deframer, i);
     good += send(sample_command(), deframer, i);
     Result<FramePredictionView> v = decode_frame_prediction(std::span<const std::byte>());
     (void)v;
     clock.add({i, i + 5, i + 6, i + 10});
   }
   const size_t allocations = stop_counting_allocations();
-  EXPECT_EQ(good, 900u);
+  EXPECT_EQ(good, 1000u);
   EXPECT_EQ(allocations, 0u);
 }
 

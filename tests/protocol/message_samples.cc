@@ -113,6 +113,32 @@ Ack sample_ack() { return Ack{41, CommandKind::kStart}; }
 Nack sample_nack() { return Nack{42, CommandKind::kSetConfig, 300, "unknown key 'treads' (did you mean 'threads'?)"}; }
 Pong sample_pong() { return Pong{43, 5'000'000'000, 5'000'150'000}; }
 
+FrameImage sample_frame_image() {
+  static const auto kData = [] {
+    std::array<uint8_t, 4096> d{};
+    for (size_t i = 0; i < d.size(); ++i) d[i] = static_cast<uint8_t>(i * 7 + 3);
+    return d;
+  }();
+  static const auto kMask = [] {
+    std::array<uint8_t, 32 * 24 / 8> m{};
+    for (size_t i = 0; i < m.size(); ++i) m[i] = static_cast<uint8_t>(i % 3 == 0 ? 0xF0 : 0);
+    return m;
+  }();
+  FrameImage f;
+  f.sensor = 1;
+  f.frame_sequence = 4242;
+  f.capture_ns = 7'000'000'123;
+  f.kind = ImageKind::kInput;
+  f.width = 224;
+  f.height = 168;
+  f.contact = true;
+  f.mask_width = 32;
+  f.mask_height = 24;
+  f.mask = kMask;
+  f.data = kData;
+  return f;
+}
+
 Command sample_command() {
   Command c;
   c.kind = CommandKind::kSetConfig;

@@ -15,6 +15,7 @@ protocol::ErrorReport sample_error();
 protocol::Ack sample_ack();
 protocol::Nack sample_nack();
 protocol::Pong sample_pong();
+protocol::FrameImage sample_frame_image();  // a 32x24 mask and a 4 KiB stand-in JPEG
 protocol::Command sample_command();
 
 }  // namespace tlvlink::testing

@@ -2,7 +2,9 @@
 // payloads are refused; size limits are enforced before anything is built.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "protocol/message_samples.h"
@@ -349,10 +351,55 @@ TEST(Messages, BoundCoversRandomMessages) {
   }
 }
 
+TEST(Messages, FrameImageRoundTrip) {
+  const FrameImage in = sample_frame_image();
+  const Encoded e = encode(in);
+  Result<FrameImage> r = decode_frame_image(e.bytes());
+  ASSERT_TRUE(r.ok());
+  const FrameImage& f = r.value();
+  EXPECT_EQ(f.sensor, in.sensor);
+  EXPECT_EQ(f.frame_sequence, in.frame_sequence);
+  EXPECT_EQ(f.capture_ns, in.capture_ns);
+  EXPECT_EQ(f.kind, in.kind);
+  EXPECT_EQ(f.width, in.width);
+  EXPECT_EQ(f.height, in.height);
+  EXPECT_EQ(f.format, in.format);
+  EXPECT_EQ(f.contact, in.contact);
+  EXPECT_EQ(f.mask_width, in.mask_width);
+  EXPECT_EQ(f.mask_height, in.mask_height);
+  EXPECT_TRUE(std::equal(f.mask.begin(), f.mask.end(), in.mask.begin(), in.mask.end()));
+  EXPECT_TRUE(std::equal(f.data.begin(), f.data.end(), in.data.begin(), in.data.end()));
+  EXPECT_TRUE(mask_cell(f.mask, 32, 4, 0));   // byte 0 = 0xF0: cells 4-7 of row 0
+  EXPECT_FALSE(mask_cell(f.mask, 32, 3, 0));
+  EXPECT_TRUE(verify_payload(MessageType::kFrameImage, e.bytes()).ok());
+}
+
+// frame_image_overhead() is what a board relies on to size its JPEG buffer: an image of exactly
+// kMaxPayloadSize - overhead fits, for every mask a contact gate can make (up to 256x256 cells
+// would not fit a ubyte: the grid is at most 255 per side on the wire).
+TEST(Messages, FrameImageOfTheAdvertisedLargestSizeFits) {
+  alignas(8) static std::byte scratch[kEncodeBufferSize];
+  static std::vector<uint8_t> data(kMaxPayloadSize), mask(255 * 255 / 8 + 1);
+  for (const auto& [w, h] : {std::pair{0, 0}, std::pair{32, 24}, std::pair{1, 1}, std::pair{255, 255}}) {
+    FrameImage f = sample_frame_image();
+    f.mask_width = static_cast<uint8_t>(w);
+    f.mask_height = static_cast<uint8_t>(h);
+    f.mask = std::span<const uint8_t>(mask).first((static_cast<size_t>(w * h) + 7) / 8);
+    f.data = std::span<const uint8_t>(data).first(kMaxPayloadSize - frame_image_overhead(f.mask.size()));
+    Result<std::span<const std::byte>> r = encode_payload(f, scratch);
+    ASSERT_TRUE(r.ok()) << w << "x" << h << ": " << r.error().message();
+    f.data = std::span<const uint8_t>(data).first(kMaxPayloadSize - f.mask.size());  // too large
+    EXPECT_EQ(encode_payload(f, scratch).error().code(), ErrorCode::kProtocolTooLarge);
+  }
+  FrameImage bad = sample_frame_image();
+  bad.mask_width = 31;  // 31x24 cells need 93 bytes, the sample has 96
+  EXPECT_EQ(encode_payload(bad, scratch).error().code(), ErrorCode::kInvalidArgument);
+}
+
 TEST(Names, EveryEnumHasAName) {
   for (MessageType t : {MessageType::kHello, MessageType::kFramePrediction, MessageType::kGraspPrediction,
                         MessageType::kStats, MessageType::kError, MessageType::kAck, MessageType::kNack,
-                        MessageType::kPong, MessageType::kCommand}) {
+                        MessageType::kPong, MessageType::kFrameImage, MessageType::kCommand}) {
     EXPECT_NE(message_type_name(t), nullptr);
   }
   EXPECT_EQ(message_type_name(static_cast<MessageType>(0x42)), nullptr);
@@ -365,7 +412,11 @@ TEST(Names, EveryEnumHasAName) {
       EXPECT_EQ(static_cast<int>(back), k);
     }
   }
-  for (int c = 0; c <= 5; ++c) EXPECT_NE(drop_cause_name(static_cast<DropCause>(c)), nullptr);
+  EXPECT_STREQ(image_kind_name(ImageKind::kView), "view");
+  EXPECT_STREQ(image_kind_name(ImageKind::kInput), "input");
+  EXPECT_STREQ(image_format_name(ImageFormat::kJpeg), "jpeg");
+  EXPECT_STREQ(drop_cause_name(DropCause::kImageBusy), "image_busy");
+  for (int c = 0; c <= 6; ++c) EXPECT_NE(drop_cause_name(static_cast<DropCause>(c)), nullptr);
   EXPECT_EQ(drop_cause_name(static_cast<DropCause>(99)), nullptr);
 }
 

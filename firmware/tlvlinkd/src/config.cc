@@ -2,6 +2,7 @@
 
 #include "tlvlink/capture/device_select.h"
 #include "tlvlink/capture/frame_source.h"
+#include "frame_images.h"
 #include "toml_reader.h"
 #if defined(TLVLINK_HAVE_STREAM)
 #include "tlvlink/transport/transport_spec.h"
@@ -136,6 +137,30 @@ Status read_sensor(TableReader& r, SensorConfig& s) {
   return r.finish();
 }
 
+// After the sensors and the contact grid: whether each sensor's image fits a FrameImage.
+Status read_frame_images(TableReader& r, DaemonConfig& c, int streams) {
+  int32_t kind = 0;
+  TLV_TRY(r.choice("frame_images", {"off", "view", "input"}, kind));
+  c.frame_images = static_cast<FrameImageKind>(kind);
+  TLV_TRY(r.integer32("frame_images_per_second", c.frame_images_per_second, 1, 15));
+  TLV_TRY(r.integer32("frame_image_quality", c.frame_image_quality, 20, 95));
+  TLV_TRY(r.integer32("frame_image_max_side", c.frame_image_max_side, 16, 1024));
+  if (c.frame_images == FrameImageKind::kOff) return {};
+  TLV_ENSURE(streams == 1, ErrorCode::kInvalidArgument,
+             "%s: images go on the stream link: add an output serial:..., pty:... or usb",
+             r.where("frame_images").c_str());
+  const pipeline::ContactGateOptions& g = c.processing.contact;
+  for (const SensorConfig& s : c.sensors) {
+    // The view at its sent size; the model's input is checked at start, once its size is known.
+    const internal::ImageSize size = internal::frame_image_size(s.view.width, s.view.height, c.frame_image_max_side);
+    const int32_t gw = std::min(g.grid_width, s.view.width), gh = std::min(g.grid_height, s.view.height);
+    TLV_TRY(internal::check_frame_image_fits(size.width, size.height, c.frame_image_quality,
+                                             gw <= 255 && gh <= 255 ? gw * gh : 0,
+                                             r.where("frame_image_max_side").c_str()));
+  }
+  return {};
+}
+
 Status read_top(TableReader& r, DaemonConfig& c) {
   TLV_TRY(r.text("model", c.model));
   TLV_ENSURE(!c.model.empty(), ErrorCode::kInvalidArgument, "%s: required (the .tlvm to run)",
@@ -232,6 +257,7 @@ Status read_top(TableReader& r, DaemonConfig& c) {
     }
     c.sensors.push_back(std::move(s));
   }
+  TLV_TRY(read_frame_images(r, c, streams));
   return r.finish();
 }
 

@@ -71,8 +71,8 @@ bool InferenceWorker::process_one() {
   const Status st = processor_.process(static_cast<int32_t>(best), f->sequence,
                                        {f->rgb.data(), s.width, s.height, s.channels, 0},
                                        f->times, record_);
-  rings_[best]->recycle(f);
   if (!st.ok()) {
+    rings_[best]->recycle(f);
     errors_.fetch_add(1);
     EventRecord e;
     e.t_ns = board_clock_ns();
@@ -84,6 +84,13 @@ bool InferenceWorker::process_one() {
     return true;
   }
   output_.push(record_);
+  // After the prediction is on its way: a due image is copied from the frame before it is recycled.
+  if (images_ != nullptr) {
+    images_->offer(static_cast<int32_t>(best), f->sequence, f->times.capture_ns,
+                   {f->rgb.data(), s.width, s.height, s.channels, 0},
+                   record_.contact_state != static_cast<uint8_t>(pipeline::ContactState::kNoContact));
+  }
+  rings_[best]->recycle(f);
   drain_grasps();
   return true;
 }

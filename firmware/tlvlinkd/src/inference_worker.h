@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "frame_images.h"
 #include "frame_ring.h"
 #include "output_queue.h"
 #include "tlvlink/pipeline/frame_processor.h"
@@ -32,6 +33,8 @@ class InferenceWorker {
                   const std::atomic<bool>& stop, std::atomic<bool>& limit_hit,
                   int64_t max_frames, std::vector<ScriptedCommand> script = {});
   void run();  // returns when stop is set, after the frames already decoded are processed
+  // FrameImages offered every processed frame (borrowed; nullptr: off). Before run().
+  void set_frame_images(FrameImages* images) { images_ = images; }
 
   InferenceSnapshot snapshot() const;
 
@@ -56,6 +59,7 @@ class InferenceWorker {
   std::atomic<uint64_t> errors_{0};
   mutable std::mutex mutex_;  // guards the counters copy
   pipeline::ProcessorCounters counters_;
+  FrameImages* images_ = nullptr;
   pipeline::FramePrediction record_;  // reused: no per-frame construction on the stack churn
 };
 

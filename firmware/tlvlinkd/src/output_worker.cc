@@ -110,6 +110,13 @@ RunTotals OutputWorker::collect(int64_t now_ns) const {
   r.grasps = grasps_;
   r.grasps_not_computed = grasps_not_computed_;
   r.drops_output = queue_.dropped();
+  if (images_ != nullptr) {
+    r.frame_images = true;
+    r.images_sent = images_->sent();
+    r.drops_image = images_->busy();
+    if (images_->copies() > 0) r.image_copy_us = static_cast<double>(images_->copy_ns()) / static_cast<double>(images_->copies()) * 1e-3;
+    if (images_->encodes() > 0) r.image_encode_ms = static_cast<double>(images_->encode_ns()) / static_cast<double>(images_->encodes()) * 1e-6;
+  }
   for (const OutputSink* sink : sinks_) r.write_errors += sink->failed();
   r.t_ns = now_ns;
   r.process_cpu_pct = pct(process_cpu_ns() - start_cpu_ns_, wall);
@@ -221,6 +228,12 @@ void OutputWorker::print_summary(std::FILE* out) const {
                static_cast<unsigned long long>(r.drops_queue), static_cast<unsigned long long>(r.drops_output),
                static_cast<unsigned long long>(r.write_errors),
                static_cast<unsigned long long>(r.bad_frames), static_cast<unsigned long long>(r.decode_errors));
+  if (r.frame_images) {
+    std::fprintf(out, "  frame images: %llu sent, %llu not sent (image_busy: encoder or link busy); per image "
+                 "%.1f us copying on the inference thread, %.2f ms encoding and posting\n",
+                 static_cast<unsigned long long>(r.images_sent), static_cast<unsigned long long>(r.drops_image),
+                 r.image_copy_us, r.image_encode_ms);
+  }
   // Every output that lost records, or whose reader left, with the path and the reason.
   for (size_t i = 0; i < sinks_.size(); ++i) {
     std::string problem = sinks_[i]->problem();

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "capture_worker.h"
+#include "frame_images.h"
 #include "inference_worker.h"
 #include "jsonl_writer.h"
 #include "output_queue.h"
@@ -31,6 +32,8 @@ class OutputWorker {
                const InferenceWorker& inference, std::vector<FrameRing*> rings,
                int32_t status_interval_ms, bool status_line, const std::atomic<bool>& stop);
   void run();  // returns when stop is set and the queue is drained
+  // The FrameImages' counts go into the totals (borrowed; nullptr: off). Before run().
+  void set_frame_images(const FrameImages* images) { images_ = images; }
 
   RunTotals totals() const;  // after run() returned
   bool outputs_closed() const;  // every output's reader left (a closed pipe): nothing to do
@@ -57,6 +60,7 @@ class OutputWorker {
   float last_grasp_p_ = -1;
   int64_t start_ns_ = 0, start_cpu_ns_ = 0;
   clockid_t cpu_clock_ = CLOCK_THREAD_CPUTIME_ID;
+  const FrameImages* images_ = nullptr;
   RunTotals final_;
 };
 

@@ -36,6 +36,9 @@ struct RunTotals {
       sensor_reopen_failures{};
   std::array<double, pipeline::kMaxSensors> sensor_outage_s{};
   double inference_cpu_pct = 0, output_cpu_pct = 0;
+  bool frame_images = false;                   // configured on
+  uint64_t images_sent = 0, drops_image = 0;   // FrameImages posted; not sent (image_busy)
+  double image_copy_us = 0, image_encode_ms = 0;  // per image: inference thread, encoder thread
   int64_t peak_rss_kb = 0;
 };
 

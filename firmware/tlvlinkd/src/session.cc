@@ -43,12 +43,13 @@ struct Session::Impl {
   internal::OutputNames names;
   std::vector<std::unique_ptr<internal::OutputSink>> sinks;
   std::vector<std::unique_ptr<internal::CaptureWorker>> captures;
+  std::unique_ptr<internal::FrameImages> images;  // frame_images on: the JPEG encoder thread's
   std::unique_ptr<internal::InferenceWorker> inference;
   std::unique_ptr<internal::OutputWorker> output;
-  std::atomic<bool> capture_stop{false}, inference_stop{false}, output_stop{false};
+  std::atomic<bool> capture_stop{false}, inference_stop{false}, output_stop{false}, images_stop{false};
   std::atomic<bool> limit{false};
   std::vector<std::thread> capture_threads;
-  std::thread inference_thread, output_thread;
+  std::thread inference_thread, output_thread, images_thread;
   bool stopped = false;
   SessionTotals totals;
 };
@@ -139,6 +140,9 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
   std::vector<std::string> sensor_names;
   for (const SensorConfig& c : config.sensors) sensor_names.push_back(c.name);
   s.names = stream::output_names(std::move(sensor_names), s.processor->heads());
+#if defined(TLVLINK_HAVE_STREAM)
+  internal::StreamSink* link = nullptr;
+#endif
   for (const std::string& o : config.outputs) {
     if (o.rfind("jsonl:", 0) == 0) {
       TLV_ASSIGN_OR_RETURN(internal::JsonlWriter writer, internal::JsonlWriter::open(o.substr(6), s.names));
@@ -147,6 +151,7 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
     }
 #if defined(TLVLINK_HAVE_STREAM)
     TLV_ASSIGN_OR_RETURN(auto stream, internal::StreamSink::open(o, config, *s.model, s.names, s.commands));
+    link = stream.get();  // at most one (config.cc)
     s.sinks.push_back(std::move(stream));
 #else
     return Error::make(ErrorCode::kInvalidArgument,
@@ -154,6 +159,14 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
                        "(TLVLINK_WITH_SERIAL=OFF)", o.c_str());
 #endif
   }
+#if defined(TLVLINK_HAVE_STREAM)
+  if (config.frame_images != FrameImageKind::kOff) {
+    TLV_ENSURE(link != nullptr, ErrorCode::kInvalidArgument, "frame_images: no stream output");
+    TLV_ASSIGN_OR_RETURN(s.images, internal::FrameImages::create(
+                                       config, setups, *s.processor,
+                                       [link](const stream::FrameImageRecord& r) { return link->post_image(r); }));
+  }
+#endif
   std::vector<internal::OutputSink*> sinks;
   for (auto& sink : s.sinks) sinks.push_back(sink.get());
   std::vector<internal::FrameRing*> rings;
@@ -186,6 +199,9 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
   s.output = std::make_unique<internal::OutputWorker>(sinks, s.names, *s.queue, s.captures, *s.inference,
                                                       rings, config.status_interval_ms,
                                                       config.status_line, s.output_stop);
+  s.inference->set_frame_images(s.images.get());
+  s.output->set_frame_images(s.images.get());
+  if (s.images) s.images_thread = std::thread([&s] { s.images->run(s.images_stop); });
   s.output_thread = std::thread([&s] { s.output->run(); });
   s.inference_thread = std::thread([&s] { s.inference->run(); });
   for (auto& c : s.captures) s.capture_threads.emplace_back([w = c.get()] { w->run(); });
@@ -221,6 +237,8 @@ SessionTotals Session::stop() {
   for (std::thread& t : s.capture_threads) t.join();
   s.inference_stop = true;
   s.inference_thread.join();
+  s.images_stop = true;
+  if (s.images_thread.joinable()) s.images_thread.join();
   s.output_stop = true;
   s.queue->close();
   s.output_thread.join();
@@ -232,6 +250,8 @@ SessionTotals Session::stop() {
               r.write_errors, 0,               r.seconds,       r.p50_ms[internal::kTotal],
               r.p99_ms[internal::kTotal],      r.peak_rss_kb};
   for (const auto& c : s.captures) s.totals.failed_sources += c->failed() ? 1 : 0;
+  s.totals.images_sent = r.images_sent;
+  s.totals.images_busy = r.drops_image;
   return s.totals;
 }
 

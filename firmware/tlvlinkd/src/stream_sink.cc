@@ -83,6 +83,12 @@ void StreamSink::record(const OutputRecord& record, int64_t) {
   failed_ += st.ok() ? 0 : 1;
 }
 
+bool StreamSink::post_image(const stream::FrameImageRecord& image) {
+  const transport::SenderCounters c = sender_->counters();
+  if (!c.link_up || 2 * static_cast<uint64_t>(c.queue_bytes) > c.queue_capacity_bytes) return false;
+  return sender_->post(stream::MessageMapper::image(image)).ok();
+}
+
 void StreamSink::stats(const RunTotals& r, bool) {
   stream::StreamTotals t;
   t.seconds = r.seconds;
@@ -98,6 +104,8 @@ void StreamSink::stats(const RunTotals& r, bool) {
   // too old to send), and its queue_full is added to this output queue's (one entry a cause).
   t.inference_busy = r.drops_stale + r.drops_queue;
   t.queue_full = r.drops_output;
+  t.frame_images = r.frame_images;
+  t.image_busy = r.drops_image;
   t.cpu_percent = r.process_cpu_pct;
   t.cpu_cores = static_cast<uint8_t>(sysconf(_SC_NPROCESSORS_ONLN));
   t.rss_bytes = static_cast<uint64_t>(r.peak_rss_kb) * 1024;

@@ -34,6 +34,9 @@ class StreamSink final : public OutputSink {
   void stats(const RunTotals& totals, bool final) override;
   uint64_t failed() const override { return failed_; }
   void close() override;
+  // A FrameImage, from the image encoder's thread: false (not posted) while the link is down or
+  // its queue is over half full, so images never push predictions out of the queue.
+  bool post_image(const stream::FrameImageRecord& image);
 
  private:
   explicit StreamSink(bool detected_grasps) : mapper_(detected_grasps) {}

@@ -91,6 +91,21 @@ float ContactGate::score() const {
   return worst;
 }
 
+Status ContactGate::contact_mask(std::span<uint8_t> bits) const {
+  const auto cells = static_cast<size_t>(options_.grid_width) * static_cast<size_t>(options_.grid_height);
+  TLV_ENSURE(bits.size() == (cells + 7) / 8, ErrorCode::kInvalidArgument,
+             "contact mask: %zu bytes for %zu cells", bits.size(), cells);
+  std::fill(bits.begin(), bits.end(), uint8_t{0});
+  if (state_ == ContactState::kCalibrating) return {};
+  const auto ch = static_cast<size_t>(channels_);
+  for (size_t cell = 0; cell < cells; ++cell) {
+    bool hit = false;
+    for (size_t c = 0; c < ch; ++c) hit |= std::fabs(blocks_[cell * ch + c] - reference_[cell * ch + c]) > threshold_;
+    if (hit) bits[cell / 8] = static_cast<uint8_t>(bits[cell / 8] | (1u << (cell % 8)));
+  }
+  return {};
+}
+
 void ContactGate::rezero() {
   calibrated_frames_ = 0;
   state_ = ContactState::kCalibrating;

@@ -53,6 +53,7 @@ Status verify_payload(MessageType type, std::span<const std::byte> payload) {
     case MessageType::kAck: return decode_ack(payload).status();
     case MessageType::kNack: return decode_nack(payload).status();
     case MessageType::kPong: return decode_pong(payload).status();
+    case MessageType::kFrameImage: return decode_frame_image(payload).status();
     case MessageType::kCommand: return decode_command(payload).status();
   }
   return Error::make(ErrorCode::kProtocolUnsupported, "message type 0x%04x is not known to protocol %u.%u",

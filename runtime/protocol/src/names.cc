@@ -14,6 +14,7 @@ const char* message_type_name(MessageType type) {
     case MessageType::kAck: return "ack";
     case MessageType::kNack: return "nack";
     case MessageType::kPong: return "pong";
+    case MessageType::kFrameImage: return "frame_image";
     case MessageType::kCommand: return "command";
   }
   return nullptr;
@@ -74,6 +75,22 @@ const char* drop_cause_name(DropCause cause) {
     case DropCause::kQueueFull: return "queue_full";
     case DropCause::kLinkDown: return "link_down";
     case DropCause::kStale: return "stale";
+    case DropCause::kImageBusy: return "image_busy";
+  }
+  return nullptr;
+}
+
+const char* image_kind_name(ImageKind kind) {
+  switch (kind) {
+    case ImageKind::kView: return "view";
+    case ImageKind::kInput: return "input";
+  }
+  return nullptr;
+}
+
+const char* image_format_name(ImageFormat format) {
+  switch (format) {
+    case ImageFormat::kJpeg: return "jpeg";
   }
   return nullptr;
 }

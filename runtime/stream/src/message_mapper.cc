@@ -72,6 +72,23 @@ protocol::ErrorReport MessageMapper::event(bool error, int32_t sensor, const cha
   return m;
 }
 
+protocol::FrameImage MessageMapper::image(const FrameImageRecord& r) {
+  protocol::FrameImage m;
+  m.sensor = static_cast<uint8_t>(r.sensor);
+  m.frame_sequence = static_cast<uint32_t>(r.sequence);
+  m.capture_ns = r.capture_ns;
+  m.kind = r.input ? protocol::ImageKind::kInput : protocol::ImageKind::kView;
+  m.width = static_cast<uint16_t>(r.width);
+  m.height = static_cast<uint16_t>(r.height);
+  m.format = protocol::ImageFormat::kJpeg;
+  m.contact = r.contact;
+  m.mask_width = static_cast<uint8_t>(r.mask_width);
+  m.mask_height = static_cast<uint8_t>(r.mask_height);
+  m.mask = r.mask;
+  m.data = r.jpeg;
+  return m;
+}
+
 protocol::Stats MessageMapper::stats(const StreamTotals& t) {
   for (int32_t i = 0; i < t.sensors; ++i) {
     const auto k = static_cast<size_t>(i);
@@ -82,11 +99,13 @@ protocol::Stats MessageMapper::stats(const StreamTotals& t) {
   drops_ = {protocol::DropCount{protocol::DropCause::kCaptureGap, t.capture_gap, protocol::kNoSensor},
             protocol::DropCount{protocol::DropCause::kCaptureError, t.capture_error, protocol::kNoSensor},
             protocol::DropCount{protocol::DropCause::kInferenceBusy, t.inference_busy, protocol::kNoSensor},
-            protocol::DropCount{protocol::DropCause::kQueueFull, t.queue_full, protocol::kNoSensor}};
+            protocol::DropCount{protocol::DropCause::kQueueFull, t.queue_full, protocol::kNoSensor},
+            protocol::DropCount{protocol::DropCause::kImageBusy, t.image_busy, protocol::kNoSensor}};
   protocol::Stats m;
   m.uptime_ns = static_cast<int64_t>(t.seconds * 1e9);
   m.sensors = std::span<const protocol::SensorStats>(sensor_stats_.data(), static_cast<size_t>(t.sensors));
-  m.drops = std::span<const protocol::DropCount>(drops_.data(), drops_.size());
+  // image_busy only from a board that sends images (a 1.1 host would print an unknown cause).
+  m.drops = std::span<const protocol::DropCount>(drops_.data(), drops_.size() - (t.frame_images ? 0 : 1));
   m.cpu_percent = static_cast<float>(t.cpu_percent);
   m.cpu_cores = t.cpu_cores;
   m.rss_bytes = t.rss_bytes;

@@ -92,6 +92,7 @@ Status Sender::post_message(const M& m) {
 Status Sender::post(const protocol::FramePrediction& m) { return post_message(m); }
 Status Sender::post(const protocol::GraspPrediction& m) { return post_message(m); }
 Status Sender::post(const protocol::ErrorReport& m) { return post_message(m); }
+Status Sender::post(const protocol::FrameImage& m) { return post_message(m); }
 
 Status Sender::post(const protocol::Stats& m) {
   constexpr size_t kOwnCauses = 3;

@@ -104,6 +104,18 @@ ChannelSchemas build() {
   s.pong = message_schema("tlvlink Pong", {
       {"command_sequence", integer()}, {"host_send_ns", integer()}, {"board_receive_ns", integer()},
       {"round_trip_ns", integer()}});
+  // Foxglove's own image schema (its keys: timestamp, frame_id, data, format), so its Image panel
+  // shows the gel; the listener's other keys (contact, mask, ...) ride along for the Raw Messages
+  // panel and plots.
+  s.frame_image = message_schema("foxglove.CompressedImage: a FrameImage of the board (tlvlink keys besides)", {
+      {"frame_id", string("the sensor: its name from the Hello, else sensorN")},
+      {"data", string("the JPEG, base64 (contentEncoding base64)")}, {"format", string("\"jpeg\"")},
+      {"sensor", integer()}, {"sensor_name", string("from the Hello, if known")}, {"frame_sequence", integer()},
+      {"capture_ns", integer("board clock")}, {"capture_host_ns", integer("capture_ns on the host clock")},
+      {"kind", name_or_number("view (the decoded camera view) or input (the model's input)")},
+      {"width", integer()}, {"height", integer()}, {"contact", boolean()},
+      {"mask_width", integer("contact mask cells across")}, {"mask_height", integer("cells down")},
+      {"mask", array(string(), "one string of 0/1 per row of cells: 1 = the cell differs from the no-contact reference")}});
   return s;
 }
 

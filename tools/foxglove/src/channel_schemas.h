@@ -10,7 +10,7 @@
 namespace tlvlink::foxglove::internal {
 
 struct ChannelSchemas {
-  std::string hello, frame_prediction, grasp_prediction, stats, error, ack, nack, pong;
+  std::string hello, frame_prediction, grasp_prediction, stats, error, ack, nack, pong, frame_image;
 };
 // Built once, on first use.
 const ChannelSchemas& channel_schemas();

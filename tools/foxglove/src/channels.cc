@@ -2,6 +2,9 @@
 #include "tlvlink/foxglove/channels.h"
 
 #include <cstdio>
+#include <string>
+
+#include <nlohmann/json.hpp>
 
 #include "channel_schemas.h"
 #include "tlvlink/protocol/messages.h"
@@ -9,6 +12,27 @@
 namespace tlvlink::foxglove {
 
 using protocol::MessageType;
+
+namespace {
+
+// foxglove.CompressedImage's frame_id: the sensor's name from the Hello, else "sensorN".
+void add_frame_id(const listen::Message& m, const listen::FormatContext& context, std::string& json) {
+  Result<protocol::FrameImage> f = m.frame_image();
+  if (!f.ok()) return;
+  std::string id = "sensor" + std::to_string(f.value().sensor);
+  if (context.hello) {
+    if (auto h = context.hello->hello(); h.ok()) {
+      for (size_t i = 0; i < h.value().sensor_count(); ++i) {
+        const protocol::SensorInfo s = h.value().sensor(i);
+        if (s.index == f.value().sensor && !s.name.empty()) id = std::string(s.name);
+      }
+    }
+  }
+  json.pop_back();
+  json += ",\"frame_id\":" + nlohmann::json(id).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "}";
+}
+
+}  // namespace
 
 std::span<const ChannelSpec> channel_table() {
   const internal::ChannelSchemas& s = internal::channel_schemas();
@@ -21,6 +45,8 @@ std::span<const ChannelSpec> channel_table() {
       {6, "/tlvlink/ack", "tlvlink.Ack", s.ack},
       {7, "/tlvlink/nack", "tlvlink.Nack", s.nack},
       {8, "/tlvlink/pong", "tlvlink.Pong", s.pong},
+      // One topic for every sensor: frame_id names the sensor (Foxglove's Image panel picks one).
+      {9, "/tlvlink/frame_image", "foxglove.CompressedImage", s.frame_image},
   };
   return kTable;
 }
@@ -40,6 +66,10 @@ std::optional<ChannelMessage> to_channel_message(const listen::Message& m, const
     case MessageType::kAck: channel = 6; break;
     case MessageType::kNack: channel = 7; break;
     case MessageType::kPong: channel = 8; break;
+    case MessageType::kFrameImage:
+      channel = 9;
+      if (auto f = m.frame_image(); f.ok()) board_ns = f.value().capture_ns;
+      break;
     case MessageType::kCommand: return std::nullopt;
   }
   ChannelMessage out;
@@ -54,6 +84,7 @@ std::optional<ChannelMessage> to_channel_message(const listen::Message& m, const
                 static_cast<long long>(out.log_time_ns / 1'000'000'000), static_cast<long long>(out.log_time_ns % 1'000'000'000));
   out.json.pop_back();
   out.json += stamp;
+  if (channel == 9) add_frame_id(m, context, out.json);
   return out;
 }
 

@@ -1,7 +1,7 @@
 // tlvlink_stream_check: the stream end to end over any link, in two processes (or two machines,
 // or the emulated board and its USB host side):
 //   tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] [--embedding] [--hold S] [--boot-id N]
-//                              [--byte-errors P] [--byte-drops Q] [--seed S] [--wait-host S]
+//                              [--byte-errors P] [--byte-drops Q] [--seed S] [--wait-host S] [--images K]
 //       a board: the Sender on LINK (make_transport: serial:PATH, pty:LINK, usb[:FFS_DIR,...])
 //       posting N fixture predictions at HZ (sensor n % 2: 120 Hz = two sensors at 60 fps; 0 = as
 //       fast as the poster can; every 10th frame also a grasp), Stats every second, answering
@@ -9,7 +9,9 @@
 //       --wait-host S it posts nothing until a host has synchronised its clock (a listener that
 //       opens the link late misses nothing; at most S seconds, then it posts anyway). With
 //       --byte-errors/--byte-drops the bytes are damaged between the Sender and the link
-//       (corrupting_transport.h), so the damage crosses the real wire.
+//       (corrupting_transport.h), so the damage crosses the real wire. --images K: after every
+//       K-th prediction a FrameImage of its frame (a 64x48 JPEG, a 32x24 contact mask marking
+//       a block that moves with the frame number; kind view, contact on odd images).
 //   tlvlink_stream_check check --source SOURCE [--frames N] [--timeout S] [--clean | --lossy]
 //                              [--start-any] [--no-commands] [--expect-reconnects K]
 //                              [--expect-board-reconnects K] [--idle S] [--label NAME]
@@ -34,6 +36,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <algorithm>
+#include <array>
 #include <memory>
 #include <set>
 #include <string>
@@ -41,6 +44,9 @@
 #include <vector>
 
 #include "fixture_recording.h"
+#if defined(TLVLINK_STREAM_CHECK_IMAGES)
+#include "tlvlink/image/jpeg.h"
+#endif
 #include "tlvlink/listen/client.h"
 #include "tlvlink/listen/command_text.h"
 #include "tlvlink/protocol/names.h"
@@ -64,6 +70,7 @@ struct Args {
   double rate = 120, hold_s = 1, timeout_s = 30, idle_s = 3, wait_host_s = 0;
   double byte_errors = 0, byte_drops = 0;
   uint64_t boot_id = 0x5EED, seed = 1;
+  uint32_t images = 0;
   bool embedding = false, cut = false, clean = false, lossy = false, start_any = false, commands = true;
 };
 
@@ -94,13 +101,54 @@ bool parse(int argc, char** argv, Args& a) {
     else if (k == "--expect-board-reconnects") a.expect_board_reconnects = static_cast<uint32_t>(std::strtoul(value(), nullptr, 10));
     else if (k == "--idle") a.idle_s = std::strtod(value(), nullptr);
     else if (k == "--label") a.label = value();
+    else if (k == "--images") a.images = static_cast<uint32_t>(std::strtoul(value(), nullptr, 10));
     else if (a.mode == "record" && a.file.empty()) a.file = k;
     else return false;
   }
   return true;
 }
 
+// The fixture's FrameImage of prediction n (its sensor, sequence and capture time).
+struct FixtureImage {
+  std::vector<uint8_t> jpeg;
+  std::array<uint8_t, 32 * 24 / 8> mask{};
+};
+bool make_fixture_jpeg(FixtureImage& out) {
+#if !defined(TLVLINK_STREAM_CHECK_IMAGES)
+  (void)out;
+  return false;  // built without tlvlink_image
+#else
+  std::vector<uint8_t> rgb(64 * 48 * 3);
+  for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<uint8_t>(90 + (i / 3) % 64 + (i % 3) * 30);
+  image::JpegEncoder encoder;
+  auto j = encoder.encode({rgb.data(), 64, 48, 3, 0}, 70, image::JpegEncoder::Subsampling::k420);
+  if (!j.ok()) return false;
+  out.jpeg.assign(j.value().begin(), j.value().end());
+  return true;
+#endif
+}
+protocol::FrameImage fixture_image(const protocol::FramePrediction& p, uint32_t k, FixtureImage& storage) {
+  storage.mask.fill(0);
+  const uint32_t cell = (k * 37) % (32 * 24);
+  storage.mask[cell / 8] = static_cast<uint8_t>(1u << (cell % 8));
+  protocol::FrameImage m;
+  m.sensor = p.sensor;
+  m.frame_sequence = p.frame_sequence;
+  m.capture_ns = p.timing.capture_ns;
+  m.kind = protocol::ImageKind::kView;
+  m.width = 64;
+  m.height = 48;
+  m.contact = k % 2 == 1;
+  m.mask_width = 32;
+  m.mask_height = 24;
+  m.mask = storage.mask;
+  m.data = storage.jpeg;
+  return m;
+}
+
 int board(const Args& a) {
+  FixtureImage image;
+  if (a.images > 0 && !make_fixture_jpeg(image)) return std::fprintf(stderr, "board: no fixture JPEG (built without tlvlink_image?)\n"), 2;
   Result<std::unique_ptr<transport::Transport>> link = transport::make_transport(a.link);
   if (!link.ok()) return std::fprintf(stderr, "board: %s\n", link.error().message()), 2;
   std::unique_ptr<transport::Transport> wire = std::move(link.value());
@@ -135,7 +183,9 @@ int board(const Args& a) {
   int64_t next = monotonic_ns(), next_stats = next + 1'000'000'000;
   testing::PredictionStorage st;
   for (uint32_t n = 0; n < a.frames && !g_stop; ++n) {
-    (void)sender.post(testing::fixture_prediction(n, st, a.embedding, monotonic_ns()));
+    const protocol::FramePrediction prediction = testing::fixture_prediction(n, st, a.embedding, monotonic_ns());
+    (void)sender.post(prediction);
+    if (a.images > 0 && n % a.images == a.images - 1) (void)sender.post(fixture_image(prediction, n / a.images, image));
     if (n % 10 == 9) {
       protocol::GraspPrediction g;
       g.grasp_id = n / 10;
@@ -344,7 +394,7 @@ int main(int argc, char** argv) {
       (a.mode == "record" && a.file.empty())) {
     std::fprintf(stderr,
                  "usage: tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] [--embedding] [--hold S] [--boot-id N] [--wait-host S]\n"
-                 "                                  [--byte-errors P] [--byte-drops Q] [--seed S]\n"
+                 "                                  [--byte-errors P] [--byte-drops Q] [--seed S] [--images K]\n"
                  "       tlvlink_stream_check check --source SOURCE [--frames N] [--timeout S] [--clean | --lossy] [--start-any]\n"
                  "                                  [--no-commands] [--expect-reconnects K] [--expect-board-reconnects K]\n"
                  "                                  [--idle S] [--label NAME]\n"

@@ -153,6 +153,49 @@ void stats_message_json(const protocol::StatsView& s, ordered_json& j) {
                {"queue_bytes", l.queue_bytes}, {"queue_capacity_bytes", l.queue_capacity_bytes}};
 }
 
+std::string base64(std::span<const uint8_t> bytes) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const uint32_t n = (uint32_t{bytes[i]} << 16) | (i + 1 < bytes.size() ? uint32_t{bytes[i + 1]} << 8 : 0) |
+                       (i + 2 < bytes.size() ? uint32_t{bytes[i + 2]} : 0);
+    out += kAlphabet[(n >> 18) & 63];
+    out += kAlphabet[(n >> 12) & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[(n >> 6) & 63] : '=';
+    out += i + 2 < bytes.size() ? kAlphabet[n & 63] : '=';
+  }
+  return out;
+}
+
+// The mask as one string of '0'/'1' per row of cells: readable in a JSON line, and the same in
+// every language.
+void frame_image_json(const Message& m, const protocol::FrameImage& f, const FormatContext& c, ordered_json& j) {
+  j["sensor"] = f.sensor;
+  const std::string_view name = sensor_name(c, f.sensor);
+  if (!name.empty()) j["sensor_name"] = name;
+  j["frame_sequence"] = f.frame_sequence;
+  j["capture_ns"] = f.capture_ns;
+  if (m.clock().valid) j["capture_host_ns"] = m.to_host_ns(f.capture_ns);
+  j["kind"] = enum_json(f.kind, protocol::image_kind_name);
+  j["width"] = f.width;
+  j["height"] = f.height;
+  j["format"] = enum_json(f.format, protocol::image_format_name);
+  j["contact"] = f.contact;
+  j["mask_width"] = f.mask_width;
+  j["mask_height"] = f.mask_height;
+  ordered_json rows = ordered_json::array();
+  for (int y = 0; y < f.mask_height; ++y) {
+    std::string row(f.mask_width, '0');
+    for (int x = 0; x < f.mask_width; ++x) {
+      if (protocol::mask_cell(f.mask, f.mask_width, x, y)) row[static_cast<size_t>(x)] = '1';
+    }
+    rows.push_back(row);
+  }
+  j["mask"] = rows;
+  j["data"] = base64(f.data);
+}
+
 }  // namespace
 
 std::string json_line(const Message& m, const FormatContext& c) {
@@ -202,6 +245,9 @@ std::string json_line(const Message& m, const FormatContext& c) {
         j["board_receive_ns"] = p.value().board_receive_ns;
         j["round_trip_ns"] = (m.receive_ns() - p.value().host_send_ns) - (m.send_ns() - p.value().board_receive_ns);
       }
+      break;
+    case protocol::MessageType::kFrameImage:
+      if (auto f = m.frame_image(); f.ok()) frame_image_json(m, f.value(), c, j);
       break;
     case protocol::MessageType::kCommand: break;
   }

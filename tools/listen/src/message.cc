@@ -50,5 +50,9 @@ Result<protocol::Pong> Message::pong() const {
   TLV_TRY(expect(protocol::MessageType::kPong));
   return protocol::decode_pong(payload());
 }
+Result<protocol::FrameImage> Message::frame_image() const {
+  TLV_TRY(expect(protocol::MessageType::kFrameImage));
+  return protocol::decode_frame_image(payload());
+}
 
 }  // namespace tlvlink::listen

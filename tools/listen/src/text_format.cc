@@ -129,6 +129,17 @@ std::string text_line(const Message& m, const FormatContext& c) {
         line = sprintf_string("pong   #%u round trip %.3f ms", p.value().command_sequence, ms(rtt));
       }
       break;
+    case protocol::MessageType::kFrameImage:
+      if (auto r = m.frame_image(); r.ok()) {
+        const protocol::FrameImage& f = r.value();
+        size_t cells = 0;
+        for (uint8_t b : f.mask) cells += static_cast<size_t>(__builtin_popcount(b));
+        line = sprintf_string("image  s%u #%-7u %s %ux%u %s %zu B %s, mask %zu/%u cells", f.sensor, f.frame_sequence,
+                              name_or_number(f.kind, protocol::image_kind_name).c_str(), f.width, f.height,
+                              name_or_number(f.format, protocol::image_format_name).c_str(), f.data.size(),
+                              f.contact ? "contact" : "no-contact", cells, unsigned{f.mask_width} * f.mask_height);
+      }
+      break;
     case protocol::MessageType::kCommand: break;
   }
   if (line.empty()) line = sprintf_string("?      message type 0x%04x (%zu bytes)", static_cast<unsigned>(m.type()), m.payload().size());

@@ -40,11 +40,14 @@ def fixture_recording(tmp_path, stream_check):
 class Board:
     """A C++ board process (tlvlink_stream_check board) on a pty, killed by its pid at the end."""
 
-    def __init__(self, stream_check, link, frames=100, rate=200.0, hold=10.0, boot_id=0x5EED, embedding=False):
+    def __init__(self, stream_check, link, frames=100, rate=200.0, hold=10.0, boot_id=0x5EED, embedding=False,
+                 images=0):
         args = [stream_check, "board", "--link", f"pty:{link}", "--frames", str(frames), "--rate", str(rate),
                 "--hold", str(hold), "--boot-id", str(boot_id)]
         if embedding:
             args.append("--embedding")
+        if images:
+            args += ["--images", str(images)]  # a FrameImage after every images-th prediction
         self.link = str(link)
         self.process = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         for _ in range(300):

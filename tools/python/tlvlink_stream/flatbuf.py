@@ -92,6 +92,11 @@ class Table:
         start, n = self._vector(slot, struct.calcsize(fmt))
         return [] if start is None else list(struct.unpack_from(f"<{n}{fmt}", self.buf, start))
 
+    def bytes_vector(self, slot: int) -> bytes:
+        """A [ubyte] vector as bytes (an image, a mask), b"" when absent."""
+        start, n = self._vector(slot, 1)
+        return b"" if start is None else bytes(self.buf[start:start + n])
+
     def strings(self, slot: int) -> List[str]:
         start, n = self._vector(slot, 4)
         if start is None:

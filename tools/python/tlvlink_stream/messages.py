@@ -4,6 +4,7 @@ the same keys and values as the C++ `tlvlink listen --json` lines (tools/listen/
 
 from __future__ import annotations
 
+import base64
 import math
 import struct
 from dataclasses import dataclass, field
@@ -159,6 +160,31 @@ class Pong:
     board_receive_ns: int
 
 
+@dataclass
+class FrameImage:
+    sensor: int
+    frame_sequence: int
+    capture_ns: int
+    kind: Any          # "view" | "input"
+    width: int
+    height: int
+    format: Any        # "jpeg"
+    contact: bool
+    mask_width: int    # contact mask cells across and down (0 = no mask)
+    mask_height: int
+    mask: bytes        # 1 bit per cell, row-major, bit i in byte i // 8 at (1 << i % 8)
+    data: bytes        # the JPEG file
+
+    def mask_cell(self, x: int, y: int) -> bool:
+        i = y * self.mask_width + x
+        return i // 8 < len(self.mask) and bool((self.mask[i // 8] >> (i % 8)) & 1)
+
+    def mask_rows(self) -> List[str]:
+        """The mask as the listeners print it: one string of 0/1 per row of cells."""
+        return ["".join("1" if self.mask_cell(x, y) else "0" for x in range(self.mask_width))
+                for y in range(self.mask_height)]
+
+
 def _hello(t: Table) -> Hello:
     T = "Hello"
     sensors = []
@@ -243,8 +269,18 @@ def _pong(t: Table) -> Pong:
     return Pong(_f(t, T, "command_sequence", "I"), _f(t, T, "host_send_ns", "q"), _f(t, T, "board_receive_ns", "q"))
 
 
+def _frame_image(t: Table) -> FrameImage:
+    T = "FrameImage"
+    return FrameImage(_f(t, T, "sensor", "B"), _f(t, T, "frame_sequence", "I"), _f(t, T, "capture_ns", "q"),
+                      enum_name("ImageKind", _f(t, T, "kind", "B")), _f(t, T, "width", "H"), _f(t, T, "height", "H"),
+                      enum_name("ImageFormat", _f(t, T, "format", "B")), bool(_f(t, T, "contact", "B")),
+                      _f(t, T, "mask_width", "B"), _f(t, T, "mask_height", "B"),
+                      t.bytes_vector(slot(T, "mask")), t.bytes_vector(slot(T, "data")))
+
+
 _DECODERS = {"hello": _hello, "frame_prediction": _frame, "grasp_prediction": _grasp, "stats": _stats,
-             "error": _error, "ack": _ack, "nack": _nack, "pong": _pong}
+             "error": _error, "ack": _ack, "nack": _nack, "pong": _pong,
+             "frame_image": _frame_image}
 
 
 def decode(type_name: str, payload: bytes):
@@ -351,4 +387,15 @@ class Message:
             d.update(command_sequence=b.command_sequence, host_send_ns=b.host_send_ns,
                      board_receive_ns=b.board_receive_ns,
                      round_trip_ns=(self.receive_ns - b.host_send_ns) - (self.send_ns - b.board_receive_ns))
+        elif self.type == "frame_image":
+            d["sensor"] = b.sensor
+            name = hello.sensor_name(b.sensor) if hello else ""
+            if name:
+                d["sensor_name"] = name
+            d.update(frame_sequence=b.frame_sequence, capture_ns=b.capture_ns)
+            if self.clock.valid:
+                d["capture_host_ns"] = self.to_host_ns(b.capture_ns)
+            d.update(kind=b.kind, width=b.width, height=b.height, format=b.format, contact=b.contact,
+                     mask_width=b.mask_width, mask_height=b.mask_height, mask=b.mask_rows(),
+                     data=base64.b64encode(b.data).decode("ascii"))
         return d

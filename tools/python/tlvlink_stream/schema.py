@@ -9,7 +9,7 @@ import re
 
 # Hash of the stream.fbs this package decodes (README "Schema hash"). A Hello carries the board's;
 # a different value means fields may be unknown to one side (they are skipped), not an error.
-SCHEMA_HASH = 0xb4dc24c2500243e7
+SCHEMA_HASH = 0x094a2aca5021ce1d
 
 MESSAGE_TYPES = {
     0x01: "hello",
@@ -20,6 +20,7 @@ MESSAGE_TYPES = {
     0x06: "ack",
     0x07: "nack",
     0x08: "pong",
+    0x09: "frame_image",
     0x80: "command",
 }
 MESSAGE_TYPE_NUMBERS = {name: number for number, name in MESSAGE_TYPES.items()}
@@ -44,6 +45,8 @@ TABLES = {
     "Ack": ["command_sequence", "kind"],
     "Nack": ["command_sequence", "kind", "code", "text"],
     "Pong": ["command_sequence", "host_send_ns", "board_receive_ns"],
+    "FrameImage": ["sensor", "frame_sequence", "capture_ns", "kind", "width", "height", "format", "contact",
+                   "mask_width", "mask_height", "mask", "data"],
     "Command": ["kind", "sensor", "grasp_id", "event_ns", "key", "value", "clock_offset_ns", "clock_uncertainty_ns"],
 }
 STRUCTS = {
@@ -66,7 +69,9 @@ ENUMS = {
                     "other"],
     "GraspPhase": ["before", "during"],
     "PhaseSource": ["command", "detected"],
-    "DropCause": ["capture_gap", "capture_error", "inference_busy", "queue_full", "link_down", "stale"],
+    "DropCause": ["capture_gap", "capture_error", "inference_busy", "queue_full", "link_down", "stale", "image_busy"],
+    "ImageKind": ["view", "input"],
+    "ImageFormat": ["jpeg"],
 }
 
 

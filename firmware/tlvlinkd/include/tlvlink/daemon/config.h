@@ -41,6 +41,8 @@ struct SensorConfig {
 };
 
 enum class ControlInput : uint8_t { kNone, kStdin };
+// FrameImages on the stream link (protocol 1.2): none, the decoded camera view, the model's input.
+enum class FrameImageKind : uint8_t { kOff, kView, kInput };
 
 struct DaemonConfig {
   std::string path;               // the file it came from
@@ -65,6 +67,12 @@ struct DaemonConfig {
   int32_t output_queue = 256;     // records waiting for the output (older ones dropped)
   int64_t run_for_ms = 0;         // 0: until SIGTERM/SIGINT; > 0: stop after this long
   int64_t max_frames = 0;         // 0: no limit; > 0: stop after this many frames in all
+  // A JPEG of each sensor's view or model input now and then on the stream link (needs one);
+  // checked to fit a FrameImage at start and by --check alike.
+  FrameImageKind frame_images = FrameImageKind::kOff;
+  int32_t frame_images_per_second = 2;   // per sensor, [1, 15]
+  int32_t frame_image_quality = 70;      // JPEG quality, [20, 95]
+  int32_t frame_image_max_side = 320;    // the view is scaled down to fit, [16, 1024]
   pipeline::ProcessorOptions processing;
   std::vector<SensorConfig> sensors;
 };

@@ -26,6 +26,7 @@ struct SessionTotals {
   double seconds = 0;
   double total_p50_ms = 0, total_p99_ms = 0;
   int64_t peak_rss_kb = 0;
+  uint64_t images_sent = 0, images_busy = 0;  // FrameImages (frame_images on)
 };
 
 class Session {

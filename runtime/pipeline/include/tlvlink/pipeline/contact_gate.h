@@ -12,6 +12,7 @@
 // during contact. Made once (allocates); update() allocates nothing.
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "tlvlink/error.h"
@@ -55,6 +56,14 @@ class ContactGate {
   Result<ContactDecision> update(const image::ImageView& frame);
   // Starts averaging a new reference (the re-zero command): nothing must touch the gel now.
   void rezero();
+
+  // The last frame's per-cell view of the decision, 1 bit per grid cell (row-major, LSB first):
+  // a cell is 1 when its block mean differs from the reference by more than the onset threshold
+  // in any channel; all 0 while calibrating. `bits` must hold (cells + 7) / 8 bytes
+  // (kInvalidArgument otherwise). No allocation: the FrameImage's contact mask.
+  Status contact_mask(std::span<uint8_t> bits) const;
+  int32_t grid_width() const { return options_.grid_width; }
+  int32_t grid_height() const { return options_.grid_height; }
 
   float noise_sigma_dn() const { return noise_sigma_; }  // of a block, measured at calibration
   float threshold_dn() const { return threshold_; }

@@ -85,6 +85,8 @@ class FrameProcessor {
   bool tracks_grasps() const { return tracker_ != nullptr; }
   const ProcessorCounters& counters() const { return counters_; }
   const ContactGate& gate(int32_t sensor) const { return sensors_[static_cast<size_t>(sensor)].gate; }
+  // The sensor's crop and resize to the model's input (resize(): the input as uint8 pixels).
+  const image::PreprocessPlan& plan(int32_t sensor) const { return sensors_[static_cast<size_t>(sensor)].plan; }
 
  private:
   struct Sensor {

@@ -12,6 +12,11 @@
 
 namespace tlvlink::protocol {
 
+// FrameImage: a payload of a message with `data_bytes` image bytes and `mask_bytes` mask bytes
+// is at most this large (the encoder's exact layout; tests check it): a board sizes its JPEG
+// buffer as kMaxPayloadSize - frame_image_overhead(mask_bytes).
+constexpr size_t frame_image_overhead(size_t mask_bytes) { return 160 + mask_bytes; }
+
 // A buffer that holds the build of any message whose payload fits kMaxPayloadSize.
 inline constexpr size_t kEncodeBufferSize = 2 * kMaxFrameSize;
 // Arrays (sensors, heads, labels per head, stage names, drops, sensor stats) hold at most this
@@ -28,6 +33,7 @@ Result<std::span<const std::byte>> encode_payload(const ErrorReport& m, std::spa
 Result<std::span<const std::byte>> encode_payload(const Ack& m, std::span<std::byte> buffer);
 Result<std::span<const std::byte>> encode_payload(const Nack& m, std::span<std::byte> buffer);
 Result<std::span<const std::byte>> encode_payload(const Pong& m, std::span<std::byte> buffer);
+Result<std::span<const std::byte>> encode_payload(const FrameImage& m, std::span<std::byte> buffer);
 Result<std::span<const std::byte>> encode_payload(const Command& m, std::span<std::byte> buffer);
 
 // Payload and frame in one call: header.type is set from the message; `scratch` holds the

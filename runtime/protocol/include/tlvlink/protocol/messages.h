@@ -27,7 +27,7 @@ enum class GraspPhase : uint8_t { kBefore = 0, kDuring = 1 };
 enum class PhaseSource : uint8_t { kCommand = 0, kDetected = 1 };
 enum class DropCause : uint8_t {
   kCaptureGap = 0, kCaptureError = 1, kInferenceBusy = 2, kQueueFull = 3, kLinkDown = 4,
-  kStale = 5 };
+  kStale = 5, kImageBusy = 6 };
 enum class CommandKind : uint8_t {
   kNone = 0, kStart = 1, kStop = 2, kGraspClosed = 3, kGraspLifting = 4, kRezero = 5,
   kSetConfig = 6, kInfo = 7, kPing = 8, kTimeSync = 9 };
@@ -150,6 +150,29 @@ struct Nack {
   std::string_view text;
 };
 
+enum class ImageKind : uint8_t { kView = 0, kInput = 1 };
+enum class ImageFormat : uint8_t { kJpeg = 0 };
+
+// Minor 2: a small encoded picture of one frame and the contact gate's per-cell mask.
+inline constexpr size_t kMaxMaskCells = 256 * 256;  // the contact gate's largest grid
+struct FrameImage {
+  uint8_t sensor = 0;
+  uint32_t frame_sequence = 0;
+  int64_t capture_ns = 0;
+  ImageKind kind = ImageKind::kView;
+  uint16_t width = 0, height = 0;
+  ImageFormat format = ImageFormat::kJpeg;
+  bool contact = false;
+  uint8_t mask_width = 0, mask_height = 0;  // cells; 0 = no mask
+  std::span<const uint8_t> mask;            // (mask_width * mask_height + 7) / 8 bytes, LSB first
+  std::span<const uint8_t> data;            // the JPEG file
+};
+// Cell (x, y) of a mask of `width` cells across.
+inline bool mask_cell(std::span<const uint8_t> mask, int width, int x, int y) {
+  const size_t i = static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x);
+  return i / 8 < mask.size() && ((mask[i / 8] >> (i % 8)) & 1u) != 0;
+}
+
 // t1 = host_send_ns, t2 = board_receive_ns, t3 = this frame's header send_ns (clock.h).
 struct Pong {
   uint32_t command_sequence = 0;
@@ -175,6 +198,7 @@ template <> struct MessageTypeOf<ErrorReport> { static constexpr MessageType val
 template <> struct MessageTypeOf<Ack> { static constexpr MessageType value = MessageType::kAck; };
 template <> struct MessageTypeOf<Nack> { static constexpr MessageType value = MessageType::kNack; };
 template <> struct MessageTypeOf<Pong> { static constexpr MessageType value = MessageType::kPong; };
+template <> struct MessageTypeOf<FrameImage> { static constexpr MessageType value = MessageType::kFrameImage; };
 template <> struct MessageTypeOf<Command> { static constexpr MessageType value = MessageType::kCommand; };
 
 }  // namespace tlvlink::protocol

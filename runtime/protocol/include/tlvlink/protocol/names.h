@@ -17,6 +17,8 @@ const char* grasp_reason_name(GraspReason reason);
 const char* grasp_phase_name(GraspPhase phase);
 const char* phase_source_name(PhaseSource source);
 const char* drop_cause_name(DropCause cause);
+const char* image_kind_name(ImageKind kind);        // "view", "input"
+const char* image_format_name(ImageFormat format);  // "jpeg"
 const char* command_kind_name(CommandKind kind);
 // The inverse for commands typed by people ("start", "grasp_closed"); false if unknown.
 bool command_kind_from_name(const char* name, CommandKind& kind);

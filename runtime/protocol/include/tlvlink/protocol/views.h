@@ -121,6 +121,7 @@ Result<HelloView> decode_hello(std::span<const std::byte> payload);
 Result<FramePredictionView> decode_frame_prediction(std::span<const std::byte> payload);
 Result<GraspPredictionView> decode_grasp_prediction(std::span<const std::byte> payload);
 Result<StatsView> decode_stats(std::span<const std::byte> payload);
+Result<FrameImage> decode_frame_image(std::span<const std::byte> payload);  // views into it
 Result<ErrorReport> decode_error_report(std::span<const std::byte> payload);
 Result<Ack> decode_ack(std::span<const std::byte> payload);
 Result<Nack> decode_nack(std::span<const std::byte> payload);

@@ -11,7 +11,7 @@ namespace tlvlink::protocol {
 inline constexpr uint8_t kMagic0 = 0x54;  // 'T'
 inline constexpr uint8_t kMagic1 = 0x4C;  // 'L'
 inline constexpr uint8_t kVersionMajor = 1;
-inline constexpr uint8_t kVersionMinor = 1;  // 1: HeadInfo's cross-validated records
+inline constexpr uint8_t kVersionMinor = 2;  // 1: HeadInfo's cross-validated records; 2: FrameImage
 
 inline constexpr size_t kHeaderSize = 24;
 inline constexpr size_t kCrcSize = 4;
@@ -34,6 +34,7 @@ enum class MessageType : uint16_t {
   kAck = 0x06,
   kNack = 0x07,
   kPong = 0x08,
+  kFrameImage = 0x09,  // minor 2
   // host -> board
   kCommand = 0x80,
 };

@@ -102,6 +102,7 @@ class Sender {
   Status post(const protocol::FramePrediction& m);
   Status post(const protocol::GraspPrediction& m);
   Status post(const protocol::ErrorReport& m);
+  Status post(const protocol::FrameImage& m);  // minor 2; posted like a prediction
   // Stats: `link` is filled in from counters() and the queue_full / link_down / stale drops are
   // appended to `drops` (the caller reports capture and inference drops). Only the newest
   // unsent Stats is kept; it goes before queued predictions.

@@ -43,6 +43,7 @@ class Message {
   Result<protocol::Ack> ack() const;
   Result<protocol::Nack> nack() const;
   Result<protocol::Pong> pong() const;
+  Result<protocol::FrameImage> frame_image() const;
 
  private:
   Status expect(protocol::MessageType type) const;
