@@ -9,7 +9,8 @@
 # test  : core + GoogleTest/Benchmark, clang (libFuzzer, sanitizers), Debian's torch + onnx
 #         (the ONNX import tests export their models with /usr/bin/python3), libtorch-dev
 #         (the trainer, TLVLINK_BUILD_TRAINER in the host preset); the Python stream client's
-#         dependencies and test runner (python3-serial, python3-usb, python3-pytest: tools/python)
+#         dependencies and test runner (python3-serial, python3-usb, python3-pytest: tools/python);
+#         Debian's chromium (headless: the Foxglove live view's picture, tools/foxglove/view)
 # npm   : node and npm (Debian's nodejs, npm, unless a node is on PATH) and the real Foxglove
 #         clients of tests/foxglove's e2e tests (install_npm_clients.sh: `npm ci` of the pinned
 #         @foxglove/ws-protocol, ws and @mcap/core, outside the tree); `test` and `all` include it
@@ -33,7 +34,8 @@ core_pkgs=(build-essential cmake ninja-build pkg-config ccache
   libwebsocketpp-dev libasio-dev)
 test_pkgs=(libgtest-dev libgmock-dev clang libclang-rt-14-dev llvm
   python3-torch python3-onnx python3-numpy libtorch-dev
-  python3-serial python3-usb python3-pytest)
+  python3-serial python3-usb python3-pytest
+  chromium)  # headless: the live view's picture (tools/foxglove/view/screenshot.sh, ctest foxglove.live_view)
 npm_pkgs=(nodejs npm)
 command -v node >/dev/null && command -v npm >/dev/null && npm_pkgs=()
 cross_pkgs=(g++-aarch64-linux-gnu qemu-user lintian)  # lintian: the board packages (tools/boards)
