@@ -17,6 +17,7 @@
 #include "support/cli_run.h"
 #include "support/temp_dir.h"
 #include "tlvlink/foxglove/mcap_reader.h"
+#include "tlvlink/capture/recording.h"
 #include "tlvlink/foxglove/mcap_recording.h"
 
 namespace tlvlink::testing {
@@ -84,6 +85,74 @@ TEST(FoxgloveCli, ALiveMcapReplaysToTheLinesOfItsRun) {
   for (size_t i = 0; i < live_lines.size(); ++i) {
     EXPECT_EQ(json_messages[i], nlohmann::json::parse(live_lines[i]).dump()) << "message " << i;
   }
+}
+
+// Base64 of the listener's JSON lines, decoded (the test's own, RFC 4648 alphabet).
+std::string from_base64(const std::string& text) {
+  static const std::string kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  uint32_t bits = 0;
+  int n = 0;
+  for (char c : text) {
+    const size_t v = kAlphabet.find(c);
+    if (v == std::string::npos) continue;  // '=' padding
+    bits = (bits << 6) | static_cast<uint32_t>(v);
+    n += 6;
+    if (n >= 8) out.push_back(static_cast<char>((bits >> (n -= 8)) & 0xFF));
+  }
+  return out;
+}
+
+// `record --stream`: a sensor's frame images in a stream recording (.tlvrec, and the .mcap of
+// the same run) become a camera recording, each JPEG byte for byte, in order.
+TEST(FoxgloveCli, RecordStreamTurnsASensorsFrameImagesIntoACameraRecording) {
+  TempDir dir("fxcli");
+  const std::string tlvrec = dir / "run.tlvrec", mcap = dir / "run.mcap";
+  {
+    // An image after every 2nd prediction: the odd ones, all of sensor 1 (fixture: sensor n % 2).
+    BoardProcess board("pty:" + dir / "tty", 60, 400, 2, {"--images", "2", "--wait-host", "10"});
+    const CliRun live = run_tlvlink("listen --serial " + dir / "tty" + " --json --count 60 --record " + tlvrec,
+                                    Stderr::kDropped);
+    ASSERT_RUN(live, 0);
+  }
+  ASSERT_RUN(run_tlvlink("replay " + tlvrec + " --record " + mcap, Stderr::kDropped), 0);
+  const CliRun lines = run_tlvlink("replay " + tlvrec + " --json", Stderr::kDropped);
+  ASSERT_RUN(lines, 0);
+  std::vector<std::string> jpegs;
+  for (const std::string& line : message_lines(lines.out)) {
+    const nlohmann::json j = nlohmann::json::parse(line);
+    if (j["type"] == "frame_image" && j["sensor"] == 1) jpegs.push_back(from_base64(j["data"].get<std::string>()));
+  }
+  ASSERT_GE(jpegs.size(), 20u) << lines.out;
+  for (const std::string& source : {tlvrec, mcap}) {
+    SCOPED_TRACE(source);
+    const std::string cam = dir / "cam.tlvraw";
+    const CliRun r = run_tlvlink("record --stream " + source + " --sensor 1 --fps 15 --overwrite -o " + cam);
+    ASSERT_RUN(r, 0);
+    EXPECT_HAS(r.out, std::to_string(jpegs.size()) + " images as " + std::to_string(jpegs.size()) + " frames");
+    auto reader = capture::RecordingReader::open(cam);
+    ASSERT_TRUE(reader.ok()) << reader.error().message();
+    capture::RecordInfo info;
+    size_t i = 0;
+    for (uint64_t at = reader->first_record();; at = info.next, ++i) {
+      auto more = reader->record_at(at, info);
+      ASSERT_TRUE(more.ok()) << more.error().message();
+      if (!*more) break;
+      ASSERT_LT(i, jpegs.size());
+      std::string bytes(info.bytes, '\0');
+      ASSERT_TRUE(reader->read_frame(info, std::span<uint8_t>(reinterpret_cast<uint8_t*>(bytes.data()), bytes.size()),
+                                     true).ok());
+      EXPECT_EQ(bytes, jpegs[i]) << "image " << i;
+    }
+    EXPECT_EQ(i, jpegs.size());
+  }
+  // A sensor without images is named with what the recording has; a replay of it refused.
+  const CliRun none = run_tlvlink("record --stream " + mcap + " --sensor 0 -o " + dir / "none.tlvraw");
+  EXPECT_RUN(none, 2);  // the sensor asked for is not in this recording
+  EXPECT_HAS(none.out, "holds no frame image of sensor 0 (it has " + std::to_string(jpegs.size()) + " of sensor 1)");
+  EXPECT_FALSE(std::filesystem::exists(dir / "none.tlvraw"));
+  const CliRun both = run_tlvlink("record --stream " + mcap + " --images " + dir / "." + " -o " + dir / "x.tlvraw");
+  EXPECT_RUN(both, 2);
 }
 
 TEST(FoxgloveCli, TheRecordingFileRulesHoldForMcap) {

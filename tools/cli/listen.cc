@@ -4,6 +4,8 @@
 #include <cstdio>
 
 #include "common.h"
+#include "record_stream.h"
+#include "tlvlink/foxglove/frame_images.h"
 #include "tlvlink/foxglove/session.h"
 #include "tlvlink/listen/session.h"
 
@@ -119,6 +121,13 @@ void add_listen_command(CLI::App& app, int& exit_code) {
     o.reply_timeout_ms = static_cast<int>(f->reply_timeout_s * 1000);
     exit_code = run(o, outputs(*f, *cmd), "listen");
   });
+}
+
+Result<record::RecordReport> record_stream_images(const std::string& stream, int32_t sensor,
+                                                  const record::RecordOptions& options,
+                                                  const std::string& out_path) {
+  TLV_ASSIGN_OR_RETURN(record::JpegFrameSource frames, foxglove::stream_frame_images(stream, sensor));
+  return record::record_jpeg_frames(std::move(frames), options, out_path);
 }
 
 void add_replay_command(CLI::App& app, int& exit_code) {

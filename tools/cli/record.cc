@@ -4,13 +4,15 @@
 #include <string>
 
 #include "common.h"
+#include "record_stream.h"
 #include "tlvlink/record/record.h"
 
 namespace tlvlink::cli {
 namespace {
 
 struct RecordFlags {
-  std::string images, touch100k, tag, feel, output;
+  std::string images, touch100k, tag, feel, stream, output;
+  int32_t sensor = 0;
   std::string finger = "A";
   record::RecordOptions options;
 };
@@ -25,12 +27,17 @@ int run_record(RecordFlags f) {
     f.options.source = source;
     f.options.input = *path;
   }
+  if (!f.stream.empty()) {
+    ++given;
+    f.options.input = f.stream;
+  }
   if (given != 1) {
-    std::fprintf(stderr, "tlvlink record: give exactly one of --images, --touch100k, --tag, --feel\n");
+    std::fprintf(stderr, "tlvlink record: give exactly one of --images, --touch100k, --tag, --feel, --stream\n");
     return kExitUsage;
   }
   f.options.finger = f.finger == "B" ? 1 : 0;
-  auto r = record::record_frames(f.options, f.output);
+  auto r = f.stream.empty() ? record::record_frames(f.options, f.output)
+                            : record_stream_images(f.stream, f.sensor, f.options, f.output);
   if (!r.ok()) return report_error("record", r.error());
   for (const std::string& s : r->skipped) std::fprintf(stderr, "tlvlink record: skipped %s\n", s.c_str());
   std::printf("recorded %s: %lld images as %lld frames (MJPEG %dx%d at %g fps%s), %.1f MB\n",
@@ -52,6 +59,11 @@ void add_record_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--touch100k", f->touch100k, "A Touch100k-format set");
   cmd->add_option("--tag", f->tag, "A Touch-and-Go-format set");
   cmd->add_option("--feel", f->feel, "Feel episodes (HDF5 files or the repacked layout)");
+  cmd->add_option("--stream", f->stream,
+                  "A stream recording (.tlvrec or .mcap of `tlvlink listen --record`): the frame images the "
+                  "board sent (tlvlinkd frame_images), JPEGs kept as they are");
+  cmd->add_option("--sensor", f->sensor, "--stream: the sensor whose images are taken (its index)")
+      ->capture_default_str();
   cmd->add_option("--finger", f->finger, "Feel: gelsight A or B")->check(CLI::IsMember({"A", "B"}))->capture_default_str();
   cmd->add_option("-o,--output", f->output, "The recording to write")->required();
   cmd->add_option("--fps", f->options.fps, "Frame rate")->capture_default_str();

@@ -179,9 +179,34 @@ Result<FrameReader> open_input(const RecordOptions& o, bool& as_is, std::vector<
   return Error::make(ErrorCode::kInvalidArgument, "record: unknown source");
 }
 
+Status check_options(const RecordOptions& o, const std::string& out_path);
+Result<RecordReport> write_recording(const FrameReader& read, const RecordOptions& o,
+                                     const std::string& out_path, RecordReport report);
+
 }  // namespace
 
 Result<RecordReport> record_frames(const RecordOptions& o, const std::string& out_path) {
+  TLV_TRY(check_options(o, out_path));
+  RecordReport report;
+  TLV_ASSIGN_OR_RETURN(FrameReader read, open_input(o, report.stored_as_is, report.skipped));
+  return write_recording(read, o, out_path, std::move(report));
+}
+
+Result<RecordReport> record_jpeg_frames(JpegFrameSource frames, const RecordOptions& o,
+                                        const std::string& out_path) {
+  TLV_TRY(check_options(o, out_path));
+  RecordReport report;
+  report.stored_as_is = true;
+  const FrameReader read = [&frames](Frame& f) -> Result<bool> {
+    f.rgb = {};
+    return frames(f.jpeg, f.name);
+  };
+  return write_recording(read, o, out_path, std::move(report));
+}
+
+namespace {
+
+Status check_options(const RecordOptions& o, const std::string& out_path) {
   TLV_ENSURE(o.fps > 0 && o.fps <= 1000, ErrorCode::kInvalidArgument,
              "record: fps = %g is outside (0, 1000]", o.fps);
   TLV_ENSURE(o.hold >= 1 && o.hold <= 10000, ErrorCode::kInvalidArgument,
@@ -193,8 +218,11 @@ Result<RecordReport> record_frames(const RecordOptions& o, const std::string& ou
   std::error_code ec;
   TLV_ENSURE(o.overwrite || !fs::exists(out_path, ec), ErrorCode::kInvalidArgument,
              "record: %s exists (--overwrite replaces it)", out_path.c_str());
-  RecordReport report;
-  TLV_ASSIGN_OR_RETURN(FrameReader read, open_input(o, report.stored_as_is, report.skipped));
+  return {};
+}
+
+Result<RecordReport> write_recording(const FrameReader& read, const RecordOptions& o,
+                                     const std::string& out_path, RecordReport report) {
   const std::string temp = out_path + ".partial";
   std::optional<capture::RecordingWriter> writer;
   image::JpegDecoder header_reader;
@@ -262,4 +290,5 @@ Result<RecordReport> record_frames(const RecordOptions& o, const std::string& ou
   return report;
 }
 
+}  // namespace
 }  // namespace tlvlink::record

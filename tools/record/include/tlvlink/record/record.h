@@ -8,6 +8,7 @@
 // a temporary name and renamed when complete.
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -46,5 +47,13 @@ struct RecordReport {
 };
 
 Result<RecordReport> record_frames(const RecordOptions& options, const std::string& out_path);
+
+// JPEG frames from elsewhere, one per call (false at the end); `name` names the frame in errors.
+using JpegFrameSource = std::function<Result<bool>(std::vector<uint8_t>& jpeg, std::string& name)>;
+// The same recording from a source of JPEG frames, kept byte for byte (options.source and
+// options.input are not used; input names the source in errors): e.g. a stream recording's frame
+// images (tools/foxglove frame_images.h, `tlvlink record --stream`).
+Result<RecordReport> record_jpeg_frames(JpegFrameSource frames, const RecordOptions& options,
+                                        const std::string& out_path);
 
 }  // namespace tlvlink::record
