@@ -180,8 +180,10 @@ Result<FrameReader> open_input(const RecordOptions& o, bool& as_is, std::vector<
 }
 
 Status check_options(const RecordOptions& o, const std::string& out_path);
-Result<RecordReport> write_recording(const FrameReader& read, const RecordOptions& o,
-                                     const std::string& out_path, RecordReport report);
+// Fills `report` in place: a dataset loader reports the items it skips into report.skipped while
+// it is read, through a reference taken by open_input.
+Status write_recording(const FrameReader& read, const RecordOptions& o, const std::string& out_path,
+                       RecordReport& report);
 
 }  // namespace
 
@@ -189,7 +191,8 @@ Result<RecordReport> record_frames(const RecordOptions& o, const std::string& ou
   TLV_TRY(check_options(o, out_path));
   RecordReport report;
   TLV_ASSIGN_OR_RETURN(FrameReader read, open_input(o, report.stored_as_is, report.skipped));
-  return write_recording(read, o, out_path, std::move(report));
+  TLV_TRY(write_recording(read, o, out_path, report));
+  return report;
 }
 
 Result<RecordReport> record_jpeg_frames(JpegFrameSource frames, const RecordOptions& o,
@@ -201,7 +204,8 @@ Result<RecordReport> record_jpeg_frames(JpegFrameSource frames, const RecordOpti
     f.rgb = {};
     return frames(f.jpeg, f.name);
   };
-  return write_recording(read, o, out_path, std::move(report));
+  TLV_TRY(write_recording(read, o, out_path, report));
+  return report;
 }
 
 namespace {
@@ -221,8 +225,8 @@ Status check_options(const RecordOptions& o, const std::string& out_path) {
   return {};
 }
 
-Result<RecordReport> write_recording(const FrameReader& read, const RecordOptions& o,
-                                     const std::string& out_path, RecordReport report) {
+Status write_recording(const FrameReader& read, const RecordOptions& o, const std::string& out_path,
+                       RecordReport& report) {
   const std::string temp = out_path + ".partial";
   std::optional<capture::RecordingWriter> writer;
   image::JpegDecoder header_reader;
@@ -287,7 +291,7 @@ Result<RecordReport> write_recording(const FrameReader& read, const RecordOption
   if (Status st = writer->close(); !st.ok()) return fail(st.error());
   TLV_ENSURE(std::rename(temp.c_str(), out_path.c_str()) == 0, ErrorCode::kIo,
              "record: cannot rename %s to %s", temp.c_str(), out_path.c_str());
-  return report;
+  return {};
 }
 
 }  // namespace
