@@ -41,13 +41,17 @@ class Board:
     """A C++ board process (tlvlink_stream_check board) on a pty, killed by its pid at the end."""
 
     def __init__(self, stream_check, link, frames=100, rate=200.0, hold=10.0, boot_id=0x5EED, embedding=False,
-                 images=0):
+                 images=0, wait_host=0.0):
         args = [stream_check, "board", "--link", f"pty:{link}", "--frames", str(frames), "--rate", str(rate),
                 "--hold", str(hold), "--boot-id", str(boot_id)]
         if embedding:
             args.append("--embedding")
         if images:
             args += ["--images", str(images)]  # a FrameImage after every images-th prediction
+        if wait_host:
+            # Posts nothing until a host has synced its clock: a client that opens the pty late
+            # (a loaded machine) still sees every prediction from the first.
+            args += ["--wait-host", str(wait_host)]
         self.link = str(link)
         self.process = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         for _ in range(300):

@@ -25,7 +25,7 @@ def of(got, kind):
 
 
 def test_predictions_clock_and_commands(tmp_path, board_factory):
-    board = board_factory(tmp_path / "tty", frames=300, rate=300, embedding=True, hold=5)
+    board = board_factory(tmp_path / "tty", frames=300, rate=300, embedding=True, hold=5, wait_host=10)
     with Client(f"serial:{tmp_path / 'tty'}", record=str(tmp_path / "live.tlvrec")) as client:
         got = collect(client, lambda g: len(of(g, "frame_prediction")) == 300)
         frames = of(got, "frame_prediction")
@@ -55,7 +55,7 @@ def test_predictions_clock_and_commands(tmp_path, board_factory):
 
 
 def test_reader_killed_and_restarted(tmp_path, board_factory):
-    board_factory(tmp_path / "tty", frames=400, rate=200, hold=5)
+    board_factory(tmp_path / "tty", frames=400, rate=200, hold=5, wait_host=10)
     seen = set()
     with Client(f"serial:{tmp_path / 'tty'}") as first:
         seen |= {m.frame_sequence for m in of(collect(first, lambda g: len(of(g, "frame_prediction")) >= 50), "frame_prediction")}

@@ -41,7 +41,7 @@ def test_frame_images_match_the_cpp_replay_line_for_line(tmp_path, board_factory
     them: a live session with images recorded by `tlvlink listen`, replayed by both."""
     cli = tool("TLVLINK_CLI")
     link, rec = tmp_path / "tty", tmp_path / "images.tlvrec"
-    board = board_factory(link, frames=60, rate=200.0, hold=1.0, images=5)
+    board = board_factory(link, frames=60, rate=200.0, hold=1.0, images=5, wait_host=10)
     subprocess.run([cli, "listen", "--serial", str(link), "--json", "--count", "60", "--duration", "20",
                     "--record", str(rec)], capture_output=True, text=True, check=True, timeout=60)
     board.stop()
