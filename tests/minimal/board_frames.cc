@@ -6,13 +6,11 @@
 // The frames are made here (a 640x480 camera, the synthetic gel image below) because a board
 // program has no simulator. libjpeg-turbo mallocs its own per-image work memory inside each
 // decode (the TurboJPEG API offers no way to keep it); this program counts tlvlink's own
-// allocations (operator new), which must be zero.
-#include <atomic>
+// allocations (operator new, counted by tests/support/alloc_counter.cc), which must be zero.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <new>
 #include <vector>
 
 #include "tlvlink/heads/evaluator.h"
@@ -20,23 +18,9 @@
 #include "tlvlink/image/frame_decoder.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/image/preprocess.h"
+#include "support/alloc_counter.h"
 #include "tlvlink/tlvlink.h"
 #include "tlvlink/verify/compare.h"
-
-namespace {
-
-std::atomic<bool> g_counting{false};
-std::atomic<size_t> g_allocations{0};
-
-}  // namespace
-
-void* operator new(size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  std::abort();  // built without exceptions: nothing to throw
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, size_t) noexcept { std::free(p); }
 
 namespace {
 
@@ -133,8 +117,7 @@ int run(const char* path) {
     bool ok = true;
     for (int i = 0; i < kWarmupFrames + kCountedFrames && ok; ++i) {
       if (i == kWarmupFrames) {
-        g_allocations = 0;
-        g_counting = true;
+        testing::start_counting_allocations();
       }
       ok = decoder->decode(*bytes, frame, name).ok() &&
            plan->run({frame.data(), kViewWidth, kViewHeight, 3, 0}, e.input(0)).ok() &&
@@ -142,8 +125,7 @@ int run(const char* path) {
       if (ok) embedding_floats(m, e, embedding);
       ok = ok && heads->evaluate(embedding).ok();
     }
-    g_counting = false;
-    allocations = g_allocations;
+    allocations = testing::stop_counting_allocations();
     bool finite = ok;
     for (const heads::HeadResult& r : heads->results()) {
       for (float p : r.probabilities) finite = finite && std::isfinite(p) && p >= 0 && p <= 1;

@@ -7,12 +7,10 @@
 //                                                 FramePrediction per frame in order (heads only
 //                                                 where the encoder ran) and the Stats, with no
 //                                                 allocation between the first frame and the Stats
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <new>
 #include <string>
 #include <vector>
 
@@ -24,22 +22,8 @@
 #include "tlvlink/pipeline/frame_processor.h"
 #include "tlvlink/protocol/protocol.h"
 #include "tlvlink/stream/stream.h"
+#include "support/alloc_counter.h"
 #include "tlvlink/tlvlink.h"
-
-namespace {
-
-std::atomic<bool> g_counting{false};
-std::atomic<size_t> g_allocations{0};
-
-}  // namespace
-
-void* operator new(size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
-  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
-  std::abort();  // built without exceptions: nothing to throw
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, size_t) noexcept { std::free(p); }
 
 namespace {
 
@@ -228,13 +212,12 @@ int run(const char* model_path, const std::string& recording) {
   want.encoded.reserve(kFrames);
   std::vector<uint8_t> view(decoder->output_bytes());
   pipeline::FramePrediction prediction;
-  g_allocations = 0;
-  g_counting = true;
+  testing::start_counting_allocations();
   for (;;) {
     auto frame = (*source)->next(1000);
     if (!frame.ok()) {
       if (frame.error().code() == ErrorCode::kCaptureEndOfStream) break;
-      g_counting = false;
+      testing::stop_counting_allocations();
       return fail("replay", frame.error());
     }
     pipeline::FrameTimes times;
@@ -248,7 +231,7 @@ int run(const char* model_path, const std::string& recording) {
                                           : decoded;
     (*source)->release();
     if (!processed.ok()) {
-      g_counting = false;
+      testing::stop_counting_allocations();
       return fail("frame", processed.error());
     }
     want.sequences.push_back(static_cast<uint32_t>(frame->sequence));
@@ -261,8 +244,7 @@ int run(const char* model_path, const std::string& recording) {
   totals.sensor_encoded[0] = (*processor)->counters().sensor_encoder_runs[0];
   totals.sensor_gated[0] = (*processor)->counters().sensor_gated[0];
   const bool stats_sent = link.send(mapper.stats(totals));
-  g_counting = false;
-  const size_t allocations = g_allocations;
+  const size_t allocations = testing::stop_counting_allocations();
   if (!stats_sent) return std::printf("Stats not sent\n"), 1;
   std::printf("%zu frames replayed, %zu allocations from the first frame to the Stats\n",
               want.sequences.size(), allocations);
