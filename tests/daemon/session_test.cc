@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -286,6 +287,26 @@ namespace tlvlink::daemon {
 namespace {
 
 #if defined(TLVLINK_HAVE_LISTEN)
+// The host's reader, as a robot's controller reads: every message to `on_message` until `done`
+// is set and the link has then been quiet for a second (a pty discards what its reader has not
+// read when the board closes it).
+std::thread read_until_quiet(listen::Client& client, const std::atomic<bool>& done,
+                             std::function<void(const listen::Message&)> on_message) {
+  return std::thread([&client, &done, on_message = std::move(on_message)] {
+    int quiet = 0;
+    while (!done || quiet < 5) {
+      auto m = client.next(200);
+      if (!m.ok()) break;
+      if (!m.value()) {
+        ++quiet;
+        continue;
+      }
+      quiet = 0;
+      on_message(*m.value());
+    }
+  });
+}
+
 // The daemon speaks the stream protocol: over a pty, the host's client sees the Hello with the
 // sensors and heads, every frame prediction the JSON lines record, and the grasps.
 TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
@@ -310,45 +331,35 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
   // always 0), detected grasps saying so, one drop entry per cause.
   std::string stage_names;
   std::atomic<int> detected_grasps{0}, stats_seen{0}, stats_with_a_repeated_cause{0}, bad_stage_counts{0};
-  std::thread reader([&] {
-    int quiet = 0;
-    while (!done || quiet < 5) {
-      auto m = (*client)->next(200);
-      if (!m.ok()) break;
-      if (!m.value()) {
-        ++quiet;
-        continue;
+  std::thread reader = read_until_quiet(**client, done, [&](const listen::Message& m) {
+    if (auto h = m.hello(); h.ok()) {
+      hello = h.value().sensor_count() == 2;
+      heads_in_hello = static_cast<int>(h.value().head_count());
+      int recorded = 0;
+      for (size_t i = 0; i < h.value().head_count(); ++i) {
+        const protocol::HeadInfoView head = h.value().head(i);
+        if (std::isfinite(head.accuracy()) && std::isfinite(head.majority_rate())) ++recorded;
       }
-      quiet = 0;
-      if (auto h = m.value()->hello(); h.ok()) {
-        hello = h.value().sensor_count() == 2;
-        heads_in_hello = static_cast<int>(h.value().head_count());
-        int recorded = 0;
-        for (size_t i = 0; i < h.value().head_count(); ++i) {
-          const protocol::HeadInfoView head = h.value().head(i);
-          if (std::isfinite(head.accuracy()) && std::isfinite(head.majority_rate())) ++recorded;
-        }
-        heads_with_trust = recorded;
-        stage_names.clear();
-        for (size_t i = 0; i < h.value().stage_name_count(); ++i)
-          stage_names += std::string(i ? "," : "") + std::string(h.value().stage_name(i));
-      }
-      if (auto f = m.value()->frame_prediction(); f.ok()) {
-        ++frames;
-        bad_stage_counts += f.value().stage_ns().size() == 6 ? 0 : 1;
-      }
-      if (auto g = m.value()->grasp_prediction(); g.ok()) {
-        ++grasps;
-        detected_grasps += g.value().phase_source() == protocol::PhaseSource::kDetected ? 1 : 0;
-      }
-      if (auto st = m.value()->stats(); st.ok()) {
-        ++stats_seen;
-        std::set<int> causes;
-        for (size_t i = 0; i < st.value().drop_count(); ++i) {
-          if (!causes.insert(static_cast<int>(st.value().drop(i).cause)).second) ++stats_with_a_repeated_cause;
-          // Images off: no image_busy entry (a protocol 1.1 host would print an unknown cause).
-          if (st.value().drop(i).cause == protocol::DropCause::kImageBusy) ++stats_with_a_repeated_cause;
-        }
+      heads_with_trust = recorded;
+      stage_names.clear();
+      for (size_t i = 0; i < h.value().stage_name_count(); ++i)
+        stage_names += std::string(i ? "," : "") + std::string(h.value().stage_name(i));
+    }
+    if (auto f = m.frame_prediction(); f.ok()) {
+      ++frames;
+      bad_stage_counts += f.value().stage_ns().size() == 6 ? 0 : 1;
+    }
+    if (auto g = m.grasp_prediction(); g.ok()) {
+      ++grasps;
+      detected_grasps += g.value().phase_source() == protocol::PhaseSource::kDetected ? 1 : 0;
+    }
+    if (auto st = m.stats(); st.ok()) {
+      ++stats_seen;
+      std::set<int> causes;
+      for (size_t i = 0; i < st.value().drop_count(); ++i) {
+        if (!causes.insert(static_cast<int>(st.value().drop(i).cause)).second) ++stats_with_a_repeated_cause;
+        // Images off: no image_busy entry (a protocol 1.1 host would print an unknown cause).
+        if (st.value().drop(i).cause == protocol::DropCause::kImageBusy) ++stats_with_a_repeated_cause;
       }
     }
   });
@@ -391,35 +402,25 @@ TEST(DaemonSession, StreamsFrameImagesOverAPtyToTheClient) {
   std::atomic<uint64_t> frames{0}, images{0}, bad_images{0}, masked_in_contact{0}, masked_without_contact{0};
   std::atomic<int> stats_with_image_busy{0};
   std::atomic<bool> done{false};
-  std::thread reader([&] {
-    image::JpegDecoder decoder;
-    int quiet = 0;
-    while (!done || quiet < 5) {
-      auto m = (*client)->next(200);
-      if (!m.ok()) break;
-      if (!m.value()) {
-        ++quiet;
-        continue;
-      }
-      quiet = 0;
-      if (m.value()->frame_prediction().ok()) ++frames;
-      if (auto st = m.value()->stats(); st.ok()) {
-        for (size_t i = 0; i < st.value().drop_count(); ++i)
-          stats_with_image_busy += st.value().drop(i).cause == protocol::DropCause::kImageBusy ? 1 : 0;
-      }
-      auto f = m.value()->frame_image();
-      if (!f.ok()) continue;
-      ++images;
-      const protocol::FrameImage& im = f.value();
-      auto h = decoder.read_header(im.data, "frame image");
-      const bool good = h.ok() && h->width == im.width && h->height == im.height && im.width == 200 &&
-                        im.height == 150 && im.kind == protocol::ImageKind::kView && im.mask_width == 32 &&
-                        im.mask_height == 24 && im.mask.size() == 96;
-      bad_images += good ? 0 : 1;
-      bool any = false;
-      for (uint8_t b : im.mask) any |= b != 0;
-      if (any) ++(im.contact ? masked_in_contact : masked_without_contact);
+  image::JpegDecoder decoder;  // the reader thread's
+  std::thread reader = read_until_quiet(**client, done, [&](const listen::Message& m) {
+    if (m.frame_prediction().ok()) ++frames;
+    if (auto st = m.stats(); st.ok()) {
+      for (size_t i = 0; i < st.value().drop_count(); ++i)
+        stats_with_image_busy += st.value().drop(i).cause == protocol::DropCause::kImageBusy ? 1 : 0;
     }
+    auto f = m.frame_image();
+    if (!f.ok()) return;
+    ++images;
+    const protocol::FrameImage& im = f.value();
+    auto h = decoder.read_header(im.data, "frame image");
+    const bool good = h.ok() && h->width == im.width && h->height == im.height && im.width == 200 &&
+                      im.height == 150 && im.kind == protocol::ImageKind::kView && im.mask_width == 32 &&
+                      im.mask_height == 24 && im.mask.size() == 96;
+    bad_images += good ? 0 : 1;
+    bool any = false;
+    for (uint8_t b : im.mask) any |= b != 0;
+    if (any) ++(im.contact ? masked_in_contact : masked_without_contact);
   });
   while (!(*session)->limit_reached()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   const SessionTotals t = (*session)->stop();
