@@ -37,8 +37,8 @@ bool contains(const std::string& haystack, const std::string& needle) {
 
 TEST(Boards, EveryIssueBoardLoadsWithItsFacts) {
   const std::vector<std::string> names = boards::board_names(kBoards);
-  for (const char* n : {"rpi4-a72", "rpi5-a76", "jetson-orin-nano", "rk3588", "qemu-virt-a76",
-                        "host-x86_64"}) {
+  for (const char* n :
+       {"rpi4-a72", "rpi5-a76", "jetson-orin-nano", "rk3588", "qemu-virt-a76", "host-x86_64"}) {
     auto b = boards::load_board(kBoards, n);
     ASSERT_TRUE(b.ok()) << b.error().message();
     EXPECT_EQ(b->option("TLVLINK_BOARD"), n);
@@ -83,7 +83,8 @@ TEST(Scenes, EveryShippedSceneMakesAConfigurationTheDaemonAccepts) {
     auto s = daemon::find_scene(kScenes, name);
     ASSERT_TRUE(s.ok()) << s.error().message();
     EXPECT_EQ(s->name, name);
-    const std::string toml = daemon::scene_config_toml(*s, "/usr/share/tlvlink/models/x.tlvm", 2, "test");
+    const std::string toml =
+        daemon::scene_config_toml(*s, "/usr/share/tlvlink/models/x.tlvm", 2, "test");
     auto c = daemon::parse_config(toml, std::string(name) + " config");
     ASSERT_TRUE(c.ok()) << name << ": " << c.error().message() << "\n" << toml;
     EXPECT_EQ(c->sensors.size(), s->sensors.size());
@@ -102,17 +103,24 @@ TEST(Scenes, UnknownSceneIsAnErrorListingTheKnownOnes) {
 }
 
 TEST(Scenes, MistakesNameFileLineAndKey) {
-  auto bad_key = daemon::parse_scene("heads = []\ncolour = \"red\"\n[[sensor]]\nname = \"a\"\n"
-                                     "model = \"digit\"\ndevice = \"usb:2833:0209\"\n", "s.toml");
+  auto bad_key = daemon::parse_scene(
+      "heads = []\ncolour = \"red\"\n[[sensor]]\nname = \"a\"\n"
+      "model = \"digit\"\ndevice = \"usb:2833:0209\"\n",
+      "s.toml");
   ASSERT_FALSE(bad_key.ok());
   EXPECT_TRUE(contains(bad_key.error().message(), "colour")) << bad_key.error().message();
-  auto bad_grasp = daemon::parse_scene("grasp = \"detected\"\n[[sensor]]\nname = \"a\"\n"
-                                       "model = \"digit\"\ndevice = \"usb:2833:0209\"\n", "g.toml");
+  auto bad_grasp = daemon::parse_scene(
+      "grasp = \"detected\"\n[[sensor]]\nname = \"a\"\n"
+      "model = \"digit\"\ndevice = \"usb:2833:0209\"\n",
+      "g.toml");
   ASSERT_FALSE(bad_grasp.ok());
-  EXPECT_TRUE(contains(bad_grasp.error().message(), "g.toml:1: grasp")) << bad_grasp.error().message();
+  EXPECT_TRUE(contains(bad_grasp.error().message(), "g.toml:1: grasp"))
+      << bad_grasp.error().message();
   EXPECT_TRUE(contains(bad_grasp.error().message(), "finger A and finger B"));
-  auto bad_sensor = daemon::parse_scene("[[sensor]]\nname = \"a\"\nmodel = \"gelsight-max\"\n"
-                                        "device = \"usb:2833:0209\"\n", "m.toml");
+  auto bad_sensor = daemon::parse_scene(
+      "[[sensor]]\nname = \"a\"\nmodel = \"gelsight-max\"\n"
+      "device = \"usb:2833:0209\"\n",
+      "m.toml");
   ASSERT_FALSE(bad_sensor.ok());
   EXPECT_TRUE(contains(bad_sensor.error().message(), "m.toml:3: sensor[0].model"))
       << bad_sensor.error().message();
@@ -125,7 +133,8 @@ TEST(Scenes, BuildPlanLeavesOutWhatTheSceneDoesNotUse) {
   auto usb = daemon::find_scene(kScenes, "grasp-two-mini");
   ASSERT_TRUE(board.ok() && jsonl.ok() && serial.ok() && usb.ok());
   const auto value = [](const boards::BuildPlan& p, const std::string& name) {
-    for (const boards::BuildOption& o : p.options) if (o.name == name) return o.value;
+    for (const boards::BuildOption& o : p.options)
+      if (o.name == name) return o.value;
     return std::string("unset");
   };
   auto pj = boards::plan_build(*board, *jsonl);
@@ -208,7 +217,8 @@ TEST(Strip, ModelWhoseInputTheSensorCannotFeedIsAnErrorNamingTheSensor) {
   ASSERT_TRUE(b.ok());
   const std::vector<std::byte> bytes = b->finish();
   std::ofstream(dir / "crop.tlvm", std::ios::binary)
-      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+      .write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
   auto scene = daemon::find_scene(kScenes, "surface-log-digit");
   ASSERT_TRUE(scene.ok());
   auto r = boards::strip_model(dir / "crop.tlvm", *scene, dir / "out.tlvm");
@@ -260,11 +270,13 @@ TEST(Strip, FailureKeepsTheExistingOutput) {
   ASSERT_TRUE(scene.ok());
   ASSERT_TRUE(boards::strip_model(kModel, *scene, dir / "out.tlvm").ok());
   std::ifstream before_in(dir / "out.tlvm", std::ios::binary);
-  const std::string before((std::istreambuf_iterator<char>(before_in)), std::istreambuf_iterator<char>());
+  const std::string before((std::istreambuf_iterator<char>(before_in)),
+                           std::istreambuf_iterator<char>());
   scene->heads.push_back("texture");  // the model has no such head
   ASSERT_FALSE(boards::strip_model(kModel, *scene, dir / "out.tlvm").ok());
   std::ifstream after_in(dir / "out.tlvm", std::ios::binary);
-  const std::string after((std::istreambuf_iterator<char>(after_in)), std::istreambuf_iterator<char>());
+  const std::string after((std::istreambuf_iterator<char>(after_in)),
+                          std::istreambuf_iterator<char>());
   EXPECT_EQ(before, after);
 }
 
@@ -287,10 +299,12 @@ TEST(Package, StagedRootHoldsTheScenesFiles) {
     ASSERT_TRUE(files.ok()) << files.error().message();
     const bool usb = std::string(name) == "grasp-two-mini";
     EXPECT_EQ(std::ifstream(root + "/usr/libexec/tlvlink/usb_gadget.sh").good(), usb) << name;
-    EXPECT_EQ(std::ifstream(root + "/lib/systemd/system/tlvlink-usb-gadget.service").good(), usb) << name;
+    EXPECT_EQ(std::ifstream(root + "/lib/systemd/system/tlvlink-usb-gadget.service").good(), usb)
+        << name;
     EXPECT_TRUE(std::ifstream(root + boards::installed_model_path(in)).good()) << name;
     std::ifstream toml(root + "/etc/tlvlink/tlvlinkd.toml");
-    const std::string text((std::istreambuf_iterator<char>(toml)), std::istreambuf_iterator<char>());
+    const std::string text((std::istreambuf_iterator<char>(toml)),
+                           std::istreambuf_iterator<char>());
     EXPECT_TRUE(contains(text, boards::installed_model_path(in))) << text;
     EXPECT_TRUE(daemon::parse_config(text, name).ok()) << text;
   }

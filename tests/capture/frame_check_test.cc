@@ -16,9 +16,7 @@ std::vector<uint8_t> framed_jpeg() {
   return {0xFF, 0xD8, 0xFF, 0xE0, 0x00, 0x10, 'J', 'F', 'I', 'F', 0x00, 0x12, 0x34, 0xFF, 0xD9};
 }
 
-TEST(MjpegCheck, WellFramedPasses) {
-  EXPECT_EQ(check_mjpeg(framed_jpeg()), FrameProblem::kNone);
-}
+TEST(MjpegCheck, WellFramedPasses) { EXPECT_EQ(check_mjpeg(framed_jpeg()), FrameProblem::kNone); }
 
 TEST(MjpegCheck, ZeroPaddingAfterEoiIsAccepted) {
   auto j = framed_jpeg();
@@ -26,9 +24,7 @@ TEST(MjpegCheck, ZeroPaddingAfterEoiIsAccepted) {
   EXPECT_EQ(check_mjpeg(j), FrameProblem::kNone);
 }
 
-TEST(MjpegCheck, ZeroLengthIsEmpty) {
-  EXPECT_EQ(check_mjpeg({}), FrameProblem::kEmpty);
-}
+TEST(MjpegCheck, ZeroLengthIsEmpty) { EXPECT_EQ(check_mjpeg({}), FrameProblem::kEmpty); }
 
 TEST(MjpegCheck, TruncatedHasNoEoi) {
   const auto j = framed_jpeg();

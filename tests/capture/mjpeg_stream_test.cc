@@ -5,8 +5,8 @@
 
 #include <vector>
 
-#include "tlvlink/image/jpeg.h"
 #include "tlvlink/capture/frame_accounting.h"
+#include "tlvlink/image/jpeg.h"
 
 namespace tlvlink::capture {
 namespace {

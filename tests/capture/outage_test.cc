@@ -20,7 +20,7 @@ struct Device {
   OutageBook book() { return {backoff, stats, last_error}; }
   std::vector<int64_t> attempts_ms;  // board clock of each reopen attempt, from the loss
   int64_t lost_at = 0;
-  int fail_first = 1 << 30;          // attempts that fail before one succeeds
+  int fail_first = 1 << 30;  // attempts that fail before one succeeds
   Status reopen() {
     attempts_ms.push_back((board_clock_ns() - lost_at) / kNsPerMs);
     if (static_cast<int>(attempts_ms.size()) <= fail_first)
@@ -50,7 +50,8 @@ TEST(Outage, EachCallWaitsItsTimeoutAndAttemptsFollowTheBackoff) {
   EXPECT_EQ(d.stats.outage_ns, 1200 * kNsPerMs);
   const std::string message = last.error().message();
   EXPECT_NE(message.find("cam: disconnected for 1200 ms, 9 reopen attempts failed, next in 60 ms"),
-            std::string::npos) << message;
+            std::string::npos)
+      << message;
   EXPECT_NE(message.find("no camera matches"), std::string::npos) << message;
 }
 

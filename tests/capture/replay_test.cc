@@ -320,7 +320,8 @@ TEST(Replay, EveryFrameBeforeTheFirstDeliveredIsCountedOnce) {
   const SourceStats& st = (*src)->stats();
   EXPECT_EQ(st.warmup_discarded, 1u);
   EXPECT_EQ(st.skipped_stale + st.warmup_discarded + st.delivered, f->sequence + 1)
-      << "stale " << st.skipped_stale << ", warm-up " << st.warmup_discarded << ", delivered #" << f->sequence;
+      << "stale " << st.skipped_stale << ", warm-up " << st.warmup_discarded << ", delivered #"
+      << f->sequence;
   EXPECT_EQ(st.dropped, 0u);
   std::remove(path.c_str());
 }
@@ -350,7 +351,8 @@ TEST(Replay, LoopWithNoGoodFrameIsAnErrorNotASpin) {
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1));
   ASSERT_FALSE(f.ok());
   EXPECT_EQ(f.error().code(), ErrorCode::kFormat);
-  EXPECT_NE(std::string(f.error().message()).find("no good frame in a whole pass"), std::string::npos)
+  EXPECT_NE(std::string(f.error().message()).find("no good frame in a whole pass"),
+            std::string::npos)
       << f.error().message();
   std::remove(path.c_str());
 }

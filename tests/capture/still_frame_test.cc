@@ -17,11 +17,13 @@ namespace tlvlink::capture {
 namespace {
 
 image::Image gradient(int32_t w, int32_t h) {
-  image::Image im{w, h, 3, std::vector<uint8_t>(static_cast<size_t>(w) * static_cast<size_t>(h) * 3)};
+  image::Image im{w, h, 3,
+                  std::vector<uint8_t>(static_cast<size_t>(w) * static_cast<size_t>(h) * 3)};
   for (int32_t y = 0; y < h; ++y)
     for (int32_t x = 0; x < w; ++x)
       for (int32_t c = 0; c < 3; ++c)
-        im.pixels[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 3 + static_cast<size_t>(c)] =
+        im.pixels[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 3 +
+                  static_cast<size_t>(c)] =
             static_cast<uint8_t>((x * 255 / w + y * 128 / h + 60 * c) % 256);
   return im;
 }
@@ -32,7 +34,8 @@ std::span<const std::byte> bytes_of(const std::vector<uint8_t>& v) {
 
 // A binary PPM of the image (what `tlvlink sim frame -o x.ppm` writes).
 std::vector<std::byte> ppm(const image::Image& im) {
-  const std::string header = "P6\n" + std::to_string(im.width) + " " + std::to_string(im.height) + "\n255\n";
+  const std::string header =
+      "P6\n" + std::to_string(im.width) + " " + std::to_string(im.height) + "\n255\n";
   std::vector<std::byte> out(header.size() + im.pixels.size());
   std::memcpy(out.data(), header.data(), header.size());
   std::memcpy(out.data() + header.size(), im.pixels.data(), im.pixels.size());
@@ -63,7 +66,8 @@ TEST(StillFrame, AMiniCameraJpegIsCutExactlyAsTheDaemonCutsIt) {
   EXPECT_EQ(view->width, 320);
   EXPECT_EQ(view->height, 240);
   // The daemon's decoder on the same bytes.
-  auto decoder = image::FrameDecoder::create({image::PixelFormat::kMjpeg, 3280, 2464, 0}, mini.view);
+  auto decoder =
+      image::FrameDecoder::create({image::PixelFormat::kMjpeg, 3280, 2464, 0}, mini.view);
   ASSERT_TRUE(decoder.ok());
   std::vector<uint8_t> daemon(decoder->output_bytes());
   ASSERT_TRUE(decoder->decode(*jpeg, daemon, "daemon").ok());
@@ -87,7 +91,8 @@ TEST(StillFrame, AViewIsTakenAsItIsAndOddSizesAreRefused) {
   auto refused = tools::sensor_frame_from_bytes(wide, "wide.png", "");
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.error().code(), ErrorCode::kShapeMismatch);
-  EXPECT_NE(std::string(refused.error().message()).find("wide.png: a 400x200 frame"), std::string::npos);
+  EXPECT_NE(std::string(refused.error().message()).find("wide.png: a 400x200 frame"),
+            std::string::npos);
   auto named = tools::sensor_frame_from_bytes(wide, "wide.png", "gelsight-mini");
   ASSERT_FALSE(named.ok());
   EXPECT_NE(std::string(named.error().message()).find("gelsight-mini camera frame (3280x2464)"),

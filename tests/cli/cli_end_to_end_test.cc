@@ -7,22 +7,22 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <iterator>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <span>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <png.h>
+#include <nlohmann/json.hpp>
 
+#include "support/cli_run.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/io/image.h"
 #include "tlvlink/io/npy.h"
 #include "tlvlink/io/pnm.h"
-#include "support/cli_run.h"
 
 namespace tlvlink {
 namespace {
@@ -33,7 +33,6 @@ using ::tlvlink::testing::CliRun;
 using ::tlvlink::tools::NpyArray;
 
 using ::tlvlink::testing::run_tlvlink;
-
 
 // Models come from the CTest fixtures cli.gen_reference_{fp32,int8} (96 px, seed 3, run once
 // per ctest invocation); every test writes its own files into a private directory.
@@ -66,7 +65,8 @@ TEST_F(Cli, GenReferenceWritesAModelThatLoads) {
 }
 
 TEST_F(Cli, GenFramesWritesSeededFramesThatInferAccepts) {
-  EXPECT_RUN(run_tlvlink("gen-frames -o " + path("f") + " -n 2 --height 60 --width 80 --seed 5"), 0);
+  EXPECT_RUN(run_tlvlink("gen-frames -o " + path("f") + " -n 2 --height 60 --width 80 --seed 5"),
+             0);
   auto a = tools::read_pnm(path("f/frame_0000.ppm"));
   auto b = tools::read_pnm(path("f/frame_0001.ppm"));
   ASSERT_TRUE(a.ok()) << a.error().message();
@@ -76,7 +76,8 @@ TEST_F(Cli, GenFramesWritesSeededFramesThatInferAccepts) {
   EXPECT_EQ(a->channels, 3);
   EXPECT_NE(a->pixels, b->pixels) << "frames with different seeds must differ";
   // Same seed, same bytes (the demo and tests rely on it).
-  EXPECT_RUN(run_tlvlink("gen-frames -o " + path("g") + " -n 1 --height 60 --width 80 --seed 5"), 0);
+  EXPECT_RUN(run_tlvlink("gen-frames -o " + path("g") + " -n 1 --height 60 --width 80 --seed 5"),
+             0);
   auto again = tools::read_pnm(path("g/frame_0000.ppm"));
   ASSERT_TRUE(again.ok());
   EXPECT_EQ(again->pixels, a->pixels);
@@ -116,13 +117,13 @@ TEST_F(Cli, InferOnImagesAndTensorsWithBothExecutors) {
   for (const char* model : {"fp32.tlvm", "int8.tlvm"}) {
     for (const char* exec : {"xnnpack", "reference"}) {
       SCOPED_TRACE(std::string(model) + " " + exec);
-      CliRun summary =
-          run_tlvlink("infer " + path(model) + " --input " + path("frame.ppm") + " --executor " + exec);
+      CliRun summary = run_tlvlink("infer " + path(model) + " --input " + path("frame.ppm") +
+                                   " --executor " + exec);
       EXPECT_RUN(summary, 0);
       EXPECT_NE(summary.out.find("head material"), std::string::npos) << summary.out;
       const std::string out = path(std::string(exec) + "_" + model + ".npy");
       CliRun written = run_tlvlink("infer " + path(model) + " -i " + path("x.npy") + " -o " + out +
-                               " -e " + exec + " -t 2");
+                                   " -e " + exec + " -t 2");
       EXPECT_RUN(written, 0);
       auto y = tools::read_npy(out);
       ASSERT_TRUE(y.ok()) << y.error().message();
@@ -146,12 +147,12 @@ TEST_F(Cli, InferTakesJpegAndPngFramesAndRejectsTruncatedOnes) {
   png.width = 160;
   png.height = 120;
   png.format = PNG_FORMAT_RGB;
-  ASSERT_NE(png_image_write_to_file(&png, path("smooth.png").c_str(), 0, img.pixels.data(), 0,
-                                    nullptr),
-            0);
+  ASSERT_NE(
+      png_image_write_to_file(&png, path("smooth.png").c_str(), 0, img.pixels.data(), 0, nullptr),
+      0);
   for (const char* name : {"smooth.ppm", "smooth.jpg", "smooth.png"}) {
     EXPECT_RUN(run_tlvlink("infer " + path("fp32.tlvm") + " -i " + path(name) + " -o " +
-                       path(std::string(name) + ".npy")),
+                           path(std::string(name) + ".npy")),
                0);
   }
   auto ppm = tools::read_npy(path("smooth.ppm.npy"));
@@ -246,14 +247,16 @@ TEST_F(Cli, InferTakesUint8NpyImagesLikeTheSamePpm) {
 
 TEST_F(Cli, InferComparesBothExecutorsWithTheVerifyTolerances) {
   tools::Image img{240, 320, 3, {}};
-  for (int i = 0; i < 240 * 320 * 3; ++i) img.pixels.push_back(static_cast<uint8_t>((i * 13) % 253));
+  for (int i = 0; i < 240 * 320 * 3; ++i)
+    img.pixels.push_back(static_cast<uint8_t>((i * 13) % 253));
   ASSERT_TRUE(tools::write_pnm(path("cmp.ppm"), img).ok());
-  CliRun f = run_tlvlink("infer " + path("fp32.tlvm") + " -i " + path("cmp.ppm") + " --compare-executors");
+  CliRun f =
+      run_tlvlink("infer " + path("fp32.tlvm") + " -i " + path("cmp.ppm") + " --compare-executors");
   EXPECT_RUN(f, 0);
   EXPECT_NE(f.out.find("xnnpack vs reference executor"), std::string::npos) << f.out;
   EXPECT_NE(f.out.find("1e-4 x max|reference|): PASS"), std::string::npos) << f.out;
   CliRun q = run_tlvlink("infer " + path("int8.tlvm") + " -i " + path("cmp.ppm") +
-                     " -e reference --compare-executors -o " + path("cmp.npy"));
+                         " -e reference --compare-executors -o " + path("cmp.npy"));
   EXPECT_RUN(q, 0);
   EXPECT_NE(q.out.find("reference vs xnnpack executor"), std::string::npos) << q.out;
   EXPECT_NE(q.out.find(" LSB), tolerance"), std::string::npos) << q.out;
@@ -298,16 +301,19 @@ TEST_F(Cli, KeygenSignVerifyAndUpgrade) {
             fs::perms::owner_read | fs::perms::owner_write);
   EXPECT_RUN(run_tlvlink("keygen -o " + path("k")), 1);  // exists: never overwritten
   EXPECT_RUN(run_tlvlink("keygen -o " + path("other")), 0);
-  CliRun unsigned_run = run_tlvlink("verify " + path("int8.tlvm") + " --public-key " + path("k.pub"));
+  CliRun unsigned_run =
+      run_tlvlink("verify " + path("int8.tlvm") + " --public-key " + path("k.pub"));
   EXPECT_RUN(unsigned_run, 1);
   EXPECT_NE(unsigned_run.out.find("not signed"), std::string::npos) << unsigned_run.out;
   EXPECT_RUN(run_tlvlink("sign " + path("int8.tlvm") + " --key " + path("k.key") + " -o " +
-                         path("signed.tlvm")), 0);
+                         path("signed.tlvm")),
+             0);
   CliRun good = run_tlvlink("verify " + path("signed.tlvm") + " --public-key " + path("k.pub"));
   EXPECT_RUN(good, 0);
   EXPECT_NE(good.out.find("signature"), std::string::npos) << good.out;
   EXPECT_NE(good.out.find("golden head outputs"), std::string::npos) << good.out;
-  CliRun other = run_tlvlink("verify " + path("signed.tlvm") + " --public-key " + path("other.pub"));
+  CliRun other =
+      run_tlvlink("verify " + path("signed.tlvm") + " --public-key " + path("other.pub"));
   EXPECT_RUN(other, 1);
   EXPECT_NE(other.out.find("signed by key"), std::string::npos) << other.out;
   // A secret key is not accepted as a public key, nor the reverse.

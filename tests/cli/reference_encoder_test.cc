@@ -7,11 +7,11 @@
 
 #include <gtest/gtest.h>
 
-#include "tlvlink/quantize/frames.h"
-#include "tlvlink/inspect/graph_stats.h"
 #include "support/test_models.h"
 #include "tlvlink/executor.h"
+#include "tlvlink/inspect/graph_stats.h"
 #include "tlvlink/quantize/calibrate.h"
+#include "tlvlink/quantize/frames.h"
 #include "tlvlink/quantize/reference_encoder.h"
 
 namespace tlvlink {

@@ -109,16 +109,19 @@ TEST(DaemonConfig, MistakesNameFileLineAndKey) {
             std::string::npos);
   std::string two_a = t;
   two_a.replace(two_a.find("finger = \"B\""), 12, "finger = \"A\"");
-  EXPECT_NE(error_of(two_a).find("sensors 'left' and 'right' are both finger A"), std::string::npos);
+  EXPECT_NE(error_of(two_a).find("sensors 'left' and 'right' are both finger A"),
+            std::string::npos);
   std::string bad_mode = t;
   bad_mode.replace(bad_mode.find("\"commanded\""), 11, "\"sometimes\"");
-  EXPECT_NE(error_of(bad_mode).find("grasp.mode: 'sometimes' is not one of detected, commanded, off"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of(bad_mode).find("grasp.mode: 'sometimes' is not one of detected, commanded, off"),
+      std::string::npos);
   EXPECT_NE(error_of("model = \"m\"\n").find("at least one [[sensor]]"), std::string::npos);
   EXPECT_NE(error_of("model = \n").find("t.toml:1:"), std::string::npos);  // TOML syntax
   std::string bad_device = t;
   bad_device.replace(bad_device.find("usb:0c45:636d:2BDF-Q7KX"), 23, "usb:zz:636d");
-  EXPECT_NE(error_of(bad_device).find("sensor[0].device"), std::string::npos) << error_of(bad_device);
+  EXPECT_NE(error_of(bad_device).find("sensor[0].device"), std::string::npos)
+      << error_of(bad_device);
 }
 
 // Issue 31 item 10: what start refuses, the configuration (and so --check) refuses, naming the key.
@@ -129,20 +132,25 @@ TEST(DaemonConfig, RefusesWhatStartWouldRefuse) {
     out.replace(out.find(from), from.size(), to);
     return out;
   };
-  EXPECT_NE(error_of(with("fps = 30", "fps = 30\njpeg_scale = 3")).find("sensor[1].jpeg_scale: 3 is not"),
-            std::string::npos)
+  EXPECT_NE(
+      error_of(with("fps = 30", "fps = 30\njpeg_scale = 3")).find("sensor[1].jpeg_scale: 3 is not"),
+      std::string::npos)
       << error_of(with("fps = 30", "fps = 30\njpeg_scale = 3"));
   EXPECT_EQ(error_of(with("fps = 30", "fps = 30\njpeg_scale = 4")), "");
-  const std::string nine =
-      with("heads = [\"material\", \"hard_soft\"]", "heads = [\"a\",\"b\",\"c\",\"d\",\"e\",\"f\",\"g\",\"h\",\"i\"]");
+  const std::string nine = with("heads = [\"material\", \"hard_soft\"]",
+                                "heads = [\"a\",\"b\",\"c\",\"d\",\"e\",\"f\",\"g\",\"h\",\"i\"]");
   EXPECT_NE(error_of(nine).find("heads: 9 heads; at most 8"), std::string::npos) << error_of(nine);
-  const std::string baud = with("output = \"jsonl:/tmp/out.jsonl\"", "output = \"serial:/dev/null,baud=-5\"");
-  EXPECT_NE(error_of(baud).find("output: serial link /dev/null: -5 baud is not a standard rate"), std::string::npos) << error_of(baud);
+  const std::string baud =
+      with("output = \"jsonl:/tmp/out.jsonl\"", "output = \"serial:/dev/null,baud=-5\"");
+  EXPECT_NE(error_of(baud).find("output: serial link /dev/null: -5 baud is not a standard rate"),
+            std::string::npos)
+      << error_of(baud);
   const std::string name = with("name = \"left\"", "name = \"" + std::string(20000, 'x') + "\"");
   EXPECT_NE(error_of(name).find("sensor[0].name: 20000 bytes; at most 64"), std::string::npos);
 #if defined(TLVLINK_HAVE_STREAM_LINK)
   // FrameImages (issue 33): on the stream link only; a rate, a quality and a size that fit.
-  const std::string images = with("output = \"jsonl:/tmp/out.jsonl\"", "output = \"serial:/dev/null\"\nframe_images = \"view\"");
+  const std::string images = with("output = \"jsonl:/tmp/out.jsonl\"",
+                                  "output = \"serial:/dev/null\"\nframe_images = \"view\"");
   EXPECT_EQ(error_of(images), "");
   EXPECT_NE(error_of(with("output = \"jsonl:/tmp/out.jsonl\"", "frame_images = \"input\""))
                 .find("frame_images: images go on the stream link"),
@@ -152,7 +160,8 @@ TEST(DaemonConfig, RefusesWhatStartWouldRefuse) {
     out.replace(out.find("frame_images = \"view\""), 21, "frame_images = \"view\"\n" + extra);
     return error_of(out);
   };
-  EXPECT_NE(images_with("frame_images_per_second = 16").find("frame_images_per_second: 16 outside [1, 15]"),
+  EXPECT_NE(images_with("frame_images_per_second = 16")
+                .find("frame_images_per_second: 16 outside [1, 15]"),
             std::string::npos);
   EXPECT_NE(images_with("frame_images = 1").find("frame_images"), std::string::npos);
   const std::string big = images_with("frame_image_max_side = 1024\nframe_image_quality = 95");

@@ -30,9 +30,13 @@ using testing::run_cli;
 constexpr const char* kModel = TLVLINK_SOURCE_DIR "/firmware/models/touch-tiny-int8.tlvm";
 constexpr int kW = 320, kH = 240, kFrames = 40;  // a DIGIT's YUYV stream
 
-CliRun tlvlinkd(const std::string& args) { return run_cli("timeout -k 5 30 " TLVLINKD_BINARY, args); }
+CliRun tlvlinkd(const std::string& args) {
+  return run_cli("timeout -k 5 30 " TLVLINKD_BINARY, args);
+}
 
-bool contains(const CliRun& r, const std::string& text) { return r.out.find(text) != std::string::npos; }
+bool contains(const CliRun& r, const std::string& text) {
+  return r.out.find(text) != std::string::npos;
+}
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -79,7 +83,8 @@ class DaemonCli : public ::testing::Test {
                             bool loop = false) {
     const std::string p = path(name + ".toml");
     std::ofstream(p) << "model = \"" << kModel << "\"\nverify_model = false\noutput = " << output
-                     << "\n" << top << "\n[[sensor]]\nname = \"a\"\nmodel = \"digit\"\n"
+                     << "\n"
+                     << top << "\n[[sensor]]\nname = \"a\"\nmodel = \"digit\"\n"
                      << "source = \"replay\"\ndevice = \"" << recording << "\"\nrealtime = false\n"
                      << "loop = " << (loop ? "true" : "false") << "\n";
     return p;
@@ -134,9 +139,10 @@ TEST_F(DaemonCli, JsonlOutputThatCannotWriteIsNamedAndExitOne) {
 TEST_F(DaemonCli, AClosedPipeEndsTheRunWithItsSummary) {
   const std::string c = config("pipe", "\"jsonl:-\"", path("good.tlvraw"), "", true);
   const std::string err = path("pipe.err");
-  CliRun r = run_cli("timeout 60 bash", std::string("-c '\"$0\" --config \"$1\" 2>\"$2\" | head -n 3 "
-                                                    ">/dev/null; echo daemon_rc=${PIPESTATUS[0]}' ") +
-                                            TLVLINKD_BINARY + " " + c + " " + err);
+  CliRun r =
+      run_cli("timeout 60 bash", std::string("-c '\"$0\" --config \"$1\" 2>\"$2\" | head -n 3 "
+                                             ">/dev/null; echo daemon_rc=${PIPESTATUS[0]}' ") +
+                                     TLVLINKD_BINARY + " " + c + " " + err);
   EXPECT_TRUE(contains(r, "daemon_rc=0")) << r.out << slurp(err);
   const std::string log = slurp(err);
   EXPECT_NE(log.find("output jsonl:-: closed by its reader"), std::string::npos) << log;
@@ -157,7 +163,8 @@ TEST_F(DaemonCli, FifosAreRefusedByCheckAndAtStartWithoutHanging) {
       const auto t0 = std::chrono::steady_clock::now();
       CliRun r = tlvlinkd("--config " + c + extra);
       EXPECT_RUN(r, 2) << c << extra;
-      EXPECT_TRUE(contains(r, f + ": not a regular file") || contains(r, "jsonl:" + f + ": not a regular file"))
+      EXPECT_TRUE(contains(r, f + ": not a regular file") ||
+                  contains(r, "jsonl:" + f + ": not a regular file"))
           << c << extra << ": " << r.out;
       EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(10));
     }
@@ -178,8 +185,8 @@ TEST_F(DaemonCli, LoopOverARecordingWithNoGoodFrameStopsWithAnError) {
 // Item 5: SIGTERM stops a running daemon (a looping replay at the camera's pace) within a
 // second, exit 0, summary printed.
 TEST_F(DaemonCli, SigtermStopsTheRunWithinASecond) {
-  const std::string c = config("sigterm", "\"jsonl:" + path("sigterm.jsonl") + "\"", path("good.tlvraw"),
-                               "", true);
+  const std::string c =
+      config("sigterm", "\"jsonl:" + path("sigterm.jsonl") + "\"", path("good.tlvraw"), "", true);
   // realtime = true (the camera's pace): the replay never ends on its own.
   std::string text = slurp(c);
   text.replace(text.find("realtime = false"), 16, "realtime = true");

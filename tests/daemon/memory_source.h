@@ -3,7 +3,6 @@
 // frame rate (or as fast as asked), timestamps on CLOCK_MONOTONIC like a camera's. next()
 // allocates nothing.
 
-
 #include <chrono>
 #include <cstdint>
 #include <string>
@@ -17,9 +16,12 @@ namespace tlvlink::testing {
 
 class MemorySource final : public capture::FrameSource {
  public:
-  MemorySource(std::string name, image::FrameFormat format, std::vector<std::vector<uint8_t>> frames,
-               double fps, int64_t phase_ns = 0)
-      : name_(std::move(name)), format_(format), frames_(std::move(frames)), fps_(fps),
+  MemorySource(std::string name, image::FrameFormat format,
+               std::vector<std::vector<uint8_t>> frames, double fps, int64_t phase_ns = 0)
+      : name_(std::move(name)),
+        format_(format),
+        frames_(std::move(frames)),
+        fps_(fps),
         phase_ns_(phase_ns) {}
 
   Status start() override {

@@ -8,10 +8,10 @@
 
 #include "daemon/memory_source.h"
 #include "support/temp_dir.h"
+#include "tlvlink/atomic_file.h"
 #include "tlvlink/daemon/config.h"
 #include "tlvlink/daemon/session.h"
 #include "tlvlink/image/jpeg.h"
-#include "tlvlink/atomic_file.h"
 #include "tlvlink/quantize/model_sign.h"
 #include "tlvlink/regular_file.h"
 
@@ -33,7 +33,8 @@ std::vector<std::byte> read_whole(const char* path) {
 
 std::string config_text(const std::string& model, const std::string& key, const std::string& out) {
   return "model = \"" + model + "\"\nmodel_public_key = \"" + key + "\"\n" +
-         "output = \"jsonl:" + out + "\"\nmax_frames = 4\n"
+         "output = \"jsonl:" + out +
+         "\"\nmax_frames = 4\n"
          "[[sensor]]\nname = \"left\"\nmodel = \"gelsight-mini\"\nfinger = \"A\"\n"
          "source = \"replay\"\ndevice = \"memory\"\nwidth = 640\nheight = 480\n";
 }

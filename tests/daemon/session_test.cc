@@ -3,8 +3,8 @@
 // model. Checks the output records, that grasps are reported, and that 1,000 frames in the
 // steady state allocate nothing (operator new, counted over every thread).
 #include <atomic>
-#include <cstdlib>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -22,8 +22,8 @@
 #include "tlvlink/daemon/config.h"
 #include "tlvlink/daemon/session.h"
 #include "tlvlink/heads/evaluator.h"
-#include "tlvlink/model.h"
 #include "tlvlink/image/jpeg.h"
+#include "tlvlink/model.h"
 #if defined(TLVLINK_HAVE_LISTEN)
 #include "tlvlink/listen/client.h"
 #endif
@@ -63,9 +63,14 @@ std::vector<std::vector<uint8_t>> cycle() {
 }
 
 std::string config_text(const std::string& output, int64_t max_frames) {
-  return std::string("model = \"") + kModel + "\"\n"
-         "output = \"jsonl:" + output + "\"\n"
-         "max_frames = " + std::to_string(max_frames) + "\n"
+  return std::string("model = \"") + kModel +
+         "\"\n"
+         "output = \"jsonl:" +
+         output +
+         "\"\n"
+         "max_frames = " +
+         std::to_string(max_frames) +
+         "\n"
          "status_interval_ms = 200\n"
          "queue_frames = 4\n"
          "[contact]\nreference_frames = 10\n"
@@ -117,8 +122,9 @@ void streams_without_allocating_per_frame(bool images) {
   std::string text = config_text(out, kWarmup + kCounted);
   if (images) {
     text.replace(text.find("output = \"jsonl:" + out + "\""), 16 + out.size() + 1,
-                 "output = [\"jsonl:" + out + "\", \"pty:" + link + "\"]\nframe_images = \"view\"\n"
-                 "frame_images_per_second = 15");
+                 "output = [\"jsonl:" + out + "\", \"pty:" + link +
+                     "\"]\nframe_images = \"view\"\n"
+                     "frame_images_per_second = 15");
   }
   auto config = parse_config(text, "test.toml");
   ASSERT_TRUE(config.ok()) << config.error().message();
@@ -201,8 +207,8 @@ TEST(DaemonSession, StreamsPredictionsAndFrameImagesWithoutAllocatingPerFrame) {
 }
 #endif
 
-// Cameras faster than the encoder (unpaced YUYV sources, gating off): there is always another frame.
-// The inference thread still publishes its counters and applies commands every few frames;
+// Cameras faster than the encoder (unpaced YUYV sources, gating off): there is always another
+// frame. The inference thread still publishes its counters and applies commands every few frames;
 // before the fix its loop never ended while frames kept coming, so the counters read 0.
 TEST(DaemonSession, CountersKeepUpWhenTheEncoderIsBehind) {
   testing::TempDir dir;
@@ -211,7 +217,8 @@ TEST(DaemonSession, CountersKeepUpWhenTheEncoderIsBehind) {
   // on a fast host.
   std::string text = config_text(out, 0);
   text.replace(text.find("[contact]\n"), 10, "[contact]\nenabled = false\n");
-  for (size_t p; (p = text.find("gelsight-mini")) != std::string::npos;) text.replace(p, 13, "digit");
+  for (size_t p; (p = text.find("gelsight-mini")) != std::string::npos;)
+    text.replace(p, 13, "digit");
   for (size_t p; (p = text.find("width = 640\nheight = 480")) != std::string::npos;)
     text.replace(p, 24, "width = 320\nheight = 240");
   auto config = parse_config(text, "test.toml");
@@ -231,7 +238,9 @@ TEST(DaemonSession, CountersKeepUpWhenTheEncoderIsBehind) {
   EXPECT_TRUE((*session)->command("rezero")) << "commands are still taken while it is behind";
   const SessionTotals t = (*session)->stop();
   EXPECT_GT(t.drops_queue, 0u) << "the encoder was behind: frames waiting were replaced";
-  EXPECT_GE(t.encoded, 20u) << "frames " << t.frames << ", bad " << t.bad_frames << ", decode errors " << t.decode_errors << ", inference errors " << t.inference_errors;
+  EXPECT_GE(t.encoded, 20u) << "frames " << t.frames << ", bad " << t.bad_frames
+                            << ", decode errors " << t.decode_errors << ", inference errors "
+                            << t.inference_errors;
 }
 
 // `embedding = true`: every encoded frame carries the encoder's embedding and the int8 tensor it
@@ -244,7 +253,8 @@ TEST(DaemonSession, ReportsTheEmbeddingAndItsInt8Tensor) {
   // stage, where one encode takes hundreds of milliseconds.
   constexpr int64_t kWarmup = 10, kCounted = 40;
   std::string text = config_text(out, kWarmup + kCounted);
-  text.replace(text.find("[contact]\n"), 10, "embedding = true\nsmoothing_ms = 0\n[contact]\nenabled = false\n");
+  text.replace(text.find("[contact]\n"), 10,
+               "embedding = true\nsmoothing_ms = 0\n[contact]\nenabled = false\n");
   auto config = parse_config(text, "test.toml");
   ASSERT_TRUE(config.ok()) << config.error().message();
   auto session = Session::start_with_sources(*config, sources());
@@ -330,7 +340,8 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
   // Issue 31 item 11: the stages as the spec and the JSON lines name them (no "gate" that was
   // always 0), detected grasps saying so, one drop entry per cause.
   std::string stage_names;
-  std::atomic<int> detected_grasps{0}, stats_seen{0}, stats_with_a_repeated_cause{0}, bad_stage_counts{0};
+  std::atomic<int> detected_grasps{0}, stats_seen{0}, stats_with_a_repeated_cause{0},
+      bad_stage_counts{0};
   std::thread reader = read_until_quiet(**client, done, [&](const listen::Message& m) {
     if (auto h = m.hello(); h.ok()) {
       hello = h.value().sensor_count() == 2;
@@ -357,9 +368,11 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
       ++stats_seen;
       std::set<int> causes;
       for (size_t i = 0; i < st.value().drop_count(); ++i) {
-        if (!causes.insert(static_cast<int>(st.value().drop(i).cause)).second) ++stats_with_a_repeated_cause;
+        if (!causes.insert(static_cast<int>(st.value().drop(i).cause)).second)
+          ++stats_with_a_repeated_cause;
         // Images off: no image_busy entry (a protocol 1.1 host would print an unknown cause).
-        if (st.value().drop(i).cause == protocol::DropCause::kImageBusy) ++stats_with_a_repeated_cause;
+        if (st.value().drop(i).cause == protocol::DropCause::kImageBusy)
+          ++stats_with_a_repeated_cause;
       }
     }
   });
@@ -391,15 +404,17 @@ TEST(DaemonSession, StreamsFrameImagesOverAPtyToTheClient) {
   const std::string jsonl = dir.path() + "/p.jsonl", link = dir.path() + "/board";
   std::string text = config_text(jsonl, 400);
   text.replace(text.find("output = \"jsonl:" + jsonl + "\""), 16 + jsonl.size() + 1,
-               "output = [\"jsonl:" + jsonl + "\", \"pty:" + link + "\"]\nframe_images = \"view\"\n"
-               "frame_images_per_second = 10\nframe_image_max_side = 200");
+               "output = [\"jsonl:" + jsonl + "\", \"pty:" + link +
+                   "\"]\nframe_images = \"view\"\n"
+                   "frame_images_per_second = 10\nframe_image_max_side = 200");
   auto config = parse_config(text, "test.toml");
   ASSERT_TRUE(config.ok()) << config.error().message();
   auto session = Session::start_with_sources(*config, sources());
   ASSERT_TRUE(session.ok()) << session.error().message();
   auto client = listen::Client::open("serial:" + link);
   ASSERT_TRUE(client.ok()) << client.error().message();
-  std::atomic<uint64_t> frames{0}, images{0}, bad_images{0}, masked_in_contact{0}, masked_without_contact{0};
+  std::atomic<uint64_t> frames{0}, images{0}, bad_images{0}, masked_in_contact{0},
+      masked_without_contact{0};
   std::atomic<int> stats_with_image_busy{0};
   std::atomic<bool> done{false};
   image::JpegDecoder decoder;  // the reader thread's
@@ -407,7 +422,8 @@ TEST(DaemonSession, StreamsFrameImagesOverAPtyToTheClient) {
     if (m.frame_prediction().ok()) ++frames;
     if (auto st = m.stats(); st.ok()) {
       for (size_t i = 0; i < st.value().drop_count(); ++i)
-        stats_with_image_busy += st.value().drop(i).cause == protocol::DropCause::kImageBusy ? 1 : 0;
+        stats_with_image_busy +=
+            st.value().drop(i).cause == protocol::DropCause::kImageBusy ? 1 : 0;
     }
     auto f = m.frame_image();
     if (!f.ok()) return;
@@ -415,8 +431,8 @@ TEST(DaemonSession, StreamsFrameImagesOverAPtyToTheClient) {
     const protocol::FrameImage& im = f.value();
     auto h = decoder.read_header(im.data, "frame image");
     const bool good = h.ok() && h->width == im.width && h->height == im.height && im.width == 200 &&
-                      im.height == 150 && im.kind == protocol::ImageKind::kView && im.mask_width == 32 &&
-                      im.mask_height == 24 && im.mask.size() == 96;
+                      im.height == 150 && im.kind == protocol::ImageKind::kView &&
+                      im.mask_width == 32 && im.mask_height == 24 && im.mask.size() == 96;
     bad_images += good ? 0 : 1;
     bool any = false;
     for (uint8_t b : im.mask) any |= b != 0;
@@ -433,7 +449,8 @@ TEST(DaemonSession, StreamsFrameImagesOverAPtyToTheClient) {
   EXPECT_EQ(bad_images.load(), 0u);
   EXPECT_GT(masked_in_contact.load(), 0u) << "the pressed frames' masks mark cells";
   EXPECT_EQ(masked_without_contact.load(), 0u);
-  EXPECT_GT(stats_with_image_busy.load(), 0) << "a board that sends images reports image_busy in its Stats";
+  EXPECT_GT(stats_with_image_busy.load(), 0)
+      << "a board that sends images reports image_busy in its Stats";
 }
 
 #endif  // TLVLINK_HAVE_LISTEN

@@ -30,7 +30,7 @@ void write_repacked(const std::string& dir, int32_t objects, int32_t grasps,
 }
 
 std::vector<datasets::GraspEpisode> load_repacked(const std::string& dir, FeelLoaderOptions o,
-                                             LoadReport* report = nullptr) {
+                                                  LoadReport* report = nullptr) {
   std::vector<datasets::GraspEpisode> out;
   auto loader = open_feel_repacked(dir, o);
   EXPECT_TRUE(loader.ok()) << loader.error().message();

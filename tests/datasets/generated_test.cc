@@ -10,10 +10,10 @@
 #include <set>
 #include <tuple>
 
-#include "tlvlink/sim/sets.h"
 #include "datasets/samples.h"
 #include "tlvlink/datasets/datasets.h"
 #include "tlvlink/sim/generate.h"
+#include "tlvlink/sim/sets.h"
 
 namespace tlvlink::datasets {
 namespace {

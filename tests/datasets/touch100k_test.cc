@@ -32,8 +32,9 @@ void write_touch100k_set(const std::string& dir, const std::vector<datasets::Tou
   EXPECT_EQ((*writer)->summary().items, static_cast<int64_t>(samples.size()));
 }
 
-std::vector<datasets::TouchSample> load_all(const std::string& dir, LoadReport* report_out = nullptr,
-                                       Touch100kLoaderOptions options = {}) {
+std::vector<datasets::TouchSample> load_all(const std::string& dir,
+                                            LoadReport* report_out = nullptr,
+                                            Touch100kLoaderOptions options = {}) {
   auto loader = open_touch100k(dir, options);
   EXPECT_TRUE(loader.ok()) << loader.error().message();
   std::vector<datasets::TouchSample> out;

@@ -31,10 +31,9 @@ using ::tlvlink::testing::write_colour_folder;
 // stdout only unless `merge`.
 // stdout only unless `merge`.
 CliRun tlvlink(const std::string& args, bool merge = true) {
-  return ::tlvlink::testing::run_tlvlink(args, merge ? ::tlvlink::testing::Stderr::kMerged
-                                                    : ::tlvlink::testing::Stderr::kDropped);
+  return ::tlvlink::testing::run_tlvlink(
+      args, merge ? ::tlvlink::testing::Stderr::kMerged : ::tlvlink::testing::Stderr::kDropped);
 }
-
 
 const std::string kData = TLVLINK_EVAL_DATA;
 const std::string kFp32 = kData + "/ref_fp32.tlvm";
@@ -91,7 +90,8 @@ TEST_F(EvalCli, JsonStructureAndDeterminism) {
       // come from the built-in text encoder): every cell is available.
       ASSERT_TRUE(c->at("available").get<bool>()) << c->dump();
       const int64_t n = c->at("n"), unlabelled = c->at("unlabelled");
-      EXPECT_EQ(n + unlabelled, std::string(task) == "grasp" ? grasp_test : touch_test) << c->dump();
+      EXPECT_EQ(n + unlabelled, std::string(task) == "grasp" ? grasp_test : touch_test)
+          << c->dump();
       EXPECT_GE(c->at("accuracy").get<double>(), 0.0);
       EXPECT_LE(c->at("accuracy").get<double>(), 1.0);
     }
@@ -120,12 +120,14 @@ TEST_F(EvalCli, TableLikeThePapers) {
 TEST_F(EvalCli, HeadsFitOnJpegPathsAddsTrainRowsOnly) {
   const auto rows_and_n = [](const std::string& out) {
     std::smatch m;
-    const std::regex re(R"(material\s+l2=\S+\s+train acc [0-9.]+ \(([0-9]+) rows\)\s+test acc [0-9.]+ \(n=([0-9]+)\))");
+    const std::regex re(
+        R"(material\s+l2=\S+\s+train acc [0-9.]+ \(([0-9]+) rows\)\s+test acc [0-9.]+ \(n=([0-9]+)\))");
     EXPECT_TRUE(std::regex_search(out, m, re)) << out;
     return m.size() == 3 ? std::pair<long, long>{std::stol(m[1]), std::stol(m[2])}
                          : std::pair<long, long>{0, 0};
   };
-  const CliRun plain = tlvlink("heads fit " + kFp32 + kTouch + " -q -o " + (dir_ / "plain.tlvm").string());
+  const CliRun plain =
+      tlvlink("heads fit " + kFp32 + kTouch + " -q -o " + (dir_ / "plain.tlvm").string());
   EXPECT_RUN(plain, 0);
   const CliRun coded = tlvlink("heads fit " + kFp32 + kTouch + " --train-jpeg 75,90 -q -o " +
                                (dir_ / "coded.tlvm").string());
@@ -189,8 +191,8 @@ TEST_F(EvalCli, CompareFp32AndInt8) {
 }
 
 TEST_F(EvalCli, TouchAndGoAndBeforeAfterGraspFeatures) {
-  const json j = eval_json(kFp32 + " --touch " + kData + "/tag" + kGrasp +
-                           " --grasp-features before-after");
+  const json j =
+      eval_json(kFp32 + " --touch " + kData + "/tag" + kGrasp + " --grasp-features before-after");
   const json& r = j.at("reports")[0];
   EXPECT_EQ(r.at("grasp_features"), "before-after");
   EXPECT_TRUE(find(r, "material", "probe")->at("available").get<bool>());
@@ -267,13 +269,13 @@ TEST_F(EvalCli, HeadsFitImagesAddsAValidatedHeadAndEvalScoresIt) {
   EXPECT_NE(shown.out.find("6 groups"), std::string::npos) << shown.out;
 
   // Fitting again over the same name replaces it, and only with --overwrite.
-  const CliRun refused = tlvlink("heads fit " + out + " --images " + frames.string() +
-                                 " --head colour -o " + out);
+  const CliRun refused =
+      tlvlink("heads fit " + out + " --images " + frames.string() + " --head colour -o " + out);
   EXPECT_NE(refused.exit_code, 0);
   EXPECT_NE(refused.out.find("exists; pass --overwrite"), std::string::npos) << refused.out;
   const std::string again = (dir_ / "again.tlvm").string();
-  const CliRun replaced = tlvlink("heads fit " + out + " --images " + frames.string() +
-                                  " --head colour -o " + again);
+  const CliRun replaced =
+      tlvlink("heads fit " + out + " --images " + frames.string() + " --head colour -o " + again);
   EXPECT_RUN(replaced, 0);
   EXPECT_NE(replaced.out.find("head 'colour' (replaced)"), std::string::npos) << replaced.out;
 
@@ -283,11 +285,10 @@ TEST_F(EvalCli, HeadsFitImagesAddsAValidatedHeadAndEvalScoresIt) {
   for (const char* s : {"24 frames, 6 groups", "accuracy", "recorded: untrusted", "answers:"}) {
     EXPECT_NE(scored.out.find(s), std::string::npos) << s << "\n" << scored.out;
   }
-  const CliRun wrong_label = tlvlink("eval " + kInt8 + " --images " + frames.string() +
-                                     " --head rough_smooth");
+  const CliRun wrong_label =
+      tlvlink("eval " + kInt8 + " --images " + frames.string() + " --head rough_smooth");
   EXPECT_NE(wrong_label.exit_code, 0);
-  EXPECT_NE(wrong_label.out.find("'cool' is not a label of head 'rough_smooth'"),
-            std::string::npos)
+  EXPECT_NE(wrong_label.out.find("'cool' is not a label of head 'rough_smooth'"), std::string::npos)
       << wrong_label.out;
 }
 
@@ -304,8 +305,8 @@ TEST_F(EvalCli, HeadsFitImagesRefusesWhatItCannotValidate) {
                               " --head colour -o " + (dir_ / "y.tlvm").string());
   EXPECT_NE(both.exit_code, 0);
   EXPECT_NE(both.out.find("give one or the other"), std::string::npos) << both.out;
-  const CliRun nameless = tlvlink("heads fit " + kInt8 + " --images " + frames.string() +
-                                  " -o " + (dir_ / "z.tlvm").string());
+  const CliRun nameless = tlvlink("heads fit " + kInt8 + " --images " + frames.string() + " -o " +
+                                  (dir_ / "z.tlvm").string());
   EXPECT_NE(nameless.exit_code, 0);
   EXPECT_NE(nameless.out.find("--head NAME"), std::string::npos) << nameless.out;
 }
@@ -347,8 +348,8 @@ TEST_F(EvalCli, ContactRunsTheBoardsGateOnYourFrames) {
   EXPECT_RUN(two, 0);
   EXPECT_NE(two.out.find("reference: 2 frame(s)"), std::string::npos) << two.out;
   write_gel(dir_ / "small.ppm", 0, false, 160, 120);
-  const CliRun other = tlvlink("contact -r " + (dir_ / "ref.ppm").string() + " " +
-                               (dir_ / "small.ppm").string());
+  const CliRun other =
+      tlvlink("contact -r " + (dir_ / "ref.ppm").string() + " " + (dir_ / "small.ppm").string());
   EXPECT_NE(other.exit_code, 0);
   EXPECT_NE(other.out.find("the references' is 320x240"), std::string::npos) << other.out;
 }
@@ -363,17 +364,19 @@ TEST_F(EvalCli, HeadsFitRecordingsDecodesThemAsTheDaemonDoes) {
   for (const char* cls : {"warm", "cool"}) {
     for (int o = 0; o < 3; ++o) {
       const std::string name = std::string(cls) + std::to_string(o) + ".tlvraw";
-      const CliRun rec = tlvlink("record --images " + (frames / cls / ("object" + std::to_string(o))).string() +
-                                 " --hold 2 -o " + (dir_ / name).string());
+      const CliRun rec =
+          tlvlink("record --images " + (frames / cls / ("object" + std::to_string(o))).string() +
+                  " --hold 2 -o " + (dir_ / name).string());
       ASSERT_RUN(rec, 0);
-      labels << name << "\t" << cls << (o == 0 ? "\t0\t0.2" : "") << "\n";  // 0.2 s: 5 records, 3 frames (4 x 4 + 2 x 3 = 22)
+      labels << name << "\t" << cls << (o == 0 ? "\t0\t0.2" : "")
+             << "\n";  // 0.2 s: 5 records, 3 frames (4 x 4 + 2 x 3 = 22)
     }
   }
   labels.close();
   const std::string l = (dir_ / "labels.tsv").string();
-  const CliRun fit = tlvlink("heads fit " + kInt8 + " --recordings " + l +
-                             " --sensor gelsight-mini-processed --head colour -o " +
-                             (dir_ / "rec.tlvm").string());
+  const CliRun fit =
+      tlvlink("heads fit " + kInt8 + " --recordings " + l +
+              " --sensor gelsight-mini-processed --head colour -o " + (dir_ / "rec.tlvm").string());
   EXPECT_RUN(fit, 0);
   for (const char* s : {"22 in 2 classes, 6 groups (grouping: recordings)",
                         "read as 22 as gelsight-mini-processed 320x240"}) {
@@ -390,8 +393,9 @@ TEST_F(EvalCli, HeadsFitRecordingsDecodesThemAsTheDaemonDoes) {
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.out.find("bad.tsv:3"), std::string::npos) << bad.out;
   std::ofstream(dir_ / "empty.tsv") << "warm0.tlvraw\twarm\t50\t60\ncool0.tlvraw\tcool\n";
-  const CliRun empty = tlvlink("heads fit " + kInt8 + " --recordings " + (dir_ / "empty.tsv").string() +
-                               " --head colour -o " + (dir_ / "z.tlvm").string());
+  const CliRun empty =
+      tlvlink("heads fit " + kInt8 + " --recordings " + (dir_ / "empty.tsv").string() +
+              " --head colour -o " + (dir_ / "z.tlvm").string());
   EXPECT_NE(empty.exit_code, 0);
   EXPECT_NE(empty.out.find("empty.tsv:1: no frame"), std::string::npos) << empty.out;
 }

@@ -64,8 +64,8 @@ eval::GraspEmbeddings grasp_set() {
     for (int f = 0; f < 2; ++f) {
       for (int m = 0; m < 3; ++m) {
         const std::vector<float>* e = &lean;
-        if (m == 1) e = &wrong;                  // during: never used by the zero-shot test
-        if (f == 0 && m == 0) e = &wrong;        // A.before: wrong on its own
+        if (m == 1) e = &wrong;            // during: never used by the zero-shot test
+        if (f == 0 && m == 0) e = &wrong;  // A.before: wrong on its own
         g.values.insert(g.values.end(), e->begin(), e->end());
       }
     }
@@ -136,7 +136,8 @@ TEST(Evaluate, HandMadePromptMatrixAndStoredHeads) {
   const auto missing = eval::evaluate_embeddings(m, set, model_only_options());
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(std::string(missing.error().message()).find("--grasp-features before-during"),
-            std::string::npos) << missing.error().message();
+            std::string::npos)
+      << missing.error().message();
   for (size_t i = 0; i < r->results.size(); ++i) {
     EXPECT_EQ(r->results[i].method, static_cast<Method>(i / 4));
     EXPECT_EQ(r->results[i].task, eval::kAllTasks[i % 4]);
@@ -193,9 +194,9 @@ TEST(Evaluate, DiscordanceCountsEachSideAndTestsThemExactly) {
   // 13 disagreements, 10 vs 3: two-sided exact p = 2 (C(13,0)+C(13,1)+C(13,2)+C(13,3)) / 2^13
   // = 2 * 378 / 8192, computed in closed form here; the function sums lgamma terms (1e-12).
   std::vector<uint8_t> a(40, 1), b(40, 1);
-  for (int i = 0; i < 10; ++i) b[static_cast<size_t>(i)] = 0;       // only a right
-  for (int i = 10; i < 13; ++i) a[static_cast<size_t>(i)] = 0;      // only b right
-  a[20] = b[20] = 0;                                                 // both wrong: not counted
+  for (int i = 0; i < 10; ++i) b[static_cast<size_t>(i)] = 0;   // only a right
+  for (int i = 10; i < 13; ++i) a[static_cast<size_t>(i)] = 0;  // only b right
+  a[20] = b[20] = 0;                                            // both wrong: not counted
   auto d = eval::discordance(scored(Task::kGrasp, a), scored(Task::kGrasp, b));
   ASSERT_TRUE(d.ok()) << d.error().message();
   EXPECT_EQ(d->only_first, 10);
@@ -203,7 +204,8 @@ TEST(Evaluate, DiscordanceCountsEachSideAndTestsThemExactly) {
   EXPECT_NEAR(d->p, 2.0 * 378.0 / 8192.0, 1e-12);
   // One-sided 0 vs 5: 2 / 32. No disagreement: 1.
   std::vector<uint8_t> c(5, 0), e(5, 1);
-  EXPECT_NEAR(eval::discordance(scored(Task::kGrasp, c), scored(Task::kGrasp, e))->p, 0.0625, 1e-12);
+  EXPECT_NEAR(eval::discordance(scored(Task::kGrasp, c), scored(Task::kGrasp, e))->p, 0.0625,
+              1e-12);
   EXPECT_EQ(eval::discordance(scored(Task::kGrasp, a), scored(Task::kGrasp, a))->p, 1.0);
   // Large n stays finite (no underflowing term): 5,000 vs 5,000 gives p 1.
   std::vector<uint8_t> f(10000, 0), g(10000, 0);

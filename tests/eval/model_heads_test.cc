@@ -9,14 +9,14 @@
 
 #include <gtest/gtest.h>
 
-#include "tlvlink/quantize/frames.h"
-#include "tlvlink/heads/evaluator.h"
-#include "tlvlink/heads/head_math.h"
 #include "support/random.h"
 #include "support/test_models.h"
 #include "tlvlink/eval/eval.h"
 #include "tlvlink/executor.h"
+#include "tlvlink/heads/evaluator.h"
+#include "tlvlink/heads/head_math.h"
 #include "tlvlink/quantize/calibrate.h"
+#include "tlvlink/quantize/frames.h"
 #include "tlvlink/quantize/model_copy.h"
 #include "tlvlink/quantize/reference_encoder.h"
 
@@ -162,7 +162,8 @@ TEST(ModelHeads, WrittenHeadsAreAppliedByTheRuntimePathIdentically) {
   EXPECT_TRUE(m.grasp_head.present);
   EXPECT_EQ(m.grasp_head.feature_layout,
             "A.before,A.during,A.difference,B.before,B.during,B.difference");
-  EXPECT_EQ(m.grasp_head.weight.size(), 4u * static_cast<size_t>(dim) + 2u * heads::kDifferenceFeatures);
+  EXPECT_EQ(m.grasp_head.weight.size(),
+            4u * static_cast<size_t>(dim) + 2u * heads::kDifferenceFeatures);
   EXPECT_NE(m.provenance.training.find("heads_fit"), std::string_view::npos);
   expect_same_outputs(*original, *model);
 
@@ -186,7 +187,8 @@ TEST(ModelHeads, WrittenHeadsAreAppliedByTheRuntimePathIdentically) {
   const eval::GraspEmbeddings& g = *set.grasp;
   for (size_t i = 0; i < g.size(); i += 7) {
     std::vector<std::span<const float>> features;
-    for (const heads::GraspFeature& f : evaluator->grasp_layout()) features.push_back(g.feature(i, f));
+    for (const heads::GraspFeature& f : evaluator->grasp_layout())
+      features.push_back(g.feature(i, f));
     auto p = evaluator->grasp_probability(features);
     ASSERT_TRUE(p.ok()) << p.error().message();
     auto logit = eval::grasp_head_logit(m.grasp_head.weight, m.grasp_head.bias,
@@ -208,7 +210,8 @@ TEST(ModelHeads, WrittenHeadsAreAppliedByTheRuntimePathIdentically) {
     // The structure is linear and strong: far above chance on held-out rows.
     EXPECT_GT(probe->accuracy, probe->chance + 0.3) << eval::task_name(task);
   }
-  EXPECT_EQ(r->find(eval::Task::kRough, eval::Method::kProbe)->unlabelled, 13);  // i % 3 == 0 in 160..199
+  EXPECT_EQ(r->find(eval::Task::kRough, eval::Method::kProbe)->unlabelled,
+            13);  // i % 3 == 0 in 160..199
 }
 
 TEST(ModelHeads, ModelWithoutEmbeddingOutputIsRefused) {

@@ -260,8 +260,7 @@ TEST(Trust, ReportFiguresAreRecordedAndChanceZeroShotHeadsDropped) {
   for (Task t : eval::kAllTasks) {
     report.results.push_back(cell(t, Method::kModelHeads, 0.9, 0.6, 200));
     // Zero-shot: only the hard/soft head beats its majority.
-    report.results.push_back(
-        cell(t, Method::kZeroShot, t == Task::kHard ? 0.9 : 0.55, 0.6, 200));
+    report.results.push_back(cell(t, Method::kZeroShot, t == Task::kHard ? 0.9 : 0.55, 0.6, 200));
   }
   std::vector<std::string> lines;
   auto bytes = eval::model_with_trust(*model, report, {}, &lines);

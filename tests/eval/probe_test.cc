@@ -41,12 +41,13 @@ Synthetic make_data(testing::Rng& rng, int32_t classes, int32_t dim, int32_t per
     for (int32_t i = 0; i < per_class; ++i) {
       for (int32_t j = 0; j < dim; ++j) {
         const float centre = j == c ? kSeparation : 0.0f;
-        const float offset = 3.0f + static_cast<float>(j);   // non-zero mean per dimension
+        const float offset = 3.0f + static_cast<float>(j);  // non-zero mean per dimension
         const float scale = 0.5f + 0.25f * static_cast<float>(j % 4);
         s.x.push_back(offset + scale * (centre + rng.uniform(-kNoise, kNoise)));
       }
       s.y.push_back(c);
-      s.groups.push_back(group_prefix + std::to_string(c) + "_" + std::to_string(i % groups_per_class));
+      s.groups.push_back(group_prefix + std::to_string(c) + "_" +
+                         std::to_string(i % groups_per_class));
     }
   }
   return s;
@@ -58,7 +59,7 @@ double accuracy(const FittedProbe& p, const Synthetic& s) {
   int64_t correct = 0;
   for (size_t i = 0; i < s.y.size(); ++i) {
     heads::linear_logits(p.weight, p.bias, std::span<const float>(s.x).subspan(i * dim, dim),
-                        logits);
+                         logits);
     correct += heads::argmax(logits) == s.y[i] ? 1 : 0;
   }
   return static_cast<double>(correct) / static_cast<double>(s.y.size());
@@ -119,8 +120,10 @@ TEST(Probe, FoldedStandardisationIsExact) {
   testing::Rng rng(seed);
   constexpr int32_t kDim = 16, kClasses = 4, kRows = 50;
   std::vector<float> x(kRows * kDim);
-  for (size_t i = 0; i < x.size(); ++i) x[i] = rng.normal(5.0f * static_cast<float>(i % kDim), 3.0f);
-  for (int32_t r = 0; r < kRows; ++r) x[static_cast<size_t>(r * kDim + 3)] = 2.5f;  // constant column
+  for (size_t i = 0; i < x.size(); ++i)
+    x[i] = rng.normal(5.0f * static_cast<float>(i % kDim), 3.0f);
+  for (int32_t r = 0; r < kRows; ++r)
+    x[static_cast<size_t>(r * kDim + 3)] = 2.5f;  // constant column
   const eval::Standardisation s = eval::standardisation_of(x, kDim);
   EXPECT_EQ(s.std[3], 1.0);  // a constant column is centred, not scaled
   std::vector<double> w(kClasses * kDim), b(kClasses);
@@ -133,13 +136,16 @@ TEST(Probe, FoldedStandardisationIsExact) {
     const std::span<const float> row = std::span<const float>(x).subspan(r * kDim, kDim);
     heads::linear_logits(fw, fb, row, logits);
     for (int32_t k = 0; k < kClasses; ++k) {
-      double exact = b[static_cast<size_t>(k)], magnitude = std::fabs(static_cast<double>(fb[static_cast<size_t>(k)]));
+      double exact = b[static_cast<size_t>(k)],
+             magnitude = std::fabs(static_cast<double>(fb[static_cast<size_t>(k)]));
       for (int32_t j = 0; j < kDim; ++j) {
         const auto kj = static_cast<size_t>(k * kDim + j);
-        const double z = (static_cast<double>(row[static_cast<size_t>(j)]) - s.mean[static_cast<size_t>(j)]) /
-                         s.std[static_cast<size_t>(j)];
+        const double z =
+            (static_cast<double>(row[static_cast<size_t>(j)]) - s.mean[static_cast<size_t>(j)]) /
+            s.std[static_cast<size_t>(j)];
         exact += w[kj] * z;
-        magnitude += std::fabs(static_cast<double>(fw[kj]) * static_cast<double>(row[static_cast<size_t>(j)]));
+        magnitude += std::fabs(static_cast<double>(fw[kj]) *
+                               static_cast<double>(row[static_cast<size_t>(j)]));
       }
       EXPECT_NEAR(static_cast<double>(logits[static_cast<size_t>(k)]), exact,
                   kFoldRelTolerance * magnitude)

@@ -35,7 +35,8 @@ std::unique_ptr<Model> reference_model(std::vector<std::byte>& file) {
   return m.ok() ? std::move(*m) : nullptr;
 }
 
-const PathStability* find(const StabilityReport& r, const std::string& source, const std::string& path) {
+const PathStability* find(const StabilityReport& r, const std::string& source,
+                          const std::string& path) {
   for (const PathStability& p : r.paths) {
     if (p.source == source && p.path == path) return &p;
   }
@@ -82,7 +83,8 @@ TEST(Stability, RealFramesAreReencodedAndShifted) {
   ASSERT_TRUE(model);
   testing::TempDir dir;
   image::Image frame{64, 48, 3, std::vector<uint8_t>(64 * 48 * 3)};
-  for (size_t i = 0; i < frame.pixels.size(); ++i) frame.pixels[i] = static_cast<uint8_t>(i * 7 % 251);
+  for (size_t i = 0; i < frame.pixels.size(); ++i)
+    frame.pixels[i] = static_cast<uint8_t>(i * 7 % 251);
   auto jpeg = image::encode_jpeg(frame, 92);
   ASSERT_TRUE(jpeg.ok());
   std::filesystem::create_directories(dir.path() + "/a/b");

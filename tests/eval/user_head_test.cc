@@ -17,9 +17,9 @@
 #include "tlvlink/eval/contact_check.h"
 #include "tlvlink/eval/grouped_cv.h"
 #include "tlvlink/eval/labelled_frames.h"
+#include "tlvlink/eval/trust.h"
 #include "tlvlink/eval/user_head.h"
 #include "tlvlink/head_trust.h"
-#include "tlvlink/eval/trust.h"
 #include "tlvlink/model.h"
 
 namespace tlvlink::eval {
@@ -131,7 +131,8 @@ TEST(GroupedCv, AClassSeenInOneGroupOnlyIsAnErrorNamingIt) {
   const std::vector<std::string> names = {"smooth", "rough"};
   auto cv = cross_validate({s.x, s.dim, s.labels, 2, s.groups, names}, {});
   ASSERT_FALSE(cv.ok());
-  EXPECT_NE(std::string(cv.error().message()).find("'rough'"), std::string::npos) << cv.error().message();
+  EXPECT_NE(std::string(cv.error().message()).find("'rough'"), std::string::npos)
+      << cv.error().message();
   EXPECT_NE(std::string(cv.error().message()).find("the-only-rough-billet"), std::string::npos);
 }
 
@@ -139,7 +140,7 @@ TEST(GroupedCv, LearningCurveTriesEveryChoiceWhenFew) {
   const Synthetic s = separable(6, 4, 4);  // 3 groups per class
   auto curve = learning_curve(s.rows(), {}, 30);
   ASSERT_TRUE(curve.ok()) << curve.error().message();
-  ASSERT_EQ(curve->size(), 2u);  // k = 1, 2
+  ASSERT_EQ(curve->size(), 2u);     // k = 1, 2
   EXPECT_EQ((*curve)[0].draws, 9);  // C(3,1)^2
   EXPECT_EQ((*curve)[1].draws, 9);  // C(3,2)^2
   EXPECT_DOUBLE_EQ((*curve)[0].mean_test_rows, 16.0);
@@ -208,12 +209,14 @@ TEST(LabelledFolder, EveryMistakeIsAnErrorNamingWhere) {
       {"bad groups line",
        {{"a/1.png", "x"}, {"b/2.png", "x"}, {"groups.tsv", "a/1.png\tg\nb/2.png g2\n"}},
        "groups.tsv:2"},
-      {"unlisted frame", {{"a/1.png", "x"}, {"b/2.png", "x"}, {"groups.tsv", "a/1.png\tg\n"}},
+      {"unlisted frame",
+       {{"a/1.png", "x"}, {"b/2.png", "x"}, {"groups.tsv", "a/1.png\tg\n"}},
        "b/2.png is not listed"},
       {"listed, absent",
        {{"a/1.png", "x"}, {"b/2.png", "x"}, {"groups.tsv", "a/1.png\tg\nb/2.png\tg\nb/3.png\tg\n"}},
        "lists b/3.png"},
-      {"twice", {{"a/1.png", "x"}, {"b/2.png", "x"}, {"groups.tsv", "a/1.png\tg\na/1.png\th\n"}},
+      {"twice",
+       {{"a/1.png", "x"}, {"b/2.png", "x"}, {"groups.tsv", "a/1.png\tg\na/1.png\th\n"}},
        "listed twice"},
       {"mixed layout", {{"a/g/1.png", "x"}, {"b/2.png", "x"}}, "some frames are in group"},
   };
@@ -241,12 +244,13 @@ TEST(UserHeadRealFrames, RoughnessOnGelSightMiniBilletsBeatsPixelsOnUnseenBillet
   testing::TempDir t;
   // The ImageFolder layout as a user would make it: one folder per billet (its group).
   for (int b = 1; b <= 3; ++b) {
-    for (const auto& [cls, folder] : {std::pair{"rough", "billet_captures"},
-                                      std::pair{"smooth", "billet_captures_grinded"}}) {
+    for (const auto& [cls, folder] :
+         {std::pair{"rough", "billet_captures"}, std::pair{"smooth", "billet_captures_grinded"}}) {
       const fs::path group = fs::path(t.path()) / cls / ("billet" + std::to_string(b));
       fs::create_directories(group);
       for (int frame : {1, 5, 9, 13}) {
-        const std::string name = "billet" + std::to_string(b) + "_camera_" + std::to_string(frame) + ".png";
+        const std::string name =
+            "billet" + std::to_string(b) + "_camera_" + std::to_string(frame) + ".png";
         fs::create_symlink(fs::path(kBillets) / folder / name, group / name);
       }
     }
@@ -284,7 +288,8 @@ TEST(UserHeadRealFrames, RoughnessOnGelSightMiniBilletsBeatsPixelsOnUnseenBillet
 constexpr const char* kRealFrames = TLVLINK_SOURCE_DIR "/../shared/real-frames";
 
 TEST(ContactCheckRealFrames, EveryPressOfTheReferenceSessionsIsSeen) {
-  if (!fs::exists(kRealFrames)) GTEST_SKIP() << kRealFrames << " absent: the real frames are not here";
+  if (!fs::exists(kRealFrames))
+    GTEST_SKIP() << kRealFrames << " absent: the real frames are not here";
   // Presses of calibration balls on a GelSight Mini, a GelSlim and a GelSight-type marker sensor,
   // each session with its own no-contact reference (colour cast, markers, vignetting included):
   // the board's gate with the daemon's defaults sees every one (issue 30: >= 98 %).

@@ -34,7 +34,8 @@ std::vector<Mapped> map_fixture() {
     if (!m.ok() || !m.value()) continue;
     if (m.value()->type() == protocol::MessageType::kHello) hello = *m.value();
     const listen::FormatContext context{hello ? &*hello : nullptr};
-    out.push_back({listen::json_line(*m.value(), context), *m.value(), to_channel_message(*m.value(), context)});
+    out.push_back({listen::json_line(*m.value(), context), *m.value(),
+                   to_channel_message(*m.value(), context)});
   }
   return out;
 }
@@ -42,7 +43,8 @@ std::vector<Mapped> map_fixture() {
 // Every key of `value` (recursively, through arrays) is in `schema`'s properties.
 void expect_declared(const json& value, const json& schema, const std::string& where) {
   if (value.is_object()) {
-    ASSERT_TRUE(schema.contains("properties")) << where << ": an object where the schema has no properties";
+    ASSERT_TRUE(schema.contains("properties"))
+        << where << ": an object where the schema has no properties";
     for (const auto& [k, v] : value.items()) {
       ASSERT_TRUE(schema["properties"].contains(k)) << where << "." << k << " is not in the schema";
       expect_declared(v, schema["properties"][k], where + "." + k);
@@ -117,13 +119,17 @@ TEST(Channels, EveryMessageIsItsJsonLinePlusItsLogTime) {
     const json stamp = j["timestamp"];
     j.erase("timestamp");
     EXPECT_EQ(j.dump(), json::parse(m.line).dump()) << "the listener's line, key for key";
-    EXPECT_EQ(c.json.substr(0, m.line.size() - 1), m.line.substr(0, m.line.size() - 1)) << "and byte for byte";
-    EXPECT_EQ(stamp["sec"].get<int64_t>() * 1'000'000'000 + stamp["nsec"].get<int64_t>(), c.log_time_ns);
+    EXPECT_EQ(c.json.substr(0, m.line.size() - 1), m.line.substr(0, m.line.size() - 1))
+        << "and byte for byte";
+    EXPECT_EQ(stamp["sec"].get<int64_t>() * 1'000'000'000 + stamp["nsec"].get<int64_t>(),
+              c.log_time_ns);
     EXPECT_EQ(c.publish_time_ns, m.message.receive_ns());
     const ChannelSpec& spec = channel_table()[c.channel_id - 1];
-    EXPECT_EQ(std::string(spec.topic), "/tlvlink/" + j["type"].get<std::string>()) << "one channel per type";
+    EXPECT_EQ(std::string(spec.topic), "/tlvlink/" + j["type"].get<std::string>())
+        << "one channel per type";
     expect_declared(j, json::parse(spec.schema), std::string(spec.topic));
-    // Log time: the board's time on the host clock once the offset is known (capture time for frames).
+    // Log time: the board's time on the host clock once the offset is known (capture time for
+    // frames).
     if (!m.message.clock().valid) {
       EXPECT_EQ(c.log_time_ns, m.message.receive_ns()) << m.line;
     } else if (j["type"] == "frame_prediction") {

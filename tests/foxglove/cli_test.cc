@@ -16,8 +16,8 @@
 #include "listen/board_process.h"
 #include "support/cli_run.h"
 #include "support/temp_dir.h"
-#include "tlvlink/foxglove/mcap_reader.h"
 #include "tlvlink/capture/recording.h"
+#include "tlvlink/foxglove/mcap_reader.h"
 #include "tlvlink/foxglove/mcap_recording.h"
 
 namespace tlvlink::testing {
@@ -33,7 +33,8 @@ std::vector<std::string> message_lines(const std::string& out) {
   std::vector<std::string> lines;
   std::istringstream in(out);
   for (std::string line; std::getline(in, line);) {
-    if (line.rfind("{\"type\":", 0) == 0 && line.rfind("{\"type\":\"link_stats\"", 0) != 0) lines.push_back(line);
+    if (line.rfind("{\"type\":", 0) == 0 && line.rfind("{\"type\":\"link_stats\"", 0) != 0)
+      lines.push_back(line);
   }
   return lines;
 }
@@ -47,13 +48,15 @@ TEST(FoxgloveCli, ReplayingTheMcapOfAReplayPrintsTheSameLines) {
     const std::string mcap = dir / (std::string("x") + mode + ".mcap");
     const CliRun original = run_tlvlink("replay " + dir / "f.tlvrec " + mode, Stderr::kDropped);
     ASSERT_RUN(original, 0);
-    const CliRun recorded = run_tlvlink("replay " + dir / "f.tlvrec " + mode + " --record " + mcap, Stderr::kDropped);
+    const CliRun recorded =
+        run_tlvlink("replay " + dir / "f.tlvrec " + mode + " --record " + mcap, Stderr::kDropped);
     ASSERT_RUN(recorded, 0);
     EXPECT_EQ(recorded.out, original.out) << "recording does not change what is printed";
     const CliRun replayed = run_tlvlink("replay " + mcap + " " + mode, Stderr::kDropped);
     ASSERT_RUN(replayed, 0);
     EXPECT_EQ(replayed.out, original.out) << mode;
-    EXPECT_GE(std::count(original.out.begin(), original.out.end(), '\n'), 13) << "the fixture's 13 messages";
+    EXPECT_GE(std::count(original.out.begin(), original.out.end(), '\n'), 13)
+        << "the fixture's 13 messages";
   }
 }
 
@@ -61,7 +64,8 @@ TEST(FoxgloveCli, ALiveMcapReplaysToTheLinesOfItsRun) {
   TempDir dir("fxcli");
   BoardProcess board("pty:" + dir / "tty", 200, 400, 2);
   const std::string mcap = dir / "live.mcap";
-  const CliRun live = run_tlvlink("listen --serial " + dir / "tty" + " --json --count 200 --record " + mcap, Stderr::kDropped);
+  const CliRun live = run_tlvlink(
+      "listen --serial " + dir / "tty" + " --json --count 200 --record " + mcap, Stderr::kDropped);
   ASSERT_RUN(live, 0);
   const CliRun replay = run_tlvlink("replay " + mcap + " --json", Stderr::kDropped);
   ASSERT_RUN(replay, 0);
@@ -70,14 +74,16 @@ TEST(FoxgloveCli, ALiveMcapReplaysToTheLinesOfItsRun) {
   // The live session stopped after its 200th prediction; the replay decodes everything recorded
   // (bytes that arrived with the last ones): the first lines identical, clock included.
   ASSERT_GE(replay_lines.size(), live_lines.size());
-  for (size_t i = 0; i < live_lines.size(); ++i) ASSERT_EQ(replay_lines[i], live_lines[i]) << "message " << i;
+  for (size_t i = 0; i < live_lines.size(); ++i)
+    ASSERT_EQ(replay_lines[i], live_lines[i]) << "message " << i;
   // The JSON channels hold exactly the printed messages, each its line plus `timestamp`.
   auto file = foxglove::read_mcap_file(mcap);
   ASSERT_TRUE(file.ok()) << file.error().message();
   std::vector<std::string> json_messages;
   for (const auto& m : file->messages) {
     if (m.channel_id == foxglove::kRecordChannelId) continue;
-    nlohmann::json j = nlohmann::json::parse(std::string(reinterpret_cast<const char*>(m.data.data()), m.data.size()));
+    nlohmann::json j = nlohmann::json::parse(
+        std::string(reinterpret_cast<const char*>(m.data.data()), m.data.size()));
     j.erase("timestamp");
     json_messages.push_back(j.dump());
   }
@@ -89,7 +95,8 @@ TEST(FoxgloveCli, ALiveMcapReplaysToTheLinesOfItsRun) {
 
 // Base64 of the listener's JSON lines, decoded (the test's own, RFC 4648 alphabet).
 std::string from_base64(const std::string& text) {
-  static const std::string kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  static const std::string kAlphabet =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   uint32_t bits = 0;
   int n = 0;
@@ -111,8 +118,9 @@ TEST(FoxgloveCli, RecordStreamTurnsASensorsFrameImagesIntoACameraRecording) {
   {
     // An image after every 2nd prediction: the odd ones, all of sensor 1 (fixture: sensor n % 2).
     BoardProcess board("pty:" + dir / "tty", 60, 400, 2, {"--images", "2", "--wait-host", "10"});
-    const CliRun live = run_tlvlink("listen --serial " + dir / "tty" + " --json --count 60 --record " + tlvrec,
-                                    Stderr::kDropped);
+    const CliRun live =
+        run_tlvlink("listen --serial " + dir / "tty" + " --json --count 60 --record " + tlvrec,
+                    Stderr::kDropped);
     ASSERT_RUN(live, 0);
   }
   ASSERT_RUN(run_tlvlink("replay " + tlvrec + " --record " + mcap, Stderr::kDropped), 0);
@@ -121,15 +129,18 @@ TEST(FoxgloveCli, RecordStreamTurnsASensorsFrameImagesIntoACameraRecording) {
   std::vector<std::string> jpegs;
   for (const std::string& line : message_lines(lines.out)) {
     const nlohmann::json j = nlohmann::json::parse(line);
-    if (j["type"] == "frame_image" && j["sensor"] == 1) jpegs.push_back(from_base64(j["data"].get<std::string>()));
+    if (j["type"] == "frame_image" && j["sensor"] == 1)
+      jpegs.push_back(from_base64(j["data"].get<std::string>()));
   }
   ASSERT_GE(jpegs.size(), 20u) << lines.out;
   for (const std::string& source : {tlvrec, mcap}) {
     SCOPED_TRACE(source);
     const std::string cam = dir / "cam.tlvraw";
-    const CliRun r = run_tlvlink("record --stream " + source + " --sensor 1 --fps 15 --overwrite -o " + cam);
+    const CliRun r =
+        run_tlvlink("record --stream " + source + " --sensor 1 --fps 15 --overwrite -o " + cam);
     ASSERT_RUN(r, 0);
-    EXPECT_HAS(r.out, std::to_string(jpegs.size()) + " images as " + std::to_string(jpegs.size()) + " frames");
+    EXPECT_HAS(r.out, std::to_string(jpegs.size()) + " images as " + std::to_string(jpegs.size()) +
+                          " frames");
     auto reader = capture::RecordingReader::open(cam);
     ASSERT_TRUE(reader.ok()) << reader.error().message();
     capture::RecordInfo info;
@@ -140,18 +151,25 @@ TEST(FoxgloveCli, RecordStreamTurnsASensorsFrameImagesIntoACameraRecording) {
       if (!*more) break;
       ASSERT_LT(i, jpegs.size());
       std::string bytes(info.bytes, '\0');
-      ASSERT_TRUE(reader->read_frame(info, std::span<uint8_t>(reinterpret_cast<uint8_t*>(bytes.data()), bytes.size()),
-                                     true).ok());
+      ASSERT_TRUE(
+          reader
+              ->read_frame(
+                  info, std::span<uint8_t>(reinterpret_cast<uint8_t*>(bytes.data()), bytes.size()),
+                  true)
+              .ok());
       EXPECT_EQ(bytes, jpegs[i]) << "image " << i;
     }
     EXPECT_EQ(i, jpegs.size());
   }
   // A sensor without images is named with what the recording has; a replay of it refused.
-  const CliRun none = run_tlvlink("record --stream " + mcap + " --sensor 0 -o " + dir / "none.tlvraw");
+  const CliRun none =
+      run_tlvlink("record --stream " + mcap + " --sensor 0 -o " + dir / "none.tlvraw");
   EXPECT_RUN(none, 2);  // the sensor asked for is not in this recording
-  EXPECT_HAS(none.out, "holds no frame image of sensor 0 (it has " + std::to_string(jpegs.size()) + " of sensor 1)");
+  EXPECT_HAS(none.out, "holds no frame image of sensor 0 (it has " + std::to_string(jpegs.size()) +
+                           " of sensor 1)");
   EXPECT_FALSE(std::filesystem::exists(dir / "none.tlvraw"));
-  const CliRun both = run_tlvlink("record --stream " + mcap + " --images " + dir / "." + " -o " + dir / "x.tlvraw");
+  const CliRun both =
+      run_tlvlink("record --stream " + mcap + " --images " + dir / "." + " -o " + dir / "x.tlvraw");
   EXPECT_RUN(both, 2);
 }
 
@@ -164,11 +182,13 @@ TEST(FoxgloveCli, TheRecordingFileRulesHoldForMcap) {
   EXPECT_RUN(refused, 2);
   EXPECT_HAS(refused.out, old + " already exists (give --overwrite");
   EXPECT_EQ(slurp(old), "yesterday");
-  EXPECT_RUN(run_tlvlink("replay " + dir / "f.tlvrec --overwrite --record " + old, Stderr::kDropped), 0);
+  EXPECT_RUN(
+      run_tlvlink("replay " + dir / "f.tlvrec --overwrite --record " + old, Stderr::kDropped), 0);
   EXPECT_EQ(slurp(old).substr(1, 4), "MCAP");
   const std::string fifo = dir / "fifo.mcap";
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  const CliRun to_fifo = run_cli("timeout -k 5 30 " TLVLINK_CLI_BINARY, "replay " + dir / "f.tlvrec --record " + fifo);
+  const CliRun to_fifo =
+      run_cli("timeout -k 5 30 " TLVLINK_CLI_BINARY, "replay " + dir / "f.tlvrec --record " + fifo);
   EXPECT_RUN(to_fifo, 1);
   EXPECT_HAS(to_fifo.out, fifo + ": not a regular file (FIFO)");
   const CliRun from_fifo = run_cli("timeout -k 5 30 " TLVLINK_CLI_BINARY, "replay " + fifo);
@@ -185,9 +205,11 @@ TEST(FoxgloveCli, AFailedMcapWriteEndsTheSession) {
   TempDir dir("fxcli");
   BoardProcess board("pty:" + dir / "tty", 20000, 2000, 3);
   const std::string mcap = dir / "limited.mcap";
-  const CliRun limited = run_cli("timeout 30 bash", "-c 'ulimit -f 64; exec \"$0\" \"$@\"' " TLVLINK_CLI_BINARY
-                                 " listen --serial " + dir / "tty" + " --count 20000 --duration 20 --record " + mcap,
-                                 Stderr::kMerged);
+  const CliRun limited =
+      run_cli("timeout 30 bash",
+              "-c 'ulimit -f 64; exec \"$0\" \"$@\"' " TLVLINK_CLI_BINARY " listen --serial " +
+                  dir / "tty" + " --count 20000 --duration 20 --record " + mcap,
+              Stderr::kMerged);
   EXPECT_RUN(limited, 1);
   EXPECT_HAS(limited.out.substr(limited.out.size() > 3000 ? limited.out.size() - 3000 : 0),
              "writing MCAP recording " + mcap + ": file size limit reached");

@@ -19,11 +19,13 @@ namespace {
 std::vector<std::byte> slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::vector<char> c((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return std::vector<std::byte>(reinterpret_cast<const std::byte*>(c.data()), reinterpret_cast<const std::byte*>(c.data()) + c.size());
+  return std::vector<std::byte>(reinterpret_cast<const std::byte*>(c.data()),
+                                reinterpret_cast<const std::byte*>(c.data()) + c.size());
 }
 
 std::vector<std::byte> bytes_of(const std::string& s) {
-  return std::vector<std::byte>(reinterpret_cast<const std::byte*>(s.data()), reinterpret_cast<const std::byte*>(s.data()) + s.size());
+  return std::vector<std::byte>(reinterpret_cast<const std::byte*>(s.data()),
+                                reinterpret_cast<const std::byte*>(s.data()) + s.size());
 }
 
 // A file with two schemas, three channels (one without schema, one with metadata) and `n`
@@ -66,7 +68,8 @@ TEST(Mcap, RoundTripOfEveryField) {
   EXPECT_EQ(f->schemas[1].id, 7);
   EXPECT_EQ(f->schemas[0].data, "{\"type\":\"object\"}");
   ASSERT_EQ(f->channels.size(), 3u);
-  EXPECT_EQ(f->channel(2)->metadata, (std::vector<std::pair<std::string, std::string>>{{"k", "v"}, {"x", ""}}));
+  EXPECT_EQ(f->channel(2)->metadata,
+            (std::vector<std::pair<std::string, std::string>>{{"k", "v"}, {"x", ""}}));
   EXPECT_EQ(f->channel(9)->schema_id, 0);
   ASSERT_EQ(f->messages.size(), 40u);
   uint32_t seq[10] = {};
@@ -101,7 +104,8 @@ TEST(Mcap, ChunksCloseWhenTheirMessagesSpanTooLong) {
   o.chunk_span_ns = 100;
   auto w = McapWriter::create(dir / "f.mcap", false, o).value();
   ASSERT_TRUE(w->add_channel({1, 0, "/t", "x", {}}).ok());
-  for (uint64_t t = 0; t < 1000; t += 60) ASSERT_TRUE(w->write_message(1, t, t, bytes_of("m")).ok());
+  for (uint64_t t = 0; t < 1000; t += 60)
+    ASSERT_TRUE(w->write_message(1, t, t, bytes_of("m")).ok());
   ASSERT_TRUE(w->close().ok());
   auto f = read_mcap_file(dir / "f.mcap");
   ASSERT_TRUE(f.ok()) << f.error().message();
@@ -162,7 +166,8 @@ class McapBad : public ::testing::Test {
   std::vector<std::byte> without_crcs() const {
     auto b = good_;
     const size_t data_end = find(0x0F), footer = good_.size() - 8 - 29;
-    for (int i = 0; i < 4; ++i) b[data_end + 9 + i] = std::byte{0}, b[footer + 9 + 16 + i] = std::byte{0};
+    for (int i = 0; i < 4; ++i)
+      b[data_end + 9 + i] = std::byte{0}, b[footer + 9 + 16 + i] = std::byte{0};
     return b;
   }
   testing::TempDir dir_{"mcap"};
@@ -170,7 +175,8 @@ class McapBad : public ::testing::Test {
 };
 
 TEST_F(McapBad, NotMcap) {
-  EXPECT_HAS(read_error(bytes_of("TLVLREC\n........")), "f.mcap is not an MCAP file (no MCAP magic at offset 0)");
+  EXPECT_HAS(read_error(bytes_of("TLVLREC\n........")),
+             "f.mcap is not an MCAP file (no MCAP magic at offset 0)");
   EXPECT_HAS(read_error({}), "not an MCAP file");
 }
 
@@ -204,7 +210,8 @@ TEST_F(McapBad, AFieldLongerThanItsRecord) {
 TEST_F(McapBad, TheFirstRecordIsNotAHeader) {
   auto b = good_;
   b[8] = std::byte{0x0C};
-  EXPECT_HAS(read_error(b), "the first record (offset 8) is a Metadata (opcode 0x0c), not a Header");
+  EXPECT_HAS(read_error(b),
+             "the first record (offset 8) is a Metadata (opcode 0x0c), not a Header");
 }
 
 TEST_F(McapBad, SchemaIdZeroAndConflictingSchemasAndChannels) {
@@ -229,7 +236,8 @@ TEST_F(McapBad, AChannelOnAnUnknownSchema) {
   EXPECT_HAS(read_error(b), "names schema 5, which no earlier Schema record defines");
 }
 
-// Chunk content: start, end, size (8 each), crc (4), compression (4 + n), records length (8), records.
+// Chunk content: start, end, size (8 each), crc (4), compression (4 + n), records length (8),
+// records.
 TEST_F(McapBad, Chunks) {
   const size_t chunk = find(0x06), content = chunk + 9;
   auto b = good_;
@@ -251,7 +259,8 @@ TEST_F(McapBad, Chunks) {
   EXPECT_HAS(read_error(b), "outside its chunk's");
   b = no_crc;
   b[records] = std::byte{0x02};
-  EXPECT_HAS(read_error(b), "a Footer record (opcode 0x02) at offset " + std::to_string(records) + " inside a chunk");
+  EXPECT_HAS(read_error(b), "a Footer record (opcode 0x02) at offset " + std::to_string(records) +
+                                " inside a chunk");
 }
 
 TEST_F(McapBad, ACompressedChunkIsNamed) {
@@ -259,13 +268,15 @@ TEST_F(McapBad, ACompressedChunkIsNamed) {
   std::vector<std::byte> b(good_.begin(), good_.begin() + find(0x06));
   std::vector<std::byte> c(8 + 8 + 8 + 4, std::byte{0});
   const std::string z = "zstd";
-  c.push_back(std::byte{4}), c.push_back(std::byte{0}), c.push_back(std::byte{0}), c.push_back(std::byte{0});
+  c.push_back(std::byte{4}), c.push_back(std::byte{0}), c.push_back(std::byte{0}),
+      c.push_back(std::byte{0});
   for (char ch : z) c.push_back(std::byte(ch));
   for (int i = 0; i < 8; ++i) c.push_back(std::byte{0});
   b.push_back(std::byte{0x06});
   for (int i = 0; i < 8; ++i) b.push_back(std::byte((c.size() >> (8 * i)) & 0xFF));
   b.insert(b.end(), c.begin(), c.end());
-  EXPECT_HAS(read_error(b), "is compressed with 'zstd'; this reader reads uncompressed chunks only");
+  EXPECT_HAS(read_error(b),
+             "is compressed with 'zstd'; this reader reads uncompressed chunks only");
 }
 
 TEST_F(McapBad, DataSectionAndSummaryCrcs) {

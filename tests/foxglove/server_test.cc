@@ -17,7 +17,8 @@ TEST(FoxgloveServer, ParsesHostAndPort) {
   for (const char* bad : {"", ":", "host:", "65536", "12a", "-1", "1.5", "host:port"}) {
     auto r = parse_host_port(bad);
     ASSERT_FALSE(r.ok()) << bad;
-    EXPECT_NE(std::string(r.error().message()).find("expected [HOST:]PORT"), std::string::npos) << r.error().message();
+    EXPECT_NE(std::string(r.error().message()).find("expected [HOST:]PORT"), std::string::npos)
+        << r.error().message();
   }
 }
 
@@ -32,7 +33,8 @@ TEST(FoxgloveServer, BindsAFreePortAndRefusesATakenOne) {
   EXPECT_NE(o.address.port, 0);
   auto b = Server::start(o);
   ASSERT_FALSE(b.ok());
-  EXPECT_NE(std::string(b.error().message()).find("cannot serve on " + address), std::string::npos) << b.error().message();
+  EXPECT_NE(std::string(b.error().message()).find("cannot serve on " + address), std::string::npos)
+      << b.error().message();
   a.value()->shutdown(0);
   EXPECT_EQ(a.value()->counters().clients, 0u);
 }

@@ -23,8 +23,8 @@
 
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/datasets/touch100k.h"
-#include "tlvlink/foxglove/mcap_reader.h"
 #include "tlvlink/datasets/touch_and_go.h"
+#include "tlvlink/foxglove/mcap_reader.h"
 #include "tlvlink/image/frame_decoder.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/io/npy.h"
@@ -92,9 +92,7 @@ void fuzz_touch100k(std::span<const uint8_t> b) {
 
 void fuzz_tag(std::span<const uint8_t> b) {
   const std::string dir = scratch_dir() + "/tag";
-  static const bool made = [&] {
-    return system(("mkdir -p '" + dir + "'").c_str()) == 0;
-  }();
+  static const bool made = [&] { return system(("mkdir -p '" + dir + "'").c_str()) == 0; }();
   if (!made) std::abort();
   write_file(dir + "/train.txt", b);
   write_file(dir + "/test.txt", b.subspan(b.size() / 2));

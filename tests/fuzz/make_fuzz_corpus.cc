@@ -10,10 +10,10 @@
 #include <utility>
 #include <vector>
 
-#include "tlvlink/quantize/frames.h"
 #include "model/tiny_models.h"
 #include "reference/all_ops_models.h"
 #include "tlvlink/quantize/calibrate.h"
+#include "tlvlink/quantize/frames.h"
 #include "tlvlink/quantize/reference_encoder.h"
 
 namespace tlvlink {

@@ -45,7 +45,8 @@ image::Image gradient(int32_t w, int32_t h) {
   image::Image img{.width = w, .height = h, .channels = 3, .pixels = {}};
   for (int32_t y = 0; y < h; ++y)
     for (int32_t x = 0; x < w; ++x)
-      for (int32_t c = 0; c < 3; ++c) img.pixels.push_back(static_cast<uint8_t>(x * 7 + y * 3 + c * 50));
+      for (int32_t c = 0; c < 3; ++c)
+        img.pixels.push_back(static_cast<uint8_t>(x * 7 + y * 3 + c * 50));
   return img;
 }
 
@@ -58,7 +59,8 @@ Bytes png_of(const image::Image& img) {
   png_alloc_size_t size = 0;
   if (!png_image_write_to_memory(&p, nullptr, &size, 0, img.pixels.data(), 0, nullptr)) return {};
   Bytes out(size);
-  if (!png_image_write_to_memory(&p, out.data(), &size, 0, img.pixels.data(), 0, nullptr)) return {};
+  if (!png_image_write_to_memory(&p, out.data(), &size, 0, img.pixels.data(), 0, nullptr))
+    return {};
   out.resize(size);
   return out;
 }
@@ -98,7 +100,10 @@ Bytes mcap(const std::string& dir) {
       !m.add_channel({100, 0, "/tlvlink/records", "tlvlink.record", {}}).ok())
     return {};
   for (uint64_t i = 0; i < 6; ++i) {
-    if (!m.write_message(static_cast<uint16_t>(i % 3 == 2 ? 100 : i % 2 + 1), 1000 * i, 1000 * i + 5, data).ok()) return {};
+    if (!m.write_message(static_cast<uint16_t>(i % 3 == 2 ? 100 : i % 2 + 1), 1000 * i,
+                         1000 * i + 5, data)
+             .ok())
+      return {};
   }
   if (!m.close().ok()) return {};
   std::ifstream in(path, std::ios::binary);
@@ -148,8 +153,8 @@ int main(int argc, char** argv) {
   // budget). Under the fuzz memory limits it must stay an error, never an allocation.
   Bytes bomb = {0xFF, 0xD8, 0xFF, 0xDB, 0x00, 0x43, 0x00};
   bomb.insert(bomb.end(), 64, 1);
-  bomb.insert(bomb.end(), {0xFF, 0xC0, 0x00, 0x0B, 0x08, 0x40, 0x00, 0x40, 0x00, 0x01, 0x01,
-                           0x11, 0x00, 0xFF, 0xDA, 0x00, 0x08, 0x01, 0x01, 0x00, 0x00, 0x3F, 0x00});
+  bomb.insert(bomb.end(), {0xFF, 0xC0, 0x00, 0x0B, 0x08, 0x40, 0x00, 0x40, 0x00, 0x01, 0x01, 0x11,
+                           0x00, 0xFF, 0xDA, 0x00, 0x08, 0x01, 0x01, 0x00, 0x00, 0x3F, 0x00});
   bomb.insert(bomb.end(), 40, 0);
   bomb.insert(bomb.end(), {0xFF, 0xD9});
   save(dir, "jpeg_bomb_16k", 3, bomb, 0);
@@ -181,7 +186,8 @@ int main(int argc, char** argv) {
   save(dir, "frame_nv12", 8, nv12, 3);
   save(dir, "frame_grey", 8, grey, 4);
   const Bytes mcap_seed = mcap(dir);
-  if (mcap_seed.empty()) ++g_failures, std::fprintf(stderr, "make_parser_fuzz_corpus: cannot write the MCAP seed\n");
+  if (mcap_seed.empty())
+    ++g_failures, std::fprintf(stderr, "make_parser_fuzz_corpus: cannot write the MCAP seed\n");
   save(dir, "mcap", 9, mcap_seed);
   return g_failures == 0 ? 0 : 1;
 }

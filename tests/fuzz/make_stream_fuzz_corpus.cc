@@ -55,15 +55,20 @@ int main(int argc, char** argv) {
             seed(dir, "frame", testing::sample_frame_prediction(true), all) &&
             seed(dir, "grasp", testing::sample_grasp_prediction(), all) &&
             seed(dir, "grasp_not", testing::sample_grasp_not_computed(), all) &&
-            seed(dir, "stats", testing::sample_stats(), all) && seed(dir, "error", testing::sample_error(), all) &&
-            seed(dir, "ack", testing::sample_ack(), all) && seed(dir, "nack", testing::sample_nack(), all) &&
-            seed(dir, "pong", testing::sample_pong(), all) && seed(dir, "command", testing::sample_command(), all);
+            seed(dir, "stats", testing::sample_stats(), all) &&
+            seed(dir, "error", testing::sample_error(), all) &&
+            seed(dir, "ack", testing::sample_ack(), all) &&
+            seed(dir, "nack", testing::sample_nack(), all) &&
+            seed(dir, "pong", testing::sample_pong(), all) &&
+            seed(dir, "command", testing::sample_command(), all);
   FrameHeader future;
   future.version_major = 2;
   Result<size_t> n = encode_message(testing::sample_ack(), future, g_scratch, g_wire);
   ok = ok && n.ok();
   if (n.ok()) all.insert(all.end(), g_wire, g_wire + n.value());
   ok = ok && write(dir + "/stream_all", all);
-  if (!ok) std::fprintf(stderr, "make_stream_fuzz_corpus: could not write the seeds into %s\n", dir.c_str());
+  if (!ok)
+    std::fprintf(stderr, "make_stream_fuzz_corpus: could not write the seeds into %s\n",
+                 dir.c_str());
   return ok ? 0 : 1;
 }

@@ -25,7 +25,9 @@ using namespace tlvlink::protocol;
 
 uint64_t& g_sink = g_stream_fuzz_sink;
 
-void touch(std::string_view s) { g_sink += s.size() + (s.empty() ? 0 : static_cast<uint8_t>(s.back())); }
+void touch(std::string_view s) {
+  g_sink += s.size() + (s.empty() ? 0 : static_cast<uint8_t>(s.back()));
+}
 template <typename T>
 void touch(std::span<const T> v) {
   g_sink += v.size();
@@ -37,8 +39,10 @@ void walk(MessageType type, std::span<const std::byte> payload) {
     case MessageType::kHello:
       if (auto r = decode_hello(payload); r.ok()) {
         const HelloView& h = r.value();
-        touch(h.device()), touch(h.board()), touch(h.firmware_version()), touch(h.model_id()), touch(h.clock());
-        g_sink += h.boot_id() + h.schema_hash() + h.model_checksum() + h.embedding_dim() + h.max_frame_size();
+        touch(h.device()), touch(h.board()), touch(h.firmware_version()), touch(h.model_id()),
+            touch(h.clock());
+        g_sink += h.boot_id() + h.schema_hash() + h.model_checksum() + h.embedding_dim() +
+                  h.max_frame_size();
         for (size_t i = 0; i < h.sensor_count(); ++i) {
           const SensorInfo s = h.sensor(i);
           touch(s.name), touch(s.model), touch(s.serial), touch(s.pixel_format);
@@ -55,7 +59,8 @@ void walk(MessageType type, std::span<const std::byte> payload) {
     case MessageType::kFramePrediction:
       if (auto r = decode_frame_prediction(payload); r.ok()) {
         const FramePredictionView& f = r.value();
-        g_sink += f.sensor() + f.frame_sequence() + static_cast<uint64_t>(f.timing().capture_ns) + f.contact();
+        g_sink += f.sensor() + f.frame_sequence() + static_cast<uint64_t>(f.timing().capture_ns) +
+                  f.contact();
         touch(f.stage_ns());
         for (size_t i = 0; i < f.head_count(); ++i) touch(f.head(i).probabilities);
         touch(f.embedding());
@@ -78,7 +83,8 @@ void walk(MessageType type, std::span<const std::byte> payload) {
       }
       break;
     case MessageType::kError:
-      if (auto r = decode_error_report(payload); r.ok()) touch(r.value().name), touch(r.value().text);
+      if (auto r = decode_error_report(payload); r.ok())
+        touch(r.value().name), touch(r.value().text);
       break;
     case MessageType::kAck:
       if (auto r = decode_ack(payload); r.ok()) g_sink += r.value().command_sequence;
@@ -87,10 +93,12 @@ void walk(MessageType type, std::span<const std::byte> payload) {
       if (auto r = decode_nack(payload); r.ok()) touch(r.value().text);
       break;
     case MessageType::kPong:
-      if (auto r = decode_pong(payload); r.ok()) g_sink += static_cast<uint64_t>(r.value().host_send_ns);
+      if (auto r = decode_pong(payload); r.ok())
+        g_sink += static_cast<uint64_t>(r.value().host_send_ns);
       break;
     case MessageType::kFrameImage:
-      if (auto r = decode_frame_image(payload); r.ok()) g_sink += r.value().data.size() + r.value().mask.size();
+      if (auto r = decode_frame_image(payload); r.ok())
+        g_sink += r.value().data.size() + r.value().mask.size();
       break;
     case MessageType::kCommand:
       if (auto r = decode_command(payload); r.ok()) touch(r.value().key), touch(r.value().value);
@@ -98,9 +106,16 @@ void walk(MessageType type, std::span<const std::byte> payload) {
   }
 }
 
-constexpr MessageType kTypes[] = {MessageType::kHello, MessageType::kFramePrediction, MessageType::kGraspPrediction,
-                                  MessageType::kStats, MessageType::kError, MessageType::kAck, MessageType::kNack,
-                                  MessageType::kPong, MessageType::kFrameImage, MessageType::kCommand};
+constexpr MessageType kTypes[] = {MessageType::kHello,
+                                  MessageType::kFramePrediction,
+                                  MessageType::kGraspPrediction,
+                                  MessageType::kStats,
+                                  MessageType::kError,
+                                  MessageType::kAck,
+                                  MessageType::kNack,
+                                  MessageType::kPong,
+                                  MessageType::kFrameImage,
+                                  MessageType::kCommand};
 
 }  // namespace
 
@@ -113,10 +128,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     // Piece sizes from the input's second byte: 1 (byte by byte) ... 256.
     const size_t piece = size > 1 ? static_cast<size_t>(data[1]) + 1 : 1;
     for (size_t at = 1; at < size; at += piece) {
-      deframer.feed(std::span<const std::byte>(bytes + at, std::min(piece, size - at)), [](const ReceivedFrame& f) {
-        if (f.verdict != FrameVerdict::kOk) return;
-        if (verify_payload(f.header.type, f.payload).ok()) walk(f.header.type, f.payload);
-      });
+      deframer.feed(std::span<const std::byte>(bytes + at, std::min(piece, size - at)),
+                    [](const ReceivedFrame& f) {
+                      if (f.verdict != FrameVerdict::kOk) return;
+                      if (verify_payload(f.header.type, f.payload).ok())
+                        walk(f.header.type, f.payload);
+                    });
     }
     return 0;
   }
@@ -124,7 +141,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static std::vector<uint64_t> aligned;
   aligned.assign((size - 1 + 7) / 8, 0);
   std::memcpy(aligned.data(), data + 1, size - 1);
-  const std::span<const std::byte> payload(reinterpret_cast<const std::byte*>(aligned.data()), size - 1);
+  const std::span<const std::byte> payload(reinterpret_cast<const std::byte*>(aligned.data()),
+                                           size - 1);
   for (MessageType t : kTypes) walk(t, payload);
   return 0;
 }

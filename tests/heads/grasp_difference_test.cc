@@ -39,10 +39,10 @@ TEST(GraspDifference, AUniformChangeGivesItsExactStatistics) {
   const std::vector<float> before(kValues, 100.0f), during(kValues, 110.0f);
   const std::vector<float> s = run(before, during);
   const float want[kDifferenceFeatures] = {
-      lg(10), lg(100), lg(1), lg(0), lg(0),   // raw: mean |d|, mean d^2, > 5.5 / 15.5 / 30.5
-      lg(10), lg(1), lg(1), lg(0), lg(0),     // blurred: mean, > 3 / 8 / 15 / 30
-      lg(10), lg(10), lg(10),                 // mean d per channel
-      lg(10), lg(10), lg(10)};                // mean b per channel (the blur keeps a constant)
+      lg(10), lg(100), lg(1),  lg(0), lg(0),  // raw: mean |d|, mean d^2, > 5.5 / 15.5 / 30.5
+      lg(10), lg(1),   lg(1),  lg(0), lg(0),  // blurred: mean, > 3 / 8 / 15 / 30
+      lg(10), lg(10),  lg(10),                // mean d per channel
+      lg(10), lg(10),  lg(10)};               // mean b per channel (the blur keeps a constant)
   for (int k = 0; k < kDifferenceFeatures; ++k) EXPECT_NEAR(s[k], want[k], kTol) << "feature " << k;
 }
 

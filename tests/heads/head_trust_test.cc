@@ -66,8 +66,8 @@ TEST(HeadTrust, RecordsRoundTripOnEveryKindOfHead) {
   auto model = load_model(with_heads(record(0.82f, 0.734f, 2160)).build());
   ASSERT_NE(model, nullptr);
   const Metadata& md = model->metadata();
-  for (const HeadTrust* t : {&md.linear_heads[0].trust, &md.zero_shot_heads[0].trust,
-                             &md.grasp_head.trust}) {
+  for (const HeadTrust* t :
+       {&md.linear_heads[0].trust, &md.zero_shot_heads[0].trust, &md.grasp_head.trust}) {
     EXPECT_TRUE(t->present);
     EXPECT_FLOAT_EQ(t->accuracy, 0.82f);
     EXPECT_FLOAT_EQ(t->majority, 0.734f);
@@ -142,7 +142,7 @@ TEST(HeadTrust, LoaderRejectsCrossValidatedFieldsOutsideTheirRange) {
   quantize::HeadTrustSpec outside = cv_record(0.9f, 0.8f, 0.97f, 0.6f);
   outside.ci_low = 0.95f;  // the interval must hold the accuracy
   quantize::HeadTrustSpec half = cv_record(0.9f, 0.8f, 0.97f, 0.6f);
-  half.ci_high = -1;       // both ends or neither
+  half.ci_high = -1;  // both ends or neither
   quantize::HeadTrustSpec bad_baseline = cv_record(0.9f, 0.8f, 0.97f, nan);
   quantize::HeadTrustSpec bad_groups = cv_record(0.9f, 0.8f, 0.97f, 0.6f);
   bad_groups.groups = -2;

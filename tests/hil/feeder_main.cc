@@ -39,13 +39,20 @@ bool parse(int argc, char** argv, Args& a) {
     const std::string k = argv[i];
     if (i + 1 >= argc) return false;
     const char* v = argv[++i];
-    if (k == "--recording") a.recording = v;
-    else if (k == "--ready") a.ready = v;
-    else if (k == "--first") a.first = static_cast<uint32_t>(std::strtoul(v, nullptr, 10));
-    else if (k == "--count") a.count = static_cast<uint32_t>(std::strtoul(v, nullptr, 10));
-    else if (k == "--interval-ms") a.interval_ms = static_cast<int32_t>(std::strtol(v, nullptr, 10));
-    else if (k == "--hold-s") a.hold_s = std::strtod(v, nullptr);
-    else return false;
+    if (k == "--recording")
+      a.recording = v;
+    else if (k == "--ready")
+      a.ready = v;
+    else if (k == "--first")
+      a.first = static_cast<uint32_t>(std::strtoul(v, nullptr, 10));
+    else if (k == "--count")
+      a.count = static_cast<uint32_t>(std::strtoul(v, nullptr, 10));
+    else if (k == "--interval-ms")
+      a.interval_ms = static_cast<int32_t>(std::strtol(v, nullptr, 10));
+    else if (k == "--hold-s")
+      a.hold_s = std::strtod(v, nullptr);
+    else
+      return false;
   }
   return !a.recording.empty() && a.interval_ms > 0;
 }
@@ -61,8 +68,9 @@ double uptime_s() {
 int main(int argc, char** argv) {
   Args a;
   if (!parse(argc, argv, a)) {
-    std::fprintf(stderr, "usage: tlvlink_hil_feeder --recording FILE [--first K] [--count N] "
-                         "[--interval-ms MS] [--hold-s S] [--ready FILE]\n");
+    std::fprintf(stderr,
+                 "usage: tlvlink_hil_feeder --recording FILE [--first K] [--count N] "
+                 "[--interval-ms MS] [--hold-s S] [--ready FILE]\n");
     return 2;
   }
   std::signal(SIGTERM, on_signal);
@@ -75,7 +83,7 @@ int main(int argc, char** argv) {
   // The distinct frames, in recorded order.
   std::vector<capture::RecordInfo> frames;
   uint64_t at = reader->first_record();
-  for (capture::RecordInfo info; ;) {
+  for (capture::RecordInfo info;;) {
     auto more = reader->record_at(at, info);
     if (!more.ok()) {
       std::fprintf(stderr, "feeder: %s\n", more.error().message());
@@ -91,8 +99,9 @@ int main(int argc, char** argv) {
                  a.recording.c_str(), frames.size());
     return 2;
   }
-  const uint32_t count = a.count == 0 ? static_cast<uint32_t>(frames.size()) - a.first
-                                      : std::min<uint32_t>(a.count, static_cast<uint32_t>(frames.size()) - a.first);
+  const uint32_t count =
+      a.count == 0 ? static_cast<uint32_t>(frames.size()) - a.first
+                   : std::min<uint32_t>(a.count, static_cast<uint32_t>(frames.size()) - a.first);
   auto nodes = capture::vivid::find_nodes();
   if (!nodes || nodes->output.empty()) {
     std::fprintf(stderr, "feeder: vivid with an output node is not loaded\n");
@@ -111,16 +120,19 @@ int main(int argc, char** argv) {
     return 1;
   }
   const image::FrameFormat& of = (*feeder)->format();
-  if (of.width != rf.width || of.height != rf.height || image::frame_bytes(of) != image::frame_bytes(rf)) {
-    std::fprintf(stderr, "feeder: vivid's output is %dx%d (%zu bytes a frame), the recording %dx%d (%zu)\n",
-                 of.width, of.height, image::frame_bytes(of), rf.width, rf.height, image::frame_bytes(rf));
+  if (of.width != rf.width || of.height != rf.height ||
+      image::frame_bytes(of) != image::frame_bytes(rf)) {
+    std::fprintf(
+        stderr, "feeder: vivid's output is %dx%d (%zu bytes a frame), the recording %dx%d (%zu)\n",
+        of.width, of.height, image::frame_bytes(of), rf.width, rf.height, image::frame_bytes(rf));
     return 1;
   }
   if (!a.ready.empty()) {
     if (std::FILE* f = std::fopen(a.ready.c_str(), "w")) std::fclose(f);
   }
-  std::printf("feeder: frames %u..%u of %s (%zu distinct), every %d ms, from uptime %.3f\n", a.first,
-              a.first + count - 1, a.recording.c_str(), frames.size(), a.interval_ms, uptime_s());
+  std::printf("feeder: frames %u..%u of %s (%zu distinct), every %d ms, from uptime %.3f\n",
+              a.first, a.first + count - 1, a.recording.c_str(), frames.size(), a.interval_ms,
+              uptime_s());
   std::fflush(stdout);
   (*feeder)->feed_every(a.interval_ms);
   // Frame 0 was queued at start; frames 1 .. count-1 follow, one per interval.
@@ -131,19 +143,20 @@ int main(int argc, char** argv) {
     const uint32_t q = (*feeder)->frames_queued();
     if (q != last) last = q, last_progress = uptime_s();
     if (uptime_s() - last_progress > 4.0 * a.interval_ms / 1000.0 + 1.0) {
-      std::printf("feeder: the output stopped taking frames after %u (vivid gone?) at uptime %.3f\n", q,
-                  uptime_s());
+      std::printf(
+          "feeder: the output stopped taking frames after %u (vivid gone?) at uptime %.3f\n", q,
+          uptime_s());
       return 3;
     }
   }
   (*feeder)->feed_every(0);  // the last frame stays on the output
-  if (g_stop) {  // "fed" means every frame: the scripts wait for it
-    std::printf("feeder: stopped after %u of %u frames at uptime %.3f\n", (*feeder)->frames_queued(), count,
-                uptime_s());
+  if (g_stop) {              // "fed" means every frame: the scripts wait for it
+    std::printf("feeder: stopped after %u of %u frames at uptime %.3f\n",
+                (*feeder)->frames_queued(), count, uptime_s());
     return 0;
   }
-  std::printf("feeder: fed %u frames (last at uptime %.3f)%s\n", (*feeder)->frames_queued(), uptime_s(),
-              read_failed ? "; READ ERRORS" : "");
+  std::printf("feeder: fed %u frames (last at uptime %.3f)%s\n", (*feeder)->frames_queued(),
+              uptime_s(), read_failed ? "; READ ERRORS" : "");
   std::fflush(stdout);
   const double until = uptime_s() + a.hold_s;
   while (!g_stop && uptime_s() < until) std::this_thread::sleep_for(std::chrono::milliseconds(50));

@@ -29,16 +29,23 @@ int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
     const char* v = argv[i + 1];
-    if (k == "--source") source = v;
-    else if (k == "--record") record = v;
-    else if (k == "--timeout") timeout_s = std::strtod(v, nullptr);
-    else if (k == "--idle") idle_s = std::strtod(v, nullptr);
-    else if (k == "--label") label = v;
-    else source.clear(), i = argc;  // unknown option: usage below
+    if (k == "--source")
+      source = v;
+    else if (k == "--record")
+      record = v;
+    else if (k == "--timeout")
+      timeout_s = std::strtod(v, nullptr);
+    else if (k == "--idle")
+      idle_s = std::strtod(v, nullptr);
+    else if (k == "--label")
+      label = v;
+    else
+      source.clear(), i = argc;  // unknown option: usage below
   }
   if (source.empty() || record.empty() || argc % 2 == 0) {
-    std::fprintf(stderr, "usage: tlvlink_hil_relay --source SOURCE --record FILE [--timeout S] "
-                         "[--idle S] [--label NAME]\n");
+    std::fprintf(stderr,
+                 "usage: tlvlink_hil_relay --source SOURCE --record FILE [--timeout S] "
+                 "[--idle S] [--label NAME]\n");
     return 2;
   }
   std::signal(SIGTERM, on_signal);
@@ -56,7 +63,9 @@ int main(int argc, char** argv) {
   while (!g_stop) {
     const int64_t now = transport::monotonic_ns();
     if (now - start > static_cast<int64_t>(timeout_s * 1e9)) break;
-    if (idle_s > 0 && last_prediction > 0 && now - last_prediction > static_cast<int64_t>(idle_s * 1e9)) break;
+    if (idle_s > 0 && last_prediction > 0 &&
+        now - last_prediction > static_cast<int64_t>(idle_s * 1e9))
+      break;
     auto m = (*client)->next(200);
     if (!m.ok()) {
       std::fprintf(stderr, "relay %s: %s\n", label.c_str(), m.error().message());
@@ -73,7 +82,8 @@ int main(int argc, char** argv) {
       ++hellos;
     }
     for (const listen::LinkEvent& e : (*client)->take_events())
-      std::printf("relay %s: %s %s\n", label.c_str(), listen::link_event_name(e.kind), e.text.c_str());
+      std::printf("relay %s: %s %s\n", label.c_str(), listen::link_event_name(e.kind),
+                  e.text.c_str());
     std::fflush(stdout);
   }
   const listen::LinkStats s = (*client)->stats();

@@ -17,11 +17,14 @@ constexpr Orientation kUp = Orientation::kUpright, kTr = Orientation::kTranspose
 // The converters on raw pointers of the sizes the tests use.
 void upright_to_yuyv(const uint8_t* rgb, int32_t w, int32_t h, Orientation o, uint8_t* yuyv) {
   const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h);
-  ASSERT_TRUE(upright_rgb_to_camera({rgb, n * 3}, {PixelFormat::kYuyv, w, h, 0}, o, {yuyv, n * 2}).ok());
+  ASSERT_TRUE(
+      upright_rgb_to_camera({rgb, n * 3}, {PixelFormat::kYuyv, w, h, 0}, o, {yuyv, n * 2}).ok());
 }
 void yuyv_to_upright(const uint8_t* yuyv, int32_t w, int32_t h, Orientation o, uint8_t* rgb) {
   const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h);
-  ASSERT_TRUE(camera_to_upright_rgb({yuyv, n * 2}, {PixelFormat::kYuyv, w, h, 0}, o, {rgb, n * 3}, "test").ok());
+  ASSERT_TRUE(
+      camera_to_upright_rgb({yuyv, n * 2}, {PixelFormat::kYuyv, w, h, 0}, o, {rgb, n * 3}, "test")
+          .ok());
 }
 
 TEST(ImageConvert, YuyvIsBt601LimitedRange) {
@@ -141,8 +144,8 @@ TEST(ImageResample, ResamplerIsExactAtScaleOneAndKeepsConstants) {
 TEST(ImageConvert, Nv12GreyAndPaddedRows) {
   // A 4x2 NV12 frame: luma ramp, one chroma pair per 2x2 block (grey, then "red").
   const int32_t w = 4, h = 2;
-  std::vector<uint8_t> nv12 = {16, 100, 180, 235, 16, 100, 180, 235,  // Y rows
-                               128, 128, 90, 240};                    // U V | U V
+  std::vector<uint8_t> nv12 = {16,  100, 180, 235, 16, 100, 180, 235,  // Y rows
+                               128, 128, 90,  240};                    // U V | U V
   std::vector<uint8_t> rgb(static_cast<size_t>(w * h * 3));
   ASSERT_TRUE(camera_to_upright_rgb(nv12, {PixelFormat::kNv12, w, h, 0}, kUp, rgb, "nv12").ok());
   EXPECT_EQ(rgb[0], 0);  // Y 16, no chroma: black
@@ -174,8 +177,9 @@ TEST(ImageConvert, ShortFramesAndMjpegAreErrorsNamingTheStream) {
       << st.error().message();
   std::vector<uint8_t> odd(3 * 2 * 2);
   EXPECT_FALSE(camera_to_upright_rgb(odd, {PixelFormat::kYuyv, 3, 2, 0}, kUp, rgb, "odd").ok());
-  EXPECT_EQ(camera_to_upright_rgb(odd, {PixelFormat::kMjpeg, 4, 2, 0}, kUp, rgb, "m").error().code(),
-            ErrorCode::kInvalidArgument);
+  EXPECT_EQ(
+      camera_to_upright_rgb(odd, {PixelFormat::kMjpeg, 4, 2, 0}, kUp, rgb, "m").error().code(),
+      ErrorCode::kInvalidArgument);
 }
 
 }  // namespace

@@ -35,7 +35,8 @@ TEST(ImageFrameDecoder, PicksTheSmallestJpegScaleThatKeepsTheView) {
   auto small = FrameDecoder::create({PixelFormat::kMjpeg, 320, 240, 0}, {320, 240, 0, {}, 0});
   ASSERT_TRUE(small.ok());
   EXPECT_EQ(small->jpeg_scale_denominator(), 1);
-  EXPECT_FALSE(FrameDecoder::create({PixelFormat::kMjpeg, 320, 240, 0}, {320, 240, 0.5, {}, 0}).ok());
+  EXPECT_FALSE(
+      FrameDecoder::create({PixelFormat::kMjpeg, 320, 240, 0}, {320, 240, 0.5, {}, 0}).ok());
   EXPECT_FALSE(FrameDecoder::create({PixelFormat::kMjpeg, 320, 240, 0}, {320, 240, 0, {}, 3}).ok());
 }
 
@@ -43,8 +44,7 @@ TEST(ImageFrameDecoder, AFrameOfAnotherAspectIsRefusedNotStretched) {
   // A 300x400 portrait frame into the Mini's 320x240 view would be squashed to a third of its
   // height: an error naming both sizes. A Mini's own 3280x2464 (aspect 1.331 vs 1.333) and a
   // DIGIT's transposed 320x240 pass.
-  auto portrait =
-      FrameDecoder::create({PixelFormat::kRgb24, 300, 400, 0}, {320, 240, 0, {}, 0});
+  auto portrait = FrameDecoder::create({PixelFormat::kRgb24, 300, 400, 0}, {320, 240, 0, {}, 0});
   ASSERT_FALSE(portrait.ok());
   EXPECT_EQ(portrait.error().code(), ErrorCode::kShapeMismatch);
   const std::string m = portrait.error().message();
@@ -155,7 +155,8 @@ TEST(ImageFrameDecoder, CroppedDecodeEqualsTheWholeFrameDecode) {
       worst = std::max(worst, diff);
       differing += diff != 0 ? 1 : 0;
     }
-    std::printf("scale 1/%d: %zu of %zu values differ, at most %d\n", scale, differing, out.size(), worst);
+    std::printf("scale 1/%d: %zu of %zu values differ, at most %d\n", scale, differing, out.size(),
+                worst);
     // At full scale the 4:2:0 chroma's vertical upsampling at the region's first rows uses a row
     // the skip reconstructs differently (measured: 2 of 20,736 values, 1 DN). Scaled decodes
     // (every real use: a Mini decodes at 1/8) are identical.

@@ -97,10 +97,11 @@ TEST(ImagePreprocessPlan, ResizeIsRunsFirstStage) {
   // The trainer resizes augmented frames through resize(): run() must be exactly those pixels,
   // normalised, for every filter (area has its own fast path in resize()).
   testing::Rng rng(23);
-  for (ResizeFilter filter : {ResizeFilter::kBilinear, ResizeFilter::kArea, ResizeFilter::kNearest}) {
-    for (const auto& [w, h, ow, oh] : {std::array<int32_t, 4>{320, 240, 128, 96},
-                                       std::array<int32_t, 4>{37, 29, 11, 7},
-                                       std::array<int32_t, 4>{12, 10, 30, 20}}) {
+  for (ResizeFilter filter :
+       {ResizeFilter::kBilinear, ResizeFilter::kArea, ResizeFilter::kNearest}) {
+    for (const auto& [w, h, ow, oh] :
+         {std::array<int32_t, 4>{320, 240, 128, 96}, std::array<int32_t, 4>{37, 29, 11, 7},
+          std::array<int32_t, 4>{12, 10, 30, 20}}) {
       const Image frame = random_image(rng, w, h, 3);
       OwnedSpec o;
       o.mean = {0.41f, 0.45f, 0.52f};
@@ -176,8 +177,7 @@ TEST(ImagePreprocessPlan, ErrorsNameWhatDoesNotFit) {
   std::vector<float> out(plan->output_values());
   auto st = plan->run(wrong.view(), std::span<float>(out));
   ASSERT_FALSE(st.ok());
-  EXPECT_STREQ(st.error().message(),
-               "frame is 12x11x3; the preprocessing was planned for 12x12x3");
+  EXPECT_STREQ(st.error().message(), "frame is 12x11x3; the preprocessing was planned for 12x12x3");
   const Image right = random_image(rng, 12, 12, 3);
   std::vector<float> small(out.size() - 1);
   EXPECT_EQ(plan->run(right.view(), std::span<float>(small)).error().code(),
@@ -187,7 +187,8 @@ TEST(ImagePreprocessPlan, ErrorsNameWhatDoesNotFit) {
 TEST(ImagePreprocessPlan, RunAllocatesNothing) {
   testing::Rng rng(3);
   const Image frame = random_image(rng, 320, 240, 3);
-  for (ResizeFilter filter : {ResizeFilter::kBilinear, ResizeFilter::kArea, ResizeFilter::kNearest}) {
+  for (ResizeFilter filter :
+       {ResizeFilter::kBilinear, ResizeFilter::kArea, ResizeFilter::kNearest}) {
     OwnedSpec o;
     o.mean = {0.5f, 0.5f, 0.5f};
     o.stdev = {0.2f, 0.2f, 0.2f};

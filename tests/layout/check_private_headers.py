@@ -55,7 +55,7 @@ for h in headers:
     component = os.path.dirname(rel).split(os.sep + 'src')[0]
     guard = guard_of(rel)
     text = open(h, encoding='utf-8').read()
-    m = re.search(r'#ifndef\s+' + guard + r'\b[^\n]*\n\s*#error\s+"([^"]*)"', text)
+    m = re.search(r'#ifndef\s+' + guard + r'\b[^\n]*\n\s*#error\s+(?:\\\n\s*)?"([^"]*)"', text)
     if not m:
         problems.append(f'{rel}: no "#ifndef {guard}" + #error "..." guard')
         continue

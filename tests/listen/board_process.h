@@ -23,15 +23,26 @@ class BoardProcess {
   // `extra`: more board options, e.g. {"--images", "2"}.
   BoardProcess(const std::string& link, int frames, double rate, double hold_s,
                const std::vector<std::string>& extra = {}) {
-    const std::string f = std::to_string(frames), r = std::to_string(rate), h = std::to_string(hold_s);
-    std::vector<const char*> argv = {TLVLINK_STREAM_CHECK, "board", "--link", link.c_str(), "--frames", f.c_str(),
-                                     "--rate", r.c_str(), "--hold", h.c_str()};
+    const std::string f = std::to_string(frames), r = std::to_string(rate),
+                      h = std::to_string(hold_s);
+    std::vector<const char*> argv = {TLVLINK_STREAM_CHECK,
+                                     "board",
+                                     "--link",
+                                     link.c_str(),
+                                     "--frames",
+                                     f.c_str(),
+                                     "--rate",
+                                     r.c_str(),
+                                     "--hold",
+                                     h.c_str()};
     for (const std::string& e : extra) argv.push_back(e.c_str());
     argv.push_back(nullptr);
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    EXPECT_EQ(posix_spawn(&pid_, argv[0], &actions, nullptr, const_cast<char**>(argv.data()), environ), 0);
+    EXPECT_EQ(
+        posix_spawn(&pid_, argv[0], &actions, nullptr, const_cast<char**>(argv.data()), environ),
+        0);
     posix_spawn_file_actions_destroy(&actions);
     const std::string path = link.substr(4);  // "pty:PATH"
     for (int i = 0; i < 300 && ::access(path.c_str(), F_OK) != 0; ++i) ::usleep(10'000);

@@ -42,8 +42,9 @@ std::vector<nlohmann::json> json_lines(const std::string& out, bool messages_onl
 TEST(CliListen, LiveJsonAndItsRecordingReplayTheSame) {
   TempDir dir("listen");
   BoardProcess board("pty:" + dir / "tty", 200, 400, 2);
-  const CliRun live = run_tlvlink("listen --serial " + dir / "tty" + " --json --count 200 --record " + dir / "rec",
-                                  Stderr::kDropped);
+  const CliRun live =
+      run_tlvlink("listen --serial " + dir / "tty" + " --json --count 200 --record " + dir / "rec",
+                  Stderr::kDropped);
   ASSERT_RUN(live, 0);
   const auto live_lines = json_lines(live.out);
   size_t predictions = 0;
@@ -57,7 +58,8 @@ TEST(CliListen, LiveJsonAndItsRecordingReplayTheSame) {
   // The live session stopped after its 200th prediction; the replay sees everything recorded:
   // at least as many messages, and the first ones identical, timestamps and clock included.
   ASSERT_GE(replay_lines.size(), live_lines.size());
-  for (size_t i = 0; i < live_lines.size(); ++i) ASSERT_EQ(replay_lines[i], live_lines[i]) << "message " << i;
+  for (size_t i = 0; i < live_lines.size(); ++i)
+    ASSERT_EQ(replay_lines[i], live_lines[i]) << "message " << i;
   const auto stats = json_lines(replay.out, false).back();
   ASSERT_EQ(stats["type"], "link_stats");
   EXPECT_EQ(stats["stats"]["rejected"]["crc"], 0);
@@ -68,7 +70,9 @@ TEST(CliListen, TextLinesNameHeadsAndLabels) {
   BoardProcess board("pty:" + dir / "tty", 20, 200, 1);
   const CliRun live = run_tlvlink("listen --serial " + dir / "tty" + " --count 20");
   ASSERT_RUN(live, 0);
-  EXPECT_NE(live.out.find("hello  test-board (host-x86_64, firmware 0.1.0-test)"), std::string::npos) << live.out;
+  EXPECT_NE(live.out.find("hello  test-board (host-x86_64, firmware 0.1.0-test)"),
+            std::string::npos)
+      << live.out;
   EXPECT_NE(live.out.find("material="), std::string::npos) << live.out;
   EXPECT_NE(live.out.find("hardness="), std::string::npos);
   EXPECT_NE(live.out.find("# connected: serial:"), std::string::npos) << "events go to stderr";
@@ -83,7 +87,8 @@ TEST(CliListen, CommandsAndTheirExitCodes) {
   EXPECT_RUN(ok, 0);
   EXPECT_NE(ok.out.find("ack    #"), std::string::npos) << ok.out;
   EXPECT_NE(ok.out.find("pong   #"), std::string::npos) << ok.out;
-  const CliRun refused = run_tlvlink("listen --serial " + dir / "tty" + " -c 'set bad=1' --exit-after-replies");
+  const CliRun refused =
+      run_tlvlink("listen --serial " + dir / "tty" + " -c 'set bad=1' --exit-after-replies");
   EXPECT_RUN(refused, 1);
   EXPECT_NE(refused.out.find("set_config: unknown key 'bad'"), std::string::npos) << refused.out;
 }
@@ -105,30 +110,36 @@ std::string slurp(const std::string& path) {
 }
 
 // Issue 31 item 3: --record refuses an existing recording without --overwrite, exit 2 (it was
-// replaced silently), and a file-size limit stops the session with the path and the reason, exit 1 (it
-// stopped recording at 16 KB while predictions kept printing, exit 0).
+// replaced silently), and a file-size limit stops the session with the path and the reason, exit 1
+// (it stopped recording at 16 KB while predictions kept printing, exit 0).
 TEST(CliListen, RecordKeepsAnExistingFileAndStopsOnAFailedWrite) {
   TempDir dir("listen");
   const std::string old = dir / "old.tlvrec";
   { std::ofstream(old) << "yesterday"; }
-  const CliRun refused = run_tlvlink("listen --serial " + dir / "tty" + " --no-reconnect --record " + old);
+  const CliRun refused =
+      run_tlvlink("listen --serial " + dir / "tty" + " --no-reconnect --record " + old);
   EXPECT_RUN(refused, 2);  // a usage error, as `tlvlink record` makes it
-  EXPECT_NE(refused.out.find(old + " already exists (give --overwrite"), std::string::npos) << refused.out;
+  EXPECT_NE(refused.out.find(old + " already exists (give --overwrite"), std::string::npos)
+      << refused.out;
   EXPECT_EQ(slurp(old), "yesterday");
 
   BoardProcess board("pty:" + dir / "tty", 5000, 2000, 3);
   // --overwrite replaces it.
-  const CliRun again = run_tlvlink("listen --serial " + dir / "tty" + " --count 5 --duration 20 --overwrite --record " + old,
-                                   Stderr::kDropped);
+  const CliRun again = run_tlvlink(
+      "listen --serial " + dir / "tty" + " --count 5 --duration 20 --overwrite --record " + old,
+      Stderr::kDropped);
   EXPECT_RUN(again, 0);
   EXPECT_EQ(slurp(old).substr(0, 7), "TLVLREC");
 
   const std::string rec = dir / "limited.tlvrec";
-  const CliRun limited = run_cli("timeout 30 bash", "-c 'ulimit -f 16; exec \"$0\" \"$@\"' " TLVLINK_CLI_BINARY
-                                 " listen --serial " + dir / "tty" + " --count 4000 --duration 20 --record " + rec,
-                                 Stderr::kMerged);
+  const CliRun limited =
+      run_cli("timeout 30 bash",
+              "-c 'ulimit -f 16; exec \"$0\" \"$@\"' " TLVLINK_CLI_BINARY " listen --serial " +
+                  dir / "tty" + " --count 4000 --duration 20 --record " + rec,
+              Stderr::kMerged);
   EXPECT_RUN(limited, 1);
-  EXPECT_NE(limited.out.find("writing recording " + rec + ": file size limit reached"), std::string::npos)
+  EXPECT_NE(limited.out.find("writing recording " + rec + ": file size limit reached"),
+            std::string::npos)
       << limited.out.substr(limited.out.size() > 2000 ? limited.out.size() - 2000 : 0);
   EXPECT_LE(std::filesystem::file_size(rec), 16384u);
 }
@@ -142,8 +153,9 @@ TEST(CliListen, FifosAreRefusedWithoutHanging) {
   const CliRun replay = run_cli("timeout -k 5 30 " TLVLINK_CLI_BINARY, "replay " + fifo);
   EXPECT_RUN(replay, 1);
   EXPECT_NE(replay.out.find(fifo + ": not a regular file (FIFO)"), std::string::npos) << replay.out;
-  const CliRun record = run_cli("timeout -k 5 30 " TLVLINK_CLI_BINARY,
-                                "listen --serial " + dir / "tty" + " --no-reconnect --record " + fifo);
+  const CliRun record =
+      run_cli("timeout -k 5 30 " TLVLINK_CLI_BINARY,
+              "listen --serial " + dir / "tty" + " --no-reconnect --record " + fifo);
   EXPECT_RUN(record, 1);
   EXPECT_NE(record.out.find(fifo + ": not a regular file (FIFO)"), std::string::npos) << record.out;
 }

@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 
+#include "stream_fixture.h"
 #include "support/temp_dir.h"
 #include "tlvlink/listen/client.h"
 #include "tlvlink/listen/command_text.h"
@@ -12,7 +13,6 @@
 #include "tlvlink/transport/pty.h"
 #include "tlvlink/transport/sender.h"
 #include "tlvlink/transport/time.h"
-#include "stream_fixture.h"
 
 namespace tlvlink::listen {
 namespace {
@@ -20,21 +20,26 @@ namespace {
 using protocol::MessageType;
 
 std::unique_ptr<transport::Sender> start_board(const std::string& link, uint64_t boot_id = 0x5EED) {
-  auto s = transport::Sender::create(std::make_unique<transport::PtyTransport>(transport::PtyConfig{link}), {});
+  auto s = transport::Sender::create(
+      std::make_unique<transport::PtyTransport>(transport::PtyConfig{link}), {});
   EXPECT_TRUE(s.ok());
   protocol::Hello hello = testing::fixture_hello();
   hello.boot_id = boot_id;
   EXPECT_TRUE(s.value()->set_hello(hello).ok());
-  EXPECT_TRUE(s.value()->set_command_handler([](const protocol::Command& c) -> Status {
-                        if (c.kind == protocol::CommandKind::kSetConfig) return Error(ErrorCode::kInvalidArgument, "no such key");
-                        return Status();
-                      }).ok());
+  EXPECT_TRUE(s.value()
+                  ->set_command_handler([](const protocol::Command& c) -> Status {
+                    if (c.kind == protocol::CommandKind::kSetConfig)
+                      return Error(ErrorCode::kInvalidArgument, "no such key");
+                    return Status();
+                  })
+                  .ok());
   EXPECT_TRUE(s.value()->start().ok());
   return std::move(s.value());
 }
 
 // Pulls messages until `done` or `ms` pass; returns them.
-std::vector<Message> pull(Client& c, int ms, const std::function<bool(const std::vector<Message>&)>& done) {
+std::vector<Message> pull(Client& c, int ms,
+                          const std::function<bool(const std::vector<Message>&)>& done) {
   std::vector<Message> got;
   const int64_t end = transport::monotonic_ns() + int64_t{ms} * 1'000'000;
   while (transport::monotonic_ns() < end && !done(got)) {
@@ -58,13 +63,17 @@ TEST(Client, ReceivesHelloPredictionsAndPutsThemOnItsClock) {
   ASSERT_TRUE(c.ok()) << c.error().message();
   Client& client = *c.value();
   // Wait until the board is greeted and the clock has a few exchanges.
-  auto got = pull(client, 3000, [&](const auto& v) { return count(v, MessageType::kHello) >= 1 && client.clock().samples >= 3; });
+  auto got = pull(client, 3000, [&](const auto& v) {
+    return count(v, MessageType::kHello) >= 1 && client.clock().samples >= 3;
+  });
   ASSERT_GE(count(got, MessageType::kHello), 1u);
   testing::PredictionStorage st;
   for (uint32_t i = 0; i < 50; ++i) {
-    ASSERT_TRUE(board->post(testing::fixture_prediction(i, st, false, transport::monotonic_ns())).ok());
+    ASSERT_TRUE(
+        board->post(testing::fixture_prediction(i, st, false, transport::monotonic_ns())).ok());
   }
-  got = pull(client, 3000, [](const auto& v) { return count(v, MessageType::kFramePrediction) == 50; });
+  got = pull(client, 3000,
+             [](const auto& v) { return count(v, MessageType::kFramePrediction) == 50; });
   ASSERT_EQ(count(got, MessageType::kFramePrediction), 50u);
   EXPECT_EQ(count(got, MessageType::kPong) + count(got, MessageType::kAck), 0u)
       << "replies to the client's own Info and TimeSync are consumed";
@@ -97,7 +106,8 @@ TEST(Client, UserCommandsGetTheirRepliesDelivered) {
   Result<uint32_t> set = client.send(parse_command("set treads=2").value());
   ASSERT_TRUE(ping.ok() && start.ok() && set.ok());
   auto got = pull(client, 3000, [](const auto& v) {
-    return count(v, MessageType::kPong) == 1 && count(v, MessageType::kAck) == 1 && count(v, MessageType::kNack) == 1;
+    return count(v, MessageType::kPong) == 1 && count(v, MessageType::kAck) == 1 &&
+           count(v, MessageType::kNack) == 1;
   });
   for (const Message& m : got) {
     if (auto p = m.pong(); p.ok()) {
@@ -137,7 +147,8 @@ TEST(Client, WaitsForABoardThatIsNotThereYetThenReconnectsAfterARestart) {
   board = start_board(dir / "tty", 2);  // ...and comes back with a new boot id
   testing::PredictionStorage st;
   ASSERT_TRUE(board->post(testing::fixture_prediction(7, st)).ok());
-  got = pull(client, 5000, [](const auto& v) { return count(v, MessageType::kFramePrediction) >= 1; });
+  got = pull(client, 5000,
+             [](const auto& v) { return count(v, MessageType::kFramePrediction) >= 1; });
   ASSERT_EQ(count(got, MessageType::kFramePrediction), 1u);
   const LinkStats s = client.stats();
   EXPECT_EQ(s.board_restarts, 1u);
@@ -145,7 +156,8 @@ TEST(Client, WaitsForABoardThatIsNotThereYetThenReconnectsAfterARestart) {
   EXPECT_GE(s.disconnects, 1u);
   EXPECT_EQ(client.hello()->hello().value().boot_id(), 2u);
   bool restart_event = false;
-  for (const LinkEvent& e : client.take_events()) restart_event |= e.kind == LinkEvent::Kind::kBoardRestarted;
+  for (const LinkEvent& e : client.take_events())
+    restart_event |= e.kind == LinkEvent::Kind::kBoardRestarted;
   EXPECT_TRUE(restart_event);
 }
 
@@ -173,8 +185,9 @@ TEST(Client, RefusesAnotherMajorVersionWithAClearMessage) {
     if (e.kind != LinkEvent::Kind::kVersionMismatch) continue;
     ++mismatches;
     const std::string minor = std::to_string(protocol::kVersionMinor);
-    EXPECT_NE(e.text.find("board speaks stream protocol 2." + minor + "; this client speaks 1." + minor),
-              std::string::npos)
+    EXPECT_NE(
+        e.text.find("board speaks stream protocol 2." + minor + "; this client speaks 1." + minor),
+        std::string::npos)
         << e.text;
   }
   EXPECT_EQ(mismatches, 1) << "said once per connection";

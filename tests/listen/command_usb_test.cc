@@ -33,11 +33,13 @@ TEST(CommandText, MistakesAreNamed) {
   };
   for (const Bad& b : {Bad{"launch", "unknown command 'launch'"}, Bad{"closed", "needs a grasp id"},
                        Bad{"closed x", "grasp id 'x'"}, Bad{"start 255", "sensor '255'"},
-                       Bad{"set threads", "KEY=VALUE"}, Bad{"ping now", "takes no argument"}, Bad{"", "unknown command"}}) {
+                       Bad{"set threads", "KEY=VALUE"}, Bad{"ping now", "takes no argument"},
+                       Bad{"", "unknown command"}}) {
     Result<protocol::Command> c = parse_command(b.text);
     ASSERT_FALSE(c.ok()) << b.text;
     EXPECT_EQ(c.error().code(), ErrorCode::kInvalidArgument);
-    EXPECT_NE(std::string(c.error().message()).find(b.says), std::string::npos) << c.error().message();
+    EXPECT_NE(std::string(c.error().message()).find(b.says), std::string::npos)
+        << c.error().message();
   }
 }
 
@@ -68,27 +70,34 @@ TEST(UsbSelect, ChoosesByIdsSerialAndInterface) {
   Result<size_t> r = select_usb_device(two, want);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().code(), ErrorCode::kInvalidArgument);
-  EXPECT_NE(std::string(r.error().message()).find("2 boards match"), std::string::npos) << r.error().message();
+  EXPECT_NE(std::string(r.error().message()).find("2 boards match"), std::string::npos)
+      << r.error().message();
   want.serial = "B";
   EXPECT_EQ(select_usb_device(two, want).value(), 1u);
   want.serial = "C";
   Result<size_t> none = select_usb_device(two, want);
   EXPECT_EQ(none.error().code(), ErrorCode::kTransportUnavailable);
-  EXPECT_NE(std::string(none.error().message()).find("serial 'A'"), std::string::npos) << "lists what it saw";
+  EXPECT_NE(std::string(none.error().message()).find("serial 'A'"), std::string::npos)
+      << "lists what it saw";
 }
 
 TEST(UsbSelect, SaysWhyADeviceIsNotUsable) {
-  const std::vector<UsbCandidate> found = {board("A", /*stream=*/false), board("B", true, /*accessible=*/false)};
+  const std::vector<UsbCandidate> found = {board("A", /*stream=*/false),
+                                           board("B", true, /*accessible=*/false)};
   Result<size_t> r = select_usb_device(found, UsbSelector{});
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().code(), ErrorCode::kTransportUnavailable);
-  EXPECT_NE(std::string(r.error().message()).find("no tlvlink stream interface"), std::string::npos) << r.error().message();
-  EXPECT_NE(std::string(r.error().message()).find("no permission"), std::string::npos) << r.error().message();
-  EXPECT_NE(std::string(select_usb_device({}, UsbSelector{}).error().message()).find("no board"), std::string::npos);
+  EXPECT_NE(std::string(r.error().message()).find("no tlvlink stream interface"), std::string::npos)
+      << r.error().message();
+  EXPECT_NE(std::string(r.error().message()).find("no permission"), std::string::npos)
+      << r.error().message();
+  EXPECT_NE(std::string(select_usb_device({}, UsbSelector{}).error().message()).find("no board"),
+            std::string::npos);
 }
 
 TEST(UsbHost, AbsentBoardIsUnavailable) {
-  Result<std::unique_ptr<transport::Transport>> t = make_usb_host_transport(UsbSelector{0x1d6b, 0x0104, "no-such-board"});
+  Result<std::unique_ptr<transport::Transport>> t =
+      make_usb_host_transport(UsbSelector{0x1d6b, 0x0104, "no-such-board"});
 #ifdef TLVLINK_TEST_HAVE_LIBUSB
   ASSERT_TRUE(t.ok());
   Status s = t.value()->open();

@@ -101,7 +101,8 @@ ordered_json make_cases() {
   ordered_json cases = ordered_json::array();
   // Valid messages of every board -> host type.
   static const std::string_view kLabels[] = {"soft", "hard"};
-  static const std::string_view kStages[] = {"dequeue", "decode", "queue", "preprocess", "encoder", "heads"};
+  static const std::string_view kStages[] = {"dequeue",    "decode",  "queue",
+                                             "preprocess", "encoder", "heads"};
   protocol::SensorInfo sensor{0, "left", "digit", "", "yuyv", 320, 240, 60.0f};
   protocol::HeadInfo head{"hardness", protocol::HeadKind::kLinear, kLabels, 0.9f, 0.5f};
   protocol::Hello hello;
@@ -124,7 +125,8 @@ ordered_json make_cases() {
   encoded.stage_ns = kStageNs;
   encoded.contact = true;
   encoded.heads = std::span(&out, 1);
-  cases.push_back(one("frame_prediction_encoded", "a frame the encoder ran on: heads, infer_end_ns set",
+  cases.push_back(one("frame_prediction_encoded",
+                      "a frame the encoder ran on: heads, infer_end_ns set",
                       wire(message(encoded, 1)), {"ok:frame_prediction"}));
   protocol::FramePrediction gated;
   gated.frame_sequence = 42;
@@ -141,14 +143,17 @@ ordered_json make_cases() {
   grasp.phase_source = protocol::PhaseSource::kDetected;
   grasp.closed_ns = 3'000'000'000;
   grasp.infer_end_ns = 3'300'000'000;
-  cases.push_back(one("grasp_prediction_detected", "phase_source detected is sent (not the default)",
-                      wire(message(grasp, 3)), {"ok:grasp_prediction"}));
-  const protocol::DropCount drops[] = {{protocol::DropCause::kInferenceBusy, 2, protocol::kNoSensor},
-                                       {protocol::DropCause::kQueueFull, 1, protocol::kNoSensor}};
+  cases.push_back(one("grasp_prediction_detected",
+                      "phase_source detected is sent (not the default)", wire(message(grasp, 3)),
+                      {"ok:grasp_prediction"}));
+  const protocol::DropCount drops[] = {
+      {protocol::DropCause::kInferenceBusy, 2, protocol::kNoSensor},
+      {protocol::DropCause::kQueueFull, 1, protocol::kNoSensor}};
   protocol::Stats stats;
   stats.uptime_ns = 5'000'000'000;
   stats.drops = drops;
-  cases.push_back(one("stats_delayed", "a Stats flagged DELAYED (bit 0): made while the link was down",
+  cases.push_back(one("stats_delayed",
+                      "a Stats flagged DELAYED (bit 0): made while the link was down",
                       wire(message(stats, 4, protocol::kFlagDelayed)), {"ok:stats"}));
   protocol::ErrorReport info{0, "info", "camera back", protocol::kNoSensor};
   cases.push_back(one("error_info", "code 0: an informational event, not an error (README §14)",
@@ -159,15 +164,18 @@ ordered_json make_cases() {
                           wire(message(bad_text, 6)), {"ok:error"});
   utf8["fields"] = {{"text", "bad \xEF\xBF\xBD\xEF\xBF\xBD bytes"}};
   cases.push_back(utf8);
-  cases.push_back(one("ack", "", wire(message(protocol::Ack{7, protocol::CommandKind::kStart}, 7)), {"ok:ack"}));
-  cases.push_back(one("nack", "",
-                      wire(message(protocol::Nack{8, protocol::CommandKind::kSetConfig, 513, "no"}, 8)),
-                      {"ok:nack"}));
+  cases.push_back(one("ack", "", wire(message(protocol::Ack{7, protocol::CommandKind::kStart}, 7)),
+                      {"ok:ack"}));
+  cases.push_back(one(
+      "nack", "", wire(message(protocol::Nack{8, protocol::CommandKind::kSetConfig, 513, "no"}, 8)),
+      {"ok:nack"}));
   cases.push_back(one("pong", "", wire(message(protocol::Pong{9, 100, 200}, 9)), {"ok:pong"}));
   {
-    // Minor 2. The image bytes are not a real JPEG: a receiver delivers them, it does not decode them.
+    // Minor 2. The image bytes are not a real JPEG: a receiver delivers them, it does not decode
+    // them.
     static const uint8_t kJpeg[] = {0xFF, 0xD8, 0xFF, 0xE0, 0x00, 0x10, 0xFF, 0xD9};
-    static const uint8_t kMask[] = {0x21, 0x80};  // 4x3 cells: (0,0), (1,1), and bit 15 beyond the grid
+    static const uint8_t kMask[] = {0x21,
+                                    0x80};  // 4x3 cells: (0,0), (1,1), and bit 15 beyond the grid
     protocol::FrameImage image;
     image.sensor = 0;
     image.frame_sequence = 41;
@@ -180,9 +188,13 @@ ordered_json make_cases() {
     image.mask_height = 3;
     image.mask = kMask;
     image.data = kJpeg;
-    ordered_json c = one("frame_image", "minor 2: a FrameImage; the mask as rows of 0/1, the image base64",
-                         wire(message(image, 10)), {"ok:frame_image"});
-    c["fields"] = {{"kind", "input"}, {"format", "jpeg"}, {"contact", true}, {"mask", {"1000", "0100", "0000"}},
+    ordered_json c =
+        one("frame_image", "minor 2: a FrameImage; the mask as rows of 0/1, the image base64",
+            wire(message(image, 10)), {"ok:frame_image"});
+    c["fields"] = {{"kind", "input"},
+                   {"format", "jpeg"},
+                   {"contact", true},
+                   {"mask", {"1000", "0100", "0000"}},
                    {"data", "/9j/4AAQ/9k="}};
     cases.push_back(c);
   }
@@ -197,8 +209,8 @@ ordered_json make_cases() {
     const Bytes w = wire(ack);
     b.insert(b.end(), w.begin(), w.end());
     b.push_back(std::byte{0});
-    cases.push_back(one("empty_segments", "extra delimiters are empty segments: ignored, no verdict", b,
-                        {"ok:ack"}));
+    cases.push_back(one("empty_segments",
+                        "extra delimiters are empty segments: ignored, no verdict", b, {"ok:ack"}));
   }
   {
     FrameHeader minor = header(MessageType::kAck, 12, 0);
@@ -216,26 +228,32 @@ ordered_json make_cases() {
   }
   // Framing and frame verdicts, in the order of README §4.
   {
-    ordered_json c = {{"name", "oversized_segment"},
-                      {"note", "a segment over 16,449 bytes is oversized whatever it holds (not decoded)"},
-                      {"wire", {{{"hex", "11"}, {"repeat", 16450}}, {{"hex", "00"}}}},
-                      {"expect", {"oversized"}}};
+    ordered_json c = {
+        {"name", "oversized_segment"},
+        {"note", "a segment over 16,449 bytes is oversized whatever it holds (not decoded)"},
+        {"wire", {{{"hex", "11"}, {"repeat", 16450}}, {{"hex", "00"}}}},
+        {"expect", {"oversized"}}};
     cases.push_back(c);
     ordered_json d = {{"name", "oversized_decoded"},
-                      {"note", "a segment within 16,449 bytes that is valid COBS but decodes to more than "
-                               "16,384 bytes (16,449 code bytes 01: 16,448 zeros)"},
+                      {"note",
+                       "a segment within 16,449 bytes that is valid COBS but decodes to more than "
+                       "16,384 bytes (16,449 code bytes 01: 16,448 zeros)"},
                       {"wire", {{{"hex", "01"}, {"repeat", 16449}}, {{"hex", "00"}}}},
                       {"expect", {"oversized"}}};
     cases.push_back(d);
-    ordered_json e = {{"name", "cobs_before_decoded_size"},
-                      {"note", "a segment within 16,449 bytes whose last code byte runs past its end is cobs, "
-                               "even if it would decode to more than 16,384 bytes"},
-                      {"wire", {{{"hex", "01"}, {"repeat", 16440}}, {{"hex", "0511"}}, {{"hex", "00"}}}},
-                      {"expect", {"cobs"}}};
+    ordered_json e = {
+        {"name", "cobs_before_decoded_size"},
+        {"note",
+         "a segment within 16,449 bytes whose last code byte runs past its end is cobs, "
+         "even if it would decode to more than 16,384 bytes"},
+        {"wire", {{{"hex", "01"}, {"repeat", 16440}}, {{"hex", "0511"}}, {{"hex", "00"}}}},
+        {"expect", {"cobs"}}};
     cases.push_back(e);
   }
-  cases.push_back(one("cobs", "a code byte that runs past the end of the segment", unhex("05112200"), {"cobs"}));
-  cases.push_back(one("garbage_then_frame", "garbage before a frame costs only the garbage's segment",
+  cases.push_back(one("cobs", "a code byte that runs past the end of the segment",
+                      unhex("05112200"), {"cobs"}));
+  cases.push_back(one("garbage_then_frame",
+                      "garbage before a frame costs only the garbage's segment",
                       [&] {
                         Bytes b = unhex("ff1234560a00");
                         const Bytes w = wire(ack);
@@ -243,32 +261,35 @@ ordered_json make_cases() {
                         return b;
                       }(),
                       {"cobs", "ok:ack"}));
-  cases.push_back(one("shorter_than_8", "decodes to fewer than 8 bytes", wire(unhex("544c01")),
-                      {"truncated"}));
+  cases.push_back(
+      one("shorter_than_8", "decodes to fewer than 8 bytes", wire(unhex("544c01")), {"truncated"}));
   {
     // 8..27 bytes: the CRC decides first; a good CRC over a right magic and major but no room
     // for the header is truncated.
     const Bytes ten = unhex("00112233445566778899");
-    cases.push_back(one("short_bad_crc", "8 to 27 bytes whose CRC fails: crc (no header to read)", wire(ten),
-                        {"crc"}));
+    cases.push_back(one("short_bad_crc", "8 to 27 bytes whose CRC fails: crc (no header to read)",
+                        wire(ten), {"crc"}));
     Bytes tl = unhex("544c01000600");
     const uint32_t crc = crc32(tl);
     for (int i = 0; i < 4; ++i) tl.push_back(static_cast<std::byte>((crc >> (8 * i)) & 0xFF));
-    cases.push_back(one("short_good_crc", "8 to 27 bytes, CRC fine, magic and major right: truncated", wire(tl),
+    cases.push_back(one("short_good_crc",
+                        "8 to 27 bytes, CRC fine, magic and major right: truncated", wire(tl),
                         {"truncated"}));
   }
   {
     Bytes cut = ack;
     cut.resize(cut.size() - 10);
-    cases.push_back(one("cut_short", "CRC fails and the header says more payload than there is: truncated",
+    cases.push_back(one("cut_short",
+                        "CRC fails and the header says more payload than there is: truncated",
                         wire(cut), {"truncated"}));
     Bytes flipped = ack;
     flipped[30] ^= std::byte{0x04};
     cases.push_back(one("bit_flip", "one payload bit flipped: crc", wire(flipped), {"crc"}));
     Bytes version = ack;
     version[2] ^= std::byte{0x03};
-    cases.push_back(one("version_byte_flipped", "a corrupted version byte is a CRC error, not a refusal",
-                        wire(version), {"crc"}));
+    cases.push_back(one("version_byte_flipped",
+                        "a corrupted version byte is a CRC error, not a refusal", wire(version),
+                        {"crc"}));
   }
   {
     const Bytes p = payload_of(protocol::Ack{7, protocol::CommandKind::kStart});
@@ -282,7 +303,8 @@ ordered_json make_cases() {
     cases.push_back(one("magic", "CRC fine, not \"TL\"", wire(recrc), {"magic"}));
     FrameHeader v2 = h;
     v2.version_major = 2;
-    cases.push_back(one("major_2", "CRC fine, another major version: refused", wire(body(v2, p)), {"version"}));
+    cases.push_back(
+        one("major_2", "CRC fine, another major version: refused", wire(body(v2, p)), {"version"}));
     FrameHeader longer = h;
     longer.payload_length = static_cast<uint32_t>(p.size() + 4);
     cases.push_back(one("length_longer", "CRC fine, the header's payload length is not the frame's",
@@ -291,15 +313,18 @@ ordered_json make_cases() {
   // Good frames a host skips.
   {
     const Bytes p = payload_of(protocol::Ack{7, protocol::CommandKind::kStart});
-    cases.push_back(one("unknown_type", "a type this reader does not know (0x0042): skipped, counted",
-                        wire(body(header(static_cast<MessageType>(0x42), 16, p.size()), p)), {"unknown_type"}));
+    cases.push_back(
+        one("unknown_type", "a type this reader does not know (0x0042): skipped, counted",
+            wire(body(header(static_cast<MessageType>(0x42), 16, p.size()), p)), {"unknown_type"}));
     protocol::Command cmd;
     cmd.kind = protocol::CommandKind::kPing;
-    cases.push_back(one("command_to_host", "a command frame reaching a host: skipped like an unknown type",
+    cases.push_back(one("command_to_host",
+                        "a command frame reaching a host: skipped like an unknown type",
                         wire(message(cmd, 17)), {"unknown_type"}));
     const Bytes junk = unhex("ffffff7f00000000");
     cases.push_back(one("undecodable", "an Ack whose payload's root offset points outside it",
-                        wire(body(header(MessageType::kAck, 18, junk.size()), junk)), {"undecodable"}));
+                        wire(body(header(MessageType::kAck, 18, junk.size()), junk)),
+                        {"undecodable"}));
   }
   return cases;
 }
@@ -311,14 +336,16 @@ std::string slurp(const std::string& path) {
 
 std::string render(const ordered_json& cases) {
   ordered_json doc = {{"format", "tlvlink stream conformance cases, README section 16"},
-                      {"protocol", std::to_string(protocol::kVersionMajor) + "." + std::to_string(protocol::kVersionMinor)},
+                      {"protocol", std::to_string(protocol::kVersionMajor) + "." +
+                                       std::to_string(protocol::kVersionMinor)},
                       {"cases", cases}};
   return doc.dump(1, ' ', false) + "\n";
 }
 
 TEST(Conformance, TheCheckedInCasesAreWhatThisCodeMakes) {
   const std::string made = render(make_cases());
-  if (const char* r = std::getenv("TLVLINK_REGENERATE_CONFORMANCE"); r != nullptr && std::string(r) == "1") {
+  if (const char* r = std::getenv("TLVLINK_REGENERATE_CONFORMANCE");
+      r != nullptr && std::string(r) == "1") {
     std::ofstream(kCasesPath, std::ios::binary) << made;
   }
   EXPECT_EQ(slurp(kCasesPath), made)
@@ -344,7 +371,8 @@ TEST(Conformance, EveryCaseGetsItsOutcome) {
     Bytes bytes;
     for (const auto& part : c.at("wire")) {
       const Bytes b = unhex(part.at("hex").get<std::string>());
-      for (int k = 0; k < part.value("repeat", 1); ++k) bytes.insert(bytes.end(), b.begin(), b.end());
+      for (int k = 0; k < part.value("repeat", 1); ++k)
+        bytes.insert(bytes.end(), b.begin(), b.end());
     }
     static protocol::Deframer deframer;
     deframer.reset();
@@ -353,9 +381,11 @@ TEST(Conformance, EveryCaseGetsItsOutcome) {
       got.push_back(outcome(f));
       if (!c.contains("fields") || f.verdict != protocol::FrameVerdict::kOk) return;
       const auto line = nlohmann::json::parse(json_line(Message(f.header, f.payload, 0), {}));
-      for (const auto& [key, value] : c.at("fields").items()) EXPECT_EQ(line.at(key), value) << c.at("name");
+      for (const auto& [key, value] : c.at("fields").items())
+        EXPECT_EQ(line.at(key), value) << c.at("name");
     });
-    EXPECT_EQ(got, c.at("expect").get<std::vector<std::string>>()) << c.at("name") << ": " << c.at("note");
+    EXPECT_EQ(got, c.at("expect").get<std::vector<std::string>>())
+        << c.at("name") << ": " << c.at("note");
   }
 }
 

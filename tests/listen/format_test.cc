@@ -54,7 +54,8 @@ TEST(Format, JsonOfEveryMessageType) {
   EXPECT_EQ(frame["heads"][0]["name"], "material");
   EXPECT_TRUE(frame["heads"][0].contains("top_label"));
   EXPECT_EQ(frame["embedding"].size(), 32u);
-  EXPECT_EQ(frame["capture_host_ns"].get<int64_t>(), frame["capture_ns"].get<int64_t>() - 5'000'000'000)
+  EXPECT_EQ(frame["capture_host_ns"].get<int64_t>(),
+            frame["capture_ns"].get<int64_t>() - 5'000'000'000)
       << "board times on the host clock once the offset is known";
   EXPECT_FALSE(p.json[2].contains("embedding"));
   EXPECT_EQ(p.json[3]["status"], "computed");
@@ -71,18 +72,27 @@ TEST(Format, JsonOfEveryMessageType) {
   EXPECT_EQ(p.json[7]["round_trip_ns"], 200'000 - 10'000) << p.json[7];
   EXPECT_EQ(p.json[8]["kind"], "set_config");
   EXPECT_EQ(p.json[10]["delayed"], true);
-  EXPECT_FALSE(p.json[12].contains("send_host_ns")) << "after the board restarted, until a new Pong";
+  EXPECT_FALSE(p.json[12].contains("send_host_ns"))
+      << "after the board restarted, until a new Pong";
 }
 
 TEST(Format, TextLines) {
   const Printed p = print_fixture();
-  EXPECT_EQ(p.text[0].rfind("hello  test-board (host-x86_64, firmware 0.1.0-test) model fixture, 2 sensors, 2 heads", 0), 0u) << p.text[0];
+  EXPECT_EQ(
+      p.text[0].rfind(
+          "hello  test-board (host-x86_64, firmware 0.1.0-test) model fixture, 2 sensors, 2 heads",
+          0),
+      0u)
+      << p.text[0];
   EXPECT_NE(p.text[1].find("material="), std::string::npos) << p.text[1];
   EXPECT_NE(p.text[1].find("embedding[32]"), std::string::npos);
   EXPECT_NE(p.text[3].find("grasp  #1 success p=0.812"), std::string::npos) << p.text[3];
-  EXPECT_NE(p.text[4].find("not computed: missing_finger: sensor 1 sent no frame"), std::string::npos) << p.text[4];
+  EXPECT_NE(p.text[4].find("not computed: missing_finger: sensor 1 sent no frame"),
+            std::string::npos)
+      << p.text[4];
   EXPECT_NE(p.text[5].find("42=7"), std::string::npos) << p.text[5];
-  EXPECT_NE(p.text[8].find("nack   #3 set_config: unknown key 'treads'"), std::string::npos) << p.text[8];
+  EXPECT_NE(p.text[8].find("nack   #3 set_config: unknown key 'treads'"), std::string::npos)
+      << p.text[8];
   EXPECT_NE(p.text[10].find("[delayed]"), std::string::npos);
 }
 
@@ -90,7 +100,8 @@ TEST(Format, TextLines) {
 // (every length's padding), the text line the sizes and the marked cells without the bytes.
 TEST(Format, FrameImageLines) {
   static const uint8_t kMask[] = {0x81, 0x01};  // 3x3 cells: (0,0), (1,2), (2,2)
-  for (const auto& [data, base64] : std::initializer_list<std::pair<std::vector<uint8_t>, std::string>>{
+  for (const auto& [data, base64] :
+       std::initializer_list<std::pair<std::vector<uint8_t>, std::string>>{
            {{0xFF}, "/w=="}, {{0xFF, 0xD8}, "/9g="}, {{0xFF, 0xD8, 0xFF}, "/9j/"}, {{}, ""}}) {
     protocol::FrameImage image;
     image.sensor = 1;
@@ -114,8 +125,8 @@ TEST(Format, FrameImageLines) {
     EXPECT_EQ(j["kind"], "input");
     EXPECT_EQ(j["mask"], nlohmann::json({"100", "000", "011"}));
     EXPECT_EQ(j["data"], base64);
-    EXPECT_EQ(text_line(m, {}), "image  s1 #12      input 224x224 jpeg " + std::to_string(data.size()) +
-                                    " B contact, mask 3/9 cells");
+    EXPECT_EQ(text_line(m, {}), "image  s1 #12      input 224x224 jpeg " +
+                                    std::to_string(data.size()) + " B contact, mask 3/9 cells");
   }
 }
 

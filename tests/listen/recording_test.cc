@@ -15,11 +15,11 @@
 #include <iterator>
 
 #include "fixture_recording.h"
+#include "stream_fixture.h"
 #include "support/temp_dir.h"
 #include "tlvlink/listen/client.h"
 #include "tlvlink/listen/recording.h"
 #include "tlvlink/protocol/encode.h"
-#include "stream_fixture.h"
 
 namespace tlvlink::listen {
 namespace {
@@ -44,16 +44,25 @@ TEST(Recording, FixtureReplaysIntoWhatItDescribes) {
   const std::vector<Message> got = replay_all(*c.value());
   std::vector<MessageType> types;
   for (const Message& m : got) types.push_back(m.type());
-  const std::vector<MessageType> want = {
-      MessageType::kHello, MessageType::kFramePrediction, MessageType::kFramePrediction,
-      MessageType::kGraspPrediction, MessageType::kGraspPrediction, MessageType::kStats, MessageType::kError,
-      MessageType::kPong, MessageType::kNack, MessageType::kFramePrediction, MessageType::kFramePrediction,
-      MessageType::kHello, MessageType::kFramePrediction};
+  const std::vector<MessageType> want = {MessageType::kHello,
+                                         MessageType::kFramePrediction,
+                                         MessageType::kFramePrediction,
+                                         MessageType::kGraspPrediction,
+                                         MessageType::kGraspPrediction,
+                                         MessageType::kStats,
+                                         MessageType::kError,
+                                         MessageType::kPong,
+                                         MessageType::kNack,
+                                         MessageType::kFramePrediction,
+                                         MessageType::kFramePrediction,
+                                         MessageType::kHello,
+                                         MessageType::kFramePrediction};
   EXPECT_EQ(types, want) << "the consumed Ack (Info) and Pong (TimeSync) are not delivered";
   const LinkStats s = c.value()->stats();
   EXPECT_EQ(s.unknown_types, 1u);
   EXPECT_EQ(s.frames.version, 1u);
-  EXPECT_EQ(s.frames.crc + s.frames.cobs + s.frames.truncated, 2u) << "garbage and the corrupted frame";
+  EXPECT_EQ(s.frames.crc + s.frames.cobs + s.frames.truncated, 2u)
+      << "garbage and the corrupted frame";
   // The corrupted frame's sequence number is missing, then 3 numbers the fixture skips.
   EXPECT_EQ(s.sequence_gaps, 2u);
   EXPECT_EQ(s.frames_missing, 4u);
@@ -72,9 +81,10 @@ TEST(Recording, FixtureReplaysIntoWhatItDescribes) {
   EXPECT_TRUE(got[10].delayed());
   std::vector<LinkEvent::Kind> events;
   for (const LinkEvent& e : c.value()->take_events()) events.push_back(e.kind);
-  EXPECT_EQ(events, (std::vector<LinkEvent::Kind>{LinkEvent::Kind::kConnected, LinkEvent::Kind::kVersionMismatch,
-                                                  LinkEvent::Kind::kDisconnected, LinkEvent::Kind::kConnected,
-                                                  LinkEvent::Kind::kBoardRestarted, LinkEvent::Kind::kEndOfRecording}));
+  EXPECT_EQ(events, (std::vector<LinkEvent::Kind>{
+                        LinkEvent::Kind::kConnected, LinkEvent::Kind::kVersionMismatch,
+                        LinkEvent::Kind::kDisconnected, LinkEvent::Kind::kConnected,
+                        LinkEvent::Kind::kBoardRestarted, LinkEvent::Kind::kEndOfRecording}));
 }
 
 TEST(Recording, CutShortEndsAtTheLastWholeRecord) {
@@ -150,7 +160,8 @@ TEST(Recording, AnExistingFileIsKeptUnlessOverwriteAndAFifoIsRefused) {
   }
   auto r = RecordingReader::open(fifo);
   ASSERT_FALSE(r.ok());
-  EXPECT_NE(std::string(r.error().message()).find(fifo + ": not a regular file (FIFO)"), std::string::npos)
+  EXPECT_NE(std::string(r.error().message()).find(fifo + ": not a regular file (FIFO)"),
+            std::string::npos)
       << r.error().message();
 }
 
@@ -187,7 +198,8 @@ TEST(Recording, AFailedWriteNamesThePathAndTheReason) {
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 1);
   const std::string msg(buf, n > 0 ? static_cast<size_t>(n) : 0);
-  EXPECT_NE(msg.find("writing recording " + path + ": file size limit reached"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("writing recording " + path + ": file size limit reached"), std::string::npos)
+      << msg;
 }
 
 // Issue 31 item 11: on a link shared with another host, a Pong answering that host's ping
@@ -210,11 +222,13 @@ TEST(Recording, APongToAnotherHostsPingDoesNotSetTheClock) {
       ASSERT_TRUE(w.value()->write(kind, t, std::span(wire, n)).ok());
     };
     const std::string up = "serial:/dev/ttyACM0 (test)";
-    ASSERT_TRUE(w.value()->write(RecordKind::kLinkUp, kT, std::as_bytes(std::span(up.data(), up.size()))).ok());
+    ASSERT_TRUE(w.value()
+                    ->write(RecordKind::kLinkUp, kT, std::as_bytes(std::span(up.data(), up.size())))
+                    .ok());
     put(RecordKind::kReceived, kT + 1000, testing::fixture_hello(), 0, kT + kOffset);
     // Another host's ping #1, sent at its t1 = 7 s: its Pong reaches us too.
-    put(RecordKind::kReceived, kT + 200'000, protocol::Pong{1, 7'000'000'000, kT + kOffset + 100'000}, 1,
-        kT + kOffset + 110'000);
+    put(RecordKind::kReceived, kT + 200'000,
+        protocol::Pong{1, 7'000'000'000, kT + kOffset + 100'000}, 1, kT + kOffset + 110'000);
   }
   auto c = Client::open("replay:" + dir / "r");
   ASSERT_TRUE(c.ok());

@@ -13,12 +13,12 @@
 #include <cstring>
 #include <vector>
 
+#include "support/alloc_counter.h"
 #include "tlvlink/heads/evaluator.h"
 #include "tlvlink/image/convert.h"
 #include "tlvlink/image/frame_decoder.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/image/preprocess.h"
-#include "support/alloc_counter.h"
 #include "tlvlink/tlvlink.h"
 #include "tlvlink/verify/compare.h"
 
@@ -37,7 +37,8 @@ std::vector<uint8_t> gel_frame(int32_t w, int32_t h) {
     for (int32_t x = 0; x < w; ++x) {
       const double dx = (x - 0.55 * w) / (0.12 * w), dy = (y - 0.5 * h) / (0.12 * w);
       const double press = std::exp(-(dx * dx + dy * dy));
-      uint8_t* p = &rgb[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 3];
+      uint8_t* p =
+          &rgb[(static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)) * 3];
       p[0] = static_cast<uint8_t>(90 + 60.0 * x / w + 70 * press * dx);
       p[1] = static_cast<uint8_t>(110 + 50.0 * y / h + 40 * press);
       p[2] = static_cast<uint8_t>(140 - 40.0 * x / w - 60 * press * dy);
@@ -105,8 +106,8 @@ int run(const char* path) {
     const std::vector<uint8_t>* bytes = cam.bytes;
     const image::FrameFormat camera_format{format, kCameraWidth, kCameraHeight, 0};
     auto decoder = image::FrameDecoder::create(camera_format, view);
-    auto plan = image::PreprocessPlan::create(m.metadata().input, kViewWidth, kViewHeight, 3,
-                                              *encoding);
+    auto plan =
+        image::PreprocessPlan::create(m.metadata().input, kViewWidth, kViewHeight, 3, *encoding);
     if (!decoder.ok() || !plan.ok()) {
       std::printf("%s: %s\n", name, (!decoder.ok() ? decoder.error() : plan.error()).message());
       ++failures;

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "support/alloc_counter.h"
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/capture/replay_source.h"
 #include "tlvlink/clock.h"
@@ -22,7 +23,6 @@
 #include "tlvlink/pipeline/frame_processor.h"
 #include "tlvlink/protocol/protocol.h"
 #include "tlvlink/stream/stream.h"
-#include "support/alloc_counter.h"
 #include "tlvlink/tlvlink.h"
 
 namespace {
@@ -144,7 +144,8 @@ int check(const std::vector<std::byte>& bytes, const Expected& want) {
         expect(p->head_count() == (encoded ? want.reported : 0), "heads exactly where encoded");
         for (size_t k = 0; k < p->head_count(); ++k) {
           double sum = 0;
-          for (float v : p->head(k).probabilities) sum += std::isfinite(v) ? static_cast<double>(v) : 1e9;
+          for (float v : p->head(k).probabilities)
+            sum += std::isfinite(v) ? static_cast<double>(v) : 1e9;
           expect(std::fabs(sum - 1) < 1e-3, "head probabilities sum to 1");
         }
         with_heads += p->head_count() > 0 ? 1 : 0;
@@ -225,10 +226,11 @@ int run(const char* model_path, const std::string& recording) {
     times.dequeued_ns = board_clock_ns();
     const Status decoded = decoder->decode(frame->bytes, view, "gel");
     times.decoded_ns = board_clock_ns();
-    const Status processed = decoded.ok() ? (*processor)->process(0, frame->sequence,
-                                                                  {view.data(), kW, kH, 3, 0},
-                                                                  times, prediction)
-                                          : decoded;
+    const Status processed =
+        decoded.ok()
+            ? (*processor)
+                  ->process(0, frame->sequence, {view.data(), kW, kH, 3, 0}, times, prediction)
+            : decoded;
     (*source)->release();
     if (!processed.ok()) {
       testing::stop_counting_allocations();

@@ -19,7 +19,8 @@ TEST(ModelCorruption, BadIdentifierNamed) {
   EXPECT_EQ(load_error(file).code(), ErrorCode::kModelChecksum);
   const Error e = load_error(resealed(file));
   EXPECT_EQ(e.code(), ErrorCode::kModelMalformed);
-  EXPECT_NE(std::string(e.message()).find("file identifier is 'ONNX', expected 'TLVM'"), std::string::npos)
+  EXPECT_NE(std::string(e.message()).find("file identifier is 'ONNX', expected 'TLVM'"),
+            std::string::npos)
       << e.message();
   // A foreign file (no trailer, another identifier) is "not a tlvlink model", not a stale one.
   file.resize(file.size() - kTrailerBytes);
@@ -31,8 +32,8 @@ TEST(ModelCorruption, EveryTruncationRejected) {
   for (size_t n = 0; n < file.size(); ++n) {
     std::vector<std::byte> prefix(file.begin(), file.begin() + static_cast<long>(n));
     const Error e = load_error(prefix);
-    ASSERT_NE(e.code(), ErrorCode::kOk) << "a " << n << "-byte prefix of a " << file.size()
-                                        << "-byte model loaded";
+    ASSERT_NE(e.code(), ErrorCode::kOk)
+        << "a " << n << "-byte prefix of a " << file.size() << "-byte model loaded";
   }
 }
 
@@ -47,8 +48,8 @@ TEST(ModelCorruption, RandomByteFlipsNeverCrash) {
     auto bad = file;
     const int flips = rng.int_in(1, 4);
     for (int f = 0; f < flips; ++f) {
-      const auto pos = static_cast<size_t>(
-          rng.int_in(0, static_cast<int32_t>(bad.size() - kTrailerBytes) - 1));
+      const auto pos =
+          static_cast<size_t>(rng.int_in(0, static_cast<int32_t>(bad.size() - kTrailerBytes) - 1));
       bad[pos] ^= std::byte(static_cast<uint8_t>(1u << rng.int_in(0, 7)));
     }
     // Resealed, so the flips reach the parser behind the hash (which alone would refuse them all).

@@ -23,7 +23,8 @@ std::vector<std::byte> shipped() {
   if (f == nullptr) return bytes;
   std::byte chunk[1 << 16];
   size_t n = 0;
-  while ((n = std::fread(chunk, 1, sizeof chunk, f)) > 0) bytes.insert(bytes.end(), chunk, chunk + n);
+  while ((n = std::fread(chunk, 1, sizeof chunk, f)) > 0)
+    bytes.insert(bytes.end(), chunk, chunk + n);
   std::fclose(f);
   return bytes;
 }
@@ -66,7 +67,8 @@ TEST_F(ShippedModel, SampledSingleBitFlipsAllRefused) {
   std::vector<size_t> sample;
   for (size_t k = 0; k < kStrata; ++k) {
     const size_t width = bits / kStrata;
-    sample.push_back(k * width + static_cast<size_t>(rng.int_in(0, static_cast<int32_t>(width) - 1)));
+    sample.push_back(k * width +
+                     static_cast<size_t>(rng.int_in(0, static_cast<int32_t>(width) - 1)));
   }
   for (size_t k = 0; k < kUniform; ++k) {
     sample.push_back(static_cast<size_t>(rng.int_in(0, static_cast<int32_t>(bits - 1))));
@@ -80,7 +82,8 @@ TEST_F(ShippedModel, SampledSingleBitFlipsAllRefused) {
 TEST_F(ShippedModel, EveryTrailerBitFlipRefused) {
   for (size_t bit = (file_.size() - kTrailerBytes) * 8; bit < file_.size() * 8; ++bit) {
     const Error e = load_error(flipped(file_, bit));
-    ASSERT_NE(e.code(), ErrorCode::kOk) << "trailer bit " << bit - (file_.size() - kTrailerBytes) * 8;
+    ASSERT_NE(e.code(), ErrorCode::kOk)
+        << "trailer bit " << bit - (file_.size() - kTrailerBytes) * 8;
   }
 }
 
@@ -101,7 +104,8 @@ TEST_F(ShippedModel, TargetedFlipsInHeadsInputSpecLabelsRefused) {
       {"input std", m.input.std.data()},
       {"golden head outputs", m.golden[0].head_probabilities.data()},
   };
-  if (!m.zero_shot_heads.empty()) targets.push_back({"prompt matrix", m.zero_shot_heads[0].prompt_matrix.data()});
+  if (!m.zero_shot_heads.empty())
+    targets.push_back({"prompt matrix", m.zero_shot_heads[0].prompt_matrix.data()});
   for (const auto& [what, p] : targets) {
     const size_t at = offset_of(*model_, p);
     for (size_t bit = at * 8; bit < at * 8 + 64; ++bit) {
@@ -158,7 +162,8 @@ TEST_F(ShippedModel, Signatures) {
   EXPECT_NE(std::string(e.message()).find(id), std::string::npos) << e.message();
   // Tampered after signing: a body bit (hash), the flags (hash), the signature itself.
   const size_t trailer = signed_file->size() - kTrailerBytes;
-  EXPECT_EQ(Model::load(flipped(*signed_file, 1000), with_key).error().code(), ErrorCode::kModelChecksum);
+  EXPECT_EQ(Model::load(flipped(*signed_file, 1000), with_key).error().code(),
+            ErrorCode::kModelChecksum);
   EXPECT_EQ(Model::load(flipped(*signed_file, (trailer + 6) * 8), with_key).error().code(),
             ErrorCode::kModelChecksum);
   e = Model::load(flipped(*signed_file, (trailer + 60) * 8), with_key).error();
@@ -189,7 +194,8 @@ TEST(KeyFiles, RoundTripAndRefusals) {
 
 TEST_F(ShippedModel, LegacyFileRefusedThenUpgradedToTheSameModel) {
   // A file from before the trailer: the flatbuffer alone (its FNV checksum is still written).
-  const std::vector<std::byte> legacy(file_.begin(), file_.end() - static_cast<long>(kTrailerBytes));
+  const std::vector<std::byte> legacy(file_.begin(),
+                                      file_.end() - static_cast<long>(kTrailerBytes));
   const Error e = load_error(legacy);
   EXPECT_EQ(e.code(), ErrorCode::kModelChecksum);
   EXPECT_NE(std::string(e.message()).find("tlvlink upgrade"), std::string::npos) << e.message();
@@ -216,7 +222,8 @@ TEST_F(ShippedModel, LegacyFileRefusedThenUpgradedToTheSameModel) {
   EXPECT_NEAR(a.golden_grasp, b.golden_grasp, 1e-3);
 #endif
   // A legacy file whose constants were altered: the legacy checksum still refuses it.
-  const size_t w = offset_of(*model_, model_->graph().tensor(model_->graph().operators[0].inputs[1]).data.data());
+  const size_t w = offset_of(
+      *model_, model_->graph().tensor(model_->graph().operators[0].inputs[1]).data.data());
   const Error altered = Model::load(flipped(legacy, w * 8), {.accept_legacy = true}).error();
   EXPECT_EQ(altered.code(), ErrorCode::kModelChecksum) << altered.message();
 }

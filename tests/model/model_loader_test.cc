@@ -22,7 +22,8 @@ TEST(ModelLoader, RoundTripsGraph) {
   ASSERT_EQ(g.tensor(2).quant.scale.size(), 4u);
   EXPECT_FLOAT_EQ(g.tensor(2).quant.scale[1], 0.02f);
   EXPECT_TRUE(g.tensor(2).is_constant());
-  EXPECT_EQ(reinterpret_cast<uintptr_t>(g.tensor(2).data.data()) % 16, 0u) << "constants are 16-byte aligned";
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(g.tensor(2).data.data()) % 16, 0u)
+      << "constants are 16-byte aligned";
   EXPECT_FALSE(g.tensor(4).is_constant());
   EXPECT_EQ(g.tensor(4).quant.zero_point[0], -10);
 
@@ -46,7 +47,8 @@ TEST(ModelLoader, RoundTripsMetadata) {
   m.tweak = [](quantize::ModelBuilder& b) {
     auto& md = b.metadata();
     md.linear_heads.push_back({"hard_soft", {"hard", "soft"}, {1, 2, 3, 4}, {0.5f, -0.5f}});
-    md.zero_shot_heads.push_back({"material", {"wood", "metal"}, "This feels like {}.", {1, 0, 0, 1}, 50});
+    md.zero_shot_heads.push_back(
+        {"material", {"wood", "metal"}, "This feels like {}.", {1, 0, 0, 1}, 50});
     md.has_grasp_head = true;
     md.grasp_head = {"grasp", "finger0.before,finger0.during", {1, 2, 3, 4}, 0.25f};
     md.training_json = R"({"kind":"test"})";
@@ -77,12 +79,14 @@ TEST(ModelLoader, MissingFileIsIoErrorWithPath) {
   auto result = Model::load_file("/nonexistent/dir/model.tlvm");
   ASSERT_FALSE(result.ok());
   EXPECT_EQ(result.error().code(), ErrorCode::kIo);
-  EXPECT_NE(std::string(result.error().message()).find("/nonexistent/dir/model.tlvm"), std::string::npos);
+  EXPECT_NE(std::string(result.error().message()).find("/nonexistent/dir/model.tlvm"),
+            std::string::npos);
 }
 
 TEST(ModelLoader, ErrorMessagesAreBoundedWithEllipsis) {
   const std::string long_name(1000, 'x');
-  const Error e = Error::make(ErrorCode::kModelInvalidTensor, "tensor '%s' is bad", long_name.c_str());
+  const Error e =
+      Error::make(ErrorCode::kModelInvalidTensor, "tensor '%s' is bad", long_name.c_str());
   EXPECT_EQ(std::strlen(e.message()), Error::kMaxErrorMessage);
   EXPECT_EQ(std::string(e.message()).substr(Error::kMaxErrorMessage - 3), "...");
 }

@@ -248,8 +248,11 @@ TEST(ModelSemantics, InputSpecMustMatchGraphInput) {
   TinyInt8Model m;
   m.tweak = [](ModelBuilder& b) {
     auto& in = b.metadata().input;
-    in.height = 16; in.width = 16; in.channels = 3;
-    in.mean = {0.5f, 0.5f, 0.5f}; in.std = {0.25f, 0.25f, 0.25f};
+    in.height = 16;
+    in.width = 16;
+    in.channels = 3;
+    in.mean = {0.5f, 0.5f, 0.5f};
+    in.std = {0.25f, 0.25f, 0.25f};
   };
   expect_rejected(m, ErrorCode::kModelInvalidMetadata, "does not match graph input 0");
 }

@@ -10,8 +10,8 @@
 
 #include <gtest/gtest.h>
 
-#include "tlvlink/model.h"
 #include "support/cli_run.h"
+#include "tlvlink/model.h"
 
 namespace tlvlink {
 namespace {
@@ -25,8 +25,9 @@ using ::tlvlink::testing::run_tlvlink;
 class ConvertCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("tlvlink_convert_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() /
+           ("tlvlink_convert_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -39,7 +40,7 @@ class ConvertCli : public ::testing::Test {
 
 TEST_F(ConvertCli, ConvertsAndTheModelLoads) {
   const CliRun r = run_tlvlink("convert " + model("mobilenetv2_blocks") + " -o " + out("m.tlvm") +
-                        " --mean 0.485,0.456,0.406 --std 0.229,0.224,0.225 --name mnv2");
+                               " --mean 0.485,0.456,0.406 --std 0.229,0.224,0.225 --name mnv2");
   ASSERT_EQ(r.exit_code, 0) << r.out;
   EXPECT_NE(r.out.find("opset 13"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("[1, 64, 64, 3]"), std::string::npos) << r.out;
@@ -62,10 +63,12 @@ TEST_F(ConvertCli, BadArgumentsExitTwo) {
   EXPECT_EQ(run_tlvlink("convert " + model("conv_dense_relu")).exit_code, 2);  // no -o
   EXPECT_EQ(run_tlvlink("convert " + out("missing.onnx") + " -o " + out("x.tlvm")).exit_code, 2);
   EXPECT_EQ(run_tlvlink("convert " + model("conv_dense_relu") + " -o " + out("x.tlvm") +
-                    " --channel-order yuv").exit_code, 2);
+                        " --channel-order yuv")
+                .exit_code,
+            2);
   // Two means for a three-channel input: a usage error found after reading the model.
   const CliRun r = run_tlvlink("convert " + model("conv_dense_relu") + " -o " + out("x.tlvm") +
-                        " --mean 0.1,0.2");
+                               " --mean 0.1,0.2");
   EXPECT_EQ(r.exit_code, 2) << r.out;
   EXPECT_NE(r.out.find("mean has 2 values"), std::string::npos) << r.out;
 }

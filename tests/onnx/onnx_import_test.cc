@@ -14,10 +14,10 @@
 
 #include <gtest/gtest.h>
 
-#include "tlvlink/io/file.h"
-#include "tlvlink/io/npy.h"
 #include "support/random.h"
 #include "tlvlink/executor.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/io/npy.h"
 #include "tlvlink/model.h"
 #include "tlvlink/quantize/onnx_import.h"
 
@@ -38,13 +38,27 @@ constexpr double kMaxRelativeError = 1e-4;
 // Cosine floor: any transposed or permuted weight drives it far below this.
 constexpr double kMinCosine = 0.999999;
 
-const char* const kParityModels[] = {
-    "conv_dense_relu",  "conv_strided_dilated", "conv_depthwise",     "conv_grouped",
-    "conv_auto_pad",    "batchnorm",            "relu6_clip",         "relu6_clip_opset9",
-    "residual_add",     "mul_div_sub",          "gap_linear_sigmoid", "maxpool",
-    "flatten_spatial",  "view_matmul",          "gemm_matmul",        "pad",
-    "pad_opset9",       "mobilenetv2_blocks",   "mobilenetv2_blocks_opset17",
-    "gray_dynamic_batch", "se_block"};
+const char* const kParityModels[] = {"conv_dense_relu",
+                                     "conv_strided_dilated",
+                                     "conv_depthwise",
+                                     "conv_grouped",
+                                     "conv_auto_pad",
+                                     "batchnorm",
+                                     "relu6_clip",
+                                     "relu6_clip_opset9",
+                                     "residual_add",
+                                     "mul_div_sub",
+                                     "gap_linear_sigmoid",
+                                     "maxpool",
+                                     "flatten_spatial",
+                                     "view_matmul",
+                                     "gemm_matmul",
+                                     "pad",
+                                     "pad_opset9",
+                                     "mobilenetv2_blocks",
+                                     "mobilenetv2_blocks_opset17",
+                                     "gray_dynamic_batch",
+                                     "se_block"};
 const char* const kRejectModels[] = {"reject_softmax", "reject_lstm", "reject_nan_weight",
                                      "reject_dynamic_size", "reject_reflect_pad"};
 
@@ -92,8 +106,8 @@ std::vector<float> to_nhwc(const tools::NpyArray& a) {
   std::vector<float> out(v.size());
   for (int64_t y = 0; y < h; ++y) {
     for (int64_t x = 0; x < w; ++x) {
-      for (int64_t k = 0; k < c; ++k) out[static_cast<size_t>((y * w + x) * c + k)] =
-          v[static_cast<size_t>((k * h + y) * w + x)];
+      for (int64_t k = 0; k < c; ++k)
+        out[static_cast<size_t>((y * w + x) * c + k)] = v[static_cast<size_t>((k * h + y) * w + x)];
     }
   }
   return out;
@@ -165,15 +179,14 @@ TEST_P(OnnxParity, RuntimeMatchesTorchOnBothExecutors) {
     ASSERT_TRUE(s.ok()) << s.error().message();
     const auto out = (*exec)->output(0);
     const Parity p = compare({reinterpret_cast<const float*>(out.data()), want.size()}, want);
-    std::printf("[parity] %-28s %-9s max-abs %.3g (max |torch| %.3g)  cosine %.9f\n",
-                name.c_str(), executor_kind_name(kind), p.max_abs, p.max_ref, p.cosine);
+    std::printf("[parity] %-28s %-9s max-abs %.3g (max |torch| %.3g)  cosine %.9f\n", name.c_str(),
+                executor_kind_name(kind), p.max_abs, p.max_ref, p.cosine);
     EXPECT_LE(p.max_abs, kMaxRelativeError * std::max(1.0, p.max_ref));
     EXPECT_GE(p.cosine, kMinCosine);
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Torch, OnnxParity, ::testing::ValuesIn(kParityModels),
-                         param_name);
+INSTANTIATE_TEST_SUITE_P(Torch, OnnxParity, ::testing::ValuesIn(kParityModels), param_name);
 
 class OnnxReject : public ::testing::TestWithParam<const char*> {};
 
@@ -192,8 +205,7 @@ TEST_P(OnnxReject, ErrorNamesTheCause) {
       << error_code_name(converted.error().code());
 }
 
-INSTANTIATE_TEST_SUITE_P(Torch, OnnxReject, ::testing::ValuesIn(kRejectModels),
-                         param_name);
+INSTANTIATE_TEST_SUITE_P(Torch, OnnxReject, ::testing::ValuesIn(kRejectModels), param_name);
 
 TEST(OnnxCorrupt, TruncatedFilesAreCleanErrors) {
   const std::vector<std::byte> full = onnx_file("mobilenetv2_blocks");
@@ -223,8 +235,10 @@ TEST(OnnxCorrupt, FlippedBytesNeverCrash) {
     }
     auto r = import_onnx(bad, OnnxImportOptions{});
     // Either a clean error or a model that loads (a flipped weight is still a model).
-    if (r.ok()) EXPECT_TRUE(Model::load(r->model).ok());
-    else EXPECT_GT(std::strlen(r.error().message()), 10u);
+    if (r.ok())
+      EXPECT_TRUE(Model::load(r->model).ok());
+    else
+      EXPECT_GT(std::strlen(r.error().message()), 10u);
   }
 }
 
@@ -250,7 +264,8 @@ TEST(OnnxOptions, MetadataRecordsInputSpecEmbeddingAndProvenance) {
   EXPECT_EQ(md.embedding_dim, 32);
   EXPECT_EQ(md.provenance.producer, "tlvlink convert");
   EXPECT_NE(md.provenance.training.find("\"source\":\"mobilenetv2_blocks.onnx\""),
-            std::string_view::npos) << md.provenance.training;
+            std::string_view::npos)
+      << md.provenance.training;
   EXPECT_NE(md.provenance.training.find("\"opset\":13"), std::string_view::npos);
   EXPECT_EQ(converted->summary.opset, 13);
   EXPECT_EQ(converted->summary.input_shape, (std::vector<int32_t>{1, 64, 64, 3}));

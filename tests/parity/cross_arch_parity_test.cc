@@ -65,7 +65,9 @@ std::vector<std::pair<std::string, std::vector<std::byte>>> make_inputs(const Mo
   }
   for (auto* v : {&zeros, &checker, &noise}) {
     const auto* b = reinterpret_cast<const std::byte*>(v->data());
-    cases.emplace_back(v == &zeros ? "zeros" : v == &checker ? "checker" : "noise",
+    cases.emplace_back(v == &zeros     ? "zeros"
+                       : v == &checker ? "checker"
+                                       : "noise",
                        std::vector<std::byte>(b, b + n * sizeof(float)));
   }
   return cases;
@@ -104,8 +106,8 @@ TEST(CrossArchParity, OutputsMatchTheX86Recording) {
     // An int8 model's float output is a Dequantize of int8 values: identical int8 values give
     // identical bytes.
     const Operator& last = model->graph().operators.back();
-    const bool int8_model = last.output == model->graph().outputs[0] &&
-                            last.type == OpType::kDequantize;
+    const bool int8_model =
+        last.output == model->graph().outputs[0] && last.type == OpType::kDequantize;
     for (ExecutorKind kind : {ExecutorKind::kXnnpack, ExecutorKind::kReference}) {
       ExecutorOptions options;
       options.expose_all_tensors = true;  // the int8 tensors entering each Dequantize
@@ -130,8 +132,8 @@ TEST(CrossArchParity, OutputsMatchTheX86Recording) {
         for (const int32_t q : dequantize_inputs(model->graph())) {
           auto bytes = (*exec)->tensor(q);
           ASSERT_TRUE(bytes.ok()) << bytes.error().message();
-          const fs::path q_file = dir / (stem + "." + executor_kind_name(kind) + ".t" +
-                                         std::to_string(q) + ".int8");
+          const fs::path q_file =
+              dir / (stem + "." + executor_kind_name(kind) + ".t" + std::to_string(q) + ".int8");
           if (record) {
             write_bytes(q_file, *bytes);
           } else {
@@ -160,7 +162,8 @@ TEST(CrossArchParity, OutputsMatchTheX86Recording) {
           double max_ref = 0, max_err = 0;
           for (size_t k = 0; k < n; ++k) {
             max_ref = std::max(max_ref, std::fabs(static_cast<double>(want[k])));
-            max_err = std::max(max_err, std::fabs(static_cast<double>(want[k]) - static_cast<double>(have[k])));
+            max_err = std::max(
+                max_err, std::fabs(static_cast<double>(want[k]) - static_cast<double>(have[k])));
           }
           EXPECT_LE(max_err, kFloatRelTolerance * max_ref);
           std::printf("%s %s: fp32 max |diff| %.3g (max |x| %.3g)\n", stem.c_str(),

@@ -26,7 +26,8 @@ std::vector<uint8_t> gel(testing::Rng& rng, float offset = 0, float depth_dn = 0
       for (int c = 0; c < 3; ++c) {
         const float v = 100.0f + 0.2f * static_cast<float>(x) + 30.0f * static_cast<float>(c) +
                         offset + imprint + rng.normal(0, kNoiseDn);
-        px[static_cast<size_t>((y * kW + x) * 3 + c)] = static_cast<uint8_t>(std::clamp(v, 0.0f, 255.0f));
+        px[static_cast<size_t>((y * kW + x) * 3 + c)] =
+            static_cast<uint8_t>(std::clamp(v, 0.0f, 255.0f));
       }
     }
   return px;
@@ -80,8 +81,11 @@ TEST(ContactGate, TheMaskMarksTheImprintsCells) {
   ContactGate g = calibrated(rng);
   ASSERT_TRUE(g.update(view(gel(rng, 0, 30))).value().onset);
   ASSERT_TRUE(g.contact_mask(bits).ok());
-  const auto cell = [&](int x, int y) { return ((bits[static_cast<size_t>((y * 32 + x) / 8)] >> ((y * 32 + x) % 8)) & 1) != 0; };
-  EXPECT_TRUE(cell(15, 11) && cell(16, 11) && cell(15, 12) && cell(16, 12)) << "the imprint's centre cells";
+  const auto cell = [&](int x, int y) {
+    return ((bits[static_cast<size_t>((y * 32 + x) / 8)] >> ((y * 32 + x) % 8)) & 1) != 0;
+  };
+  EXPECT_TRUE(cell(15, 11) && cell(16, 11) && cell(15, 12) && cell(16, 12))
+      << "the imprint's centre cells";
   int marked = 0;
   for (int y = 0; y < 24; ++y)
     for (int x = 0; x < 32; ++x) {
@@ -109,14 +113,16 @@ TEST(ContactGate, ReleaseNeedsConsecutiveQuietFramesAndDriftIsFollowedOnlyWhileI
   EXPECT_EQ(g.update(view(gel(rng))).value().state, ContactState::kContact);
   EXPECT_EQ(g.update(view(gel(rng))).value().state, ContactState::kContact);
   EXPECT_EQ(g.update(view(gel(rng, 0, 30))).value().state, ContactState::kContact);
-  for (int i = 0; i < 2; ++i) EXPECT_EQ(g.update(view(gel(rng))).value().state, ContactState::kContact);
+  for (int i = 0; i < 2; ++i)
+    EXPECT_EQ(g.update(view(gel(rng))).value().state, ContactState::kContact);
   auto released = g.update(view(gel(rng)));
   EXPECT_TRUE(released->release);
   EXPECT_EQ(released->state, ContactState::kNoContact);
   // Slow drift (0.05 DN per frame, 6 DN in all) is followed: no contact.
   for (int i = 1; i <= 120; ++i) {
     auto d = g.update(view(gel(rng, 0.05f * static_cast<float>(i))));
-    ASSERT_EQ(d->state, ContactState::kNoContact) << "drift frame " << i << " score " << d->score_dn;
+    ASSERT_EQ(d->state, ContactState::kNoContact)
+        << "drift frame " << i << " score " << d->score_dn;
   }
   // A step of the same size is contact.
   EXPECT_EQ(g.update(view(gel(rng, 6.0f + 12.0f))).value().state, ContactState::kContact);

@@ -111,8 +111,8 @@ TEST(PipelineFeelReplay, GraspPredictionsAreTheGraspHeadOnTheEpisodesFrames) {
       const InputSpec dn = heads::difference_input_spec(m.metadata().input);
       auto open_gel = image::preprocess(view_of(ep.frames[f.finger][0]), dn);
       auto grip = image::preprocess(view_of(ep.frames[f.finger][1]), dn);
-      auto stats = heads::GraspDifference::create(m.metadata().input.height,
-                                                  m.metadata().input.width, 3);
+      auto stats =
+          heads::GraspDifference::create(m.metadata().input.height, m.metadata().input.width, 3);
       ASSERT_TRUE(open_gel.ok() && grip.ok() && stats.ok());
       e.emplace_back(heads::kDifferenceFeatures);
       ASSERT_TRUE(stats->compute(*open_gel, *grip, e.back()).ok());

@@ -57,8 +57,7 @@ struct Stream {
       done.push_back(p);
       if (p.computed) {
         features.clear();
-        for (int32_t i = 0; i < p.frame_count; ++i)
-          features.emplace_back(f[i].begin(), f[i].end());
+        for (int32_t i = 0; i < p.frame_count; ++i) features.emplace_back(f[i].begin(), f[i].end());
       }
     }
   }
@@ -100,7 +99,7 @@ TEST(GraspTracker, DetectedGraspTakesTheOpenGelBeforeAndTheSettledGripDuring) {
 
 TEST(GraspTracker, OneFingerOrSkewedOnsetsAreNotAGrasp) {
   Stream s = make();
-  s.run(0, 60, [](int32_t f, uint64_t k) { return f == 0 && k >= 5; });  // a press by A alone
+  s.run(0, 60, [](int32_t f, uint64_t k) { return f == 0 && k >= 5; });      // a press by A alone
   s.run(60, 120, [](int32_t f, uint64_t k) { return f == 0 || k >= 100; });  // B 1.6 s later
   EXPECT_TRUE(s.done.empty());
   EXPECT_EQ(s.tracker.grasps_started(), 0u);
@@ -140,7 +139,8 @@ TEST(GraspTracker, ReasonsAGraspIsNotComputed) {
       s.drain();
     }
     ASSERT_EQ(s.done.size(), 1u);
-    EXPECT_STREQ(s.done[0].reason.data(), "finger B sent no frame within 500 ms of its 'during' moment");
+    EXPECT_STREQ(s.done[0].reason.data(),
+                 "finger B sent no frame within 500 ms of its 'during' moment");
   }
   {  // the caller did not encode a frame the tracker wanted
     Stream s = make();
@@ -185,7 +185,8 @@ TEST(GraspTracker, ReasonsAGraspIsNotComputed) {
 
 TEST(GraspTracker, WantsMakesTheCallerEncodeExactlyTheFramesTaken) {
   Stream s = make();
-  s.run(0, 80, [](int32_t, uint64_t k) { return k >= 10 && k < 60; }, 7 * kMs, true);
+  s.run(
+      0, 80, [](int32_t, uint64_t k) { return k >= 10 && k < 60; }, 7 * kMs, true);
   ASSERT_EQ(s.done.size(), 1u);
   EXPECT_TRUE(s.done[0].computed) << s.done[0].reason.data();
   // Per finger: the open gel at frame 0 (refreshed every 500 ms: none due before contact at
@@ -201,7 +202,7 @@ TEST(GraspTracker, CommandedModeUsesTheControllersMarks) {
   o.settle_ns = 100 * kMs;
   Stream s = make(o);
   s.run(0, 5, [](int32_t, uint64_t) { return false; });
-  EXPECT_TRUE(s.tracker.mark_closed(210 * kMs));  // before: the open gel of frame 4
+  EXPECT_TRUE(s.tracker.mark_closed(210 * kMs));   // before: the open gel of frame 4
   EXPECT_TRUE(s.tracker.mark_lifting(260 * kMs));  // the lift comes before the grip settled
   s.run(5, 12, kAlways);
   ASSERT_EQ(s.done.size(), 1u);
@@ -225,8 +226,9 @@ TEST(GraspTracker, CommandedModeUsesTheControllersMarks) {
 TEST(GraspTracker, BadOptionsAndLayoutsAreErrors) {
   GraspOptions o;
   o.settle_ns = -1;
-  EXPECT_NE(std::string(GraspTracker::create(kLayout, kDim, o).error().message()).find("grasp.settle_ms"),
-            std::string::npos);
+  EXPECT_NE(
+      std::string(GraspTracker::create(kLayout, kDim, o).error().message()).find("grasp.settle_ms"),
+      std::string::npos);
   const std::vector<GraspFeature> nine(kMaxGraspFeatures + 1, GraspFeature{0, Moment::kBefore});
   EXPECT_EQ(GraspTracker::create(nine, kDim, {}).error().code(), ErrorCode::kModelUnsupported);
   // A difference feature needs images the statistics can read.
@@ -240,8 +242,12 @@ TEST(GraspTracker, BadOptionsAndLayoutsAreErrors) {
 // embeddings, become the finger's 16 statistics. Finger f's frame k is a uniform image of
 // f * 100 + k DN, so the difference is the frames' sequence gap.
 const std::vector<GraspFeature> kDifferenceLayout = {
-    {0, Moment::kBefore}, {0, Moment::kDuring}, {0, Moment::kDuring, heads::FeatureKind::kDifference},
-    {1, Moment::kBefore}, {1, Moment::kDuring}, {1, Moment::kDuring, heads::FeatureKind::kDifference}};
+    {0, Moment::kBefore},
+    {0, Moment::kDuring},
+    {0, Moment::kDuring, heads::FeatureKind::kDifference},
+    {1, Moment::kBefore},
+    {1, Moment::kDuring},
+    {1, Moment::kDuring, heads::FeatureKind::kDifference}};
 constexpr GraspImageShape kImage{8, 8, 3};
 
 struct DifferenceRun {
@@ -262,15 +268,17 @@ DifferenceRun run_difference(WithImage with_image) {
       EXPECT_TRUE(t->wants_image(f));
       const std::vector<float> e = emb(f, k);
       const std::vector<float> image(t->image_values(), static_cast<float>(f * 100) + k);
-      t->on_frame(f, k, t_ns, contact, e,
-                  with_image(f, contact) ? std::span<const float>(image) : std::span<const float>());
+      t->on_frame(
+          f, k, t_ns, contact, e,
+          with_image(f, contact) ? std::span<const float>(image) : std::span<const float>());
       GraspPrediction p;
       std::span<const float> feats[kMaxGraspFeatures];
       while (t->take_finished(p, feats)) {
         r.done.push_back(p);
         if (!p.computed) continue;
         r.features.clear();
-        for (int32_t i = 0; i < p.feature_count; ++i) r.features.emplace_back(feats[i].begin(), feats[i].end());
+        for (int32_t i = 0; i < p.feature_count; ++i)
+          r.features.emplace_back(feats[i].begin(), feats[i].end());
       }
     }
   }
@@ -285,7 +293,8 @@ TEST(GraspTracker, DifferenceFeaturesAreTheStatisticsOfEachFingersBeforeAndDurin
   EXPECT_EQ(p.feature_count, 6);
   ASSERT_EQ(p.frame_count, 4);  // each frame once: A before, A during, B before, B during
   ASSERT_EQ(r.features.size(), 6u);
-  for (int32_t k : {0, 1, 3, 4}) EXPECT_EQ(r.features[static_cast<size_t>(k)].size(), static_cast<size_t>(kDim));
+  for (int32_t k : {0, 1, 3, 4})
+    EXPECT_EQ(r.features[static_cast<size_t>(k)].size(), static_cast<size_t>(kDim));
   for (int32_t finger : {0, 1}) {
     const GraspFrameRef& before = p.frames[static_cast<size_t>(finger * 2)];
     const GraspFrameRef& during = p.frames[static_cast<size_t>(finger * 2 + 1)];
@@ -295,8 +304,8 @@ TEST(GraspTracker, DifferenceFeaturesAreTheStatisticsOfEachFingersBeforeAndDurin
     EXPECT_GT(gap, 0);
     const std::vector<float>& d = r.features[static_cast<size_t>(finger * 3 + 2)];
     ASSERT_EQ(d.size(), static_cast<size_t>(heads::kDifferenceFeatures));
-    EXPECT_NEAR(d[0], std::log1p(gap), 1e-5) << "finger " << finger;       // mean |d|
-    EXPECT_NEAR(d[10], std::log1p(gap), 1e-5) << "finger " << finger;      // mean d, channel 0
+    EXPECT_NEAR(d[0], std::log1p(gap), 1e-5) << "finger " << finger;   // mean |d|
+    EXPECT_NEAR(d[10], std::log1p(gap), 1e-5) << "finger " << finger;  // mean d, channel 0
     // The embeddings beside it are the same frames'.
     EXPECT_EQ(r.features[static_cast<size_t>(finger * 3)], emb(finger, before.sequence));
     EXPECT_EQ(r.features[static_cast<size_t>(finger * 3 + 1)], emb(finger, during.sequence));
@@ -309,7 +318,8 @@ TEST(GraspTracker, DifferenceWithoutItsImagesIsNotComputedAndSaysWhy) {
   ASSERT_EQ(r.done.size(), 1u);
   EXPECT_FALSE(r.done[0].computed);
   EXPECT_NE(std::string(r.done[0].reason.data()).find("finger B has no frame of its open gel"),
-            std::string::npos) << r.done[0].reason.data();
+            std::string::npos)
+      << r.done[0].reason.data();
   // B's grip frames come without images: its "during" cannot be compared.
   r = run_difference([](int32_t f, bool contact) { return f == 0 || !contact; });
   ASSERT_EQ(r.done.size(), 1u);

@@ -33,7 +33,8 @@ TEST(ClockSync, BoundHoldsUnderRandomAsymmetricDelays) {
   for (int i = 0; i < 200; ++i) {
     const int64_t up = rng.int_in(50'000, 3'000'000), down = rng.int_in(50'000, 3'000'000);
     const int64_t turn = rng.int_in(1'000, 200'000);
-    const ClockSample s{host, host + up + offset, host + up + turn + offset, host + up + turn + down};
+    const ClockSample s{host, host + up + offset, host + up + turn + offset,
+                        host + up + turn + down};
     ASSERT_TRUE(c.add(s));
     const ClockEstimate e = c.estimate(s.t4);
     ASSERT_TRUE(e.valid);
@@ -45,8 +46,8 @@ TEST(ClockSync, BoundHoldsUnderRandomAsymmetricDelays) {
 TEST(ClockSync, PicksTheLeastDelayedExchange) {
   ClockSync c;
   // One quick exchange among slow, lopsided ones: its offset wins.
-  ASSERT_TRUE(c.add({0, 9'000'000, 9'000'000, 10'000'000}));      // 9 ms up, 1 ms down
-  ASSERT_TRUE(c.add({100, 150, 150, 200}));                       // 50 ns each way, offset 0
+  ASSERT_TRUE(c.add({0, 9'000'000, 9'000'000, 10'000'000}));  // 9 ms up, 1 ms down
+  ASSERT_TRUE(c.add({100, 150, 150, 200}));                   // 50 ns each way, offset 0
   ASSERT_TRUE(c.add({1000, 1000 + 8'000'000, 1000 + 8'000'000, 1000 + 9'000'000}));
   EXPECT_EQ(c.estimate(200).offset_ns, 0);
   EXPECT_EQ(c.estimate(200).delay_ns, 100);
@@ -61,9 +62,9 @@ TEST(ClockSync, PicksTheLeastDelayedExchange) {
 
 TEST(ClockSync, InconsistentExchangesAreIgnored) {
   ClockSync c;
-  EXPECT_FALSE(c.add({100, 0, 0, 50}));     // received before sent
-  EXPECT_FALSE(c.add({0, 100, 50, 200}));   // board answered before receiving
-  EXPECT_FALSE(c.add({0, 0, 500, 100}));    // board turnaround longer than the round trip
+  EXPECT_FALSE(c.add({100, 0, 0, 50}));    // received before sent
+  EXPECT_FALSE(c.add({0, 100, 50, 200}));  // board answered before receiving
+  EXPECT_FALSE(c.add({0, 0, 500, 100}));   // board turnaround longer than the round trip
   EXPECT_FALSE(c.estimate(0).valid);
   EXPECT_EQ(c.board_to_host(1234), 1234);
 }

@@ -74,7 +74,8 @@ TEST(Cobs, RandomRoundTripsStayWithinTheBound) {
     const size_t n = static_cast<size_t>(rng.int_in(0, 1200));
     const int zero_permille = rng.int_in(0, 3) * 300;  // none, some, many, most zeros
     std::vector<std::byte> in(n);
-    for (auto& b : in) b = rng.int_in(0, 999) < zero_permille ? std::byte{0} : std::byte(rng.int_in(1, 255));
+    for (auto& b : in)
+      b = rng.int_in(0, 999) < zero_permille ? std::byte{0} : std::byte(rng.int_in(1, 255));
     const auto enc = encode(in);
     ASSERT_LE(enc.size(), cobs_max_encoded_size(n));
     for (std::byte b : enc) ASSERT_NE(b, std::byte{0});
@@ -100,10 +101,12 @@ TEST(Cobs, DecoderRejectsRunsPastTheEnd) {
   Result<size_t> n = cobs_decode(bytes_of({0x05, 0x11, 0x22}), out);
   ASSERT_FALSE(n.ok());
   EXPECT_EQ(n.error().code(), ErrorCode::kProtocolMalformed);
-  EXPECT_NE(std::string(n.error().message()).find("past the end"), std::string::npos) << n.error().message();
+  EXPECT_NE(std::string(n.error().message()).find("past the end"), std::string::npos)
+      << n.error().message();
   EXPECT_FALSE(cobs_decode(bytes_of({0x02, 0x00}), out).ok());  // a zero inside
   std::vector<std::byte> tiny(2);
-  EXPECT_EQ(cobs_decode(bytes_of({0x05, 1, 2, 3, 4}), tiny).error().code(), ErrorCode::kProtocolTooLarge);
+  EXPECT_EQ(cobs_decode(bytes_of({0x05, 1, 2, 3, 4}), tiny).error().code(),
+            ErrorCode::kProtocolTooLarge);
 }
 
 }  // namespace

@@ -141,7 +141,8 @@ TEST(Deframer, BitFlipsNeverYieldACorruptedFrame) {
   for (size_t i = 0; i < c.headers.size(); ++i) {
     const uint32_t s = c.headers[i].sequence;
     ASSERT_TRUE(sizes.count(s)) << "accepted a frame with a sequence never sent: " << s;
-    ASSERT_EQ(c.payloads[i], payload_for(s, sizes[s])) << "accepted a corrupted frame, sequence " << s;
+    ASSERT_EQ(c.payloads[i], payload_for(s, sizes[s]))
+        << "accepted a corrupted frame, sequence " << s;
   }
   EXPECT_LT(c.headers.size(), 2000u);
   EXPECT_GT(c.headers.size(), 1000u) << flips << " flips";
@@ -200,8 +201,8 @@ TEST(Deframer, ForgedLengthsAndCrcsAreRejected) {
   Collected c;
   feed(d, forge(0, 10'000, /*fix_crc=*/true, false), c);  // length lies, CRC recomputed
   feed(d, forge(1, 0, true, false), c);
-  feed(d, forge(2, 64, false, /*break_crc=*/true), c);    // right length, CRC forged
-  feed(d, forge(3, 1'000'000, false, false), c);          // length lies, CRC stale
+  feed(d, forge(2, 64, false, /*break_crc=*/true), c);  // right length, CRC forged
+  feed(d, forge(3, 1'000'000, false, false), c);        // length lies, CRC stale
   feed(d, wire_frame(4, 64), c);
   ASSERT_EQ(c.headers.size(), 1u);
   EXPECT_EQ(c.headers[0].sequence, 4u);

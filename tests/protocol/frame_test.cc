@@ -53,9 +53,10 @@ TEST(Frame, LayoutIsTheSpecified24ByteHeaderPayloadCrc) {
   const auto payload = bytes_of({0xAA, 0x00, 0xBB});
   const auto f = decoded_frame(sample_header(), payload);
   ASSERT_EQ(f.size(), kHeaderSize + payload.size() + kCrcSize);
-  EXPECT_EQ(std::vector<std::byte>(f.begin(), f.begin() + kHeaderSize),
-            bytes_of({0x54, 0x4C, 1, kVersionMinor, 0x02, 0x00, 0x01, 0x00, 0x04, 0x03, 0x02, 0x01, 3, 0, 0, 0,
-                      0x88, 0x77, 0x66, 0x55, 0x44, 0x33, 0x22, 0x11}));
+  EXPECT_EQ(
+      std::vector<std::byte>(f.begin(), f.begin() + kHeaderSize),
+      bytes_of({0x54, 0x4C, 1, kVersionMinor, 0x02, 0x00, 0x01, 0x00, 0x04, 0x03, 0x02, 0x01, 3,
+                0,    0,    0, 0x88,          0x77, 0x66, 0x55, 0x44, 0x33, 0x22, 0x11}));
   EXPECT_EQ(std::vector<std::byte>(f.begin() + kHeaderSize, f.end() - 4), payload);
   const uint32_t crc = crc32(std::span(f).first(f.size() - 4));
   EXPECT_EQ(f[f.size() - 4], std::byte(crc & 0xFF));
@@ -93,7 +94,8 @@ TEST(Frame, EverySingleBitFlipIsRejected) {
     auto f = good;
     f[bit / 8] ^= std::byte(1u << (bit % 8));
     const FrameVerdict v = verdict_of(f);
-    ASSERT_TRUE(v == FrameVerdict::kCrc || v == FrameVerdict::kTruncated) << "bit " << bit << ": " << frame_verdict_name(v);
+    ASSERT_TRUE(v == FrameVerdict::kCrc || v == FrameVerdict::kTruncated)
+        << "bit " << bit << ": " << frame_verdict_name(v);
   }
 }
 
@@ -113,11 +115,13 @@ TEST(Frame, ForgedLengthWithValidCrcIsRejected) {
 }
 
 TEST(Frame, CutShortIsTruncated) {
-  const auto good = decoded_frame(sample_header(), bytes_of("a longer payload, cut at every length"));
+  const auto good =
+      decoded_frame(sample_header(), bytes_of("a longer payload, cut at every length"));
   for (size_t n = 0; n < good.size(); ++n) {
     const std::vector<std::byte> f(good.begin(), good.begin() + n);
     const FrameVerdict v = verdict_of(f);
-    ASSERT_TRUE(v == FrameVerdict::kTruncated || v == FrameVerdict::kCrc) << n << ": " << frame_verdict_name(v);
+    ASSERT_TRUE(v == FrameVerdict::kTruncated || v == FrameVerdict::kCrc)
+        << n << ": " << frame_verdict_name(v);
     if (n >= kHeaderSize + kCrcSize) {
       EXPECT_EQ(v, FrameVerdict::kTruncated) << n;
     }

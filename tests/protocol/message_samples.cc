@@ -10,10 +10,12 @@ using namespace tlvlink::protocol;
 constexpr std::array<std::string_view, 4> kMaterial = {"rubber", "metal", "wood", "fabric"};
 constexpr std::array<std::string_view, 2> kHardness = {"hard", "soft"};
 constexpr std::array<std::string_view, 2> kGrasp = {"fail", "success"};
-constexpr std::array<std::string_view, 5> kStages = {"dequeue", "decode", "preprocess", "encoder", "heads"};
+constexpr std::array<std::string_view, 5> kStages = {"dequeue", "decode", "preprocess", "encoder",
+                                                     "heads"};
 const std::array<HeadInfo, 3> kHeads = {
     // material: a cross-validated record (minor 1); hardness: accuracy only; grasp: none.
-    HeadInfo{"material", HeadKind::kLinear, kMaterial, 0.158f, 0.12f, 0.11f, 0.2f, 0.15f, 0.09f, 12},
+    HeadInfo{"material", HeadKind::kLinear, kMaterial, 0.158f, 0.12f, 0.11f, 0.2f, 0.15f, 0.09f,
+             12},
     HeadInfo{"hardness", HeadKind::kZeroShot, kHardness, 0.737f, 0.51f, kNotRecorded, kNotRecorded,
              kNotRecorded, kNotRecorded, 0},
     HeadInfo{"grasp", HeadKind::kGrasp, kGrasp, kNotRecorded, kNotRecorded, kNotRecorded,
@@ -32,8 +34,10 @@ std::array<float, 64> make_embedding() {
 }
 const std::array<float, 64> kEmbedding = make_embedding();
 const std::array<GraspFrame, 4> kGraspFrames = {
-    GraspFrame{0, GraspPhase::kBefore, 100, 1'000'000'000}, GraspFrame{1, GraspPhase::kBefore, 230, 1'000'500'000},
-    GraspFrame{0, GraspPhase::kDuring, 110, 1'400'000'000}, GraspFrame{1, GraspPhase::kDuring, 254, 1'400'200'000}};
+    GraspFrame{0, GraspPhase::kBefore, 100, 1'000'000'000},
+    GraspFrame{1, GraspPhase::kBefore, 230, 1'000'500'000},
+    GraspFrame{0, GraspPhase::kDuring, 110, 1'400'000'000},
+    GraspFrame{1, GraspPhase::kDuring, 254, 1'400'200'000}};
 const std::array<SensorStats, 2> kSensorStats = {SensorStats{0, 24.9f, 1200, 800, 400},
                                                  SensorStats{1, 59.8f, 3000, 2500, 500}};
 const std::array<DropCount, 3> kDrops = {DropCount{DropCause::kCaptureGap, 3, 0},
@@ -108,9 +112,13 @@ Stats sample_stats() {
   return s;
 }
 
-ErrorReport sample_error() { return ErrorReport{400, "capture", "/dev/video0 disappeared (ENODEV); reopening", 0}; }
+ErrorReport sample_error() {
+  return ErrorReport{400, "capture", "/dev/video0 disappeared (ENODEV); reopening", 0};
+}
 Ack sample_ack() { return Ack{41, CommandKind::kStart}; }
-Nack sample_nack() { return Nack{42, CommandKind::kSetConfig, 300, "unknown key 'treads' (did you mean 'threads'?)"}; }
+Nack sample_nack() {
+  return Nack{42, CommandKind::kSetConfig, 300, "unknown key 'treads' (did you mean 'threads'?)"};
+}
 Pong sample_pong() { return Pong{43, 5'000'000'000, 5'000'150'000}; }
 
 FrameImage sample_frame_image() {

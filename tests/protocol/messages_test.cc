@@ -23,7 +23,9 @@ using namespace tlvlink::testing;
 struct Encoded {
   std::vector<uint64_t> storage;
   size_t size = 0;
-  std::span<const std::byte> bytes() const { return {reinterpret_cast<const std::byte*>(storage.data()), size}; }
+  std::span<const std::byte> bytes() const {
+    return {reinterpret_cast<const std::byte*>(storage.data()), size};
+  }
 };
 
 template <typename M>
@@ -79,7 +81,9 @@ TEST(Messages, HelloRoundTrip) {
       EXPECT_EQ(v.majority_rate(), in.heads[i].majority_rate);
     }
     // Minor 1's cross-validated record: NaN in, NaN out.
-    const auto same = [](float got, float want) { return std::isnan(want) ? std::isnan(got) : got == want; };
+    const auto same = [](float got, float want) {
+      return std::isnan(want) ? std::isnan(got) : got == want;
+    };
     EXPECT_TRUE(same(v.accuracy_ci_low(), in.heads[i].accuracy_ci_low)) << i;
     EXPECT_TRUE(same(v.accuracy_ci_high(), in.heads[i].accuracy_ci_high)) << i;
     EXPECT_TRUE(same(v.balanced_accuracy(), in.heads[i].balanced_accuracy)) << i;
@@ -105,15 +109,18 @@ TEST(Messages, FramePredictionRoundTrip) {
     EXPECT_EQ(f.timing().capture_ns, in.timing.capture_ns);
     EXPECT_EQ(f.timing().infer_start_ns, in.timing.infer_start_ns);
     EXPECT_EQ(f.timing().infer_end_ns, in.timing.infer_end_ns);
-    EXPECT_TRUE(std::equal(f.stage_ns().begin(), f.stage_ns().end(), in.stage_ns.begin(), in.stage_ns.end()));
+    EXPECT_TRUE(std::equal(f.stage_ns().begin(), f.stage_ns().end(), in.stage_ns.begin(),
+                           in.stage_ns.end()));
     EXPECT_EQ(f.contact(), in.contact);
     ASSERT_EQ(f.head_count(), in.heads.size());
     for (size_t i = 0; i < in.heads.size(); ++i) {
       EXPECT_EQ(f.head(i).head, in.heads[i].head);
       const auto p = f.head(i).probabilities;
-      EXPECT_TRUE(std::equal(p.begin(), p.end(), in.heads[i].probabilities.begin(), in.heads[i].probabilities.end()));
+      EXPECT_TRUE(std::equal(p.begin(), p.end(), in.heads[i].probabilities.begin(),
+                             in.heads[i].probabilities.end()));
     }
-    EXPECT_TRUE(std::equal(f.embedding().begin(), f.embedding().end(), in.embedding.begin(), in.embedding.end()));
+    EXPECT_TRUE(std::equal(f.embedding().begin(), f.embedding().end(), in.embedding.begin(),
+                           in.embedding.end()));
     EXPECT_EQ(f.embedding().size(), with_embedding ? 64u : 0u);
   }
 }
@@ -147,7 +154,8 @@ TEST(Messages, NotComputedGraspCarriesNoProbability) {
   Result<GraspPredictionView> r = decode_grasp_prediction(e.bytes());
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(r.value().status(), GraspStatus::kNotComputed);
-  EXPECT_TRUE(std::isnan(r.value().probability())) << "a not-computed grasp must not carry a made-up value";
+  EXPECT_TRUE(std::isnan(r.value().probability()))
+      << "a not-computed grasp must not carry a made-up value";
   EXPECT_EQ(r.value().reason(), GraspReason::kMissingFinger);
   EXPECT_EQ(r.value().reason_text(), in.reason_text);
   EXPECT_EQ(r.value().frame_count(), 0u);
@@ -286,7 +294,8 @@ TEST(Messages, RandomDamageNeverCrashesTheDecoder) {
   for (int iter = 0; iter < 3000; ++iter) {
     Encoded d = e;
     auto* bytes = reinterpret_cast<std::byte*>(d.storage.data());
-    for (int k = rng.int_in(1, 4); k > 0; --k) bytes[rng.int_in(0, static_cast<int>(d.size) - 1)] = std::byte(rng.int_in(0, 255));
+    for (int k = rng.int_in(1, 4); k > 0; --k)
+      bytes[rng.int_in(0, static_cast<int>(d.size) - 1)] = std::byte(rng.int_in(0, 255));
     Result<StatsView> r = decode_stats(d.bytes());
     if (!r.ok()) {
       ++refused;
@@ -315,7 +324,8 @@ TEST(Messages, SizeLimitsAreCheckedBeforeBuilding) {
   alignas(8) std::byte small[64];
   Result<std::span<const std::byte>> small_result = encode_payload(sample_hello(), small);
   ASSERT_FALSE(small_result.ok());
-  EXPECT_NE(std::string(small_result.error().message()).find("the buffer has 64"), std::string::npos)
+  EXPECT_NE(std::string(small_result.error().message()).find("the buffer has 64"),
+            std::string::npos)
       << small_result.error().message();
   // Too many list entries.
   std::vector<HeadOutput> heads(kMaxListLength + 1);
@@ -323,7 +333,8 @@ TEST(Messages, SizeLimitsAreCheckedBeforeBuilding) {
   f.heads = heads;
   EXPECT_EQ(encode_payload(f, scratch).error().code(), ErrorCode::kInvalidArgument);
   // A misaligned buffer.
-  EXPECT_EQ(encode_payload(sample_ack(), std::span(scratch).subspan(1, 256)).error().code(), ErrorCode::kInvalidArgument);
+  EXPECT_EQ(encode_payload(sample_ack(), std::span(scratch).subspan(1, 256)).error().code(),
+            ErrorCode::kInvalidArgument);
 }
 
 TEST(Messages, BoundCoversRandomMessages) {
@@ -369,7 +380,7 @@ TEST(Messages, FrameImageRoundTrip) {
   EXPECT_EQ(f.mask_height, in.mask_height);
   EXPECT_TRUE(std::equal(f.mask.begin(), f.mask.end(), in.mask.begin(), in.mask.end()));
   EXPECT_TRUE(std::equal(f.data.begin(), f.data.end(), in.data.begin(), in.data.end()));
-  EXPECT_TRUE(mask_cell(f.mask, 32, 4, 0));   // byte 0 = 0xF0: cells 4-7 of row 0
+  EXPECT_TRUE(mask_cell(f.mask, 32, 4, 0));  // byte 0 = 0xF0: cells 4-7 of row 0
   EXPECT_FALSE(mask_cell(f.mask, 32, 3, 0));
   EXPECT_TRUE(verify_payload(MessageType::kFrameImage, e.bytes()).ok());
 }
@@ -380,12 +391,14 @@ TEST(Messages, FrameImageRoundTrip) {
 TEST(Messages, FrameImageOfTheAdvertisedLargestSizeFits) {
   alignas(8) static std::byte scratch[kEncodeBufferSize];
   static std::vector<uint8_t> data(kMaxPayloadSize), mask(255 * 255 / 8 + 1);
-  for (const auto& [w, h] : {std::pair{0, 0}, std::pair{32, 24}, std::pair{1, 1}, std::pair{255, 255}}) {
+  for (const auto& [w, h] :
+       {std::pair{0, 0}, std::pair{32, 24}, std::pair{1, 1}, std::pair{255, 255}}) {
     FrameImage f = sample_frame_image();
     f.mask_width = static_cast<uint8_t>(w);
     f.mask_height = static_cast<uint8_t>(h);
     f.mask = std::span<const uint8_t>(mask).first((static_cast<size_t>(w * h) + 7) / 8);
-    f.data = std::span<const uint8_t>(data).first(kMaxPayloadSize - frame_image_overhead(f.mask.size()));
+    f.data =
+        std::span<const uint8_t>(data).first(kMaxPayloadSize - frame_image_overhead(f.mask.size()));
     Result<std::span<const std::byte>> r = encode_payload(f, scratch);
     ASSERT_TRUE(r.ok()) << w << "x" << h << ": " << r.error().message();
     f.data = std::span<const uint8_t>(data).first(kMaxPayloadSize - f.mask.size());  // too large
@@ -397,9 +410,10 @@ TEST(Messages, FrameImageOfTheAdvertisedLargestSizeFits) {
 }
 
 TEST(Names, EveryEnumHasAName) {
-  for (MessageType t : {MessageType::kHello, MessageType::kFramePrediction, MessageType::kGraspPrediction,
-                        MessageType::kStats, MessageType::kError, MessageType::kAck, MessageType::kNack,
-                        MessageType::kPong, MessageType::kFrameImage, MessageType::kCommand}) {
+  for (MessageType t :
+       {MessageType::kHello, MessageType::kFramePrediction, MessageType::kGraspPrediction,
+        MessageType::kStats, MessageType::kError, MessageType::kAck, MessageType::kNack,
+        MessageType::kPong, MessageType::kFrameImage, MessageType::kCommand}) {
     EXPECT_NE(message_type_name(t), nullptr);
   }
   EXPECT_EQ(message_type_name(static_cast<MessageType>(0x42)), nullptr);

@@ -18,7 +18,9 @@ namespace {
 namespace fb = tlvlink::wire;
 
 // Slot n of a table (flatbuffers voffset of its n-th field).
-constexpr flatbuffers::voffset_t slot(int n) { return static_cast<flatbuffers::voffset_t>(4 + 2 * n); }
+constexpr flatbuffers::voffset_t slot(int n) {
+  return static_cast<flatbuffers::voffset_t>(4 + 2 * n);
+}
 
 std::span<const std::byte> bytes(const flatbuffers::FlatBufferBuilder& fbb) {
   return {reinterpret_cast<const std::byte*>(fbb.GetBufferPointer()), fbb.GetSize()};

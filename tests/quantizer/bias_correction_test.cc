@@ -8,10 +8,10 @@
 
 #include <gtest/gtest.h>
 
-#include "tlvlink/quantize/frames.h"
 #include "quantizer/quantizer_graphs.h"
 #include "support/test_models.h"
 #include "tlvlink/quantize/bias_correction.h"
+#include "tlvlink/quantize/frames.h"
 #include "tlvlink/quantize/layer_error.h"
 #include "tlvlink/quantize/reference_encoder.h"
 
@@ -25,8 +25,9 @@ std::vector<quantize::TensorRange> minmax_ranges(const Model& fp32,
                                                  const std::vector<std::vector<float>>& frames) {
   auto stats = quantize::calibrate(fp32, frames);
   EXPECT_TRUE(stats.ok()) << stats.error().message();
-  return stats.ok() ? quantize::select_ranges(*stats, {.method = quantize::CalibrationMethod::kMinMax})
-                    : std::vector<quantize::TensorRange>{};
+  return stats.ok()
+             ? quantize::select_ranges(*stats, {.method = quantize::CalibrationMethod::kMinMax})
+             : std::vector<quantize::TensorRange>{};
 }
 
 std::unique_ptr<Model> build(const Model& fp32, const std::vector<quantize::TensorRange>& ranges,
@@ -111,7 +112,8 @@ TEST(BiasCorrection, BadOffsetsAreErrorsNamingTheOperator) {
     auto q = quantize::quantize_model(*fp32, ranges, o);
     ASSERT_FALSE(q.ok()) << c.text;
     EXPECT_EQ(q.error().code(), c.code) << q.error().message();
-    EXPECT_NE(std::string(q.error().message()).find(c.text), std::string::npos) << q.error().message();
+    EXPECT_NE(std::string(q.error().message()).find(c.text), std::string::npos)
+        << q.error().message();
   }
 }
 
@@ -119,7 +121,8 @@ TEST(BiasCorrection, BadOffsetsAreErrorsNamingTheOperator) {
 struct Shift {
   double mean_energy = 0, mse = 0;
 };
-Shift embedding_shift(const Model& fp32, const Model& q, const std::vector<std::vector<float>>& frames) {
+Shift embedding_shift(const Model& fp32, const Model& q,
+                      const std::vector<std::vector<float>>& frames) {
   auto ef = quantize::embeddings(fp32, frames), eq = quantize::embeddings(q, frames);
   EXPECT_TRUE(ef.ok() && eq.ok());
   if (!ef.ok() || !eq.ok()) return {};

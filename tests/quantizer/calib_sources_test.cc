@@ -44,9 +44,7 @@ InputSpec small_input() {
   return spec;
 }
 
-bool is_extreme_key(const std::string& key) {
-  return key.find('@') != std::string::npos;
-}
+bool is_extreme_key(const std::string& key) { return key.find('@') != std::string::npos; }
 
 TEST(CalibSources, EachSourceGivesItsShareAndTheFramesAlternate) {
   testing::TempDir dir("calib_sources");

@@ -48,7 +48,8 @@ TEST(EdgeCases, ActivationScalesAreNeverDenormalOrInfinite) {
   // No range at all (never observed) or a non-finite one: a reason, not a scale.
   EXPECT_FALSE(activation_params(TensorRange{}, quantize::kMinActivationRange).failure.empty());
   EXPECT_FALSE(activation_params(TensorRange{0.0f, std::numeric_limits<float>::infinity()},
-                                 quantize::kMinActivationRange).failure.empty());
+                                 quantize::kMinActivationRange)
+                   .failure.empty());
 }
 
 TEST(EdgeCases, DenormalWeightsGetANormalScaleAndQuantizeToZero) {
@@ -98,8 +99,10 @@ TEST(EdgeCases, BiasOverflowAfterBnFoldingRaisesTheWeightScaleWhenCheap) {
   ASSERT_FALSE(d->adjustments.empty());
   EXPECT_NE(d->adjustments[0].find("bias"), std::string::npos) << d->adjustments[0];
   // The output is the bias: still right to within an output step.
-  const float s_out = q->model->graph().tensor(producer_of(*q->model, "conv.q")->output).quant.scale[0];
-  for (float v : run(*q->model, random_frames(1, 32, -1.0f, 1.0f, 4)[0])) EXPECT_NEAR(v, 30.0f, s_out);
+  const float s_out =
+      q->model->graph().tensor(producer_of(*q->model, "conv.q")->output).quant.scale[0];
+  for (float v : run(*q->model, random_frames(1, 32, -1.0f, 1.0f, 4)[0]))
+    EXPECT_NEAR(v, 30.0f, s_out);
 }
 
 TEST(EdgeCases, BiasOverflowBeyondTheAllowedRaiseKeepsTheLayerFp32) {

@@ -7,10 +7,10 @@
 
 #include <gtest/gtest.h>
 
-#include "tlvlink/quantize/frames.h"
-#include "tlvlink/quantize/calib_data.h"
 #include "support/test_models.h"
 #include "tlvlink/executor.h"
+#include "tlvlink/quantize/calib_data.h"
+#include "tlvlink/quantize/frames.h"
 #include "tlvlink/quantize/layer_error.h"
 #include "tlvlink/quantize/quantizer.h"
 #include "tlvlink/quantize/reference_encoder.h"

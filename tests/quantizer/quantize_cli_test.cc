@@ -18,13 +18,13 @@
 
 #include <png.h>
 
+#include "support/cli_run.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/io/image.h"
 #include "tlvlink/io/pnm.h"
 #include "tlvlink/model.h"
 #include "tlvlink/quantize/model_builder.h"
 #include "tlvlink/quantize/reference_encoder.h"
-#include "support/cli_run.h"
 
 namespace tlvlink {
 namespace {
@@ -34,7 +34,6 @@ namespace fs = std::filesystem;
 using ::tlvlink::testing::CliRun;
 
 using ::tlvlink::testing::run_tlvlink;
-
 
 std::string read_text(const fs::path& p) {
   std::ifstream f(p);
@@ -48,12 +47,15 @@ std::string read_text(const fs::path& p) {
 class QuantizeCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::temp_directory_path() / ("tlvlink_quantize_cli_" + std::to_string(::getpid())));
+    dir_ = new fs::path(fs::temp_directory_path() /
+                        ("tlvlink_quantize_cli_" + std::to_string(::getpid())));
     fs::create_directories(*dir_);
-    setup_ = run_tlvlink("gen-reference -o " + path("fp32.tlvm") + " --dtype fp32 -r 96 --seed 4 --golden 0");
+    setup_ = run_tlvlink("gen-reference -o " + path("fp32.tlvm") +
+                         " --dtype fp32 -r 96 --seed 4 --golden 0");
     if (setup_.exit_code == 0)
-      setup_ = run_tlvlink("sim touch100k -o " + path("t100k") +
-                       " --sessions 6 --frames-per-session 4 --seed 2 --vision-height 24 --vision-width 32");
+      setup_ = run_tlvlink(
+          "sim touch100k -o " + path("t100k") +
+          " --sessions 6 --frames-per-session 4 --seed 2 --vision-height 24 --vision-width 32");
   }
   static void TearDownTestSuite() {
     fs::remove_all(*dir_);
@@ -74,7 +76,8 @@ const std::string kCounts = " --calib-count 10 --heldout-count 6 -q";
 TEST_F(QuantizeCli, HelpListsTheOptionsAndExitsZero) {
   CliRun r = run_tlvlink("quantize --help");
   EXPECT_RUN(r, 0);
-  for (const char* flag : {"--calib", "--method", "--keep-float", "--report", "--calib-count", "--weights"})
+  for (const char* flag :
+       {"--calib", "--method", "--keep-float", "--report", "--calib-count", "--weights"})
     EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
   r = run_tlvlink("quantize-sweep --help");
   EXPECT_RUN(r, 0);
@@ -85,11 +88,17 @@ TEST_F(QuantizeCli, BadArgumentsExitTwo) {
   const std::string m = path("fp32.tlvm");
   EXPECT_RUN(run_tlvlink("quantize " + m + " -o " + path("x.tlvm")), 2);  // no --calib
   EXPECT_RUN(run_tlvlink("quantize " + m + " --calib " + path("t100k") + " -o " + path("x.tlvm") +
-                     " --method kl"), 2);
+                         " --method kl"),
+             2);
   EXPECT_RUN(run_tlvlink("quantize " + m + " --calib " + path("t100k") + " -o " + path("x.tlvm") +
-                     " --keep-float no_such_layer"), 2);
-  EXPECT_RUN(run_tlvlink("quantize " + m + " --calib extreme -o " + path("x.tlvm") + " --percentile 20"), 2);
-  EXPECT_RUN(run_tlvlink("quantize " + m + " --calib extreme -o " + path("x.tlvm") + " --calib-split train"), 2);
+                         " --keep-float no_such_layer"),
+             2);
+  EXPECT_RUN(
+      run_tlvlink("quantize " + m + " --calib extreme -o " + path("x.tlvm") + " --percentile 20"),
+      2);
+  EXPECT_RUN(run_tlvlink("quantize " + m + " --calib extreme -o " + path("x.tlvm") +
+                         " --calib-split train"),
+             2);
   EXPECT_FALSE(fs::exists(path("x.tlvm")));
 }
 
@@ -105,8 +114,8 @@ TEST_F(QuantizeCli, MissingCalibrationSetExitsOne) {
 
 TEST_F(QuantizeCli, Touch100kSetGivesAVerifiableInt8ModelAndAReport) {
   const std::string out = path("q.tlvm");
-  CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " + out +
-                     " --report " + path("rep") + kCounts);
+  CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " +
+                         out + " --report " + path("rep") + kCounts);
   ASSERT_RUN(r, 0);
   EXPECT_NE(r.out.find("touch100k"), std::string::npos);
   EXPECT_NE(r.out.find("per layer"), std::string::npos);
@@ -115,7 +124,8 @@ TEST_F(QuantizeCli, Touch100kSetGivesAVerifiableInt8ModelAndAReport) {
   ASSERT_TRUE(model.ok()) << model.error().message();
   size_t int8_convs = 0;
   for (const Operator& op : (*model)->graph().operators)
-    int8_convs += op.type == OpType::kConv2D && (*model)->graph().tensor(op.output).dtype == DType::kInt8;
+    int8_convs +=
+        op.type == OpType::kConv2D && (*model)->graph().tensor(op.output).dtype == DType::kInt8;
   EXPECT_GT(int8_convs, 10u);
   EXPECT_EQ((*model)->metadata().golden.size(), 2u);
   EXPECT_NE((*model)->metadata().provenance.quantization.find("percentile"), std::string::npos);
@@ -142,22 +152,25 @@ TEST_F(QuantizeCli, Touch100kSetGivesAVerifiableInt8ModelAndAReport) {
   EXPECT_TRUE(fs::exists(fs::path(path("rep")) / "summary.txt"));
 
   // The training split only (the sidecar's recorded split: 6 sessions, 1 of them test).
-  r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " + path("qt.tlvm") +
-              " --calib-split train" + kCounts);
+  r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " +
+                  path("qt.tlvm") + " --calib-split train" + kCounts);
   ASSERT_RUN(r, 0);
   EXPECT_NE(r.out.find("(train split): 20 frames in 5 groups"), std::string::npos) << r.out;
 
   // --bias-correction 0 turns it off, and says so.
-  r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " + path("q0.tlvm") +
-              " --bias-correction 0 --report " + path("rep0") + kCounts);
+  r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " +
+                  path("q0.tlvm") + " --bias-correction 0 --report " + path("rep0") + kCounts);
   ASSERT_RUN(r, 0);
   EXPECT_NE(r.out.find("bias corr.   off"), std::string::npos) << r.out;
-  EXPECT_TRUE(nlohmann::json::parse(read_text(fs::path(path("rep0")) / "report.json"))["bias_correction"].is_null());
+  EXPECT_TRUE(
+      nlohmann::json::parse(read_text(fs::path(path("rep0")) / "report.json"))["bias_correction"]
+          .is_null());
 }
 
 TEST_F(QuantizeCli, KeepFloatFirstAndLastAreReportedWithTheirReason) {
   CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") + " -o " +
-                     path("mixed.tlvm") + " --keep-float first,last --report " + path("rep2") + kCounts);
+                         path("mixed.tlvm") + " --keep-float first,last --report " + path("rep2") +
+                         kCounts);
   ASSERT_RUN(r, 0);
   EXPECT_NE(r.out.find("fp32 layers"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("stem (Conv2D): kept fp32 by --keep-float"), std::string::npos) << r.out;
@@ -169,31 +182,41 @@ TEST_F(QuantizeCli, KeepFloatFirstAndLastAreReportedWithTheirReason) {
 
 TEST_F(QuantizeCli, ExtremeSetAndEveryMethodWork) {
   for (const char* method : {"minmax", "ema", "percentile", "entropy", "mse"}) {
-    CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib extreme -o " + path("e.tlvm") +
-                       " --method " + method + kCounts);
+    CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib extreme -o " +
+                           path("e.tlvm") + " --method " + method + kCounts);
     EXPECT_RUN(r, 0);
     EXPECT_NE(r.out.find("extreme set"), std::string::npos) << r.out;
   }
 }
 
 TEST_F(QuantizeCli, TouchAndGoAndFeelSetsAreDetectedAndRead) {
-  ASSERT_RUN(run_tlvlink("sim tag -o " + path("tag") + " --sessions 4 --frames-per-session 3 --seed 5"), 0);
-  ASSERT_RUN(run_tlvlink("sim feel -o " + path("feel") + " --objects 3 --grasps-per-object 2 --seed 5"), 0);
-  ASSERT_RUN(run_tlvlink("sim feel -o " + path("feelr") + " --objects 3 --grasps-per-object 2 --seed 5 --repacked"), 0);
-  for (const auto& [dir, format] : {std::pair{"tag", "tag "}, {"feel", "feel "}, {"feelr", "feel-repacked "}}) {
-    CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path(dir) + " -o " +
-                       path(std::string(dir) + ".tlvm") + " --calib-count 6 --heldout-count 3 -q");
+  ASSERT_RUN(
+      run_tlvlink("sim tag -o " + path("tag") + " --sessions 4 --frames-per-session 3 --seed 5"),
+      0);
+  ASSERT_RUN(
+      run_tlvlink("sim feel -o " + path("feel") + " --objects 3 --grasps-per-object 2 --seed 5"),
+      0);
+  ASSERT_RUN(run_tlvlink("sim feel -o " + path("feelr") +
+                         " --objects 3 --grasps-per-object 2 --seed 5 --repacked"),
+             0);
+  for (const auto& [dir, format] :
+       {std::pair{"tag", "tag "}, {"feel", "feel "}, {"feelr", "feel-repacked "}}) {
+    CliRun r =
+        run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path(dir) + " -o " +
+                    path(std::string(dir) + ".tlvm") + " --calib-count 6 --heldout-count 3 -q");
     EXPECT_RUN(r, 0);
     EXPECT_NE(r.out.find(std::string("data         ") + format), std::string::npos) << r.out;
   }
   // The format can be forced; a wrong one is a data error naming the set.
-  EXPECT_RUN(run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("tag") + " --calib-format feel -o " +
-                     path("bad.tlvm") + kCounts), 1);
+  EXPECT_RUN(run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("tag") +
+                         " --calib-format feel -o " + path("bad.tlvm") + kCounts),
+             1);
 }
 
 TEST_F(QuantizeCli, SeveralSourcesShareTheCountsAndAreRecorded) {
   ASSERT_RUN(run_tlvlink("sim feel -o " + path("feel2") +
-                         " --objects 4 --grasps-per-object 2 --seed 6 --repacked"), 0);
+                         " --objects 4 --grasps-per-object 2 --seed 6 --repacked"),
+             0);
   CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + path("t100k") +
                          " --calib " + path("feel2") + " -o " + path("two.tlvm") +
                          " --calib-count 7 --heldout-count 4 -q");
@@ -219,7 +242,8 @@ TEST_F(QuantizeCli, SeveralSourcesShareTheCountsAndAreRecorded) {
   EXPECT_NE(r.out.find("1..8"), std::string::npos) << r.out;
   // --calib takes one path: the model positional after it is still the model.
   EXPECT_RUN(run_tlvlink("quantize --calib extreme " + path("fp32.tlvm") + " -o " +
-                         path("order.tlvm") + kCounts), 0);
+                         path("order.tlvm") + kCounts),
+             0);
 }
 
 TEST_F(QuantizeCli, ImageFolderOfPpmJpegAndPng) {
@@ -227,26 +251,32 @@ TEST_F(QuantizeCli, ImageFolderOfPpmJpegAndPng) {
   fs::create_directories(images / "sessionA");
   fs::create_directories(images / "sessionB");
   for (int i = 0; i < 4; ++i) {
-    tools::Image img{120, 100, 3, quantize::synthetic_touch_frame(100, 120, static_cast<uint64_t>(i))};
-    ASSERT_TRUE(tools::write_pnm((images / "sessionA" / ("f" + std::to_string(i) + ".ppm")).string(), img).ok());
-    ASSERT_TRUE(tools::write_jpeg((images / "sessionB" / ("f" + std::to_string(i) + ".jpg")).string(), img, 90).ok());
+    tools::Image img{120, 100, 3,
+                     quantize::synthetic_touch_frame(100, 120, static_cast<uint64_t>(i))};
+    ASSERT_TRUE(
+        tools::write_pnm((images / "sessionA" / ("f" + std::to_string(i) + ".ppm")).string(), img)
+            .ok());
+    ASSERT_TRUE(tools::write_jpeg(
+                    (images / "sessionB" / ("f" + std::to_string(i) + ".jpg")).string(), img, 90)
+                    .ok());
     png_image png{};
     png.version = PNG_IMAGE_VERSION;
     png.width = 120;
     png.height = 100;
     png.format = PNG_FORMAT_RGB;
-    ASSERT_NE(png_image_write_to_file(&png, (images / ("top" + std::to_string(i) + ".png")).c_str(), 0,
-                                      img.pixels.data(), 0, nullptr), 0);
+    ASSERT_NE(png_image_write_to_file(&png, (images / ("top" + std::to_string(i) + ".png")).c_str(),
+                                      0, img.pixels.data(), 0, nullptr),
+              0);
   }
   CliRun r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + images.string() + " -o " +
-                     path("img.tlvm") + " --calib-count 6 --heldout-count 2 -q");
+                         path("img.tlvm") + " --calib-count 6 --heldout-count 2 -q");
   ASSERT_RUN(r, 0);
   EXPECT_NE(r.out.find("images"), std::string::npos);
   EXPECT_NE(r.out.find("calibration 6 frames"), std::string::npos) << r.out;
   // A corrupt image is skipped and counted, not fatal.
   std::ofstream(images / "sessionA" / "broken.jpg") << "not a jpeg";
   r = run_tlvlink("quantize " + path("fp32.tlvm") + " --calib " + images.string() + " -o " +
-              path("img2.tlvm") + " --calib-count 12 --heldout-count 0 -q");
+                  path("img2.tlvm") + " --calib-count 12 --heldout-count 0 -q");
   EXPECT_RUN(r, 0);
 }
 
@@ -262,24 +292,30 @@ TEST_F(QuantizeCli, NanWeightsFailNamingTheTensor) {
   const std::vector<std::byte> file = b.finish();
   std::ofstream(path("nan.tlvm"), std::ios::binary)
       .write(reinterpret_cast<const char*>(file.data()), static_cast<std::streamsize>(file.size()));
-  CliRun r = run_tlvlink("quantize " + path("nan.tlvm") + " --calib extreme -o " + path("n.tlvm") + kCounts);
+  CliRun r = run_tlvlink("quantize " + path("nan.tlvm") + " --calib extreme -o " + path("n.tlvm") +
+                         kCounts);
   EXPECT_RUN(r, 1);
   EXPECT_NE(r.out.find("stem.weights"), std::string::npos) << r.out;
 }
 
 TEST_F(QuantizeCli, AnInt8ModelIsNotQuantizedAgain) {
-  ASSERT_RUN(run_tlvlink("quantize " + path("fp32.tlvm") + " --calib extreme -o " + path("once.tlvm") + kCounts), 0);
-  CliRun r = run_tlvlink("quantize " + path("once.tlvm") + " --calib extreme -o " + path("twice.tlvm") + kCounts);
+  ASSERT_RUN(run_tlvlink("quantize " + path("fp32.tlvm") + " --calib extreme -o " +
+                         path("once.tlvm") + kCounts),
+             0);
+  CliRun r = run_tlvlink("quantize " + path("once.tlvm") + " --calib extreme -o " +
+                         path("twice.tlvm") + kCounts);
   EXPECT_RUN(r, 1);
   EXPECT_NE(r.out.find("already"), std::string::npos) << r.out;
 }
 
 TEST_F(QuantizeCli, SweepWritesOneRowPerVariantAndThreadCount) {
-  ASSERT_RUN(run_tlvlink("gen-reference -o " + path("fp32_112.tlvm") + " --dtype fp32 -r 112 --seed 4 --golden 0"), 0);
-  CliRun r = run_tlvlink("quantize-sweep --models " + path("fp32.tlvm") + "," + path("fp32_112.tlvm") +
-                     " --calib " + path("t100k") + " -o " + path("sweep") +
-                     " --methods minmax,mse --threads 1,2 --runs 3 --warmup 1" +
-                     " --keep-float first,last" + kCounts);
+  ASSERT_RUN(run_tlvlink("gen-reference -o " + path("fp32_112.tlvm") +
+                         " --dtype fp32 -r 112 --seed 4 --golden 0"),
+             0);
+  CliRun r = run_tlvlink("quantize-sweep --models " + path("fp32.tlvm") + "," +
+                         path("fp32_112.tlvm") + " --calib " + path("t100k") + " -o " +
+                         path("sweep") + " --methods minmax,mse --threads 1,2 --runs 3 --warmup 1" +
+                         " --keep-float first,last" + kCounts);
   ASSERT_RUN(r, 0);
   // 2 models x (fp32, per-channel minmax without bias correction, per-tensor minmax, per-channel
   // minmax, per-channel mse, mixed) x 2 threads.
@@ -310,7 +346,9 @@ TEST_F(QuantizeCli, SweepWritesOneRowPerVariantAndThreadCount) {
     const bool int8 = row["precision"] == "int8";
     EXPECT_EQ(row["bias_correction_frames"].get<int>(), int8 && !plain ? 10 : 0) << row.dump();
   }
-  EXPECT_RUN(run_tlvlink("quantize-sweep --models " + path("nope.tlvm") + " --calib extreme -o " + path("s2")), 2);
+  EXPECT_RUN(run_tlvlink("quantize-sweep --models " + path("nope.tlvm") + " --calib extreme -o " +
+                         path("s2")),
+             2);
 }
 
 }  // namespace

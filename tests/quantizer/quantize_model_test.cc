@@ -54,7 +54,8 @@ void expect_conv_within_bound(WeightGranularity granularity) {
       for (int32_t ox = 0; ox < kW; ++ox) {
         for (int32_t c = 0; c < kCout; ++c) {
           const float s_w = wq.quant.scale[wq.quant.per_channel() ? static_cast<size_t>(c) : 0];
-          double bound = 0.5 * static_cast<double>(s_in) * static_cast<double>(s_w) + 0.5 * static_cast<double>(s_out);
+          double bound = 0.5 * static_cast<double>(s_in) * static_cast<double>(s_w) +
+                         0.5 * static_cast<double>(s_out);
           for (int32_t ky = 0; ky < kK; ++ky)
             for (int32_t kx = 0; kx < kK; ++kx) {
               const int32_t iy = oy + ky - 1, ix = ox + kx - 1;

@@ -9,10 +9,10 @@
 
 #include <gtest/gtest.h>
 
-#include "tlvlink/quantize/calib_data.h"
-#include "tlvlink/io/file.h"
 #include "support/test_models.h"
 #include "tlvlink/executor.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/quantize/calib_data.h"
 #include "tlvlink/quantize/layer_error.h"
 #include "tlvlink/quantize/onnx_import.h"
 #include "tlvlink/quantize/quantizer.h"

@@ -42,12 +42,13 @@ std::vector<std::byte> small_network(uint64_t seed) {
   };
   ModelBuilder b;
   const int32_t x = b.add_activation("x", DType::kFloat32, {1, 8, 8, 3});
-  auto conv = [&](const char* name, int32_t in, int32_t cin, int32_t cout, int32_t k, int32_t stride,
-                  int32_t out_hw, Activation act) {
+  auto conv = [&](const char* name, int32_t in, int32_t cin, int32_t cout, int32_t k,
+                  int32_t stride, int32_t out_hw, Activation act) {
     const std::string n(name);
     const int32_t wt = b.add_constant<float>(n + ".w", {cout, k, k, cin},
                                              floats(static_cast<size_t>(cout * k * k * cin), 0.5f));
-    const int32_t bt = b.add_constant<float>(n + ".b", {cout}, floats(static_cast<size_t>(cout), 0.1f));
+    const int32_t bt =
+        b.add_constant<float>(n + ".b", {cout}, floats(static_cast<size_t>(cout), 0.1f));
     const int32_t y = b.add_activation(n, DType::kFloat32, {1, out_hw, out_hw, cout});
     Conv2DParams p;
     p.kernel_h = p.kernel_w = k;

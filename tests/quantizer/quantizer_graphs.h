@@ -31,11 +31,10 @@ struct Quantized {
   quantize::QuantizedModel q;
   std::unique_ptr<Model> model;  // the loaded result
 };
-std::unique_ptr<Quantized> quantize_for_test(const Model& fp32,
-                                             const std::vector<std::vector<float>>& frames,
-                                             const quantize::QuantizerOptions& options = {},
-                                             quantize::CalibrationMethod method =
-                                                 quantize::CalibrationMethod::kMinMax);
+std::unique_ptr<Quantized> quantize_for_test(
+    const Model& fp32, const std::vector<std::vector<float>>& frames,
+    const quantize::QuantizerOptions& options = {},
+    quantize::CalibrationMethod method = quantize::CalibrationMethod::kMinMax);
 
 // Runs `model` on `input` with the reference executor; returns graph output 0 as floats.
 std::vector<float> run(const Model& model, const std::vector<float>& input);

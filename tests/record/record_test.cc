@@ -20,7 +20,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path temp_dir(const char* name) {
-  const fs::path d = fs::temp_directory_path() / ("tlvlink_record_" + std::to_string(::getpid()) + "_" + name);
+  const fs::path d =
+      fs::temp_directory_path() / ("tlvlink_record_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -77,7 +78,8 @@ TEST(Record, JpegFilesAreKeptByteForByte) {
   for (int k = 0; k < 2; ++k) {
     files.push_back(jpeg_of(40, 30, k * 50));
     std::ofstream(d / ("f" + std::to_string(k) + ".jpg"), std::ios::binary)
-        .write(reinterpret_cast<const char*>(files.back().data()), static_cast<std::streamsize>(files.back().size()));
+        .write(reinterpret_cast<const char*>(files.back().data()),
+               static_cast<std::streamsize>(files.back().size()));
   }
   RecordOptions o;
   o.input = d.string();
@@ -94,7 +96,8 @@ TEST(Record, JpegFilesAreKeptByteForByte) {
     auto have = rec->record_at(at, info);
     ASSERT_TRUE(have.ok() && *have);
     ASSERT_TRUE(rec->read_frame(info, buf, true).ok());
-    EXPECT_EQ(std::vector<uint8_t>(buf.begin(), buf.begin() + info.bytes), files[static_cast<size_t>(k)]);
+    EXPECT_EQ(std::vector<uint8_t>(buf.begin(), buf.begin() + info.bytes),
+              files[static_cast<size_t>(k)]);
     at = info.next;
   }
   fs::remove_all(d);
@@ -110,7 +113,8 @@ TEST(Record, AFrameOfAnotherSizeIsAnErrorNamingItAndLeavesNoRecording) {
   auto r = record_frames(o, out);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.error().code(), ErrorCode::kShapeMismatch);
-  EXPECT_NE(std::string(r.error().message()).find("b.ppm is 24x32"), std::string::npos) << r.error().message();
+  EXPECT_NE(std::string(r.error().message()).find("b.ppm is 24x32"), std::string::npos)
+      << r.error().message();
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(out + ".partial"));
   RecordOptions none;

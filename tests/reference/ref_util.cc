@@ -7,14 +7,15 @@
 
 namespace tlvlink::reference_test {
 
-std::vector<std::vector<std::byte>> run_reference(
-    const std::vector<std::byte>& file, const std::vector<std::vector<std::byte>>& inputs,
-    ExecutorKind kind) {
+std::vector<std::vector<std::byte>> run_reference(const std::vector<std::byte>& file,
+                                                  const std::vector<std::vector<std::byte>>& inputs,
+                                                  ExecutorKind kind) {
   auto model = testing::load_model(file);
   if (model == nullptr) return {};
   auto exec = make_executor(*model, kind, ExecutorOptions{});
   if (!exec.ok()) {
-    ADD_FAILURE() << "make_executor(" << executor_kind_name(kind) << "): " << exec.error().message();
+    ADD_FAILURE() << "make_executor(" << executor_kind_name(kind)
+                  << "): " << exec.error().message();
     return {};
   }
   for (size_t i = 0; i < inputs.size(); ++i) {

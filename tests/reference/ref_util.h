@@ -55,9 +55,9 @@ std::vector<T> from_bytes(std::span<const std::byte> b) {
 
 // Loads `file`, runs the reference executor (or `kind`) once on `inputs` (raw bytes per graph
 // input) and returns every graph output. Records a gtest failure and returns {} on any error.
-std::vector<std::vector<std::byte>> run_reference(
-    const std::vector<std::byte>& file, const std::vector<std::vector<std::byte>>& inputs,
-    ExecutorKind kind = ExecutorKind::kReference);
+std::vector<std::vector<std::byte>> run_reference(const std::vector<std::byte>& file,
+                                                  const std::vector<std::vector<std::byte>>& inputs,
+                                                  ExecutorKind kind = ExecutorKind::kReference);
 
 // Convenience: one input, one output of types In / Out.
 template <typename Out, typename In>

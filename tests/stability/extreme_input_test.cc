@@ -47,7 +47,8 @@ Outcome run(const Model& model, std::unique_ptr<Executor>& exec, float value, bo
 class ExtremeInputs : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ExtremeInputs, BothExecutorsAgree) {
-  const std::string path = std::string(TLVLINK_SOURCE_DIR) + "/firmware/models/" + GetParam() + ".tlvm";
+  const std::string path =
+      std::string(TLVLINK_SOURCE_DIR) + "/firmware/models/" + GetParam() + ".tlvm";
   auto model = Model::load_file(path.c_str());
   ASSERT_TRUE(model.ok()) << model.error().message();
   const Model& m = **model;
@@ -61,10 +62,11 @@ TEST_P(ExtremeInputs, BothExecutorsAgree) {
   ASSERT_TRUE(ref.ok()) << ref.error().message();
   // tests/stability is built only with XNNPACK: an executor that cannot be made is a failure.
   ASSERT_TRUE(xnn.ok()) << xnn.error().message();
-  for (const float value : {3e38f, FLT_MAX, 1e38f, limit * 1.01f, limit * 0.99f, limit / 16, 1e20f, 100.0f}) {
+  for (const float value :
+       {3e38f, FLT_MAX, 1e38f, limit * 1.01f, limit * 0.99f, limit / 16, 1e20f, 100.0f}) {
     for (const bool alternate : {false, true}) {
-      SCOPED_TRACE(::testing::Message() << GetParam() << " input " << value
-                                        << (alternate ? " alternating sign" : ""));
+      SCOPED_TRACE(::testing::Message()
+                   << GetParam() << " input " << value << (alternate ? " alternating sign" : ""));
       const Outcome a = run(m, *xnn, value, alternate);
       const Outcome b = run(m, *ref, value, alternate);
       EXPECT_EQ(a.code, b.code) << a.message << " | " << b.message;

@@ -25,7 +25,9 @@ tools::Image checkerboard(int32_t height, int32_t width, int32_t cell) {
     for (int32_t x = 0; x < width; ++x)
       if (((y / cell) + (x / cell)) % 2 == 1)
         for (size_t c = 0; c < 3; ++c)
-          im.pixels[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * 3 + c] = 255;
+          im.pixels[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) *
+                        3 +
+                    c] = 255;
   return im;
 }
 
@@ -48,8 +50,8 @@ Result<std::vector<NamedFrame>> stability_frames() {
     if (!renderer.ok()) return renderer.error();
     sim::Frame out;
     if (auto s = (*renderer)->render(c.scene, c.options, /*noise_seed=*/1, out); !s.ok()) {
-      return Error::make(s.error().code(), "extreme case %.*s: %s",
-                         static_cast<int>(c.name.size()), c.name.data(), s.error().message());
+      return Error::make(s.error().code(), "extreme case %.*s: %s", static_cast<int>(c.name.size()),
+                         c.name.data(), s.error().message());
     }
     tools::Image im;
     im.height = out.height;

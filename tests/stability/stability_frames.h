@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "tlvlink/io/image.h"
 #include "tlvlink/error.h"
+#include "tlvlink/io/image.h"
 
 namespace tlvlink::testing {
 

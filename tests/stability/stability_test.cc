@@ -21,16 +21,16 @@
 
 #include <gtest/gtest.h>
 
-#include "tlvlink/quantize/frames.h"
-#include "tlvlink/heads/evaluator.h"
-#include "tlvlink/verify/compare.h"
-#include "tlvlink/image/preprocess.h"
-#include "tlvlink/io/npy_image.h"
 #include "stability/stability_frames.h"
 #include "support/test_models.h"
 #include "tlvlink/executor.h"
+#include "tlvlink/heads/evaluator.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/npy_image.h"
 #include "tlvlink/quant_math.h"
+#include "tlvlink/quantize/frames.h"
 #include "tlvlink/quantize/reference_encoder.h"
+#include "tlvlink/verify/compare.h"
 
 namespace tlvlink {
 namespace {
@@ -65,8 +65,9 @@ std::vector<NamedModel> stability_models() {
     if (!enc.ok()) continue;
     auto m = testing::load_model(enc->file);
     if (m != nullptr) {
-      models.push_back({dtype == quantize::EncoderDType::kInt8 ? "reference-int8" : "reference-fp32",
-                        std::move(m)});
+      models.push_back(
+          {dtype == quantize::EncoderDType::kInt8 ? "reference-int8" : "reference-fp32",
+           std::move(m)});
     }
   }
   return models;
@@ -185,14 +186,17 @@ TEST(Stability, EveryModelSurvivesEveryStabilityFrameOnBothExecutors) {
           double max_ref = 0, err = 0;
           for (size_t i = 0; i < want.size(); ++i) {
             max_ref = std::max(max_ref, std::fabs(static_cast<double>(want[i])));
-            err = std::max(err, std::fabs(static_cast<double>(got[i]) - static_cast<double>(want[i])));
+            err = std::max(err,
+                           std::fabs(static_cast<double>(got[i]) - static_cast<double>(want[i])));
           }
-          const double tol = std::max(lsb, 0) * gain + kFloatRelTolerance * std::max(max_ref, 1e-30);
+          const double tol =
+              std::max(lsb, 0) * gain + kFloatRelTolerance * std::max(max_ref, 1e-30);
           worst_float_ratio = std::max(worst_float_ratio, err / tol);
           EXPECT_LE(err, tol) << "output " << o << " (FC behind a Dequantize, " << lsb << " LSB)";
         } else {
           const verify::OutputComparison c = verify::compare_output(g, g.outputs[o], got, want);
-          if (c.tolerance > 0) worst_float_ratio = std::max(worst_float_ratio, c.max_abs_error / c.tolerance);
+          if (c.tolerance > 0)
+            worst_float_ratio = std::max(worst_float_ratio, c.max_abs_error / c.tolerance);
           EXPECT_TRUE(c.pass) << "output " << o << ": " << c.max_abs_error << " > " << c.tolerance
                               << " (" << c.rule << ")";
         }
@@ -201,9 +205,10 @@ TEST(Stability, EveryModelSurvivesEveryStabilityFrameOnBothExecutors) {
         }
       }
     }
-    std::printf("[ stability ] %-16s %zu frames: int8 boundary max %d LSB, float outputs at %.3g of "
-                "their tolerance\n",
-                nm.name.c_str(), frames->size(), worst_lsb, worst_float_ratio);
+    std::printf(
+        "[ stability ] %-16s %zu frames: int8 boundary max %d LSB, float outputs at %.3g of "
+        "their tolerance\n",
+        nm.name.c_str(), frames->size(), worst_lsb, worst_float_ratio);
   }
 }
 
@@ -216,8 +221,9 @@ TEST(Stability, NonFiniteInputIsAnErrorNamingTheInputOnBothExecutors) {
       auto e = make_executor(*nm.model, kind);
       ASSERT_TRUE(e.ok()) << e.error().message();
       const std::string input_name(nm.model->graph().tensor(nm.model->graph().inputs[0]).name);
-      for (float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
-                        -std::numeric_limits<float>::infinity()}) {
+      for (float bad :
+           {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+            -std::numeric_limits<float>::infinity()}) {
         auto in = testing::as_mutable_span<float>((*e)->input(0));
         std::fill(in.begin(), in.end(), 0.0f);
         in[in.size() / 2] = bad;

@@ -8,7 +8,7 @@
 
 namespace tlvlink::testing {
 
-void start_counting_allocations();  // resets the count
+void start_counting_allocations();   // resets the count
 size_t stop_counting_allocations();  // the allocations since start
 
 }  // namespace tlvlink::testing

@@ -13,15 +13,20 @@
 namespace tlvlink::testing {
 
 uint64_t test_seed();
-std::string replay_hint(uint64_t seed);  // "replay: TLVLINK_TEST_SEED=<seed> <test binary> --gtest_filter=..."
+std::string replay_hint(
+    uint64_t seed);  // "replay: TLVLINK_TEST_SEED=<seed> <test binary> --gtest_filter=..."
 
 #define SCOPED_SEED_TRACE(seed) SCOPED_TRACE(::tlvlink::testing::replay_hint(seed))
 
 class Rng {
  public:
   explicit Rng(uint64_t seed) : engine_(seed) {}
-  float uniform(float lo, float hi) { return std::uniform_real_distribution<float>(lo, hi)(engine_); }
-  float normal(float mean, float stddev) { return std::normal_distribution<float>(mean, stddev)(engine_); }
+  float uniform(float lo, float hi) {
+    return std::uniform_real_distribution<float>(lo, hi)(engine_);
+  }
+  float normal(float mean, float stddev) {
+    return std::normal_distribution<float>(mean, stddev)(engine_);
+  }
   int32_t int_in(int32_t lo, int32_t hi) {  // inclusive
     return std::uniform_int_distribution<int32_t>(lo, hi)(engine_);
   }

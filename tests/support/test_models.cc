@@ -34,7 +34,8 @@ std::vector<std::byte> resealed(const std::vector<std::byte>& file) {
   return seal_model(std::span<const std::byte>(file).first(body));
 }
 
-QuantizedWeights quantize_weights_per_channel(std::span<const float> weights, int32_t out_channels) {
+QuantizedWeights quantize_weights_per_channel(std::span<const float> weights,
+                                              int32_t out_channels) {
   QuantizedWeights q;
   const size_t per = weights.size() / static_cast<size_t>(out_channels);
   q.values.resize(weights.size());

@@ -88,12 +88,14 @@ TEST(PromptSets, FollowThePaperAndTheDatasetsLabelOrder) {
   ASSERT_EQ(material.class_names.size(), 20u);
   EXPECT_EQ(material.class_names[0], "concrete");
   EXPECT_EQ(material.class_names[19], "others");
-  EXPECT_EQ(material.prompts_for(4),
-            std::vector<std::string>{"the object being touched is metal, it is an image of metal."});
+  EXPECT_EQ(
+      material.prompts_for(4),
+      std::vector<std::string>{"the object being touched is metal, it is an image of metal."});
   const PromptSet hard = hardness_prompts();
   EXPECT_EQ(hard.class_names, (std::vector<std::string>{"soft", "hard"}));  // label 1 = hard
-  EXPECT_EQ(hard.prompts_for(1)[0],
-            "the object being touched feels hard , the surface show sort of hardness when touched.");
+  EXPECT_EQ(
+      hard.prompts_for(1)[0],
+      "the object being touched feels hard , the surface show sort of hardness when touched.");
   EXPECT_EQ(roughness_prompts().prompts_for(0)[0],
             "the object being touched feels smooth, the surface show sort of smoothness.");
   const PromptSet grasp = grasp_prompts();

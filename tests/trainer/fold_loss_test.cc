@@ -18,8 +18,8 @@ TEST(Fold, HandCase) {
   BatchNormParams bn{{3.0f}, {1.0f}, {0.5f}, {3.0f}, 1.0f};
   auto f = fold_batchnorm(w, {1, 1, 1, 1}, {}, bn);
   ASSERT_TRUE(f.ok());
-  EXPECT_FLOAT_EQ(f->weight_ohwi[0], 3.0f);   // 1.5 * 2
-  EXPECT_FLOAT_EQ(f->bias[0], 0.25f);         // 1.5 * (0 - 0.5) + 1
+  EXPECT_FLOAT_EQ(f->weight_ohwi[0], 3.0f);  // 1.5 * 2
+  EXPECT_FLOAT_EQ(f->bias[0], 0.25f);        // 1.5 * (0 - 0.5) + 1
   auto with_bias = fold_batchnorm(w, {1, 1, 1, 1}, std::vector<float>{0.5f}, bn);
   EXPECT_FLOAT_EQ(with_bias->bias[0], 1.0f);  // 1.5 * (0.5 - 0.5) + 1
 }
@@ -56,7 +56,8 @@ TEST(Fold, MatchesConvThenBatchNorm) {
   std::normal_distribution<float> normal(0.0f, 1.0f);
   std::uniform_real_distribution<float> positive(0.05f, 2.0f);
   const int h = 5, w = 6, cin = 4, cout = 7, k = 3;
-  std::vector<float> x(static_cast<size_t>(h * w * cin)), weight(static_cast<size_t>(cout * cin * k * k));
+  std::vector<float> x(static_cast<size_t>(h * w * cin)),
+      weight(static_cast<size_t>(cout * cin * k * k));
   for (float& v : x) v = normal(rng);
   for (float& v : weight) v = 0.3f * normal(rng);
   BatchNormParams bn;

@@ -6,11 +6,11 @@
 #include <cmath>
 #include <numbers>
 
+#include "augment.h"
+#include "options_json.h"
 #include "tlvlink/trainer/arch.h"
 #include "tlvlink/trainer/schedule.h"
 #include "tlvlink/trainer/trainer.h"
-#include "augment.h"
-#include "options_json.h"
 
 namespace tlvlink::trainer {
 namespace {
@@ -18,7 +18,7 @@ namespace {
 constexpr double kExact = 1e-12;  // closed-form double arithmetic, a few ulps at most
 
 TEST(BetaSchedule, LinearFollowsThePaper) {
-  BetaOptions o;  // linear, beta1 0.9, span 0.9, beta_min 0
+  BetaOptions o;               // linear, beta1 0.9, span 0.9, beta_min 0
   const int64_t total = 1000;  // span = 900 steps
   EXPECT_NEAR(beta_at(o, 0, total), 0.9, kExact);
   EXPECT_NEAR(beta_at(o, 450, total), 0.45, kExact);
@@ -45,7 +45,8 @@ TEST(BetaSchedule, CosineAndExponentialHitTheEndpoints) {
   EXPECT_LT(e, 0.9 - 0.8 / 3.0);
   const double k = kExponentialBetaRate;
   EXPECT_NEAR(e, 0.1 + 0.8 * (std::exp(-k / 3) - std::exp(-k)) / (1 - std::exp(-k)), kExact);
-  for (BetaSchedule s : {BetaSchedule::kLinear, BetaSchedule::kCosine, BetaSchedule::kExponential}) {
+  for (BetaSchedule s :
+       {BetaSchedule::kLinear, BetaSchedule::kCosine, BetaSchedule::kExponential}) {
     o.schedule = s;
     for (int64_t step = 1; step < total; ++step) {
       EXPECT_LE(beta_at(o, step, total), beta_at(o, step - 1, total)) << beta_schedule_name(s);
@@ -74,7 +75,7 @@ TEST(BetaSchedule, ParseAndValidate) {
 }
 
 TEST(LrSchedule, WarmupThenCosine) {
-  LrOptions o;  // 2e-4, 200 warm-up steps, min 0
+  LrOptions o;                 // 2e-4, 200 warm-up steps, min 0
   const int64_t total = 1201;  // decay over steps 200..1200
   EXPECT_NEAR(lr_at(o, 0, total), 2e-4 / 200, kExact);
   EXPECT_NEAR(lr_at(o, 99, total), 2e-4 * 100 / 200, kExact);

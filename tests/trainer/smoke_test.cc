@@ -13,10 +13,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "support/cli_run.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/model.h"
 #include "trainer/trainer_support.h"
-#include "support/cli_run.h"
 
 namespace tlvlink::trainer {
 namespace {
@@ -32,7 +32,6 @@ constexpr double kRequiredLossDrop = 0.9;
 using ::tlvlink::testing::CliRun;
 
 using ::tlvlink::testing::run_tlvlink;
-
 
 // Mean student loss per epoch from the JSON-lines log.
 std::vector<double> epoch_means(const std::string& log_path) {
@@ -60,14 +59,14 @@ TEST(TrainerSmoke, GenerateTrainExportParity) {
   const std::string data = dir / "t100k";
   // 24 sessions x 6 frames = 144 samples; 18 sessions (108 frames) train, 6 test.
   ASSERT_RUN(run_tlvlink("sim touch100k -o " + data +
-                     " --sessions 24 --frames-per-session 6 --seed 5 --threads 2 "
-                     "--vision-height 120 --vision-width 160 --test-fraction 0.25"),
+                         " --sessions 24 --frames-per-session 6 --seed 5 --threads 2 "
+                         "--vision-height 120 --vision-width 160 --test-fraction 0.25"),
              0);
   const std::string ckpt = dir / "tiny.ckpt";
   const CliRun train_run = run_tlvlink("train " + data + " -o " + ckpt +
-                            " --arch tiny --batch 18 --epochs 8 --lr 2e-3 --warmup 6 "
-                            "--teacher-epochs 3 --seed 1 --threads 1 --checkpoint-dir " +
-                            dir.path() + " --checkpoint-every 24");
+                                       " --arch tiny --batch 18 --epochs 8 --lr 2e-3 --warmup 6 "
+                                       "--teacher-epochs 3 --seed 1 --threads 1 --checkpoint-dir " +
+                                       dir.path() + " --checkpoint-every 24");
   ASSERT_RUN(train_run, 0);
   std::printf("%s", train_run.out.c_str());
   const std::vector<double> means = epoch_means(ckpt + ".log.jsonl");
@@ -82,8 +81,7 @@ TEST(TrainerSmoke, GenerateTrainExportParity) {
   auto model = Model::load_file(model_path.c_str());
   ASSERT_TRUE(model.ok()) << model.error().message();
   int64_t n = 0;
-  auto frames =
-      testing::preprocessed_frames(data, true, (*model)->metadata().input, 16, n);
+  auto frames = testing::preprocessed_frames(data, true, (*model)->metadata().input, 16, n);
   ASSERT_TRUE(frames.ok()) << frames.error().message();
   auto want = libtorch_embeddings(ckpt, *frames, n);
   ASSERT_TRUE(want.ok()) << want.error().message();
@@ -122,12 +120,12 @@ TEST(TrainerSmoke, BadArgumentsAndFiles) {
   // Usage errors: exit 2.
   ASSERT_RUN(run_tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") + " --batch 1"), 2);
   ASSERT_RUN(run_tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") + " --arch huge"), 2);
-  ASSERT_RUN(run_tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") +
-                     " --beta-schedule sigmoid"),
-             2);
+  ASSERT_RUN(
+      run_tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") + " --beta-schedule sigmoid"),
+      2);
   ASSERT_RUN(run_tlvlink("train " + dir.path()), 2);  // no -o
   CliRun r = run_tlvlink("train " + dir.path() + " -o " + (dir / "x.ckpt") + " --resume " +
-                  (dir / "x.ckpt") + " --lr 1e-3");
+                         (dir / "x.ckpt") + " --lr 1e-3");
   ASSERT_RUN(r, 2);
   EXPECT_NE(r.out.find("cannot be combined with --resume"), std::string::npos) << r.out;
   // A directory that is not a dataset: the datasets' one error for it (exit 1, as in eval and

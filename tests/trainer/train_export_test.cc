@@ -6,17 +6,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 
 #include "data_cache.h"
+#include "tlvlink/executor.h"
 #include "tlvlink/io/npy.h"
 #include "tlvlink/io/sensor_frame.h"
-#include "tlvlink/executor.h"
 #include "tlvlink/model.h"
 #include "tlvlink/text/text_encoder.h"
 #include "trainer/trainer_support.h"
@@ -78,7 +78,8 @@ std::vector<float> embed(const std::string& ckpt, const std::vector<float>& fram
 }
 
 // A run resumed from `checkpoint` in `out` with the settings it recorded, into resumed.ckpt.
-Result<TrainSummary> resume(const std::string& data_dir, const TempDir& out, const char* checkpoint) {
+Result<TrainSummary> resume(const std::string& data_dir, const TempDir& out,
+                            const char* checkpoint) {
   TrainOptions o;
   o.data_dir = data_dir;
   o.output = out / "resumed.ckpt";
@@ -352,9 +353,11 @@ TEST_F(Trainer, ExportedModelMatchesLibtorch) {
       got.insert(got.end(), f, f + 128);
     }
     const testing::Agreement g = testing::compare_rows(want, got, n);
-    std::printf("%s vs libtorch on %lld held-out frames: min cosine %.9f, max-abs %.3g "
-                "(max |e| %.3g)\n", executor_kind_name(kind), static_cast<long long>(n),
-                g.min_cosine, g.max_abs, g.max_magnitude);
+    std::printf(
+        "%s vs libtorch on %lld held-out frames: min cosine %.9f, max-abs %.3g "
+        "(max |e| %.3g)\n",
+        executor_kind_name(kind), static_cast<long long>(n), g.min_cosine, g.max_abs,
+        g.max_magnitude);
     EXPECT_GE(g.min_cosine, kParityCosine);
     EXPECT_LE(g.max_abs, kParityMaxAbsRelative * std::max(1.0, g.max_magnitude));
     // Zero-shot logits through the same head code from either embedding.
@@ -362,10 +365,10 @@ TEST_F(Trainer, ExportedModelMatchesLibtorch) {
     int64_t top1_disagreements = 0;
     for (int64_t i = 0; i < n; ++i) {
       for (const ZeroShotHead& h : meta.zero_shot_heads) {
-        const auto a = zero_shot_logits(h, std::span<const float>(want).subspan(
-                                               static_cast<size_t>(i) * 128, 128));
-        const auto b = zero_shot_logits(h, std::span<const float>(got).subspan(
-                                               static_cast<size_t>(i) * 128, 128));
+        const auto a = zero_shot_logits(
+            h, std::span<const float>(want).subspan(static_cast<size_t>(i) * 128, 128));
+        const auto b = zero_shot_logits(
+            h, std::span<const float>(got).subspan(static_cast<size_t>(i) * 128, 128));
         for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(a[k] - b[k]));
         top1_disagreements += argmax(a) != argmax(b);
       }
@@ -399,8 +402,8 @@ TEST_F(Trainer, NoCurriculumNeedsNoTeacher) {
 
 TEST_F(Trainer, TorchScriptTeacherWithProjection) {
   TempDir out("jit");
-  const std::string cmd = std::string("/usr/bin/python3 ") + TLVLINK_MAKE_TEACHER + " " +
-                          out.path() + " 2>&1";
+  const std::string cmd =
+      std::string("/usr/bin/python3 ") + TLVLINK_MAKE_TEACHER + " " + out.path() + " 2>&1";
   if (std::system(cmd.c_str()) != 0) {
     GTEST_SKIP() << "cannot write TorchScript teachers (" << cmd
                  << "); install python3-torch (tools/setup/install_deps.sh test)";
@@ -467,9 +470,15 @@ void write_precomputed(const std::string& data_dir, const std::string& out, int3
   const auto n = static_cast<int64_t>(keys.size()), pn = static_cast<int64_t>(prompts.size());
   write_lines(out + "/keys.txt", keys);
   write_lines(out + "/prompts.txt", prompts);
-  ASSERT_TRUE(tools::write_npy(out + "/sentence.npy", tools::NpyArray::from<float>({n, dim}, rows(keys.size()))).ok());
-  ASSERT_TRUE(tools::write_npy(out + "/phrase.npy", tools::NpyArray::from<float>({n, dim}, rows(keys.size()))).ok());
-  ASSERT_TRUE(tools::write_npy(out + "/prompts.npy", tools::NpyArray::from<float>({pn, dim}, rows(prompts.size()))).ok());
+  ASSERT_TRUE(tools::write_npy(out + "/sentence.npy",
+                               tools::NpyArray::from<float>({n, dim}, rows(keys.size())))
+                  .ok());
+  ASSERT_TRUE(tools::write_npy(out + "/phrase.npy",
+                               tools::NpyArray::from<float>({n, dim}, rows(keys.size())))
+                  .ok());
+  ASSERT_TRUE(tools::write_npy(out + "/prompts.npy",
+                               tools::NpyArray::from<float>({pn, dim}, rows(prompts.size())))
+                  .ok());
 }
 
 // A user's own frozen text model: training aligns the student with the precomputed sentence +

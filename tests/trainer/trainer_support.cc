@@ -7,11 +7,11 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "tlvlink/image/jpeg.h"
-#include "tlvlink/io/image.h"
-#include "tlvlink/image/preprocess.h"
-#include "tlvlink/io/npy_image.h"
 #include "tlvlink/datasets/touch100k.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/io/npy_image.h"
 #include "tlvlink/sim/generate.h"
 #include "tlvlink/sim/sets.h"
 

@@ -29,8 +29,8 @@ Result<std::vector<float>> preprocessed_frames(const std::string& data_dir, bool
                                                int64_t& n);
 
 struct Agreement {
-  double min_cosine = 1;   // over rows
-  double max_abs = 0;      // over all values
+  double min_cosine = 1;     // over rows
+  double max_abs = 0;        // over all values
   double max_magnitude = 0;  // largest |value| of the reference
 };
 Agreement compare_rows(std::span<const float> reference, std::span<const float> other,

@@ -26,10 +26,11 @@ std::vector<uint8_t> gel_frame(uint64_t seed) {
   std::vector<uint8_t> f(static_cast<size_t>(kW * kH * 3));
   for (int32_t y = 0; y < kH; ++y) {
     for (int32_t x = 0; x < kW; ++x) {
-      const double blob = 60 * std::exp(-((x - 160.0) * (x - 160.0) + (y - 120.0) * (y - 120.0)) / 800);
+      const double blob =
+          60 * std::exp(-((x - 160.0) * (x - 160.0) + (y - 120.0) * (y - 120.0)) / 800);
       for (int32_t c = 0; c < 3; ++c) {
-        const double v = 90 + 30 * c + 0.2 * x - 0.1 * y + blob * (c == 1 ? -1 : 1) +
-                         rng.int_in(-3, 3);
+        const double v =
+            90 + 30 * c + 0.2 * x - 0.1 * y + blob * (c == 1 ? -1 : 1) + rng.int_in(-3, 3);
         f[(static_cast<size_t>(y) * kW + static_cast<size_t>(x)) * 3 + static_cast<size_t>(c)] =
             static_cast<uint8_t>(std::clamp(v, 0.0, 255.0));
       }
@@ -52,7 +53,8 @@ struct Model {
 
 double mean_abs_diff(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
   double s = 0;
-  for (size_t i = 0; i < a.size(); ++i) s += std::abs(static_cast<int>(a[i]) - static_cast<int>(b[i]));
+  for (size_t i = 0; i < a.size(); ++i)
+    s += std::abs(static_cast<int>(a[i]) - static_cast<int>(b[i]));
   return s / static_cast<double>(a.size());
 }
 
@@ -75,7 +77,8 @@ TEST(ViewOptics, IdentityParametersKeepTheFrame) {
   const std::vector<uint8_t> f8 = gel_frame(1);
   std::vector<float> f(f8.begin(), f8.end()), g(f.size()), scratch;
   view::warp(f.data(), g.data(), kW, kH, view::Affine{});
-  for (size_t i = 0; i < f.size(); ++i) ASSERT_NEAR(g[i], f[i], 1e-3) << i;  // float bilinear at t=0
+  for (size_t i = 0; i < f.size(); ++i)
+    ASSERT_NEAR(g[i], f[i], 1e-3) << i;  // float bilinear at t=0
   view::shade(g.data(), kW, kH, view::Shading{});
   for (size_t i = 0; i < f.size(); ++i) ASSERT_EQ(g[i], f[i]) << i;  // x * 1 * 1 * 1 + 0
   std::vector<float> flat(f.size(), 100.0f);
@@ -104,7 +107,8 @@ TEST(ViewOptics, EachOperationDoesWhatItSays) {
   // ~0.15 %), mean within 0.02 DN.
   std::vector<float> noisy(ramp.size(), 128.0f);
   view::add_noise(noisy.data(), noisy.size(), 2.0, 99);
-  const double mean = std::accumulate(noisy.begin(), noisy.end(), 0.0) / static_cast<double>(noisy.size());
+  const double mean =
+      std::accumulate(noisy.begin(), noisy.end(), 0.0) / static_cast<double>(noisy.size());
   double var = 0;
   for (float v : noisy) var += (static_cast<double>(v) - mean) * (static_cast<double>(v) - mean);
   EXPECT_NEAR(mean, 128.0, 0.02);
@@ -150,7 +154,8 @@ TEST(ViewAugmenter, SameSeedSameBytesAndTheDrawsFollowTheProbabilities) {
     if (d1.applied != 0) differ += x != clean;
     // Without the photometric components a view keeps the frame's levels: what is left
     // (mounting, dust, focus, noise, codec) moves pixels, not the picture.
-    ASSERT_TRUE(a->make(f, kViewAll & ~(kViewColour | kViewVignette | kViewLedDrift), seed, y).ok());
+    ASSERT_TRUE(
+        a->make(f, kViewAll & ~(kViewColour | kViewVignette | kViewLedDrift), seed, y).ok());
     moved += mean_abs_diff(y, clean);
   }
   // Codec drawn with p 0.75: 225 of 300 expected, binomial sd 7.5; 4 sd either side.

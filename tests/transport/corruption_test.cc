@@ -8,14 +8,14 @@
 #include <cmath>
 #include <set>
 
+#include "pty_cable.h"
+#include "stream_fixture.h"
 #include "support/random.h"
 #include "support/temp_dir.h"
 #include "tlvlink/protocol/views.h"
 #include "tlvlink/transport/sender.h"
 #include "tlvlink/transport/serial.h"
 #include "tlvlink/transport/time.h"
-#include "pty_cable.h"
-#include "stream_fixture.h"
 #include "transport/test_host.h"
 
 namespace tlvlink::transport {
@@ -36,7 +36,9 @@ TEST_P(CorruptionTest, NoCorruptedFrameIsAccepted) {
   testing::TempDir dir("corrupt");
   testing::PtyCable cable(dir.path(), testing::PtyCable::Faults{rates.error, rates.drop, seed});
   ASSERT_TRUE(cable.plug().ok());
-  auto sender = Sender::create(make_serial_transport({cable.board_path(), 0, FlowControl::kNone}).value(), {}).value();
+  auto sender =
+      Sender::create(make_serial_transport({cable.board_path(), 0, FlowControl::kNone}).value(), {})
+          .value();
   ASSERT_TRUE(sender->set_hello(testing::fixture_hello()).ok());
   ASSERT_TRUE(sender->start().ok());
   testing::TestHost host(cable.host_path());
@@ -56,8 +58,10 @@ TEST_P(CorruptionTest, NoCorruptedFrameIsAccepted) {
     if (m.header.type != MessageType::kFramePrediction) continue;
     testing::AlignedPayload p(m.payload);
     auto v = protocol::decode_frame_prediction(p.bytes());
-    if (!v.ok() || !testing::fixture_prediction_intact(v.value())) ++corrupted;
-    else intact.insert(v.value().frame_sequence());
+    if (!v.ok() || !testing::fixture_prediction_intact(v.value()))
+      ++corrupted;
+    else
+      intact.insert(v.value().frame_sequence());
   }
   const auto cc = cable.counts();
   EXPECT_EQ(corrupted, 0u) << "a damaged frame passed every check";
@@ -67,7 +71,8 @@ TEST_P(CorruptionTest, NoCorruptedFrameIsAccepted) {
   // probability (1 - p)^L; at least half of that expectation must arrive (the slack covers the
   // spread of a 2000-frame sample and delimiters lost with their frames).
   const SenderCounters sc = sender->counters();
-  const double mean_bytes = static_cast<double>(sc.bytes_sent) / static_cast<double>(std::max<uint64_t>(1, sc.frames_sent));
+  const double mean_bytes = static_cast<double>(sc.bytes_sent) /
+                            static_cast<double>(std::max<uint64_t>(1, sc.frames_sent));
   const double expected = kFrames * std::pow(1 - rates.error - rates.drop, mean_bytes);
   EXPECT_GT(static_cast<double>(intact.size()), 0.5 * expected)
       << intact.size() << " of " << kFrames << ", expected about " << expected;
@@ -80,9 +85,12 @@ TEST_P(CorruptionTest, NoCorruptedFrameIsAccepted) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Rates, CorruptionTest,
-                         ::testing::Values(Rates{1e-3, 0}, Rates{0, 1e-3}, Rates{1e-3, 1e-3}, Rates{5e-3, 5e-3}),
+                         ::testing::Values(Rates{1e-3, 0}, Rates{0, 1e-3}, Rates{1e-3, 1e-3},
+                                           Rates{5e-3, 5e-3}),
                          [](const ::testing::TestParamInfo<Rates>& p) {
-                           return "errors_" + std::to_string(static_cast<int>(p.param.error * 1e4)) + "e4_drops_" +
+                           return "errors_" +
+                                  std::to_string(static_cast<int>(p.param.error * 1e4)) +
+                                  "e4_drops_" +
                                   std::to_string(static_cast<int>(p.param.drop * 1e4)) + "e4";
                          });
 

@@ -24,8 +24,8 @@ namespace tlvlink::transport {
 namespace {
 
 uint32_t le32(const std::byte* p) {
-  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 | static_cast<uint32_t>(p[2]) << 16 |
-         static_cast<uint32_t>(p[3]) << 24;
+  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 |
+         static_cast<uint32_t>(p[2]) << 16 | static_cast<uint32_t>(p[3]) << 24;
 }
 
 TEST(FunctionFs, DescriptorBlobIsV2FullAndHighSpeedBulkPair) {
@@ -41,13 +41,13 @@ TEST(FunctionFs, DescriptorBlobIsV2FullAndHighSpeedBulkPair) {
   for (int speed = 0; speed < 2; ++speed) {
     const std::byte* d = blob + 20 + speed * 23;
     SCOPED_TRACE(speed == 0 ? "full speed" : "high speed");
-    EXPECT_EQ(d[0], std::byte{9});   // bLength
-    EXPECT_EQ(d[1], std::byte{4});   // INTERFACE
-    EXPECT_EQ(d[4], std::byte{2});   // bNumEndpoints
+    EXPECT_EQ(d[0], std::byte{9});  // bLength
+    EXPECT_EQ(d[1], std::byte{4});  // INTERFACE
+    EXPECT_EQ(d[4], std::byte{2});  // bNumEndpoints
     EXPECT_EQ(d[5], std::byte{kUsbInterfaceClass});
     EXPECT_EQ(d[6], std::byte{kUsbInterfaceSubclass});
     EXPECT_EQ(d[7], std::byte{kUsbInterfaceProtocol});
-    EXPECT_EQ(d[8], std::byte{1});   // iInterface: the first string
+    EXPECT_EQ(d[8], std::byte{1});  // iInterface: the first string
     const uint16_t packet = speed == 0 ? kUsbFullSpeedPacket : kUsbHighSpeedPacket;
     const std::byte* in = d + 9;
     const std::byte* out = d + 16;
@@ -57,7 +57,9 @@ TEST(FunctionFs, DescriptorBlobIsV2FullAndHighSpeedBulkPair) {
     for (const std::byte* ep : {in, out}) {
       EXPECT_EQ(ep[0], std::byte{7});
       EXPECT_EQ(ep[3], std::byte{2});  // bulk
-      EXPECT_EQ(static_cast<uint16_t>(static_cast<unsigned>(ep[4]) | static_cast<unsigned>(ep[5]) << 8), packet);
+      EXPECT_EQ(
+          static_cast<uint16_t>(static_cast<unsigned>(ep[4]) | static_cast<unsigned>(ep[5]) << 8),
+          packet);
     }
   }
 }
@@ -76,7 +78,8 @@ TEST(FunctionFs, StringBlob) {
 }
 
 TEST(UsbStream, TransfersAlwaysEndShort) {
-  for (size_t n : {size_t{1}, size_t{63}, size_t{64}, size_t{512}, size_t{4095}, size_t{16383}, size_t{16384}, size_t{100000}}) {
+  for (size_t n : {size_t{1}, size_t{63}, size_t{64}, size_t{512}, size_t{4095}, size_t{16383},
+                   size_t{16384}, size_t{100000}}) {
     const size_t chunk = usb_chunk(n);
     const size_t sent = chunk + (usb_needs_pad(chunk) ? 1 : 0);
     EXPECT_LE(sent, kUsbMaxTransfer) << n;
@@ -95,7 +98,8 @@ bool linux_aio_available() {
 
 TEST(FunctionFs, SetUpWritesDescriptorsThenWaitsForTheHost) {
   if (!linux_aio_available()) {
-    GTEST_SKIP() << "Linux AIO (io_setup) is not implemented here (qemu user mode?); the FunctionFS transport "
+    GTEST_SKIP() << "Linux AIO (io_setup) is not implemented here (qemu user mode?); the "
+                    "FunctionFS transport "
                     "runs against a real gadget in the emulated board (run_tests.sh board)";
   }
   testing::TempDir dir("ffs");
@@ -106,7 +110,8 @@ TEST(FunctionFs, SetUpWritesDescriptorsThenWaitsForTheHost) {
   Status s = t.value()->open();
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().code(), ErrorCode::kTransportUnavailable);
-  EXPECT_NE(std::string(s.error().message()).find("has not enabled"), std::string::npos) << s.error().message();
+  EXPECT_NE(std::string(s.error().message()).find("has not enabled"), std::string::npos)
+      << s.error().message();
   EXPECT_FALSE(t.value()->peer_present());
   // ep0 received exactly the descriptors, then the strings.
   std::ifstream in(dir / "ep0", std::ios::binary);
@@ -124,7 +129,8 @@ TEST(FunctionFs, NotMountedIsUnavailableAndSaysWhatToDo) {
   Status s = t.value()->open();
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().code(), ErrorCode::kTransportUnavailable);
-  EXPECT_NE(std::string(s.error().message()).find("usb_gadget.sh"), std::string::npos) << s.error().message();
+  EXPECT_NE(std::string(s.error().message()).find("usb_gadget.sh"), std::string::npos)
+      << s.error().message();
   EXPECT_FALSE(make_transport("usb,udc=dummy_udc.0").ok()) << "udc without gadget";
 }
 

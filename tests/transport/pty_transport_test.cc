@@ -49,7 +49,8 @@ TEST(PtyTransport, BytesBothWaysThroughTheLink) {
   PtyTransport board({dir / "tty"});
   ASSERT_TRUE(board.open().ok());
   EXPECT_FALSE(board.peer_present());
-  Result<std::unique_ptr<Transport>> host = make_serial_transport({dir / "tty", 115200, FlowControl::kNone});
+  Result<std::unique_ptr<Transport>> host =
+      make_serial_transport({dir / "tty", 115200, FlowControl::kNone});
   ASSERT_TRUE(host.ok());
   ASSERT_TRUE(host.value()->open().ok());
   (void)board.wait(false, 0);
@@ -74,7 +75,8 @@ TEST(PtyTransport, NeverReplacesAFileThatIsNotItsLink) {
   PtyTransport board({notes});
   Status s = board.open();
   ASSERT_FALSE(s.ok());
-  EXPECT_NE(std::string(s.error().message()).find("a regular file"), std::string::npos) << s.error().message();
+  EXPECT_NE(std::string(s.error().message()).find("a regular file"), std::string::npos)
+      << s.error().message();
   board.close();
   struct stat st {};
   ASSERT_EQ(::lstat(notes.c_str(), &st), 0);
@@ -140,7 +142,8 @@ TEST(SerialTransport, NotATerminal) {
   Status s = t.value()->open();
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().code(), ErrorCode::kTransport);
-  EXPECT_NE(std::string(s.error().message()).find("not a terminal"), std::string::npos) << s.error().message();
+  EXPECT_NE(std::string(s.error().message()).find("not a terminal"), std::string::npos)
+      << s.error().message();
 }
 
 TEST(TransportSpec, ParsesAndNamesWhatIsWrong) {
@@ -151,17 +154,18 @@ TEST(TransportSpec, ParsesAndNamesWhatIsWrong) {
     const char* spec;
     const char* says;
   };
-  for (const Bad& b : {Bad{"serial:/dev/ttyS0,baud=12345", "not a standard rate"},
-                       Bad{"serial:/dev/ttyS0,baud=fast", "baud 'fast'"},
-                       Bad{"serial:/dev/ttyS0,flow=xon", "flow 'xon'"},
-                       Bad{"serial:/dev/ttyS0,parity=even", "unknown option 'parity'"},
-                       Bad{"serial:/dev/ttyS0,baud", "not key=value"},
-                       Bad{"serial", "needs a device path"},
-                       Bad{"carrier-pigeon:/x", "unknown kind 'carrier-pigeon'"}}) {
+  for (const Bad& b :
+       {Bad{"serial:/dev/ttyS0,baud=12345", "not a standard rate"},
+        Bad{"serial:/dev/ttyS0,baud=fast", "baud 'fast'"},
+        Bad{"serial:/dev/ttyS0,flow=xon", "flow 'xon'"},
+        Bad{"serial:/dev/ttyS0,parity=even", "unknown option 'parity'"},
+        Bad{"serial:/dev/ttyS0,baud", "not key=value"}, Bad{"serial", "needs a device path"},
+        Bad{"carrier-pigeon:/x", "unknown kind 'carrier-pigeon'"}}) {
     Result<std::unique_ptr<Transport>> t = make_transport(b.spec);
     ASSERT_FALSE(t.ok()) << b.spec;
     EXPECT_EQ(t.error().code(), ErrorCode::kInvalidArgument);
-    EXPECT_NE(std::string(t.error().message()).find(b.says), std::string::npos) << t.error().message();
+    EXPECT_NE(std::string(t.error().message()).find(b.says), std::string::npos)
+        << t.error().message();
   }
 }
 

@@ -59,8 +59,8 @@ TEST(SendQueue, RandomTrafficMatchesAFifoThatDropsOldest) {
         const size_t size = static_cast<size_t>(rng.int_in(0, static_cast<int>(capacity / 3)));
         if (SendQueue::record_size(size) > q.capacity()) continue;
         const uint32_t id = next_id++;
-        Result<size_t> dropped = q.push(MessageType::kFramePrediction, static_cast<uint16_t>(id & 0xFFFF), id,
-                                        payload(id, size));
+        Result<size_t> dropped = q.push(MessageType::kFramePrediction,
+                                        static_cast<uint16_t>(id & 0xFFFF), id, payload(id, size));
         ASSERT_TRUE(dropped.ok());
         for (size_t k = 0; k < dropped.value(); ++k) model.pop_front();
         model.emplace_back(id, size);
@@ -96,8 +96,10 @@ TEST(SendQueue, RandomTrafficMatchesAFifoThatDropsOldest) {
 TEST(SendQueue, DropOldestNeverTakesMoreThanNeeded) {
   // With equal records, a full queue drops exactly one per push.
   SendQueue q(10 * SendQueue::record_size(48));
-  for (uint32_t i = 0; i < 10; ++i) ASSERT_EQ(q.push(MessageType::kStats, 0, i, payload(i, 48)).value(), 0u);
-  for (uint32_t i = 10; i < 100; ++i) ASSERT_EQ(q.push(MessageType::kStats, 0, i, payload(i, 48)).value(), 1u);
+  for (uint32_t i = 0; i < 10; ++i)
+    ASSERT_EQ(q.push(MessageType::kStats, 0, i, payload(i, 48)).value(), 0u);
+  for (uint32_t i = 10; i < 100; ++i)
+    ASSERT_EQ(q.push(MessageType::kStats, 0, i, payload(i, 48)).value(), 1u);
   EXPECT_EQ(q.size(), 10u);
 }
 

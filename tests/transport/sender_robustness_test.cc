@@ -7,6 +7,8 @@
 
 #include <set>
 
+#include "pty_cable.h"
+#include "stream_fixture.h"
 #include "support/alloc_counter.h"
 #include "support/temp_dir.h"
 #include "tlvlink/protocol/views.h"
@@ -14,8 +16,6 @@
 #include "tlvlink/transport/sender.h"
 #include "tlvlink/transport/serial.h"
 #include "tlvlink/transport/time.h"
-#include "pty_cable.h"
-#include "stream_fixture.h"
 #include "transport/test_host.h"
 
 namespace tlvlink::transport {
@@ -73,7 +73,8 @@ TEST(SenderRobustness, AbsentHostNeverBlocksAndTheNewestArriveLate) {
   EXPECT_LT(slowest, kPostDidNotWaitNs);
   const SenderCounters before = sender->counters();
   EXPECT_FALSE(before.link_up);
-  EXPECT_EQ(before.link_error.code(), ErrorCode::kTransportUnavailable) << before.link_error.message();
+  EXPECT_EQ(before.link_error.code(), ErrorCode::kTransportUnavailable)
+      << before.link_error.message();
   EXPECT_GT(before.dropped_link_down, 0u);
   EXPECT_EQ(before.dropped_queue_full, 0u);
   EXPECT_EQ(before.dropped_link_down + before.queue_messages, kPosted);
@@ -82,17 +83,20 @@ TEST(SenderRobustness, AbsentHostNeverBlocksAndTheNewestArriveLate) {
 
   TestHost host(dir / "tty");
   open_when_there(host);
-  ASSERT_TRUE(host.wait_for(5000, [&] { return host.count(MessageType::kFramePrediction) == before.queue_messages; }));
+  ASSERT_TRUE(host.wait_for(
+      5000, [&] { return host.count(MessageType::kFramePrediction) == before.queue_messages; }));
   ASSERT_GE(host.messages.size(), 2u);
   EXPECT_EQ(host.messages[0].header.type, MessageType::kHello);
-  EXPECT_EQ(host.messages[1].header.type, MessageType::kStats) << "the newest Stats goes before the backlog";
+  EXPECT_EQ(host.messages[1].header.type, MessageType::kStats)
+      << "the newest Stats goes before the backlog";
   EXPECT_NE(host.messages[1].header.flags & protocol::kFlagDelayed, 0)
       << "made while the link was down: DELAYED though sent after the reconnect (issue 31)";
   const AlignedPayload stats_bytes(host.messages[1].payload);
   auto stats = protocol::decode_stats(stats_bytes.bytes());
   ASSERT_TRUE(stats.ok());
   EXPECT_EQ(stats.value().drop(1).cause, protocol::DropCause::kLinkDown);
-  EXPECT_EQ(stats.value().drop(1).count, before.dropped_link_down) << "the drops are in the next Stats";
+  EXPECT_EQ(stats.value().drop(1).count, before.dropped_link_down)
+      << "the drops are in the next Stats";
   const auto got = predictions(host);
   // The newest ones, oldest dropped first, in order, all flagged as sent late.
   for (size_t i = 0; i < got.size(); ++i) {
@@ -117,15 +121,18 @@ TEST(SenderRobustness, SlowHostLosesNothingSilently) {
     if (i % 200 == 0) host.pump(5);  // a host that reads in short bursts
   }
   std::thread stopper([&] { sender->stop(); });  // stop() flushes what is left
-  host.pump(3000, [&] { return host.count(MessageType::kFramePrediction) + sender->counters().dropped_queue_full >= kPosted; });
+  host.pump(3000, [&] {
+    return host.count(MessageType::kFramePrediction) + sender->counters().dropped_queue_full >=
+           kPosted;
+  });
   stopper.join();
   const SenderCounters c = sender->counters();
   const auto got = predictions(host);
   EXPECT_GT(c.dropped_queue_full, 0u) << "the host was slower than the board";
   EXPECT_EQ(got.size() + c.dropped_queue_full + c.dropped_link_down, kPosted)
-      << got.size() << " received, " << c.dropped_queue_full << " + " << c.dropped_link_down << " dropped, "
-      << c.frames_sent << " frames sent, host " << (host.disconnected ? "saw hangup" : "open")
-      << ", rejected " << host.counters().rejected();
+      << got.size() << " received, " << c.dropped_queue_full << " + " << c.dropped_link_down
+      << " dropped, " << c.frames_sent << " frames sent, host "
+      << (host.disconnected ? "saw hangup" : "open") << ", rejected " << host.counters().rejected();
   for (size_t i = 1; i < got.size(); ++i) ASSERT_LT(got[i - 1].first, got[i].first) << "order kept";
 }
 
@@ -135,11 +142,14 @@ TEST(SenderRobustness, HostReaderKilledAndRestarted) {
   testing::PredictionStorage st;
   TestHost first(dir / "tty");
   open_when_there(first);
-  for (uint32_t i = 0; i < 100; ++i) ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
+  for (uint32_t i = 0; i < 100; ++i)
+    ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
   // Reads part of the stream (the board has seen it connect: the Hello came), then dies.
-  ASSERT_TRUE(first.wait_for(5000, [&] { return first.count(MessageType::kFramePrediction) >= 20; }));
+  ASSERT_TRUE(
+      first.wait_for(5000, [&] { return first.count(MessageType::kFramePrediction) >= 20; }));
   first.close();
-  for (uint32_t i = 100; i < 300; ++i) ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
+  for (uint32_t i = 100; i < 300; ++i)
+    ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
   ::usleep(300'000);  // longer than the board's idle wait (100 ms): it notices the reader left
   TestHost second(dir / "tty");
   open_when_there(second);
@@ -163,19 +173,23 @@ TEST(SenderRobustness, LinkGoneAndBack) {
   ASSERT_TRUE(cable.plug().ok());
   SenderConfig config;
   config.reconnect_max_ms = 200;
-  auto sender = make_sender(make_serial_transport({cable.board_path(), 0, FlowControl::kNone}).value(), config);
+  auto sender = make_sender(
+      make_serial_transport({cable.board_path(), 0, FlowControl::kNone}).value(), config);
   TestHost host(cable.host_path());
   open_when_there(host);
   testing::PredictionStorage st;
-  for (uint32_t i = 0; i < 100; ++i) ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
-  ASSERT_TRUE(host.wait_for(5000, [&] { return host.count(MessageType::kFramePrediction) == 100; }));
+  for (uint32_t i = 0; i < 100; ++i)
+    ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
+  ASSERT_TRUE(
+      host.wait_for(5000, [&] { return host.count(MessageType::kFramePrediction) == 100; }));
 
   cable.unplug();  // both ends vanish, as when the USB cable is pulled
   host.pump(200);
   EXPECT_TRUE(host.disconnected) << "the host saw the hangup";
   ::usleep(300'000);
   EXPECT_FALSE(sender->counters().link_up);
-  for (uint32_t i = 100; i < 200; ++i) ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
+  for (uint32_t i = 100; i < 200; ++i)
+    ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
 
   ASSERT_TRUE(cable.plug().ok());  // back at the same paths
   open_when_there(host);
@@ -198,7 +212,8 @@ TEST(SenderRobustness, StopFlushesWhatIsQueued) {
   open_when_there(host);
   ASSERT_TRUE(host.wait_for(2000, [&] { return host.count(MessageType::kHello) == 1; }));
   testing::PredictionStorage st;
-  for (uint32_t i = 0; i < 50; ++i) ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
+  for (uint32_t i = 0; i < 50; ++i)
+    ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
   std::thread stopper([&] { sender->stop(); });
   host.pump(2000, [&] { return host.count(MessageType::kFramePrediction) == 50; });
   stopper.join();
@@ -211,9 +226,11 @@ TEST(SenderRobustness, StaleMessagesAreDroppedAndCounted) {
   config.max_age_ms = 300;
   auto sender = make_sender(std::make_unique<PtyTransport>(PtyConfig{dir / "tty"}), config);
   testing::PredictionStorage st;
-  for (uint32_t i = 0; i < 10; ++i) ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
+  for (uint32_t i = 0; i < 10; ++i)
+    ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
   ::usleep(600'000);
-  for (uint32_t i = 10; i < 20; ++i) ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
+  for (uint32_t i = 10; i < 20; ++i)
+    ASSERT_TRUE(sender->post(testing::fixture_prediction(i, st)).ok());
   TestHost host(dir / "tty");
   open_when_there(host);
   ASSERT_TRUE(host.wait_for(3000, [&] { return host.count(MessageType::kFramePrediction) == 10; }));

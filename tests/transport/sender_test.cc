@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "stream_fixture.h"
 #include "support/temp_dir.h"
 #include "tlvlink/protocol/encode.h"
 #include "tlvlink/protocol/names.h"
@@ -12,7 +13,6 @@
 #include "tlvlink/transport/pty.h"
 #include "tlvlink/transport/sender.h"
 #include "tlvlink/transport/time.h"
-#include "stream_fixture.h"
 #include "transport/test_host.h"
 
 namespace tlvlink::transport {
@@ -40,13 +40,15 @@ struct Rig {
     sender = std::move(s.value());
     EXPECT_TRUE(sender->set_hello(testing::fixture_hello()).ok());
     if (with_handler) {
-      EXPECT_TRUE(sender->set_command_handler([this](const protocol::Command& c) -> Status {
-                          handled.push_back({c.kind, c.grasp_id, c.event_ns, std::string(c.key)});
-                          if (c.kind == protocol::CommandKind::kSetConfig && c.key == "bad") {
-                            return Error(ErrorCode::kInvalidArgument, "unknown key 'bad'");
-                          }
-                          return Status();
-                        }).ok());
+      EXPECT_TRUE(sender
+                      ->set_command_handler([this](const protocol::Command& c) -> Status {
+                        handled.push_back({c.kind, c.grasp_id, c.event_ns, std::string(c.key)});
+                        if (c.kind == protocol::CommandKind::kSetConfig && c.key == "bad") {
+                          return Error(ErrorCode::kInvalidArgument, "unknown key 'bad'");
+                        }
+                        return Status();
+                      })
+                      .ok());
     }
     EXPECT_TRUE(sender->start().ok());
   }
@@ -63,8 +65,10 @@ TEST(Sender, HelloFirstThenPredictionsInOrder) {
   // Once the Hello is here the board knows the link is up: nothing after it is "delayed".
   ASSERT_TRUE(rig.host.wait_for(2000, [&] { return rig.host.count(MessageType::kHello) == 1; }));
   testing::PredictionStorage st;
-  for (uint32_t i = 0; i < 100; ++i) ASSERT_TRUE(rig.sender->post(testing::fixture_prediction(i, st)).ok());
-  ASSERT_TRUE(rig.host.wait_for(5000, [&] { return rig.host.count(MessageType::kFramePrediction) == 100; }));
+  for (uint32_t i = 0; i < 100; ++i)
+    ASSERT_TRUE(rig.sender->post(testing::fixture_prediction(i, st)).ok());
+  ASSERT_TRUE(rig.host.wait_for(
+      5000, [&] { return rig.host.count(MessageType::kFramePrediction) == 100; }));
   ASSERT_EQ(rig.host.messages.front().header.type, MessageType::kHello);
   const AlignedPayload hello_bytes(rig.host.messages.front().payload);
   Result<protocol::HelloView> hello = protocol::decode_hello(hello_bytes.bytes());
@@ -132,7 +136,8 @@ TEST(Sender, InfoGetsTheHelloAndAnAck) {
   Result<uint32_t> seq = rig.host.send(info);
   ASSERT_TRUE(rig.host.wait_for(2000, [&] { return rig.host.count(MessageType::kAck) == 1; }));
   EXPECT_EQ(rig.host.count(MessageType::kHello), 2u);
-  Result<protocol::Ack> ack = protocol::decode_ack(AlignedPayload(rig.host.last(MessageType::kAck)->payload).bytes());
+  Result<protocol::Ack> ack =
+      protocol::decode_ack(AlignedPayload(rig.host.last(MessageType::kAck)->payload).bytes());
   EXPECT_EQ(ack.value().command_sequence, seq.value());
   EXPECT_EQ(ack.value().kind, protocol::CommandKind::kInfo);
 }
@@ -212,11 +217,15 @@ TEST(Sender, MalformedUnknownAndNewerVersionInputIsRefusedClearly) {
   }));
   rig.host.pump(100);
   EXPECT_EQ(rig.host.count(MessageType::kError), 1u) << "reported once per connection";
-  EXPECT_EQ(rig.host.count(MessageType::kPong), 0u) << "frames of another major version are not obeyed";
+  EXPECT_EQ(rig.host.count(MessageType::kPong), 0u)
+      << "frames of another major version are not obeyed";
   const AlignedPayload err_bytes(rig.host.last(MessageType::kError)->payload);
   auto err = protocol::decode_error_report(err_bytes.bytes());
   EXPECT_EQ(err.value().code, static_cast<uint16_t>(ErrorCode::kProtocolVersion));
-  EXPECT_NE(std::string(err.value().text).find("host speaks stream protocol 2." + std::to_string(protocol::kVersionMinor)), std::string::npos) << err.value().text;
+  EXPECT_NE(std::string(err.value().text)
+                .find("host speaks stream protocol 2." + std::to_string(protocol::kVersionMinor)),
+            std::string::npos)
+      << err.value().text;
   const auto* first_nack = &rig.host.messages[0];
   for (const auto& m : rig.host.messages) {
     if (m.header.type == MessageType::kNack) {
@@ -247,7 +256,8 @@ TEST(Sender, StatsCarryTheLinkCountersAndItsDrops) {
   AlignedPayload p(rig.host.last(MessageType::kStats)->payload);
   auto v = protocol::decode_stats(p.bytes());
   ASSERT_TRUE(v.ok());
-  ASSERT_EQ(v.value().drop_count(), 4u) << "each cause once (issue 31: queue_full and stale were listed twice)";
+  ASSERT_EQ(v.value().drop_count(), 4u)
+      << "each cause once (issue 31: queue_full and stale were listed twice)";
   EXPECT_EQ(v.value().drop(0).cause, protocol::DropCause::kCaptureGap);
   EXPECT_EQ(v.value().drop(1).cause, protocol::DropCause::kQueueFull);
   EXPECT_EQ(v.value().drop(1).count, 7u + rig.sender->counters().dropped_queue_full);
@@ -267,13 +277,15 @@ TEST(Sender, LinkThreadPriorityIsAppliedOrReported) {
     EXPECT_TRUE(rig.sender->counters().realtime);
   }
   rig.connect();
-  EXPECT_TRUE(rig.host.wait_for(2000, [&] { return rig.host.count(MessageType::kHello) == 1; })) << "works either way";
+  EXPECT_TRUE(rig.host.wait_for(2000, [&] { return rig.host.count(MessageType::kHello) == 1; }))
+      << "works either way";
 }
 
 TEST(Sender, ConfigurationIsChecked) {
   SenderConfig tiny;
   tiny.queue_bytes = 1000;
-  Result<std::unique_ptr<Sender>> s = Sender::create(std::make_unique<PtyTransport>(PtyConfig{}), tiny);
+  Result<std::unique_ptr<Sender>> s =
+      Sender::create(std::make_unique<PtyTransport>(PtyConfig{}), tiny);
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().code(), ErrorCode::kInvalidArgument);
   EXPECT_FALSE(Sender::create(nullptr, {}).ok());

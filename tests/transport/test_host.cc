@@ -12,7 +12,8 @@ TestHost::TestHost(std::string path)
     : path_(std::move(path)), deframer_(std::make_unique<protocol::Deframer>()) {}
 
 Status TestHost::open() {
-  TLV_ASSIGN_OR_RETURN(link_, transport::make_serial_transport({path_, 0, transport::FlowControl::kNone}));
+  TLV_ASSIGN_OR_RETURN(link_,
+                       transport::make_serial_transport({path_, 0, transport::FlowControl::kNone}));
   disconnected = false;
   return link_->open();
 }
@@ -45,10 +46,12 @@ void TestHost::pump(int ms, const std::function<bool()>& until) {
       return;
     }
     const int64_t now = transport::monotonic_ns();
-    deframer_->feed(std::span<const std::byte>(buf, n.value()), [&](const protocol::ReceivedFrame& f) {
-      if (f.verdict != protocol::FrameVerdict::kOk) return;
-      messages.push_back(Got{f.header, std::vector<std::byte>(f.payload.begin(), f.payload.end()), now});
-    });
+    deframer_->feed(
+        std::span<const std::byte>(buf, n.value()), [&](const protocol::ReceivedFrame& f) {
+          if (f.verdict != protocol::FrameVerdict::kOk) return;
+          messages.push_back(
+              Got{f.header, std::vector<std::byte>(f.payload.begin(), f.payload.end()), now});
+        });
   }
 }
 
@@ -89,7 +92,8 @@ const TestHost::Got* TestHost::last(protocol::MessageType type) const {
   return nullptr;
 }
 
-AlignedPayload::AlignedPayload(std::span<const std::byte> p) : storage((p.size() + 7) / 8), size(p.size()) {
+AlignedPayload::AlignedPayload(std::span<const std::byte> p)
+    : storage((p.size() + 7) / 8), size(p.size()) {
   if (size > 0) std::memcpy(storage.data(), p.data(), size);
 }
 

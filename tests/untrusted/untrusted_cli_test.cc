@@ -117,10 +117,11 @@ TEST_F(UntrustedCli, FifoAsAKeyOrFeelSetIsRefusedAtOnce) {
   for (const std::string& args :
        {"sign " + path("int8.tlvm") + " --key " + fifo + " -o " + path("signed.tlvm"),
         "verify " + path("int8.tlvm") + " --public-key " + fifo,
-        "strip " + src + "/firmware/models/touch-tiny-int8.tlvm --scene material-sort-mini --scenes-dir " +
-            src + "/boards/scenes -o " + path("stripped.tlvm") + " --key " + fifo,
-        "flash --board rpi4-a72 --scene material-sort-mini --source " + src + " -o " + path("flash") +
-            " --key " + fifo,
+        "strip " + src +
+            "/firmware/models/touch-tiny-int8.tlvm --scene material-sort-mini --scenes-dir " + src +
+            "/boards/scenes -o " + path("stripped.tlvm") + " --key " + fifo,
+        "flash --board rpi4-a72 --scene material-sort-mini --source " + src + " -o " +
+            path("flash") + " --key " + fifo,
         "record --feel " + fifo + " -o " + path("feel.tlvraw")}) {
     CliRun r = tlvlink(args);
     EXPECT_NE(r.exit_code, 124) << "hung: " << args;
@@ -180,7 +181,8 @@ TEST_F(UntrustedCli, SidecarLabelsNotIntegersInRangeAreSkippedWithFileLine) {
     ASSERT_GT(line, 0) << c.field;
     CliRun r = tlvlink("eval " + path("int8.tlvm") + " --touch " + set);
     EXPECT_RUN(r, 0);
-    EXPECT_TRUE(contains(r, set + "/tlvlink_sim_samples.jsonl:" + std::to_string(line) + ":")) << r.out;
+    EXPECT_TRUE(contains(r, set + "/tlvlink_sim_samples.jsonl:" + std::to_string(line) + ":"))
+        << r.out;
     EXPECT_TRUE(contains(r, c.says)) << c.value << ": " << r.out;
   }
 }
@@ -203,8 +205,8 @@ TEST_F(UntrustedCli, SkippedFifosAndFoldersAreNamed) {
   EXPECT_RUN(r, 0);
   EXPECT_TRUE(contains(r, "skipped " + fifo + ": not a regular file (FIFO)")) << r.out;
   EXPECT_TRUE(contains(r, "skipped " + imgs + "/sub: not a regular file (directory)")) << r.out;
-  r = tlvlink("quantize " + path("fp32.tlvm") + " --calib-images " + imgs + " -o " + path("imgs.tlvm") +
-              " --calib-count 4 --heldout-count 2");
+  r = tlvlink("quantize " + path("fp32.tlvm") + " --calib-images " + imgs + " -o " +
+              path("imgs.tlvm") + " --calib-count 4 --heldout-count 2");
   EXPECT_NE(r.exit_code, 124) << "quantize hung on a FIFO";
   EXPECT_TRUE(contains(r, fifo + ": not a regular file (FIFO)")) << r.out;
 

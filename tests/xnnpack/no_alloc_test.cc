@@ -71,20 +71,16 @@ int posix_memalign(void** out, size_t a, size_t n) {
 #endif
 
 // The replacements pair operator new with malloc and operator delete with free. Defined in this
-// file, g++ 12 at -O1/-Og inlines the delete into GoogleTest's `new TestClass` and reports free() on
-// a pointer from operator new (-Wmismatched-new-delete): it does not see that both are replaced.
+// file, g++ 12 at -O1/-Og inlines the delete into GoogleTest's `new TestClass` and reports free()
+// on a pointer from operator new (-Wmismatched-new-delete): it does not see that both are replaced.
 #pragma GCC diagnostic ignored "-Wmismatched-new-delete"
 void* operator new(size_t size) {
   if (!TLV_COUNT_MALLOC && g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
   if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
   std::abort();  // tests only; the runtime itself never relies on operator new throwing
 }
-void operator delete(void* p) noexcept {
-  std::free(p);
-}
-void operator delete(void* p, size_t) noexcept {
-  std::free(p);
-}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, size_t) noexcept { std::free(p); }
 #else
 #define TLV_COUNTING 0
 #define TLV_COUNT_MALLOC 0

@@ -118,9 +118,7 @@ TEST_F(XnnpackOpTest, Pad) {
   check(unary_graph(OpType::kPad, {1, 4, 4, 3}, {1, 7, 7, 4}, p));
 }
 
-TEST_F(XnnpackOpTest, Reshape) {
-  check(unary_graph(OpType::kReshape, {1, 2, 3, 4}, {6, 4}));
-}
+TEST_F(XnnpackOpTest, Reshape) { check(unary_graph(OpType::kReshape, {1, 2, 3, 4}, {6, 4})); }
 
 TEST_F(XnnpackOpTest, ResizeBilinear) {
   check(unary_graph(OpType::kResizeBilinear, {1, 5, 7, 3}, {1, 10, 13, 3},

@@ -22,7 +22,8 @@ std::vector<std::byte> read_all(const char* path) {
   if (f == nullptr) return bytes;
   std::byte chunk[1 << 16];
   size_t n = 0;
-  while ((n = std::fread(chunk, 1, sizeof chunk, f)) > 0) bytes.insert(bytes.end(), chunk, chunk + n);
+  while ((n = std::fread(chunk, 1, sizeof chunk, f)) > 0)
+    bytes.insert(bytes.end(), chunk, chunk + n);
   std::fclose(f);
   return bytes;
 }
@@ -51,7 +52,8 @@ int main(int argc, char** argv) {
   }
   auto keys = quantize::generate_keypair();
   if (!keys.ok()) return 1;
-  std::printf("| model | bytes | load, no check (ms) | + hash (ms) | + hash + signature (ms) | ratios |\n");
+  std::printf(
+      "| model | bytes | load, no check (ms) | + hash (ms) | + hash + signature (ms) | ratios |\n");
   std::printf("|---|---|---|---|---|---|\n");
   for (const char* path : models) {
     const std::vector<std::byte> file = read_all(path);
@@ -60,7 +62,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s: %s\n", path, signed_file.error().message());
       return 1;
     }
-    const LoadOptions variants[3] = {{.verify_checksum = false}, {}, {.public_key = &keys->public_key}};
+    const LoadOptions variants[3] = {
+        {.verify_checksum = false}, {}, {.public_key = &keys->public_key}};
     const std::vector<std::byte>* inputs[3] = {&file, &file, &*signed_file};
     std::vector<double> ms[3];
     for (int k = 0; k < loads; ++k) {

@@ -23,7 +23,8 @@ int run_adapt(const AdaptCommand& c) {
   if (!model.ok()) return report_error(command, model.error());
   auto frames = eval::read_labelled_folder(c.images);
   if (!frames.ok()) return report_error(command, frames.error());
-  for (const std::string& s : frames->skipped) std::fprintf(stderr, "note: skipped %s\n", s.c_str());
+  for (const std::string& s : frames->skipped)
+    std::fprintf(stderr, "note: skipped %s\n", s.c_str());
   auto r = trainer::compare_adapted_head(**model, *frames, c.sensor, c.options);
   if (!r.ok()) return report_error(command, r.error());
   std::fputs(trainer::format_adapt_comparison(*r, c.head).c_str(), stdout);
@@ -35,13 +36,17 @@ int run_adapt(const AdaptCommand& c) {
 void add_adapt_command(CLI::App& app, int& exit_code) {
   auto c = std::make_shared<AdaptCommand>();
   CLI::App* cmd = app.add_subcommand(
-      "adapt", "Does adapting the encoder's last layer(s) to your labelled frames beat a linear "
-               "head? Both scored on the same grouped folds (writes nothing)");
-  cmd->add_option("model", c->model, "Float model exported from the checkpoint (.tlvm)")->required();
+      "adapt",
+      "Does adapting the encoder's last layer(s) to your labelled frames beat a linear "
+      "head? Both scored on the same grouped folds (writes nothing)");
+  cmd->add_option("model", c->model, "Float model exported from the checkpoint (.tlvm)")
+      ->required();
   cmd->add_option("--checkpoint", c->options.checkpoint,
-                  "The `tlvlink train` checkpoint the model was exported from")->required();
+                  "The `tlvlink train` checkpoint the model was exported from")
+      ->required();
   cmd->add_option("--images", c->images,
-                  "Labelled frames: DIR/<class>/... (groups as `heads fit --images`)")->required();
+                  "Labelled frames: DIR/<class>/... (groups as `heads fit --images`)")
+      ->required();
   cmd->add_option("--head", c->head, "Name of the head, for the report")->required();
   cmd->add_option("--sensor", c->sensor,
                   "Sensor model whose camera view the frames are (default: a processed view)");

@@ -50,21 +50,21 @@ void add_bench_command(CLI::App& app, int& exit_code);
 void add_gen_reference_command(CLI::App& app, int& exit_code);
 void add_gen_frames_command(CLI::App& app, int& exit_code);
 void add_sim_command(CLI::App& app, int& exit_code);
-void add_convert_command(CLI::App& app, int& exit_code);  // convert.cc or convert_unavailable.cc
-void add_quantize_command(CLI::App& app, int& exit_code);        // quantize.cc
+void add_convert_command(CLI::App& app, int& exit_code);   // convert.cc or convert_unavailable.cc
+void add_quantize_command(CLI::App& app, int& exit_code);  // quantize.cc
 void add_quantize_sweep_command(CLI::App& app, int& exit_code);  // quantize_sweep.cc
-void add_train_command(CLI::App& app, int& exit_code);   // train.cc or train_unavailable.cc
-void add_export_command(CLI::App& app, int& exit_code);  // export.cc or train_unavailable.cc
-void add_adapt_command(CLI::App& app, int& exit_code);   // adapt.cc or train_unavailable.cc
-void add_eval_command(CLI::App& app, int& exit_code);    // eval.cc
-void add_heads_command(CLI::App& app, int& exit_code);   // heads_fit.cc (`heads fit`)
-void add_listen_command(CLI::App& app, int& exit_code);  // listen.cc or listen_unavailable.cc
-void add_score_command(CLI::App& app, int& exit_code);   // score.cc
+void add_train_command(CLI::App& app, int& exit_code);           // train.cc or train_unavailable.cc
+void add_export_command(CLI::App& app, int& exit_code);     // export.cc or train_unavailable.cc
+void add_adapt_command(CLI::App& app, int& exit_code);      // adapt.cc or train_unavailable.cc
+void add_eval_command(CLI::App& app, int& exit_code);       // eval.cc
+void add_heads_command(CLI::App& app, int& exit_code);      // heads_fit.cc (`heads fit`)
+void add_listen_command(CLI::App& app, int& exit_code);     // listen.cc or listen_unavailable.cc
+void add_score_command(CLI::App& app, int& exit_code);      // score.cc
 void add_stability_command(CLI::App& app, int& exit_code);  // stability.cc
 void add_contact_command(CLI::App& app, int& exit_code);    // contact.cc
-void add_record_command(CLI::App& app, int& exit_code);  // record.cc (with runtime/capture)
-void add_replay_command(CLI::App& app, int& exit_code);  // listen.cc or listen_unavailable.cc
-void add_strip_command(CLI::App& app, int& exit_code);   // strip.cc (with tools/boards)
-void add_flash_command(CLI::App& app, int& exit_code);   // flash.cc (with tools/boards)
+void add_record_command(CLI::App& app, int& exit_code);     // record.cc (with runtime/capture)
+void add_replay_command(CLI::App& app, int& exit_code);     // listen.cc or listen_unavailable.cc
+void add_strip_command(CLI::App& app, int& exit_code);      // strip.cc (with tools/boards)
+void add_flash_command(CLI::App& app, int& exit_code);      // flash.cc (with tools/boards)
 
 }  // namespace tlvlink::cli

@@ -21,12 +21,12 @@ struct ContactFlags {
 int run_contact(const ContactFlags& f) {
   auto check = eval::check_contact(f.references, f.frames, f.o);
   if (!check.ok()) return report_error("contact", check.error());
-  std::printf("reference: %zu frame(s), block noise %.2f DN; contact above %.2f DN (max of %.1f DN "
-              "and %.0f x noise)\n",
-              f.references.size(), static_cast<double>(check->noise_sigma_dn),
-              static_cast<double>(check->threshold_dn),
-              static_cast<double>(f.o.gate.min_threshold_dn),
-              static_cast<double>(f.o.gate.noise_multiple));
+  std::printf(
+      "reference: %zu frame(s), block noise %.2f DN; contact above %.2f DN (max of %.1f DN "
+      "and %.0f x noise)\n",
+      f.references.size(), static_cast<double>(check->noise_sigma_dn),
+      static_cast<double>(check->threshold_dn), static_cast<double>(f.o.gate.min_threshold_dn),
+      static_cast<double>(f.o.gate.noise_multiple));
   int contacts = 0;
   for (const eval::ContactCheckFrame& c : check->frames) {
     std::printf("%-8s score %7.2f DN  %s\n", c.contact ? "contact" : "none",

@@ -40,7 +40,8 @@ int run_convert(const ConvertOptions& o) {
   options.std = o.std;
   options.channel_order = parse_order(o.channel_order);
   auto result = quantize::import_onnx(*bytes, options);
-  if (!result.ok()) return report_error("convert", result.error().with_context("%s", o.input.c_str()));
+  if (!result.ok())
+    return report_error("convert", result.error().with_context("%s", o.input.c_str()));
   if (Status s = tools::write_file(o.output, result->model); !s.ok()) {
     return report_error("convert", s.error());
   }

@@ -42,7 +42,8 @@ int run_eval_images(const EvalCommand& c) {
   auto frames = c.recordings.empty() ? eval::read_labelled_folder(c.images)
                                      : eval::read_labelled_recordings(c.recordings);
   if (!frames.ok()) return report_error(command, frames.error());
-  for (const std::string& s : frames->skipped) std::fprintf(stderr, "note: skipped %s\n", s.c_str());
+  for (const std::string& s : frames->skipped)
+    std::fprintf(stderr, "note: skipped %s\n", s.c_str());
   eval::EmbedderOptions eo;
   eo.executor = c.flags.exec.kind();
   eo.threads = c.flags.exec.threads;
@@ -56,7 +57,8 @@ int run_eval_images(const EvalCommand& c) {
     if (h.name == c.head) head = &h;
   const HeadTrust* recorded = &head->trust;
   const bool has_interval = recorded->present && recorded->ci_low >= 0;
-  const bool within = has_interval && score->accuracy >= static_cast<double>(recorded->ci_low) - 1e-6 &&
+  const bool within = has_interval &&
+                      score->accuracy >= static_cast<double>(recorded->ci_low) - 1e-6 &&
                       score->accuracy <= static_cast<double>(recorded->ci_high) + 1e-6;
   std::string answers;
   for (size_t k = 0; k < score->predicted_counts.size(); ++k) {
@@ -64,16 +66,18 @@ int run_eval_images(const EvalCommand& c) {
                std::to_string(score->predicted_counts[k]);
   }
   if (c.json) {
-    nlohmann::json j = {{"head", c.head},           {"images", c.images},
-                        {"n", score->n},            {"groups", score->groups},
+    nlohmann::json j = {{"head", c.head},
+                        {"images", c.images},
+                        {"n", score->n},
+                        {"groups", score->groups},
                         {"accuracy", score->accuracy},
                         {"accuracy_ci95", {score->ci_low, score->ci_high}},
                         {"balanced_accuracy", score->balanced_accuracy},
                         {"majority", score->majority},
                         {"answers", score->predicted_counts},
                         {"recorded", inspect::trust_text(*recorded, true)},
-                        {"within_recorded_interval", has_interval ? nlohmann::json(within)
-                                                                  : nlohmann::json(nullptr)}};
+                        {"within_recorded_interval",
+                         has_interval ? nlohmann::json(within) : nlohmann::json(nullptr)}};
     std::printf("%s\n", j.dump(2).c_str());
     return kExitOk;
   }
@@ -81,10 +85,11 @@ int run_eval_images(const EvalCommand& c) {
               c.head.c_str(), c.images.c_str(), static_cast<long long>(score->n),
               static_cast<long long>(score->groups), eval::grouping_name(frames->grouping),
               features->view_note.c_str());
-  std::printf("  accuracy %.1f %% [%.1f, %.1f] (95 %%, groups resampled)  balanced %.1f %%  "
-              "majority %.1f %%\n",
-              100 * score->accuracy, 100 * score->ci_low, 100 * score->ci_high,
-              100 * score->balanced_accuracy, 100 * score->majority);
+  std::printf(
+      "  accuracy %.1f %% [%.1f, %.1f] (95 %%, groups resampled)  balanced %.1f %%  "
+      "majority %.1f %%\n",
+      100 * score->accuracy, 100 * score->ci_low, 100 * score->ci_high,
+      100 * score->balanced_accuracy, 100 * score->majority);
   std::printf("  answers: %s\n", answers.c_str());
   std::printf("  recorded: %s\n", inspect::trust_text(*recorded, true).c_str());
   if (has_interval) {
@@ -150,16 +155,17 @@ void add_eval_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--json", c->json, "Print machine-readable JSON");
   cmd->add_flag("--no-paper", c->no_paper, "Leave out the paper's reference rows");
   cmd->add_flag("--no-model-heads", c->no_model_heads, "Do not score the model's stored heads");
-  cmd->add_option("--images", c->images,
-                  "Score one of the model's heads (--head) on labelled frames: DIR/<class>/*.png|jpg, "
-                  "class folders named after the head's labels (groups as `heads fit --images`)");
+  cmd->add_option(
+      "--images", c->images,
+      "Score one of the model's heads (--head) on labelled frames: DIR/<class>/*.png|jpg, "
+      "class folders named after the head's labels (groups as `heads fit --images`)");
   cmd->add_option("--recordings", c->recordings,
                   "Score one of the model's heads (--head) on camera recordings named in a labels "
                   "file (as `heads fit --recordings`)");
   cmd->add_option("--head", c->head, "With --images / --recordings: the linear head to score");
   cmd->add_option("--sensor", c->sensor,
-                  "With --images: the sensor the frames come from (" +
-                      tools::known_sensor_names() + "); default: detected from each frame's size");
+                  "With --images: the sensor the frames come from (" + tools::known_sensor_names() +
+                      "); default: detected from each frame's size");
   cmd->footer(kExitCodeFooter);
   cmd->callback([c, &exit_code] { exit_code = run_eval(*c); });
 }

@@ -23,7 +23,9 @@ void EvalFlags::add_to(CLI::App& app) {
                  "recorded split of a generated set, else 0.2)")
       ->check(CLI::Range(0.0, 1.0));
   app.add_option("--split-seed", split_seed, "Seed of the hash split")->capture_default_str();
-  app.add_option("--problems", problems, "Write every load problem (file:line: kind: reason) to FILE; stderr shows the first 10");
+  app.add_option(
+      "--problems", problems,
+      "Write every load problem (file:line: kind: reason) to FILE; stderr shows the first 10");
   app.add_option("--train-jpeg", train_jpeg,
                  "Also fit on the touch train frames saved as JPEG at these qualities (e.g. "
                  "75,90): heads fitted across the codec paths a board's frames take")

@@ -17,7 +17,7 @@ struct EvalFlags {
   std::string touch, touch_format = "auto";
   std::string grasp, grasp_format = "auto";
   std::string problems;  // --problems FILE: every load problem
-  double resplit = -1;  // < 0: recorded split for generated sets, hash split otherwise
+  double resplit = -1;   // < 0: recorded split for generated sets, hash split otherwise
   uint64_t split_seed = 0;
   int64_t max_touch = 0, max_grasp = 0;
   std::vector<int32_t> train_jpeg;
@@ -28,7 +28,7 @@ struct EvalFlags {
   int max_iterations = 300;
   std::string zero_shot = "auto";
   std::string text_embeddings;
-  int64_t text_seed = -1;       // < 0: the model's recorded text encoder (else seed 7)
+  int64_t text_seed = -1;  // < 0: the model's recorded text encoder (else seed 7)
   int64_t oracle_samples = 10000;
   bool quiet = false;
   ExecutorFlags exec;

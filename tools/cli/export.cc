@@ -13,8 +13,9 @@ namespace tlvlink::cli {
 void add_export_command(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<trainer::ExportOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "export", "Export a `tlvlink train` checkpoint to a float .tlvm (BatchNorm folded, input "
-                "spec, zero-shot heads, provenance)");
+      "export",
+      "Export a `tlvlink train` checkpoint to a float .tlvm (BatchNorm folded, input "
+      "spec, zero-shot heads, provenance)");
   cmd->add_option("checkpoint", o->checkpoint, "Checkpoint written by tlvlink train")->required();
   cmd->add_option("-o,--output", o->output, "Model file to write (.tlvm)")->required();
   cmd->add_option("--text-embeddings", o->text_embeddings,

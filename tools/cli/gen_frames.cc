@@ -28,19 +28,22 @@ int run_gen_frames(const FramesOptions& o) {
   std::error_code ec;
   std::filesystem::create_directories(o.output_dir, ec);
   if (ec) {
-    return report_error("gen-frames", Error::make(ErrorCode::kIo, "cannot create directory '%s': %s",
-                                            o.output_dir.c_str(), ec.message().c_str()));
+    return report_error("gen-frames",
+                        Error::make(ErrorCode::kIo, "cannot create directory '%s': %s",
+                                    o.output_dir.c_str(), ec.message().c_str()));
   }
   for (int i = 0; i < o.count; ++i) {
     tools::Image image;
     image.width = o.width;
     image.height = o.height;
     image.channels = 3;
-    image.pixels = quantize::synthetic_touch_frame(o.height, o.width, o.seed + static_cast<uint64_t>(i));
+    image.pixels =
+        quantize::synthetic_touch_frame(o.height, o.width, o.seed + static_cast<uint64_t>(i));
     char name[32];
     std::snprintf(name, sizeof name, "frame_%04d.ppm", i);
     const std::string path = (std::filesystem::path(o.output_dir) / name).string();
-    if (Status s = tools::write_pnm(path, image); !s.ok()) return report_error("gen-frames", s.error());
+    if (Status s = tools::write_pnm(path, image); !s.ok())
+      return report_error("gen-frames", s.error());
   }
   std::printf("wrote %d synthetic frames %dx%d (seeds %" PRIu64 "..%" PRIu64 ") to %s\n", o.count,
               o.width, o.height, o.seed, o.seed + static_cast<uint64_t>(o.count) - 1,
@@ -56,13 +59,17 @@ void add_gen_frames_command(CLI::App& app, int& exit_code) {
       "gen-frames",
       "Write seeded synthetic tactile frames (smooth LED illumination, contact blobs, sensor "
       "noise) as binary PPM files frame_0000.ppm, ...");
-  cmd->add_option("-o,--output", o->output_dir, "Output directory (created if missing)")->required();
-  cmd->add_option("-n,--count", o->count, "Number of frames")->check(CLI::Range(1, 100000))
+  cmd->add_option("-o,--output", o->output_dir, "Output directory (created if missing)")
+      ->required();
+  cmd->add_option("-n,--count", o->count, "Number of frames")
+      ->check(CLI::Range(1, 100000))
       ->capture_default_str();
   cmd->add_option("--height", o->height, "Frame height in pixels")
-      ->check(CLI::Range(1, kMaxFrameSide))->capture_default_str();
+      ->check(CLI::Range(1, kMaxFrameSide))
+      ->capture_default_str();
   cmd->add_option("--width", o->width, "Frame width in pixels")
-      ->check(CLI::Range(1, kMaxFrameSide))->capture_default_str();
+      ->check(CLI::Range(1, kMaxFrameSide))
+      ->capture_default_str();
   cmd->add_option("-s,--seed", o->seed, "Seed of the first frame (frame i uses seed + i)")
       ->capture_default_str();
   cmd->footer(kExitCodeFooter);

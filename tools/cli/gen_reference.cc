@@ -4,8 +4,8 @@
 #include <cstdio>
 
 #include "common.h"
-#include "tlvlink/quantize/frames.h"
 #include "tlvlink/io/file.h"
+#include "tlvlink/quantize/frames.h"
 #include "tlvlink/quantize/reference_encoder.h"
 
 namespace tlvlink::cli {

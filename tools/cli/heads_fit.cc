@@ -11,8 +11,8 @@
 #include "eval_flags.h"
 #include "tlvlink/eval/run.h"
 #include "tlvlink/eval/trust.h"
-#include "tlvlink/head_trust.h"
 #include "tlvlink/eval/user_head.h"
+#include "tlvlink/head_trust.h"
 #include "tlvlink/io/file.h"
 #include "tlvlink/io/sensor_frame.h"
 
@@ -33,9 +33,10 @@ struct HeadsFitCommand {
 int run_user_head_fit(const HeadsFitCommand& c) {
   const char* command = "heads fit";
   if (!c.flags.touch.empty() || !c.flags.grasp.empty()) {
-    return report_error(command, Error::make(ErrorCode::kInvalidArgument,
-                                             "--images fits one head of your own; --touch / "
-                                             "--grasp fit the built-in heads: give one or the other"));
+    return report_error(command,
+                        Error::make(ErrorCode::kInvalidArgument,
+                                    "--images fits one head of your own; --touch / "
+                                    "--grasp fit the built-in heads: give one or the other"));
   }
   if (c.head.empty()) {
     return report_error(command, Error::make(ErrorCode::kInvalidArgument,
@@ -50,7 +51,8 @@ int run_user_head_fit(const HeadsFitCommand& c) {
   auto frames = c.recordings.empty() ? eval::read_labelled_folder(c.images)
                                      : eval::read_labelled_recordings(c.recordings, c.stride);
   if (!frames.ok()) return report_error(command, frames.error());
-  for (const std::string& s : frames->skipped) std::fprintf(stderr, "note: skipped %s\n", s.c_str());
+  for (const std::string& s : frames->skipped)
+    std::fprintf(stderr, "note: skipped %s\n", s.c_str());
   eval::UserHeadOptions o;
   o.head = c.head;
   o.sensor = c.sensor;
@@ -64,15 +66,16 @@ int run_user_head_fit(const HeadsFitCommand& c) {
   bool replaced = false;
   auto bytes = eval::model_with_user_head(**model, fit->head, &replaced);
   if (!bytes.ok()) return report_error(command, bytes.error());
-  if (Status s = tools::write_file(c.output, *bytes); !s.ok()) return report_error(command, s.error());
+  if (Status s = tools::write_file(c.output, *bytes); !s.ok())
+    return report_error(command, s.error());
   std::fputs(eval::format_user_head(*frames, *fit).c_str(), stdout);
   const TrustAssessment a = assess_head(eval::trust_view(fit->head.trust));
   std::printf("head '%s' (%s) %s: %s%s\n", c.head.c_str(), replaced ? "replaced" : "added",
               head_trust_level_name(a.level),
-              a.below_baseline ? "it does not beat the pixel baseline, "
+              a.below_baseline                        ? "it does not beat the pixel baseline, "
               : a.level == HeadTrustLevel::kUntrusted ? "it does not beat the majority class by "
-                                                         "the rule's margin, "
-                                                       : "",
+                                                        "the rule's margin, "
+                                                      : "",
               a.level == HeadTrustLevel::kTrusted ? "reported by default"
                                                   : "left out of the default output");
   std::printf("wrote %s (%zu bytes)%s\n", c.output.c_str(), bytes->size(),
@@ -86,9 +89,9 @@ int run_heads_fit(const HeadsFitCommand& c) {
   const char* command = "heads fit";
   // Checked before any fitting: a run of minutes must not end by replacing someone's file.
   if (!c.overwrite && std::filesystem::exists(c.output)) {
-    return report_error(command, Error::make(ErrorCode::kIo,
-                                             "%s exists; pass --overwrite to replace it",
-                                             c.output.c_str()));
+    return report_error(
+        command,
+        Error::make(ErrorCode::kIo, "%s exists; pass --overwrite to replace it", c.output.c_str()));
   }
   if (!c.images.empty() || !c.recordings.empty()) return run_user_head_fit(c);
   eval::HeadsFitJob job;
@@ -150,8 +153,9 @@ void add_heads_command(CLI::App& app, int& exit_code) {
                   "the recordings");
   cmd->add_option("--stride", c->stride, "With --recordings: keep every N-th frame")
       ->check(CLI::Range(1, 100000));
-  cmd->add_option("--head", c->head,
-                  "With --images / --recordings: the head's name (a linear head of that name is replaced)");
+  cmd->add_option(
+      "--head", c->head,
+      "With --images / --recordings: the head's name (a linear head of that name is replaced)");
   cmd->add_option("--sensor", c->sensor,
                   "With --images: the sensor the frames come from (" + tools::known_sensor_names() +
                       "); default: detected from each frame's size");
@@ -159,7 +163,8 @@ void add_heads_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(2, 50));
   cmd->add_flag("--learning-curve", c->learning_curve,
                 "With --images: also print how accuracy grows with the labelled groups per class");
-  cmd->add_flag("--overwrite", c->overwrite, "Replace an existing output file (refused without it)");
+  cmd->add_flag("--overwrite", c->overwrite,
+                "Replace an existing output file (refused without it)");
   cmd->footer(kExitCodeFooter);
   cmd->callback([c, &exit_code] { exit_code = run_heads_fit(*c); });
 }

@@ -50,13 +50,13 @@ void print_heads(const Metadata& m, std::span<const float> embedding) {
     }
   }
   if (m.grasp_head.present) {
-    std::printf("head %-14.*s %-9s -> needs %zu embeddings (%.*s); not computed from one frame"
-                "  [%s]\n",
-                static_cast<int>(m.grasp_head.name.size()), m.grasp_head.name.data(), "probe",
-                m.grasp_head.weight.size() / static_cast<size_t>(m.embedding_dim),
-                static_cast<int>(m.grasp_head.feature_layout.size()),
-                m.grasp_head.feature_layout.data(),
-                inspect::trust_text(m.grasp_head.trust, false).c_str());
+    std::printf(
+        "head %-14.*s %-9s -> needs %zu embeddings (%.*s); not computed from one frame"
+        "  [%s]\n",
+        static_cast<int>(m.grasp_head.name.size()), m.grasp_head.name.data(), "probe",
+        m.grasp_head.weight.size() / static_cast<size_t>(m.embedding_dim),
+        static_cast<int>(m.grasp_head.feature_layout.size()), m.grasp_head.feature_layout.data(),
+        inspect::trust_text(m.grasp_head.trust, false).c_str());
   }
   if (m.provenance.training.find("random-reference") != std::string_view::npos) {
     std::printf(

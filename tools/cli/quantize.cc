@@ -54,7 +54,8 @@ int run_quantize(const QuantizeFlags& f) {
   if (!shown.ok()) return report_error(cmd, shown.error());
   std::fputs(quantize::format_summary(*run).c_str(), stdout);
   if (!f.report_dir.empty())
-    std::printf("  %-12s %s/{report.json,layers.csv,summary.txt}\n", "report", f.report_dir.c_str());
+    std::printf("  %-12s %s/{report.json,layers.csv,summary.txt}\n", "report",
+                f.report_dir.c_str());
   return kExitOk;
 }
 
@@ -68,8 +69,9 @@ void add_quantize_command(CLI::App& app, int& exit_code) {
       "simulator's extreme set) through the model's own preprocessing, keep layers that cannot "
       "meet int8 constraints in fp32, and report the per-layer and end-to-end error on "
       "held-out frames");
-  cmd->add_option("model", f->model, "Float model (.tlvm), e.g. from gen-reference --dtype fp32, "
-                                     "convert or the trainer's export")
+  cmd->add_option("model", f->model,
+                  "Float model (.tlvm), e.g. from gen-reference --dtype fp32, "
+                  "convert or the trainer's export")
       ->required();
   cmd->add_option("-o,--output", f->output, "Output int8 model (.tlvm)")->required();
   f->data.add_to(*cmd);
@@ -93,7 +95,8 @@ void add_quantize_command(CLI::App& app, int& exit_code) {
                   "it the layer stays fp32")
       ->check(CLI::Range(1.0, 1e6))
       ->capture_default_str();
-  cmd->add_flag("--no-fuse", f->no_fuse, "Do not fuse standalone ReLU/ReLU6 clamps into the op before");
+  cmd->add_flag("--no-fuse", f->no_fuse,
+                "Do not fuse standalone ReLU/ReLU6 clamps into the op before");
   cmd->add_option("--bias-correction", f->bias_correction_frames,
                   "Empirical bias correction on this many calibration frames (0 = off): each "
                   "conv/FC layer's mean output shift per channel, caused by quantization, is "

@@ -63,7 +63,8 @@ void add_quantize_sweep_command(CLI::App& app, int& exit_code) {
       "Error against run time: quantize each model with each variant (per-tensor / per-channel "
       "weights, each calibration method), measure the embedding error on held-out frames and "
       "the XNNPACK latency at each thread count; write CSV, JSON and an SVG plot");
-  cmd->add_option("--models", f->models, "Float models (.tlvm), comma-separated (sizes / resolutions)")
+  cmd->add_option("--models", f->models,
+                  "Float models (.tlvm), comma-separated (sizes / resolutions)")
       ->required()
       ->delimiter(',')
       ->check(CLI::ExistingFile);
@@ -73,13 +74,15 @@ void add_quantize_sweep_command(CLI::App& app, int& exit_code) {
       ->delimiter(',')
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
-  cmd->add_option("--methods", f->methods, "Calibration methods (the first is also used for the per-tensor row)")
+  cmd->add_option("--methods", f->methods,
+                  "Calibration methods (the first is also used for the per-tensor row)")
       ->delimiter(',')
       ->check(CLI::IsMember({"minmax", "ema", "percentile", "entropy", "mse"}))
       ->capture_default_str();
-  cmd->add_option("--keep-float", f->keep_float,
-                  "Also a mixed-precision row: these operators in fp32 ('first' / 'last' as in "
-                  "quantize), calibrated with percentile when --methods has it, else the first method")
+  cmd->add_option(
+         "--keep-float", f->keep_float,
+         "Also a mixed-precision row: these operators in fp32 ('first' / 'last' as in "
+         "quantize), calibrated with percentile when --methods has it, else the first method")
       ->delimiter(',');
   cmd->add_option("--percentile", f->percentile, "Percentile of the percentile method")
       ->check(CLI::Range(50.0, 100.0))
@@ -96,9 +99,10 @@ void add_quantize_sweep_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
   cmd->add_flag("--quiet,-q", f->quiet, "Progress as one summary line per phase (never redrawn)");
-  cmd->footer(std::string(kExitCodeFooter) +
-              "\nExample: tlvlink quantize-sweep --models enc96.tlvm,enc128.tlvm --calib /data/t100k "
-              "-o /tmp/sweep --threads 1,2");
+  cmd->footer(
+      std::string(kExitCodeFooter) +
+      "\nExample: tlvlink quantize-sweep --models enc96.tlvm,enc128.tlvm --calib /data/t100k "
+      "-o /tmp/sweep --threads 1,2");
   cmd->callback([f, &exit_code] { exit_code = run_sweep(*f); });
 }
 

@@ -29,11 +29,13 @@ int run_score(const ScoreFlags& f) {
   }
   if (!f.offline.empty()) {
     std::vector<score::RunFiles> runs;
-    for (size_t i = 0; i < f.truth.size(); ++i) runs.push_back({f.truth[i], f.predictions[i], f.offline[i]});
+    for (size_t i = 0; i < f.truth.size(); ++i)
+      runs.push_back({f.truth[i], f.predictions[i], f.offline[i]});
     auto r = score::compare_live_offline(runs, f.fingers);
     if (!r.ok()) return report_error("score", r.error());
-    std::printf("%s\n", f.json ? score::format_live_offline_json(*r).c_str()
-                               : (score::format_score(r->live) + score::format_live_offline(*r)).c_str());
+    std::printf("%s\n",
+                f.json ? score::format_live_offline_json(*r).c_str()
+                       : (score::format_score(r->live) + score::format_live_offline(*r)).c_str());
     return kExitOk;
   }
   score::ScoreReport pooled;
@@ -46,7 +48,8 @@ int run_score(const ScoreFlags& f) {
       score::merge_scores(pooled, *r);
     }
   }
-  std::printf("%s\n", f.json ? score::format_score_json(pooled).c_str() : score::format_score(pooled).c_str());
+  std::printf("%s\n", f.json ? score::format_score_json(pooled).c_str()
+                             : score::format_score(pooled).c_str());
   return kExitOk;
 }
 

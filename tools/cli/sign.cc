@@ -41,9 +41,8 @@ int rewrite_file(const char* command, const SignOptions& o, Transform transform)
 int run_sign(const SignOptions& o) {
   auto key = quantize::read_secret_key_file(o.key);
   if (!key.ok()) return report_error("sign", key.error());
-  const int rc = rewrite_file("sign", o, [&](std::span<const std::byte> b) {
-    return quantize::sign_model(b, *key);
-  });
+  const int rc = rewrite_file(
+      "sign", o, [&](std::span<const std::byte> b) { return quantize::sign_model(b, *key); });
   if (rc != kExitOk) return rc;
   char id[17];
   to_hex(key_id(public_half(*key)), id, sizeof id);
@@ -52,12 +51,13 @@ int run_sign(const SignOptions& o) {
 }
 
 int run_upgrade(const SignOptions& o) {
-  const int rc = rewrite_file("upgrade", o, [](std::span<const std::byte> b) {
-    return quantize::upgrade_model(b);
-  });
+  const int rc = rewrite_file(
+      "upgrade", o, [](std::span<const std::byte> b) { return quantize::upgrade_model(b); });
   if (rc == kExitOk) {
-    std::printf("wrote %s: same graph, constants and metadata, with the integrity trailer and "
-                "golden head outputs\n", (o.output.empty() ? o.model : o.output).c_str());
+    std::printf(
+        "wrote %s: same graph, constants and metadata, with the integrity trailer and "
+        "golden head outputs\n",
+        (o.output.empty() ? o.model : o.output).c_str());
   }
   return rc;
 }
@@ -82,8 +82,9 @@ void add_sign_commands(CLI::App& app, int& exit_code) {
   sign->callback([o, &exit_code] { exit_code = run_sign(*o); });
 
   CLI::App* upgrade = app.add_subcommand(
-      "upgrade", "Rewrite a model written before the integrity trailer (its old checksum is "
-                 "checked first): same graph and weights, whole-file hash, golden head outputs");
+      "upgrade",
+      "Rewrite a model written before the integrity trailer (its old checksum is "
+      "checked first): same graph and weights, whole-file hash, golden head outputs");
   upgrade->add_option("model", o->model, "Model file (.tlvm)")->required();
   upgrade->add_option("-o,--output", o->output, "Output model file")->required();
   upgrade->footer(kExitCodeFooter);

@@ -140,12 +140,13 @@ void add_sim_feel_command(CLI::App& sim, int& exit_code) {
                   "(0 = none)")
       ->check(CLI::Range(0, 100))
       ->capture_default_str();
-  CLI::Option* live_path = cmd->add_flag("--live-path", f->live_path,
-                "Every GelSight frame through its sensor's raw camera output and the board's "
-                "decoder, as tlvlinkd sees it (the Mini's MJPEG 3280x2464 decoded at 1/8, DIGIT's "
-                "YUYV) instead of --camera-jpeg-quality's round trip, which then applies to the "
-                "vision frames only. Slower (~30 ms per Mini frame); the HDF5 layout stores the "
-                "frames losslessly, --repacked compresses them again at --jpeg-quality");
+  CLI::Option* live_path = cmd->add_flag(
+      "--live-path", f->live_path,
+      "Every GelSight frame through its sensor's raw camera output and the board's "
+      "decoder, as tlvlinkd sees it (the Mini's MJPEG 3280x2464 decoded at 1/8, DIGIT's "
+      "YUYV) instead of --camera-jpeg-quality's round trip, which then applies to the "
+      "vision frames only. Slower (~30 ms per Mini frame); the HDF5 layout stores the "
+      "frames losslessly, --repacked compresses them again at --jpeg-quality");
   cmd->add_option("--live-path-fraction", f->live_path_fraction,
                   "Share of objects whose GelSight frames take --live-path's route, drawn per "
                   "object (independently of --markers-fraction); the others take "

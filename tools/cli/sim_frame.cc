@@ -11,8 +11,8 @@
 
 #include "common.h"
 #include "sim_commands.h"
-#include "tlvlink/io/file.h"
 #include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/file.h"
 #include "tlvlink/io/image.h"
 #include "tlvlink/io/pnm.h"
 #include "tlvlink/sim/raw_camera.h"

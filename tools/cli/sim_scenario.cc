@@ -40,8 +40,8 @@ int run_scenario(const ScenarioFlags& f) {
   std::printf(
       "scenario %s: %s, %d grasps (%d succeed) + %d presses, %.1f s = %lld frames per finger; "
       "%lld rendered, %.1f MB in A.tlvraw + B.tlvraw%s; truth.jsonl; written in %.1f s\n",
-      f.output_dir.c_str(), f.sensor.c_str(), f.grasps, r->grasps_succeeding, f.presses,
-      r->seconds, static_cast<long long>(r->frames), static_cast<long long>(r->rendered),
+      f.output_dir.c_str(), f.sensor.c_str(), f.grasps, r->grasps_succeeding, f.presses, r->seconds,
+      static_cast<long long>(r->frames), static_cast<long long>(r->rendered),
       static_cast<double>(r->file_bytes) / 1e6,
       f.offline ? " + A.offline.tlvraw + B.offline.tlvraw" : "", r->render_seconds);
   return kExitOk;
@@ -60,16 +60,19 @@ void add_sim_scenario_command(CLI::App& sim, int& exit_code) {
   cmd->add_option("-o,--output", f->output_dir, "Output directory (created)")->required();
   cmd->add_option("--sensor", f->sensor, "Sensor profile")->capture_default_str();
   cmd->add_option("--grasps", f->grasps, "Grasp + lift events (0..1000)")->capture_default_str();
-  cmd->add_option("--presses", f->presses, "Single-finger presses (0..1000)")->capture_default_str();
+  cmd->add_option("--presses", f->presses, "Single-finger presses (0..1000)")
+      ->capture_default_str();
   cmd->add_option("-s,--seed", f->seed, "Objects, sensors and noise")->capture_default_str();
-  cmd->add_option("--jpeg-quality", f->jpeg_quality, "MJPEG quality (1..100)")->capture_default_str();
+  cmd->add_option("--jpeg-quality", f->jpeg_quality, "MJPEG quality (1..100)")
+      ->capture_default_str();
   cmd->add_flag("--markers", f->markers, "A gel with printed markers");
   cmd->add_flag("--offline", f->offline,
                 "Also record the processed frames as the datasets store them (JPEG q90 of the "
                 "upright view) into DIR/A.offline.tlvraw and B.offline.tlvraw: replayed by "
                 "tlvlinkd (format mjpeg, the view's size, crop 0, jpeg_scale 1, orientation "
                 "upright) they give the offline image path's predictions of the same frames");
-  cmd->add_flag("--overwrite", f->overwrite, "Replace the files of an earlier scenario in the directory");
+  cmd->add_flag("--overwrite", f->overwrite,
+                "Replace the files of an earlier scenario in the directory");
   cmd->footer(kExitCodeFooter);
   cmd->callback([f, &exit_code] { exit_code = run_scenario(*f); });
 }

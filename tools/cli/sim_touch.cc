@@ -47,7 +47,8 @@ int run_touch(const TouchFlags& f) {
   job.generator.markers_fraction = f.markers_fraction;
   job.generator.seed = f.seed;
   job.generator.sensor_instances = f.sensor_instances;
-  job.format = f.format == "tag" ? sim::TouchSetFormat::kTouchAndGo : sim::TouchSetFormat::kTouch100k;
+  job.format =
+      f.format == "tag" ? sim::TouchSetFormat::kTouchAndGo : sim::TouchSetFormat::kTouch100k;
   job.writer.jpeg_quality = f.jpeg_quality;
   job.writer.test_fraction = f.test_fraction;
   job.writer.sidecar = !f.no_sidecar;

@@ -2,8 +2,8 @@
 // decode; real frames re-encoded and shifted), and how far embeddings and heads move.
 #include <cstdio>
 #include <filesystem>
-#include <span>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "common.h"
@@ -35,8 +35,8 @@ int run_stability(StabilityFlags& f) {
   std::fputs(eval::format_stability(*r).c_str(), stdout);
   if (!f.json.empty()) {
     const std::string text = eval::stability_json(*r) + "\n";
-    const Status st = tools::write_file(
-        f.json, std::as_bytes(std::span<const char>(text.data(), text.size())));
+    const Status st =
+        tools::write_file(f.json, std::as_bytes(std::span<const char>(text.data(), text.size())));
     if (!st.ok()) return report_error("stability", st.error());
   }
   if (f.check && !r->meets_target()) {

@@ -29,12 +29,15 @@ int run_strip(const StripOptions& o) {
               static_cast<unsigned long long>(r->bytes_after));
   std::printf("  heads kept: %s\n  heads removed: %s\n", kept.empty() ? "none" : kept.c_str(),
               removed.empty() ? "none" : removed.c_str());
-  std::printf("  golden pairs: %zu of %zu kept, verified: PASS\n", r->golden_after, r->golden_before);
+  std::printf("  golden pairs: %zu of %zu kept, verified: PASS\n", r->golden_after,
+              r->golden_before);
   if (r->signed_copy) {
     std::printf("  signed with %s\n", o.key.c_str());
   } else if (!r->source_key_id.empty()) {
-    std::printf("  warning: the source was signed (key %s); this copy is not: pass --key to sign "
-                "it, or a daemon with model_public_key refuses it\n", r->source_key_id.c_str());
+    std::printf(
+        "  warning: the source was signed (key %s); this copy is not: pass --key to sign "
+        "it, or a daemon with model_public_key refuses it\n",
+        r->source_key_id.c_str());
   }
   return kExitOk;
 }
@@ -46,8 +49,10 @@ void add_strip_command(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand(
       "strip", "Write a model with only the heads and golden pairs a scene uses (boards/scenes)");
   cmd->add_option("model", o->model, "Model file (.tlvm)")->required();
-  cmd->add_option("--scene", o->scene, "Scene name (in --scenes-dir) or a scene .toml file")->required();
-  cmd->add_option("--scenes-dir", o->scenes_dir, "Where scene names are looked up")->capture_default_str();
+  cmd->add_option("--scene", o->scene, "Scene name (in --scenes-dir) or a scene .toml file")
+      ->required();
+  cmd->add_option("--scenes-dir", o->scenes_dir, "Where scene names are looked up")
+      ->capture_default_str();
   cmd->add_option("-o,--output", o->out, "The stripped model")->required();
   cmd->add_option("--key", o->key, "Secret key file (tlvlink keygen): sign the stripped copy");
   cmd->footer(kExitCodeFooter);

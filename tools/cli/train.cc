@@ -49,7 +49,8 @@ int run_train(TrainFlags& f) {
       if (opt->count() > 0) {
         std::fprintf(stderr,
                      "tlvlink train: %s cannot be combined with --resume (a resumed run uses the "
-                     "checkpoint's settings)\n", opt->get_name().c_str());
+                     "checkpoint's settings)\n",
+                     opt->get_name().c_str());
         return kExitUsage;
       }
     }
@@ -71,11 +72,12 @@ int run_train(TrainFlags& f) {
   if (!summary.ok()) return report_error("train", summary.error());
   const trainer::TrainSummary& s = *summary;
   std::printf("trained %s\n", s.arch_description.c_str());
-  std::printf("  %lld training samples, steps %lld..%lld (%lld per epoch), mean loss first epoch "
-              "%.4f, last epoch %.4f, final %.4f\n",
-              static_cast<long long>(s.train_samples), static_cast<long long>(s.start_step),
-              static_cast<long long>(s.steps), static_cast<long long>(s.steps_per_epoch),
-              s.first_epoch_loss, s.last_epoch_loss, s.final_loss);
+  std::printf(
+      "  %lld training samples, steps %lld..%lld (%lld per epoch), mean loss first epoch "
+      "%.4f, last epoch %.4f, final %.4f\n",
+      static_cast<long long>(s.train_samples), static_cast<long long>(s.start_step),
+      static_cast<long long>(s.steps), static_cast<long long>(s.steps_per_epoch),
+      s.first_epoch_loss, s.last_epoch_loss, s.final_loss);
   std::printf("  student %.1f samples/s; wall: load %.1fs, teacher %.1fs, student %.1fs\n",
               s.student_samples_per_s, s.load_seconds, s.teacher_seconds, s.student_seconds);
   std::printf("  checkpoint %s\n  log %s\n", s.checkpoint.c_str(), s.log_path.c_str());
@@ -88,8 +90,9 @@ void add_train_command(CLI::App& app, int& exit_code) {
   auto f = std::make_shared<TrainFlags>();
   trainer::TrainOptions& o = f->o;
   CLI::App* cmd = app.add_subcommand(
-      "train", "Train an edge touch encoder with TLV-Link (vision teacher, curriculum, InfoNCE "
-               "against frozen text features) on a Touch100k-format set");
+      "train",
+      "Train an edge touch encoder with TLV-Link (vision teacher, curriculum, InfoNCE "
+      "against frozen text features) on a Touch100k-format set");
   auto setting = [&f](CLI::Option* opt) {
     f->settings.push_back(opt);
     return opt;
@@ -102,8 +105,8 @@ void add_train_command(CLI::App& app, int& exit_code) {
               ->capture_default_str());
   setting(cmd->add_option("--input-height", o.input_height, "Model input height")
               ->capture_default_str());
-  setting(cmd->add_option("--input-width", o.input_width, "Model input width")
-              ->capture_default_str());
+  setting(
+      cmd->add_option("--input-width", o.input_width, "Model input width")->capture_default_str());
   setting(cmd->add_option("--epochs", o.epochs, "Epochs over the training split")
               ->capture_default_str());
   setting(cmd->add_option("--max-steps", o.max_steps,
@@ -116,28 +119,28 @@ void add_train_command(CLI::App& app, int& exit_code) {
               ->capture_default_str());
   setting(cmd->add_option("--min-lr", o.lr.min_lr, "Learning rate at the end of the decay")
               ->capture_default_str());
-  setting(cmd->add_option("--weight-decay", o.weight_decay,
-                          "AdamW weight decay (conv/FC weights only)")
-              ->capture_default_str());
+  setting(
+      cmd->add_option("--weight-decay", o.weight_decay, "AdamW weight decay (conv/FC weights only)")
+          ->capture_default_str());
   setting(cmd->add_option("--adam-beta1", o.adam_beta1, "AdamW beta1")->capture_default_str());
   setting(cmd->add_option("--adam-beta2", o.adam_beta2, "AdamW beta2")->capture_default_str());
   setting(cmd->add_option("--adam-eps", o.adam_eps, "AdamW epsilon")->capture_default_str());
   setting(cmd->add_option("--temperature", o.init_temperature,
                           "Initial InfoNCE temperature (learnable)")
               ->capture_default_str());
-  setting(cmd->add_option("--max-logit-scale", o.max_logit_scale,
-                          "Clamp of 1/temperature (CLIP: 100)")
-              ->capture_default_str());
+  setting(
+      cmd->add_option("--max-logit-scale", o.max_logit_scale, "Clamp of 1/temperature (CLIP: 100)")
+          ->capture_default_str());
   setting(cmd->add_option("--beta-schedule", f->beta_schedule,
                           "Curriculum decay of beta: linear, exponential, cosine")
               ->check(CLI::IsMember({"linear", "exponential", "cosine"}))
               ->capture_default_str());
   setting(cmd->add_option("--beta1", o.beta.beta1, "beta at step 0")->capture_default_str());
-  setting(cmd->add_option("--beta-span", o.beta.span,
-                          "Fraction of all steps over which beta decays")
-              ->capture_default_str());
-  setting(cmd->add_option("--beta-min", o.beta.beta_min, "beta after the span")
-              ->capture_default_str());
+  setting(
+      cmd->add_option("--beta-span", o.beta.span, "Fraction of all steps over which beta decays")
+          ->capture_default_str());
+  setting(
+      cmd->add_option("--beta-min", o.beta.beta_min, "beta after the span")->capture_default_str());
   setting(cmd->add_flag("--no-curriculum", f->no_curriculum,
                         "beta = 0 throughout (the paper's ablation; no teacher is trained)"));
   setting(cmd->add_option("--objective", f->objective,
@@ -193,9 +196,9 @@ void add_train_command(CLI::App& app, int& exit_code) {
                           "--teacher-mean/--teacher-std -> [N,D]; default: the built-in teacher"));
   setting(cmd->add_option("--teacher-arch", o.teacher.builtin_arch, "Built-in teacher architecture")
               ->capture_default_str());
-  setting(cmd->add_option("--teacher-epochs", o.teacher.epochs,
-                          "Built-in teacher pre-training epochs")
-              ->capture_default_str());
+  setting(
+      cmd->add_option("--teacher-epochs", o.teacher.epochs, "Built-in teacher pre-training epochs")
+          ->capture_default_str());
   setting(cmd->add_option("--teacher-lr", o.teacher.lr, "Built-in teacher peak learning rate")
               ->capture_default_str());
   setting(cmd->add_option("--teacher-input-height", o.teacher.input_height,
@@ -217,8 +220,8 @@ void add_train_command(CLI::App& app, int& exit_code) {
               ->capture_default_str());
   setting(cmd->add_option("--text-seed", o.text.seed, "Hashing text encoder seed")
               ->capture_default_str());
-  setting(cmd->add_option("-s,--seed", o.seed, "Seed (weights and data order)")
-              ->capture_default_str());
+  setting(
+      cmd->add_option("-s,--seed", o.seed, "Seed (weights and data order)")->capture_default_str());
   setting(cmd->add_option("--max-samples", o.max_samples,
                           "Use only the first N training samples (0 = all)")
               ->capture_default_str());

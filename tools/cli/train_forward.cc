@@ -27,8 +27,8 @@ std::string trainer_path() {
 
 void add_forward(CLI::App& app, int& exit_code, const char* name, const char* help) {
   CLI::App* cmd = app.add_subcommand(name, help);
-  cmd->prefix_command();     // every later argument goes to tlvlink-train untouched ...
-  cmd->set_help_flag();      // ... --help included
+  cmd->prefix_command();  // every later argument goes to tlvlink-train untouched ...
+  cmd->set_help_flag();   // ... --help included
   cmd->footer(kExitCodeFooter);
   cmd->callback([cmd, &exit_code, name] {
     const std::string exe = trainer_path();

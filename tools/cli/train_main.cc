@@ -1,6 +1,6 @@
-// `tlvlink-train`: the libtorch half of the CLI (`train`, `export`, `adapt`). `tlvlink train|export|adapt ...`
-// runs this program with the same arguments (tools/cli/train_forward.cc), so the main `tlvlink`
-// binary does not load libtorch.
+// `tlvlink-train`: the libtorch half of the CLI (`train`, `export`, `adapt`). `tlvlink
+// train|export|adapt ...` runs this program with the same arguments (tools/cli/train_forward.cc),
+// so the main `tlvlink` binary does not load libtorch.
 
 #include <CLI/CLI.hpp>
 

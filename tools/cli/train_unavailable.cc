@@ -9,14 +9,16 @@ namespace tlvlink::cli {
 namespace {
 
 void add_unavailable(CLI::App& app, int& exit_code, const char* name, const char* what) {
-  CLI::App* cmd = app.add_subcommand(name, std::string(what) + " (not built: TLVLINK_BUILD_TRAINER=OFF)");
+  CLI::App* cmd =
+      app.add_subcommand(name, std::string(what) + " (not built: TLVLINK_BUILD_TRAINER=OFF)");
   cmd->allow_extras();
   cmd->footer(kExitCodeFooter);
   cmd->callback([&exit_code, name] {
     std::fprintf(stderr,
                  "tlvlink %s: this tlvlink was built with TLVLINK_BUILD_TRAINER=OFF; install "
                  "libtorch-dev (tools/setup/install_deps.sh test) and reconfigure with "
-                 "-DTLVLINK_BUILD_TRAINER=ON (the host preset does)\n", name);
+                 "-DTLVLINK_BUILD_TRAINER=ON (the host preset does)\n",
+                 name);
     exit_code = kExitFailure;
   });
 }
@@ -28,7 +30,8 @@ void add_train_command(CLI::App& app, int& exit_code) {
 }
 
 void add_adapt_command(CLI::App& app, int& exit_code) {
-  add_unavailable(app, exit_code, "adapt", "Compare an encoder adapted on your frames with a linear head");
+  add_unavailable(app, exit_code, "adapt",
+                  "Compare an encoder adapted on your frames with a linear head");
 }
 
 void add_export_command(CLI::App& app, int& exit_code) {

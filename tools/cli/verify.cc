@@ -41,8 +41,8 @@ int run_verify(const VerifyOptions& o) {
   }
   const verify::HeadCheck& h = report->heads;
   if (h.stored) {
-    std::printf("golden head outputs: max abs error %.4g (tolerance %.4g), %s\n",
-                h.max_abs_error, h.tolerance, h.pass ? "PASS" : "FAIL");
+    std::printf("golden head outputs: max abs error %.4g (tolerance %.4g), %s\n", h.max_abs_error,
+                h.tolerance, h.pass ? "PASS" : "FAIL");
   } else {
     std::printf("golden head outputs: none stored (a file from before them)\n");
   }

@@ -32,7 +32,7 @@ core_pkgs=(build-essential cmake ninja-build pkg-config ccache
   libonnx-dev libprotobuf-dev
   libjpeg62-turbo-dev libcamera-dev libtomlplusplus-dev libusb-1.0-0-dev
   libwebsocketpp-dev libasio-dev)
-test_pkgs=(libgtest-dev libgmock-dev clang libclang-rt-14-dev llvm
+test_pkgs=(libgtest-dev libgmock-dev clang clang-format libclang-rt-14-dev llvm
   python3-torch python3-onnx python3-numpy libtorch-dev
   python3-serial python3-usb python3-pytest
   chromium)  # headless: the live view's picture (tools/foxglove/view/screenshot.sh, ctest foxglove.live_view)

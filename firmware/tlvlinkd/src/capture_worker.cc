@@ -12,9 +12,10 @@ namespace tlvlink::daemon::internal {
 namespace {
 
 TLV_LOG_CATEGORY(kLogCapture, "capture");
-constexpr int32_t kPollMs = 100;                          // how often stop is checked
+constexpr int32_t kPollMs = 100;  // how often stop is checked
 constexpr int64_t kPollNs = int64_t{kPollMs} * 1'000'000;
-constexpr int64_t kDecodeEventIntervalNs = 1'000'000'000;  // at most one decode error event a second
+constexpr int64_t kDecodeEventIntervalNs =
+    1'000'000'000;  // at most one decode error event a second
 
 }  // namespace
 
@@ -50,8 +51,7 @@ void CaptureWorker::handle_error(const Error& e) {
       if (!in_outage_) event(true, "camera lost: %s", e.message());
       in_outage_ = true;
       return;
-    default:
-      event(true, "%s", e.message());
+    default: event(true, "%s", e.message());
   }
 }
 
@@ -80,8 +80,10 @@ void CaptureWorker::run() {
     } else {
       if (in_outage_) {
         const capture::SourceStats& st = source_->stats();
-        event(false, "camera back (outage %llu; %.2f s without camera in all, %llu reopen "
-              "attempts failed)", static_cast<unsigned long long>(st.disconnects),
+        event(false,
+              "camera back (outage %llu; %.2f s without camera in all, %llu reopen "
+              "attempts failed)",
+              static_cast<unsigned long long>(st.disconnects),
               static_cast<double>(st.outage_ns) * 1e-9,
               static_cast<unsigned long long>(st.reconnect_attempts));
         in_outage_ = false;
@@ -105,7 +107,8 @@ void CaptureWorker::run() {
           last_decode_event_ns_ = now;
           event(true, "frame %llu not decoded (%llu so far): %s",
                 static_cast<unsigned long long>(frame->sequence),
-                static_cast<unsigned long long>(snapshot_.decode_errors), decoded.error().message());
+                static_cast<unsigned long long>(snapshot_.decode_errors),
+                decoded.error().message());
         }
       }
     }

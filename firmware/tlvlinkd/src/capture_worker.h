@@ -32,7 +32,8 @@ class CaptureWorker {
   CaptureWorker(int32_t index, std::string name, std::unique_ptr<capture::FrameSource> source,
                 image::FrameDecoder decoder, FrameRing& ring, OutputQueue& events,
                 const std::atomic<bool>& stop);
-  void run();  // the thread body; returns when stop is set or a replay ended (the source is stopped)
+  void
+  run();  // the thread body; returns when stop is set or a replay ended (the source is stopped)
   bool ended() const { return ended_.load(); }  // a replay played its last frame (or failed)
   // A replay that cannot go on (kFormat: e.g. no good frame in a whole pass): ended, in error.
   bool failed() const { return failed_.load(); }

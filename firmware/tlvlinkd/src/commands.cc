@@ -15,7 +15,7 @@ Result<std::vector<ScriptedCommand>> load_command_script(const std::string& path
   // Opened without blocking and checked to be a regular file: a FIFO here must not hang start.
   const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   TLV_ENSURE(fd >= 0, ErrorCode::kIo, "command_script %s: %s", path.c_str(), std::strerror(errno));
-  struct stat st_buf{};
+  struct stat st_buf {};
   if (::fstat(fd, &st_buf) != 0 || !S_ISREG(st_buf.st_mode)) {
     ::close(fd);
     return Error::make(ErrorCode::kIo, "command_script %s: not a regular file", path.c_str());
@@ -43,7 +43,8 @@ Result<std::vector<ScriptedCommand>> load_command_script(const std::string& path
     if (got != 3 || which < 0 || (cmd != "closed" && cmd != "lifting")) {
       st = Error::make(ErrorCode::kFormat,
                        "%s:%lld: expected 'FINGER SEQUENCE COMMAND' (finger A or B, command "
-                       "closed or lifting)", path.c_str(), static_cast<long long>(n));
+                       "closed or lifting)",
+                       path.c_str(), static_cast<long long>(n));
     } else if (sensor_of_finger[which] < 0) {
       st = Error::make(ErrorCode::kInvalidArgument, "%s:%lld: no sensor is finger %s", path.c_str(),
                        static_cast<long long>(n), finger);

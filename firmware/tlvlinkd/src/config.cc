@@ -1,8 +1,8 @@
 #include "tlvlink/daemon/config.h"
 
+#include "frame_images.h"
 #include "tlvlink/capture/device_select.h"
 #include "tlvlink/capture/frame_source.h"
-#include "frame_images.h"
 #include "toml_reader.h"
 #if defined(TLVLINK_HAVE_STREAM)
 #include "tlvlink/transport/transport_spec.h"
@@ -52,8 +52,8 @@ Status read_grasp(TableReader& r, pipeline::ProcessorOptions& p) {
   TLV_TRY(ms("before_max_age_ms", g.before_max_age_ns));
   TLV_TRY(ms("pair_tolerance_ms", g.pair_tolerance_ns));
   TLV_TRY(ms("frame_timeout_ms", g.frame_timeout_ns));
-  TLV_ENSURE(g.frame_timeout_ns > 0, ErrorCode::kInvalidArgument,
-             "%s: must be > 0", r.where("frame_timeout_ms").c_str());
+  TLV_ENSURE(g.frame_timeout_ns > 0, ErrorCode::kInvalidArgument, "%s: must be > 0",
+             r.where("frame_timeout_ms").c_str());
   return r.finish();
 }
 
@@ -152,8 +152,10 @@ Status read_frame_images(TableReader& r, DaemonConfig& c, int streams) {
   const pipeline::ContactGateOptions& g = c.processing.contact;
   for (const SensorConfig& s : c.sensors) {
     // The view at its sent size; the model's input is checked at start, once its size is known.
-    const internal::ImageSize size = internal::frame_image_size(s.view.width, s.view.height, c.frame_image_max_side);
-    const int32_t gw = std::min(g.grid_width, s.view.width), gh = std::min(g.grid_height, s.view.height);
+    const internal::ImageSize size =
+        internal::frame_image_size(s.view.width, s.view.height, c.frame_image_max_side);
+    const int32_t gw = std::min(g.grid_width, s.view.width),
+                  gh = std::min(g.grid_height, s.view.height);
     TLV_TRY(internal::check_frame_image_fits(size.width, size.height, c.frame_image_quality,
                                              gw <= 255 && gh <= 255 ? gw * gh : 0,
                                              r.where("frame_image_max_side").c_str()));
@@ -183,7 +185,8 @@ Status read_top(TableReader& r, DaemonConfig& c) {
   int streams = 0;
   for (const std::string& o : c.outputs) {
     const bool jsonl = o.rfind("jsonl:", 0) == 0 && o.size() > 6;
-    const bool stream = o.rfind("serial:", 0) == 0 || o.rfind("pty:", 0) == 0 || o.rfind("usb", 0) == 0;
+    const bool stream =
+        o.rfind("serial:", 0) == 0 || o.rfind("pty:", 0) == 0 || o.rfind("usb", 0) == 0;
     TLV_ENSURE(jsonl || stream, ErrorCode::kInvalidArgument,
                "%s: '%s': expected jsonl:-, jsonl:FILE, serial:PATH, pty:LINK or usb",
                r.where("output").c_str(), o.c_str());
@@ -195,9 +198,10 @@ Status read_top(TableReader& r, DaemonConfig& c) {
       if (!link.ok()) return link.error().with_context("%s", r.where("output").c_str());
     }
 #else
-    TLV_ENSURE(!stream, ErrorCode::kInvalidArgument,
-               "%s: '%s': this tlvlinkd was built without the stream link (TLVLINK_WITH_SERIAL=OFF)",
-               r.where("output").c_str(), o.c_str());
+    TLV_ENSURE(
+        !stream, ErrorCode::kInvalidArgument,
+        "%s: '%s': this tlvlinkd was built without the stream link (TLVLINK_WITH_SERIAL=OFF)",
+        r.where("output").c_str(), o.c_str());
 #endif
   }
   TLV_ENSURE(streams <= 1, ErrorCode::kInvalidArgument, "%s: at most one stream link (got %d)",
@@ -236,8 +240,8 @@ Status read_top(TableReader& r, DaemonConfig& c) {
   TLV_ENSURE(sensors != nullptr && !sensors->empty(), ErrorCode::kInvalidArgument,
              "%s: at least one [[sensor]] is required", r.where("sensor").c_str());
   TLV_ENSURE(sensors->size() <= static_cast<size_t>(pipeline::kMaxSensors),
-             ErrorCode::kInvalidArgument, "%s: %zu sensors; at most %d",
-             r.where("sensor").c_str(), sensors->size(), pipeline::kMaxSensors);
+             ErrorCode::kInvalidArgument, "%s: %zu sensors; at most %d", r.where("sensor").c_str(),
+             sensors->size(), pipeline::kMaxSensors);
   for (size_t i = 0; i < sensors->size(); ++i) {
     TableReader sub(*(*sensors)[i].as_table(), r.file(), r.child("sensor", static_cast<int>(i)));
     SensorConfig s;

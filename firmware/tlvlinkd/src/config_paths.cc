@@ -16,7 +16,8 @@ namespace {
 // A file read at start: a regular file (a FIFO would block the daemon before it takes signals).
 Status readable_file(const std::string& path, const char* key) {
   auto f = RegularFile::open(path.c_str());
-  if (!f.ok()) return Error(ErrorCode::kInvalidArgument, f.error().message()).with_context("%s", key);
+  if (!f.ok())
+    return Error(ErrorCode::kInvalidArgument, f.error().message()).with_context("%s", key);
   return Status();
 }
 

@@ -31,9 +31,15 @@ struct Feature {
   unsigned long bit;
 };
 constexpr Feature kFeatures[] = {
-    {"fp", HWCAP_FP},           {"asimd", HWCAP_ASIMD},       {"crc32", HWCAP_CRC32},
-    {"atomics", HWCAP_ATOMICS}, {"fphp", HWCAP_FPHP},         {"asimdhp", HWCAP_ASIMDHP},
-    {"asimdrdm", HWCAP_ASIMDRDM}, {"lrcpc", HWCAP_LRCPC},     {"asimddp", HWCAP_ASIMDDP},
+    {"fp", HWCAP_FP},
+    {"asimd", HWCAP_ASIMD},
+    {"crc32", HWCAP_CRC32},
+    {"atomics", HWCAP_ATOMICS},
+    {"fphp", HWCAP_FPHP},
+    {"asimdhp", HWCAP_ASIMDHP},
+    {"asimdrdm", HWCAP_ASIMDRDM},
+    {"lrcpc", HWCAP_LRCPC},
+    {"asimddp", HWCAP_ASIMDDP},
 };
 
 // Writes with write(2) only: stdio may not be usable this early in every libc.
@@ -58,8 +64,8 @@ __attribute__((constructor(101))) void check_cpu_features() {
     p = end;
   }
   if (missing[0] == '\0') return;
-  say("tlvlinkd: this binary is built for board " TLVLINK_BOARD_NAME " (CPU features: "
-      TLVLINK_TARGET_FEATURES "); this CPU lacks");
+  say("tlvlinkd: this binary is built for board " TLVLINK_BOARD_NAME
+      " (CPU features: " TLVLINK_TARGET_FEATURES "); this CPU lacks");
   say(missing);
   say(". Install the build for this board (tlvlink flash --board NAME).\n");
   ::_exit(1);

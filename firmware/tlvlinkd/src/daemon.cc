@@ -51,7 +51,7 @@ Wake wait(int sfd, bool stdin_commands, Session& session, bool& stdin_open) {
       return Wake::kNothing;
     }
     line[got] = '\0';
-    for (char* save = nullptr, *tok = strtok_r(line, "\n", &save); tok != nullptr;
+    for (char *save = nullptr, *tok = strtok_r(line, "\n", &save); tok != nullptr;
          tok = strtok_r(nullptr, "\n", &save)) {
       if (!session.command(tok)) TLV_LOG(kLogMain, kWarning, "not a command: '%s'", tok);
     }
@@ -86,8 +86,8 @@ int run_daemon(const std::string& path) {
     Wake why = Wake::kNothing;
     while (why == Wake::kNothing) {
       why = wait(sfd, current.control == ControlInput::kStdin, **session, stdin_open);
-      const bool timed_out = current.run_for_ms > 0 &&
-                             board_clock_ns() - started >= current.run_for_ms * 1'000'000;
+      const bool timed_out =
+          current.run_for_ms > 0 && board_clock_ns() - started >= current.run_for_ms * 1'000'000;
       if (why == Wake::kNothing && (timed_out || (*session)->limit_reached())) why = Wake::kStop;
       if (why == Wake::kReload) {
         auto reloaded = load_config(path);

@@ -34,7 +34,9 @@ double bits_per_pixel(int32_t quality) {
 size_t mask_bytes(int32_t cells) { return (static_cast<size_t>(cells) + 7) / 8; }
 
 // The contact gate's grid as a FrameImage carries it (at most 255 cells a side; none beyond).
-bool mask_on_wire(const pipeline::ContactGate& g) { return g.grid_width() <= 255 && g.grid_height() <= 255; }
+bool mask_on_wire(const pipeline::ContactGate& g) {
+  return g.grid_width() <= 255 && g.grid_height() <= 255;
+}
 
 }  // namespace
 
@@ -47,7 +49,8 @@ ImageSize frame_image_size(int32_t width, int32_t height, int32_t max_side) {
 
 Status check_frame_image_fits(int32_t width, int32_t height, int32_t quality, int32_t mask_cells,
                               const char* key) {
-  const size_t budget = protocol::kMaxPayloadSize - protocol::frame_image_overhead(mask_bytes(mask_cells));
+  const size_t budget =
+      protocol::kMaxPayloadSize - protocol::frame_image_overhead(mask_bytes(mask_cells));
   const double bound = static_cast<double>(width) * height * bits_per_pixel(quality) / 8;
   TLV_ENSURE(bound <= static_cast<double>(budget), ErrorCode::kInvalidArgument,
              "%s: a %dx%d JPEG at quality %d may take up to %.0f bytes; a FrameImage carries %zu "
@@ -56,9 +59,9 @@ Status check_frame_image_fits(int32_t width, int32_t height, int32_t quality, in
   return {};
 }
 
-Result<std::unique_ptr<FrameImages>> FrameImages::create(const DaemonConfig& config,
-                                                         std::span<const pipeline::SensorSetup> setups,
-                                                         const pipeline::FrameProcessor& processor, Post post) {
+Result<std::unique_ptr<FrameImages>> FrameImages::create(
+    const DaemonConfig& config, std::span<const pipeline::SensorSetup> setups,
+    const pipeline::FrameProcessor& processor, Post post) {
   auto f = std::unique_ptr<FrameImages>(new FrameImages(processor, std::move(post)));
   f->input_ = config.frame_images == FrameImageKind::kInput;
   f->quality_ = config.frame_image_quality;
@@ -72,8 +75,9 @@ Result<std::unique_ptr<FrameImages>> FrameImages::create(const DaemonConfig& con
     const pipeline::ContactGate& g = processor.gate(sensor);
     const int32_t cells = mask_on_wire(g) ? g.grid_width() * g.grid_height() : 0;
     // The model's input size is known only now: checked as the configuration's view was.
-    TLV_TRY(check_frame_image_fits(size.width, size.height, f->quality_, cells,
-                                   f->input_ ? "frame_images = \"input\"" : "frame_image_max_side"));
+    TLV_TRY(
+        check_frame_image_fits(size.width, size.height, f->quality_, cells,
+                               f->input_ ? "frame_images = \"input\"" : "frame_image_max_side"));
     pixels = std::max(pixels, static_cast<size_t>(size.width) * static_cast<size_t>(size.height) *
                                   static_cast<size_t>(setups[i].channels));
     mask = std::max(mask, mask_bytes(cells));
@@ -85,14 +89,17 @@ Result<std::unique_ptr<FrameImages>> FrameImages::create(const DaemonConfig& con
   }
   // The encoder's buffer (tjBufSize of the largest image) is allocated by its first encode.
   for (size_t i = 0; i < setups.size(); ++i) {
-    const ImageSize size = f->input_ ? ImageSize{processor.plan(static_cast<int32_t>(i)).width(),
-                                                 processor.plan(static_cast<int32_t>(i)).height()}
-                                     : frame_image_size(setups[i].width, setups[i].height, f->max_side_);
-    const image::ImageView blank{f->slots_[0].pixels.data(), size.width, size.height, setups[i].channels, 0};
-    auto warm = f->encoder_.encode(blank, f->quality_, setups[i].channels == 1
-                                                           ? image::JpegEncoder::Subsampling::kGray
+    const ImageSize size = f->input_
+                               ? ImageSize{processor.plan(static_cast<int32_t>(i)).width(),
+                                           processor.plan(static_cast<int32_t>(i)).height()}
+                               : frame_image_size(setups[i].width, setups[i].height, f->max_side_);
+    const image::ImageView blank{f->slots_[0].pixels.data(), size.width, size.height,
+                                 setups[i].channels, 0};
+    auto warm = f->encoder_.encode(blank, f->quality_,
+                                   setups[i].channels == 1 ? image::JpegEncoder::Subsampling::kGray
                                                            : image::JpegEncoder::Subsampling::k420);
-    if (!warm.ok()) return warm.error().with_context("frame images of sensor '%s'", setups[i].name.c_str());
+    if (!warm.ok())
+      return warm.error().with_context("frame images of sensor '%s'", setups[i].name.c_str());
   }
   return f;
 }
@@ -104,7 +111,8 @@ void FrameImages::fill(Slot& slot, int32_t sensor, const image::ImageView& frame
     const image::PreprocessPlan& plan = processor_.plan(sensor);
     slot.width = plan.width();
     slot.height = plan.height();
-    const size_t n = static_cast<size_t>(slot.width) * static_cast<size_t>(slot.height) * static_cast<size_t>(slot.channels);
+    const size_t n = static_cast<size_t>(slot.width) * static_cast<size_t>(slot.height) *
+                     static_cast<size_t>(slot.channels);
     if (!plan.resize(frame, std::span<uint8_t>(slot.pixels).first(n)).ok()) slot.width = 0;
   } else {
     // The view, nearest-neighbour down to max_side: a copy of at most max_side^2 pixels.
@@ -114,9 +122,11 @@ void FrameImages::fill(Slot& slot, int32_t sensor, const image::ImageView& frame
     const auto ch = static_cast<size_t>(frame.channels);
     uint8_t* out = slot.pixels.data();
     for (int32_t y = 0; y < size.height; ++y) {
-      const uint8_t* row = frame.row(static_cast<int32_t>(static_cast<int64_t>(y) * frame.height / size.height));
+      const uint8_t* row =
+          frame.row(static_cast<int32_t>(static_cast<int64_t>(y) * frame.height / size.height));
       for (int32_t x = 0; x < size.width; ++x) {
-        const uint8_t* p = row + static_cast<size_t>(static_cast<int64_t>(x) * frame.width / size.width) * ch;
+        const uint8_t* p =
+            row + static_cast<size_t>(static_cast<int64_t>(x) * frame.width / size.width) * ch;
         for (size_t c = 0; c < ch; ++c) *out++ = p[c];
       }
     }
@@ -125,15 +135,17 @@ void FrameImages::fill(Slot& slot, int32_t sensor, const image::ImageView& frame
   if (mask_on_wire(g)) {
     slot.mask_width = g.grid_width();
     slot.mask_height = g.grid_height();
-    if (!g.contact_mask(std::span<uint8_t>(slot.mask).first(mask_bytes(slot.mask_width * slot.mask_height))).ok())
+    if (!g.contact_mask(
+              std::span<uint8_t>(slot.mask).first(mask_bytes(slot.mask_width * slot.mask_height)))
+             .ok())
       slot.mask_width = slot.mask_height = 0;
   } else {
     slot.mask_width = slot.mask_height = 0;
   }
 }
 
-void FrameImages::offer(int32_t sensor, uint64_t sequence, int64_t capture_ns, const image::ImageView& frame,
-                        bool contact) {
+void FrameImages::offer(int32_t sensor, uint64_t sequence, int64_t capture_ns,
+                        const image::ImageView& frame, bool contact) {
   int64_t& due = next_due_ns_[static_cast<size_t>(sensor)];
   if (capture_ns < due) return;  // the frame loop's whole cost while no image is due
   // The next one a period on, on the capture clock; after a pause, a period from now.
@@ -143,7 +155,7 @@ void FrameImages::offer(int32_t sensor, uint64_t sequence, int64_t capture_ns, c
     std::lock_guard lock(mutex_);
     if (!free_.pop(i)) {
       if (!ready_.pop(i)) return;  // cannot happen with kSlots = 3 (one encoding at most)
-      busy_.fetch_add(1);           // the oldest waiting image gives way
+      busy_.fetch_add(1);          // the oldest waiting image gives way
     }
   }
   const int64_t t0 = board_clock_ns();
@@ -197,12 +209,14 @@ void FrameImages::encode_and_post(const Slot& slot) {
 
 void FrameImages::run(const std::atomic<bool>& stop) {
   // Linux: a thread's nice value is its own (setpriority on its thread id).
-  [[maybe_unused]] const int r = setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), kEncoderNice);
+  [[maybe_unused]] const int r =
+      setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), kEncoderNice);
   while (!stop.load()) {
     uint8_t i = 0;
     {
       std::unique_lock lock(mutex_);
-      wake_.wait_for(lock, std::chrono::milliseconds(100), [&] { return !ready_.empty() || stop.load(); });
+      wake_.wait_for(lock, std::chrono::milliseconds(100),
+                     [&] { return !ready_.empty() || stop.load(); });
       if (!ready_.pop(i)) continue;
     }
     const int64_t t0 = board_clock_ns();

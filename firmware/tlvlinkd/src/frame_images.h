@@ -54,11 +54,13 @@ class FrameImages {
   // the JPEG encoder up here.
   static Result<std::unique_ptr<FrameImages>> create(const DaemonConfig& config,
                                                      std::span<const pipeline::SensorSetup> setups,
-                                                     const pipeline::FrameProcessor& processor, Post post);
+                                                     const pipeline::FrameProcessor& processor,
+                                                     Post post);
 
   // The inference thread, after processing `frame` of `sensor`: one comparison unless an image
   // is due. No allocation.
-  void offer(int32_t sensor, uint64_t sequence, int64_t capture_ns, const image::ImageView& frame, bool contact);
+  void offer(int32_t sensor, uint64_t sequence, int64_t capture_ns, const image::ImageView& frame,
+             bool contact);
   // The encoder thread: returns when `stop` is set (images still waiting are not sent).
   void run(const std::atomic<bool>& stop);
 
@@ -84,7 +86,10 @@ class FrameImages {
     int32_t mask_width = 0, mask_height = 0;
   };
   FrameImages(const pipeline::FrameProcessor& processor, Post post)
-      : processor_(processor), post_(std::move(post)), free_(free_storage_), ready_(ready_storage_) {}
+      : processor_(processor),
+        post_(std::move(post)),
+        free_(free_storage_),
+        ready_(ready_storage_) {}
   void fill(Slot& slot, int32_t sensor, const image::ImageView& frame);
   void encode_and_post(const Slot& slot);
 

@@ -11,13 +11,12 @@ namespace tlvlink::daemon::internal {
 namespace {
 
 TLV_LOG_CATEGORY(kLogInference, "inference");
-constexpr int32_t kWaitMs = 50;  // wake at least this often: stop flag, grasp timeouts
+constexpr int32_t kWaitMs = 50;        // wake at least this often: stop flag, grasp timeouts
 constexpr int32_t kFramesPerTurn = 8;  // then commands, grasp timing and counters get their turn
 
 }  // namespace
 
-InferenceWorker::InferenceWorker(pipeline::FrameProcessor& processor,
-                                 std::vector<FrameRing*> rings,
+InferenceWorker::InferenceWorker(pipeline::FrameProcessor& processor, std::vector<FrameRing*> rings,
                                  std::vector<pipeline::SensorSetup> setups, Doorbell& doorbell,
                                  OutputQueue& output, CommandQueue& commands,
                                  const std::atomic<bool>& stop, std::atomic<bool>& limit_hit,
@@ -68,9 +67,9 @@ bool InferenceWorker::process_one() {
   }
   // The processed frame's geometry is the ring's; the processor checks it against its plan.
   const pipeline::SensorSetup& s = setups_[best];
-  const Status st = processor_.process(static_cast<int32_t>(best), f->sequence,
-                                       {f->rgb.data(), s.width, s.height, s.channels, 0},
-                                       f->times, record_);
+  const Status st =
+      processor_.process(static_cast<int32_t>(best), f->sequence,
+                         {f->rgb.data(), s.width, s.height, s.channels, 0}, f->times, record_);
   if (!st.ok()) {
     rings_[best]->recycle(f);
     errors_.fetch_add(1);
@@ -86,9 +85,10 @@ bool InferenceWorker::process_one() {
   output_.push(record_);
   // After the prediction is on its way: a due image is copied from the frame before it is recycled.
   if (images_ != nullptr) {
-    images_->offer(static_cast<int32_t>(best), f->sequence, f->times.capture_ns,
-                   {f->rgb.data(), s.width, s.height, s.channels, 0},
-                   record_.contact_state != static_cast<uint8_t>(pipeline::ContactState::kNoContact));
+    images_->offer(
+        static_cast<int32_t>(best), f->sequence, f->times.capture_ns,
+        {f->rgb.data(), s.width, s.height, s.channels, 0},
+        record_.contact_state != static_cast<uint8_t>(pipeline::ContactState::kNoContact));
   }
   rings_[best]->recycle(f);
   drain_grasps();

@@ -28,10 +28,10 @@ class InferenceWorker {
  public:
   // Borrows everything for its lifetime. max_frames 0: no limit; reaching it sets `limit_hit`.
   InferenceWorker(pipeline::FrameProcessor& processor, std::vector<FrameRing*> rings,
-                  std::vector<pipeline::SensorSetup> setups,
-                  Doorbell& doorbell, OutputQueue& output, CommandQueue& commands,
-                  const std::atomic<bool>& stop, std::atomic<bool>& limit_hit,
-                  int64_t max_frames, std::vector<ScriptedCommand> script = {});
+                  std::vector<pipeline::SensorSetup> setups, Doorbell& doorbell,
+                  OutputQueue& output, CommandQueue& commands, const std::atomic<bool>& stop,
+                  std::atomic<bool>& limit_hit, int64_t max_frames,
+                  std::vector<ScriptedCommand> script = {});
   void run();  // returns when stop is set, after the frames already decoded are processed
   // FrameImages offered every processed frame (borrowed; nullptr: off). Before run().
   void set_frame_images(FrameImages* images) { images_ = images; }

@@ -93,11 +93,12 @@ std::string JsonlWriter::problem() const {
     out = text;
   }
   if (failed_ == 0) return out;
-  std::snprintf(text, sizeof text, "%soutput %s: %llu record(s) not written (", out.empty() ? "" : "; ",
-                target_.c_str(), static_cast<unsigned long long>(failed_));
+  std::snprintf(text, sizeof text, "%soutput %s: %llu record(s) not written (",
+                out.empty() ? "" : "; ", target_.c_str(), static_cast<unsigned long long>(failed_));
   out += text;
   if (last_errno_ != 0) {
-    std::snprintf(text, sizeof text, "%llu: %s", static_cast<unsigned long long>(failed_ - too_long_),
+    std::snprintf(text, sizeof text, "%llu: %s",
+                  static_cast<unsigned long long>(failed_ - too_long_),
                   write_error_text(last_errno_));
     out += text;
   }
@@ -115,16 +116,18 @@ void JsonlWriter::frame(const pipeline::FramePrediction& p, int64_t written_ns) 
   line_.printf("{\"type\":\"frame\",\"sensor\":");
   line_.json_string(names_.sensors[static_cast<size_t>(p.sensor)]);
   // Stages as the stats and the stream name them (run_totals.h).
-  line_.printf(",\"seq\":%llu,\"capture_ns\":%lld,\"contact\":\"%s\",\"score_dn\":%.2f,"
-               "\"encoded\":%s,\"ms\":{\"dequeue\":%.3f,\"decode\":%.3f,\"queue\":%.3f",
-               static_cast<unsigned long long>(p.sequence), static_cast<long long>(t.capture_ns),
-               pipeline::contact_state_name(static_cast<pipeline::ContactState>(p.contact_state)),
-               static_cast<double>(p.contact_score_dn), p.encoder_ran ? "true" : "false",
-               ms_between(t.capture_ns, t.dequeued_ns), ms_between(t.dequeued_ns, t.decoded_ns),
-               ms_between(t.decoded_ns, t.gated_ns));
+  line_.printf(
+      ",\"seq\":%llu,\"capture_ns\":%lld,\"contact\":\"%s\",\"score_dn\":%.2f,"
+      "\"encoded\":%s,\"ms\":{\"dequeue\":%.3f,\"decode\":%.3f,\"queue\":%.3f",
+      static_cast<unsigned long long>(p.sequence), static_cast<long long>(t.capture_ns),
+      pipeline::contact_state_name(static_cast<pipeline::ContactState>(p.contact_state)),
+      static_cast<double>(p.contact_score_dn), p.encoder_ran ? "true" : "false",
+      ms_between(t.capture_ns, t.dequeued_ns), ms_between(t.dequeued_ns, t.decoded_ns),
+      ms_between(t.decoded_ns, t.gated_ns));
   if (p.encoder_ran) {
     line_.printf(",\"preprocess\":%.3f,\"encoder\":%.3f,\"heads\":%.3f",
-                 ms_between(t.gated_ns, t.preprocessed_ns), ms_between(t.preprocessed_ns, t.inferred_ns),
+                 ms_between(t.gated_ns, t.preprocessed_ns),
+                 ms_between(t.preprocessed_ns, t.inferred_ns),
                  ms_between(t.inferred_ns, t.heads_ns));
   }
   line_.printf(",\"total\":%.3f}", ms_between(t.capture_ns, written_ns));
@@ -137,7 +140,8 @@ void JsonlWriter::frame(const pipeline::FramePrediction& p, int64_t written_ns) 
       line_.json_string(names.name);
       line_.printf(":{\"label\":");
       line_.json_string(names.labels[static_cast<size_t>(h.top)]);
-      line_.printf(",\"p\":%.4f,\"probs\":[", static_cast<double>(h.probability[static_cast<size_t>(h.top)]));
+      line_.printf(",\"p\":%.4f,\"probs\":[",
+                   static_cast<double>(h.probability[static_cast<size_t>(h.top)]));
       for (int16_t i = 0; i < h.labels; ++i) {
         const auto v = static_cast<double>(h.probability[static_cast<size_t>(i)]);
         if (p.embedding_dim > 0) {  // `embedding = true` (comparisons): the float exactly
@@ -153,7 +157,8 @@ void JsonlWriter::frame(const pipeline::FramePrediction& p, int64_t written_ns) 
   if (p.embedding_dim > 0) {  // `embedding = true`: %.9g reads back as the same float
     line_.printf(",\"embedding\":[");
     for (int32_t i = 0; i < p.embedding_dim; ++i)
-      line_.printf("%s%.9g", i > 0 ? "," : "", static_cast<double>(p.embedding[static_cast<size_t>(i)]));
+      line_.printf("%s%.9g", i > 0 ? "," : "",
+                   static_cast<double>(p.embedding[static_cast<size_t>(i)]));
     line_.printf("],\"int8\":[");
     for (int32_t i = 0; i < p.int8_count; ++i)
       line_.printf("%s%d", i > 0 ? "," : "", p.int8_values[static_cast<size_t>(i)]);
@@ -163,7 +168,8 @@ void JsonlWriter::frame(const pipeline::FramePrediction& p, int64_t written_ns) 
 }
 
 void JsonlWriter::grasp(const pipeline::GraspPrediction& g) {
-  line_.printf("{\"type\":\"grasp\",\"id\":%llu,\"head\":", static_cast<unsigned long long>(g.grasp_id));
+  line_.printf("{\"type\":\"grasp\",\"id\":%llu,\"head\":",
+               static_cast<unsigned long long>(g.grasp_id));
   line_.json_string(names_.grasp_head);
   line_.printf(",\"computed\":%s", g.computed ? "true" : "false");
   if (g.computed) {

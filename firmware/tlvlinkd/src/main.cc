@@ -33,12 +33,13 @@ int verify_model(const tlvlink::daemon::DaemonConfig& c) {
   }
   std::string heads;
   for (const std::string& h : r->reported_heads) heads += (heads.empty() ? "" : ", ") + h;
-  std::printf("%s: model '%s', %zu golden pair(s) on the %s executor: %s (max error %.4g, "
-              "tolerance %.4g); heads: %s; grasp: %s\n",
-              c.model.c_str(), r->model_name.c_str(), r->golden_pairs, c.executor.c_str(),
-              r->golden_pass ? "PASS" : "FAIL", r->max_error, r->tolerance,
-              heads.empty() ? "none" : heads.c_str(),
-              r->grasp_head.empty() ? "off" : r->grasp_head.c_str());
+  std::printf(
+      "%s: model '%s', %zu golden pair(s) on the %s executor: %s (max error %.4g, "
+      "tolerance %.4g); heads: %s; grasp: %s\n",
+      c.model.c_str(), r->model_name.c_str(), r->golden_pairs, c.executor.c_str(),
+      r->golden_pass ? "PASS" : "FAIL", r->max_error, r->tolerance,
+      heads.empty() ? "none" : heads.c_str(),
+      r->grasp_head.empty() ? "off" : r->grasp_head.c_str());
   return r->golden_pass ? 0 : 1;
 }
 

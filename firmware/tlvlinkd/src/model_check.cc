@@ -57,7 +57,8 @@ Result<ModelCheck> check_model(const DaemonConfig& config) {
   for (int16_t h : (*processor)->reported_heads()) {
     out.reported_heads.emplace_back(results[static_cast<size_t>(h)].name);
   }
-  if ((*processor)->tracks_grasps()) out.grasp_head = std::string((*processor)->heads().grasp_name());
+  if ((*processor)->tracks_grasps())
+    out.grasp_head = std::string((*processor)->heads().grasp_name());
   return out;
 }
 

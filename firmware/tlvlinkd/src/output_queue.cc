@@ -17,7 +17,8 @@ void OutputQueue::push(const OutputRecord& record) {
 
 bool OutputQueue::pop(OutputRecord& out, int32_t timeout_ms) {
   std::unique_lock lock(mutex_);
-  cv_.wait_for(lock, std::chrono::milliseconds(timeout_ms), [&] { return !ring_.empty() || closed_; });
+  cv_.wait_for(lock, std::chrono::milliseconds(timeout_ms),
+               [&] { return !ring_.empty() || closed_; });
   return ring_.pop(out);
 }
 

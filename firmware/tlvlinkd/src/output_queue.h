@@ -27,7 +27,8 @@ struct EventRecord {
   std::array<char, 256> text{};
 };
 
-using OutputRecord = std::variant<pipeline::FramePrediction, pipeline::GraspPrediction, EventRecord>;
+using OutputRecord =
+    std::variant<pipeline::FramePrediction, pipeline::GraspPrediction, EventRecord>;
 
 class OutputQueue {
  public:

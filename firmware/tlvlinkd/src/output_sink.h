@@ -23,7 +23,7 @@ class OutputSink {
   virtual bool closed() const { return false; }
   // For the summary, after the run: what failed and why ("" when nothing did).
   virtual std::string problem() const { return {}; }
-  virtual void close() {}               // flush what is pending (the end of a session)
+  virtual void close() {}  // flush what is pending (the end of a session)
 };
 
 }  // namespace tlvlink::daemon::internal

@@ -35,14 +35,16 @@ double pct(int64_t cpu_ns, int64_t wall_ns) {
 
 // The stages up to the heads are the stream's (stage_ns, named in the Hello); write and total
 // are the daemon's own.
-static_assert(stream::kStageNames.size() == static_cast<size_t>(kHeads) + 1, "the stream's stages are the first ones");
+static_assert(stream::kStageNames.size() == static_cast<size_t>(kHeads) + 1,
+              "the stream's stages are the first ones");
 
 const char* stage_name(int32_t s) {
   if (s >= 0 && s <= kHeads) return stream::kStageNames[static_cast<size_t>(s)];
   return s == kWrite ? "write" : s == kTotal ? "total" : "?";
 }
 
-OutputWorker::OutputWorker(std::vector<OutputSink*> sinks, const OutputNames& names, OutputQueue& queue,
+OutputWorker::OutputWorker(std::vector<OutputSink*> sinks, const OutputNames& names,
+                           OutputQueue& queue,
                            const std::vector<std::unique_ptr<CaptureWorker>>& captures,
                            const InferenceWorker& inference, std::vector<FrameRing*> rings,
                            int32_t status_interval_ms, bool status_line,
@@ -75,7 +77,8 @@ void OutputWorker::account(const pipeline::FramePrediction& p, int64_t written_n
     add(kWrite, t.gated_ns, written_ns);
   }
   add(kTotal, t.capture_ns, written_ns);
-  if (p.sensor >= 0 && static_cast<size_t>(p.sensor) < last_.size()) last_[static_cast<size_t>(p.sensor)] = p;
+  if (p.sensor >= 0 && static_cast<size_t>(p.sensor) < last_.size())
+    last_[static_cast<size_t>(p.sensor)] = p;
 }
 
 RunTotals OutputWorker::collect(int64_t now_ns) const {
@@ -86,7 +89,8 @@ RunTotals OutputWorker::collect(int64_t now_ns) const {
     const CaptureSnapshot c = captures_[i]->snapshot();
     r.drops_stale += c.source.skipped_stale;
     r.drops_sequence += c.source.dropped;
-    r.bad_frames += c.source.flagged_error + c.source.empty + c.source.short_frames + c.source.bad_mjpeg;
+    r.bad_frames +=
+        c.source.flagged_error + c.source.empty + c.source.short_frames + c.source.bad_mjpeg;
     r.decode_errors += c.decode_errors;
     r.drops_queue += rings_[i]->dropped();
     r.sensor_cpu_pct[i] = pct(c.cpu_ns, wall);
@@ -114,16 +118,23 @@ RunTotals OutputWorker::collect(int64_t now_ns) const {
     r.frame_images = true;
     r.images_sent = images_->sent();
     r.drops_image = images_->busy();
-    if (images_->copies() > 0) r.image_copy_us = static_cast<double>(images_->copy_ns()) / static_cast<double>(images_->copies()) * 1e-3;
-    if (images_->encodes() > 0) r.image_encode_ms = static_cast<double>(images_->encode_ns()) / static_cast<double>(images_->encodes()) * 1e-6;
+    if (images_->copies() > 0)
+      r.image_copy_us =
+          static_cast<double>(images_->copy_ns()) / static_cast<double>(images_->copies()) * 1e-3;
+    if (images_->encodes() > 0)
+      r.image_encode_ms = static_cast<double>(images_->encode_ns()) /
+                          static_cast<double>(images_->encodes()) * 1e-6;
   }
   for (const OutputSink* sink : sinks_) r.write_errors += sink->failed();
   r.t_ns = now_ns;
   r.process_cpu_pct = pct(process_cpu_ns() - start_cpu_ns_, wall);
   for (int32_t s = 0; s < kStages; ++s) {
-    r.p50_ms[static_cast<size_t>(s)] = static_cast<double>(latency_[static_cast<size_t>(s)].percentile_ns(0.5)) * 1e-6;
-    r.p99_ms[static_cast<size_t>(s)] = static_cast<double>(latency_[static_cast<size_t>(s)].percentile_ns(0.99)) * 1e-6;
-    r.max_ms[static_cast<size_t>(s)] = static_cast<double>(latency_[static_cast<size_t>(s)].max_ns()) * 1e-6;
+    r.p50_ms[static_cast<size_t>(s)] =
+        static_cast<double>(latency_[static_cast<size_t>(s)].percentile_ns(0.5)) * 1e-6;
+    r.p99_ms[static_cast<size_t>(s)] =
+        static_cast<double>(latency_[static_cast<size_t>(s)].percentile_ns(0.99)) * 1e-6;
+    r.max_ms[static_cast<size_t>(s)] =
+        static_cast<double>(latency_[static_cast<size_t>(s)].max_ns()) * 1e-6;
   }
   r.peak_rss_kb = peak_rss_kb();
   return r;
@@ -141,9 +152,10 @@ void OutputWorker::status_line(int64_t now_ns) {
   int n = std::snprintf(line, sizeof line, "\r[%6.1fs]", r.seconds);
   for (size_t i = 0; i < static_cast<size_t>(r.sensors) && n < static_cast<int>(sizeof line); ++i) {
     const pipeline::FramePrediction& p = last_[i];
-    n += std::snprintf(line + n, sizeof line - static_cast<size_t>(n), " %s %.1ffps %s",
-                       names_.sensors[i].c_str(), r.sensor_fps[i],
-                       p.contact_state == static_cast<uint8_t>(pipeline::ContactState::kContact) ? "touch" : "-");
+    n += std::snprintf(
+        line + n, sizeof line - static_cast<size_t>(n), " %s %.1ffps %s", names_.sensors[i].c_str(),
+        r.sensor_fps[i],
+        p.contact_state == static_cast<uint8_t>(pipeline::ContactState::kContact) ? "touch" : "-");
   }
   if (n < static_cast<int>(sizeof line)) {
     n += std::snprintf(line + n, sizeof line - static_cast<size_t>(n),
@@ -160,8 +172,8 @@ void OutputWorker::status_line(int64_t now_ns) {
     for (int32_t k = 0; k < p.head_count && n < static_cast<int>(sizeof line); ++k) {
       const pipeline::HeadProbabilities& h = p.heads[static_cast<size_t>(k)];
       const OutputNames::Head& names = names_.heads[static_cast<size_t>(h.head)];
-      n += std::snprintf(line + n, sizeof line - static_cast<size_t>(n), " %s:%s", names.name.c_str(),
-                         names.labels[static_cast<size_t>(h.top)].c_str());
+      n += std::snprintf(line + n, sizeof line - static_cast<size_t>(n), " %s:%s",
+                         names.name.c_str(), names.labels[static_cast<size_t>(h.top)].c_str());
     }
     break;
   }
@@ -169,7 +181,8 @@ void OutputWorker::status_line(int64_t now_ns) {
   if (n < static_cast<int>(sizeof line))
     n += std::snprintf(line + n, sizeof line - static_cast<size_t>(n), " | drops %llu\x1b[K",
                        static_cast<unsigned long long>(drops));
-  [[maybe_unused]] const ssize_t w = ::write(STDERR_FILENO, line, std::min(sizeof line - 1, static_cast<size_t>(n)));
+  [[maybe_unused]] const ssize_t w =
+      ::write(STDERR_FILENO, line, std::min(sizeof line - 1, static_cast<size_t>(n)));
 }
 
 void OutputWorker::run() {
@@ -180,7 +193,8 @@ void OutputWorker::run() {
   OutputRecord record;
   for (;;) {
     const int64_t now = board_clock_ns();
-    const auto wait_ms = static_cast<int32_t>(std::clamp<int64_t>((next_report - now) / 1'000'000, 0, interval_ms_));
+    const auto wait_ms =
+        static_cast<int32_t>(std::clamp<int64_t>((next_report - now) / 1'000'000, 0, interval_ms_));
     if (queue_.pop(record, wait_ms)) {
       const int64_t written = board_clock_ns();
       if (auto* p = std::get_if<pipeline::FramePrediction>(&record)) {
@@ -200,7 +214,8 @@ void OutputWorker::run() {
     }
     if (stop_.load() && queue_.size() == 0) break;
   }
-  if (status_line_) [[maybe_unused]] ssize_t w = ::write(STDERR_FILENO, "\n", 1);
+  if (status_line_) [[maybe_unused]]
+    ssize_t w = ::write(STDERR_FILENO, "\n", 1);
   report(board_clock_ns(), true);
   for (OutputSink* sink : sinks_) sink->close();
   // The summary record itself (and what close() flushed) may have failed too: the totals the
@@ -219,20 +234,30 @@ bool OutputWorker::outputs_closed() const {
 
 void OutputWorker::print_summary(std::FILE* out) const {
   const RunTotals& r = final_;
-  std::fprintf(out, "tlvlinkd: %.1f s, %llu frames (%llu encoded, %llu gated), %llu grasps predicted, %llu not computed\n",
-               r.seconds, static_cast<unsigned long long>(r.frames), static_cast<unsigned long long>(r.encoded),
-               static_cast<unsigned long long>(r.gated), static_cast<unsigned long long>(r.grasps),
+  std::fprintf(out,
+               "tlvlinkd: %.1f s, %llu frames (%llu encoded, %llu gated), %llu grasps predicted, "
+               "%llu not computed\n",
+               r.seconds, static_cast<unsigned long long>(r.frames),
+               static_cast<unsigned long long>(r.encoded), static_cast<unsigned long long>(r.gated),
+               static_cast<unsigned long long>(r.grasps),
                static_cast<unsigned long long>(r.grasps_not_computed));
-  std::fprintf(out, "  drops: stale %llu, sequence gaps %llu, queue %llu, output %llu, write errors %llu; bad frames %llu, decode errors %llu\n",
-               static_cast<unsigned long long>(r.drops_stale), static_cast<unsigned long long>(r.drops_sequence),
-               static_cast<unsigned long long>(r.drops_queue), static_cast<unsigned long long>(r.drops_output),
+  std::fprintf(out,
+               "  drops: stale %llu, sequence gaps %llu, queue %llu, output %llu, write errors "
+               "%llu; bad frames %llu, decode errors %llu\n",
+               static_cast<unsigned long long>(r.drops_stale),
+               static_cast<unsigned long long>(r.drops_sequence),
+               static_cast<unsigned long long>(r.drops_queue),
+               static_cast<unsigned long long>(r.drops_output),
                static_cast<unsigned long long>(r.write_errors),
-               static_cast<unsigned long long>(r.bad_frames), static_cast<unsigned long long>(r.decode_errors));
+               static_cast<unsigned long long>(r.bad_frames),
+               static_cast<unsigned long long>(r.decode_errors));
   if (r.frame_images) {
-    std::fprintf(out, "  frame images: %llu sent, %llu not sent (image_busy: encoder or link busy); per image "
-                 "%.1f us copying on the inference thread, %.2f ms encoding and posting\n",
-                 static_cast<unsigned long long>(r.images_sent), static_cast<unsigned long long>(r.drops_image),
-                 r.image_copy_us, r.image_encode_ms);
+    std::fprintf(
+        out,
+        "  frame images: %llu sent, %llu not sent (image_busy: encoder or link busy); per image "
+        "%.1f us copying on the inference thread, %.2f ms encoding and posting\n",
+        static_cast<unsigned long long>(r.images_sent),
+        static_cast<unsigned long long>(r.drops_image), r.image_copy_us, r.image_encode_ms);
   }
   // Every output that lost records, or whose reader left, with the path and the reason.
   for (size_t i = 0; i < sinks_.size(); ++i) {
@@ -246,19 +271,22 @@ void OutputWorker::print_summary(std::FILE* out) const {
   for (int32_t i = 0; i < r.sensors; ++i) {
     const size_t k = static_cast<size_t>(i);
     if (r.sensor_disconnects[k] == 0) continue;
-    std::fprintf(out, "  camera %s: lost %llu, back %llu, reopen attempts failed %llu, %.2f s without camera\n",
-                 names_.sensors[k].c_str(), static_cast<unsigned long long>(r.sensor_disconnects[k]),
-                 static_cast<unsigned long long>(r.sensor_reconnects[k]),
-                 static_cast<unsigned long long>(r.sensor_reopen_failures[k]), r.sensor_outage_s[k]);
+    std::fprintf(
+        out,
+        "  camera %s: lost %llu, back %llu, reopen attempts failed %llu, %.2f s without camera\n",
+        names_.sensors[k].c_str(), static_cast<unsigned long long>(r.sensor_disconnects[k]),
+        static_cast<unsigned long long>(r.sensor_reconnects[k]),
+        static_cast<unsigned long long>(r.sensor_reopen_failures[k]), r.sensor_outage_s[k]);
   }
   std::fprintf(out, "  latency ms (p50 / p99 / max):");
   for (int32_t s = 0; s < kStages; ++s) {
     std::fprintf(out, " %s %.2f/%.2f/%.2f", stage_name(s), r.p50_ms[static_cast<size_t>(s)],
                  r.p99_ms[static_cast<size_t>(s)], r.max_ms[static_cast<size_t>(s)]);
   }
-  std::fprintf(out, "\n  cpu %%: process %.1f, inference %.1f, output %.1f, sensors", r.process_cpu_pct,
-               r.inference_cpu_pct, r.output_cpu_pct);
-  for (int32_t i = 0; i < r.sensors; ++i) std::fprintf(out, " %.1f", r.sensor_cpu_pct[static_cast<size_t>(i)]);
+  std::fprintf(out, "\n  cpu %%: process %.1f, inference %.1f, output %.1f, sensors",
+               r.process_cpu_pct, r.inference_cpu_pct, r.output_cpu_pct);
+  for (int32_t i = 0; i < r.sensors; ++i)
+    std::fprintf(out, " %.1f", r.sensor_cpu_pct[static_cast<size_t>(i)]);
   std::fprintf(out, "; peak RSS %.1f MB\n", static_cast<double>(r.peak_rss_kb) / 1024.0);
 }
 

@@ -7,8 +7,8 @@
 // at the end a summary. It owns the latency statistics; the other threads' counters it reads
 // through their snapshots.
 
-#include <atomic>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -35,7 +35,7 @@ class OutputWorker {
   // The FrameImages' counts go into the totals (borrowed; nullptr: off). Before run().
   void set_frame_images(const FrameImages* images) { images_ = images; }
 
-  RunTotals totals() const;  // after run() returned
+  RunTotals totals() const;     // after run() returned
   bool outputs_closed() const;  // every output's reader left (a closed pipe): nothing to do
   void print_summary(std::FILE* out) const;
 

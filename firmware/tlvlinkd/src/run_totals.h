@@ -17,7 +17,17 @@ namespace tlvlink::daemon::internal {
 // decoded -> contact decision (the wait for the inference thread; the gate's own few
 // microseconds have no timestamp of their own and are in it), then preprocess, encoder, heads,
 // write (-> the output stage took it) and total (capture -> written).
-enum Stage : int32_t { kDequeue = 0, kDecode, kQueueWait, kPreprocess, kEncoder, kHeads, kWrite, kTotal, kStages };
+enum Stage : int32_t {
+  kDequeue = 0,
+  kDecode,
+  kQueueWait,
+  kPreprocess,
+  kEncoder,
+  kHeads,
+  kWrite,
+  kTotal,
+  kStages
+};
 const char* stage_name(int32_t stage);
 
 struct RunTotals {
@@ -36,8 +46,8 @@ struct RunTotals {
       sensor_reopen_failures{};
   std::array<double, pipeline::kMaxSensors> sensor_outage_s{};
   double inference_cpu_pct = 0, output_cpu_pct = 0;
-  bool frame_images = false;                   // configured on
-  uint64_t images_sent = 0, drops_image = 0;   // FrameImages posted; not sent (image_busy)
+  bool frame_images = false;                      // configured on
+  uint64_t images_sent = 0, drops_image = 0;      // FrameImages posted; not sent (image_busy)
   double image_copy_us = 0, image_encode_ms = 0;  // per image: inference thread, encoder thread
   int64_t peak_rss_kb = 0;
 };

@@ -104,7 +104,8 @@ SceneNeeds scene_needs(const Scene& scene) {
     n.usb = n.usb || o.rfind("usb", 0) == 0;
   }
   for (const SceneSensor& s : scene.sensors) n.libcamera = n.libcamera || s.source == "libcamera";
-  for (const std::string& h : scene.heads) n.zero_shot = n.zero_shot || h.rfind("zero-shot:", 0) == 0;
+  for (const std::string& h : scene.heads)
+    n.zero_shot = n.zero_shot || h.rfind("zero-shot:", 0) == 0;
   return n;
 }
 
@@ -137,7 +138,8 @@ Result<Scene> find_scene(const std::string& scenes_dir, const std::string& name)
   if (DIR* d = ::opendir(scenes_dir.c_str())) {
     while (const dirent* e = ::readdir(d)) {
       const std::string f = e->d_name;
-      if (f.size() > 5 && f.compare(f.size() - 5, 5, ".toml") == 0) known.push_back(f.substr(0, f.size() - 5));
+      if (f.size() > 5 && f.compare(f.size() - 5, 5, ".toml") == 0)
+        known.push_back(f.substr(0, f.size() - 5));
     }
     ::closedir(d);
   }

@@ -46,7 +46,8 @@ struct Session::Impl {
   std::unique_ptr<internal::FrameImages> images;  // frame_images on: the JPEG encoder thread's
   std::unique_ptr<internal::InferenceWorker> inference;
   std::unique_ptr<internal::OutputWorker> output;
-  std::atomic<bool> capture_stop{false}, inference_stop{false}, output_stop{false}, images_stop{false};
+  std::atomic<bool> capture_stop{false}, inference_stop{false}, output_stop{false},
+      images_stop{false};
   std::atomic<bool> limit{false};
   std::vector<std::thread> capture_threads;
   std::thread inference_thread, output_thread, images_thread;
@@ -76,9 +77,10 @@ void log_heads(const pipeline::FrameProcessor& p) {
     if (r.trust != nullptr && r.trust->present) {
       const HeadTrust& t = *r.trust;
       const TrustAssessment a = assess_head(t);
-      int n = std::snprintf(record, sizeof record, "%s: accuracy %.1f %% vs majority %.1f %% (n=%lld)",
-                            head_trust_level_name(a.level), 100.0 * static_cast<double>(t.accuracy),
-                            100.0 * static_cast<double>(t.majority), static_cast<long long>(t.n));
+      int n =
+          std::snprintf(record, sizeof record, "%s: accuracy %.1f %% vs majority %.1f %% (n=%lld)",
+                        head_trust_level_name(a.level), 100.0 * static_cast<double>(t.accuracy),
+                        100.0 * static_cast<double>(t.majority), static_cast<long long>(t.n));
       if (t.ci_low >= 0 && n > 0 && static_cast<size_t>(n) < sizeof record) {
         n += std::snprintf(record + n, sizeof record - static_cast<size_t>(n),
                            ", cross-validated over %lld groups, 95 %% CI [%.1f, %.1f]",
@@ -122,8 +124,8 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
     auto report = verify::verify_golden(*s.model, *s.executor);
     if (!report.ok()) return report.error().with_context("verifying %s", config.model.c_str());
     TLV_ENSURE(report->heads.pass, ErrorCode::kModelChecksum,
-               "%s: golden head outputs do not match (max error %.4g > %.4g)",
-               config.model.c_str(), report->heads.max_abs_error, report->heads.tolerance);
+               "%s: golden head outputs do not match (max error %.4g > %.4g)", config.model.c_str(),
+               report->heads.max_abs_error, report->heads.tolerance);
     TLV_ENSURE(report->pass, ErrorCode::kModelChecksum,
                "%s: golden pairs do not match on the %s executor (max error %.4g > %.4g)",
                config.model.c_str(), executor_kind_name(s.executor->kind()),
@@ -135,7 +137,7 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
     setups.push_back({c.name, c.view.width, c.view.height, 3, c.finger});
   }
   TLV_ASSIGN_OR_RETURN(s.processor, pipeline::FrameProcessor::create(*s.model, *s.executor, setups,
-                                                                       config.processing));
+                                                                     config.processing));
   s.queue = std::make_unique<internal::OutputQueue>(config.output_queue);
   std::vector<std::string> sensor_names;
   for (const SensorConfig& c : config.sensors) sensor_names.push_back(c.name);
@@ -145,26 +147,30 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
 #endif
   for (const std::string& o : config.outputs) {
     if (o.rfind("jsonl:", 0) == 0) {
-      TLV_ASSIGN_OR_RETURN(internal::JsonlWriter writer, internal::JsonlWriter::open(o.substr(6), s.names));
+      TLV_ASSIGN_OR_RETURN(internal::JsonlWriter writer,
+                           internal::JsonlWriter::open(o.substr(6), s.names));
       s.sinks.push_back(std::make_unique<internal::JsonlSink>(std::move(writer)));
       continue;
     }
 #if defined(TLVLINK_HAVE_STREAM)
-    TLV_ASSIGN_OR_RETURN(auto stream, internal::StreamSink::open(o, config, *s.model, s.names, s.commands));
+    TLV_ASSIGN_OR_RETURN(auto stream,
+                         internal::StreamSink::open(o, config, *s.model, s.names, s.commands));
     link = stream.get();  // at most one (config.cc)
     s.sinks.push_back(std::move(stream));
 #else
     return Error::make(ErrorCode::kInvalidArgument,
                        "output '%s': this tlvlinkd was built without the stream link "
-                       "(TLVLINK_WITH_SERIAL=OFF)", o.c_str());
+                       "(TLVLINK_WITH_SERIAL=OFF)",
+                       o.c_str());
 #endif
   }
 #if defined(TLVLINK_HAVE_STREAM)
   if (config.frame_images != FrameImageKind::kOff) {
     TLV_ENSURE(link != nullptr, ErrorCode::kInvalidArgument, "frame_images: no stream output");
-    TLV_ASSIGN_OR_RETURN(s.images, internal::FrameImages::create(
-                                       config, setups, *s.processor,
-                                       [link](const stream::FrameImageRecord& r) { return link->post_image(r); }));
+    TLV_ASSIGN_OR_RETURN(
+        s.images, internal::FrameImages::create(
+                      config, setups, *s.processor,
+                      [link](const stream::FrameImageRecord& r) { return link->post_image(r); }));
   }
 #endif
   std::vector<internal::OutputSink*> sinks;
@@ -174,11 +180,12 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
     const SensorConfig& c = config.sensors[i];
     // The decoder for what the source negotiated (it may differ from the configured size when
     // accept_other_size is set).
-    const image::FrameFormat& format = sources[i]->stats().connected ? sources[i]->format() : c.format;
+    const image::FrameFormat& format =
+        sources[i]->stats().connected ? sources[i]->format() : c.format;
     auto decoder = image::FrameDecoder::create(format, c.view);
     if (!decoder.ok()) return decoder.error().with_context("sensor '%s'", c.name.c_str());
-    s.rings.push_back(std::make_unique<internal::FrameRing>(
-        config.queue_frames, decoder->output_bytes(), s.doorbell));
+    s.rings.push_back(std::make_unique<internal::FrameRing>(config.queue_frames,
+                                                            decoder->output_bytes(), s.doorbell));
     rings.push_back(s.rings.back().get());
     s.captures.push_back(std::make_unique<internal::CaptureWorker>(
         static_cast<int32_t>(i), c.name, std::move(sources[i]), std::move(decoder).value(),
@@ -191,14 +198,15 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
       const int32_t finger = config.sensors[i].finger;
       if (finger == 0 || finger == 1) sensor_of_finger[finger] = static_cast<int32_t>(i);
     }
-    TLV_ASSIGN_OR_RETURN(script, internal::load_command_script(config.command_script, sensor_of_finger));
+    TLV_ASSIGN_OR_RETURN(script,
+                         internal::load_command_script(config.command_script, sensor_of_finger));
   }
   s.inference = std::make_unique<internal::InferenceWorker>(
       *s.processor, rings, setups, s.doorbell, *s.queue, s.commands, s.inference_stop, s.limit,
       config.max_frames, std::move(script));
-  s.output = std::make_unique<internal::OutputWorker>(sinks, s.names, *s.queue, s.captures, *s.inference,
-                                                      rings, config.status_interval_ms,
-                                                      config.status_line, s.output_stop);
+  s.output = std::make_unique<internal::OutputWorker>(
+      sinks, s.names, *s.queue, s.captures, *s.inference, rings, config.status_interval_ms,
+      config.status_line, s.output_stop);
   s.inference->set_frame_images(s.images.get());
   s.output->set_frame_images(s.images.get());
   if (s.images) s.images_thread = std::thread([&s] { s.images->run(s.images_stop); });
@@ -244,11 +252,24 @@ SessionTotals Session::stop() {
   s.output_thread.join();
   s.output->print_summary(stderr);
   const internal::RunTotals r = s.output->totals();
-  s.totals = {r.frames,       r.encoded,       r.gated,          r.grasps,
-              r.grasps_not_computed, r.drops_stale, r.drops_sequence, r.drops_queue,
-              r.drops_output, r.bad_frames,    r.decode_errors,  r.inference_errors,
-              r.write_errors, 0,               r.seconds,       r.p50_ms[internal::kTotal],
-              r.p99_ms[internal::kTotal],      r.peak_rss_kb};
+  s.totals = {r.frames,
+              r.encoded,
+              r.gated,
+              r.grasps,
+              r.grasps_not_computed,
+              r.drops_stale,
+              r.drops_sequence,
+              r.drops_queue,
+              r.drops_output,
+              r.bad_frames,
+              r.decode_errors,
+              r.inference_errors,
+              r.write_errors,
+              0,
+              r.seconds,
+              r.p50_ms[internal::kTotal],
+              r.p99_ms[internal::kTotal],
+              r.peak_rss_kb};
   for (const auto& c : s.captures) s.totals.failed_sources += c->failed() ? 1 : 0;
   s.totals.images_sent = r.images_sent;
   s.totals.images_busy = r.drops_image;

@@ -1,7 +1,7 @@
 #include "sources.h"
 
-#include "tlvlink/capture/sensor_models.h"
 #include "tlvlink/capture/replay_source.h"
+#include "tlvlink/capture/sensor_models.h"
 #include "tlvlink/capture/v4l2_source.h"
 #if defined(TLVLINK_HAVE_LIBCAMERA)
 #include "tlvlink/capture/libcamera_source.h"
@@ -71,27 +71,28 @@ Status check_replay_format(const SensorConfig& s, const capture::FrameSource& sr
     if (m.format == got.format && m.width == got.width && m.height == got.height)
       models += (models.empty() ? "" : ", ") + std::string(m.name);
   }
-  TLV_ENSURE(got.format == s.format.format && ((got.width == s.format.width &&
-                                                got.height == s.format.height) ||
-                                               s.accept_other_size),
-             ErrorCode::kCaptureFormatRefused,
-             "sensor '%s': recording %s holds %s %dx%d, the sensor is configured for %s %dx%d%s%s%s",
-             s.name.c_str(), s.device.c_str(), image::pixel_format_name(got.format), got.width,
-             got.height, image::pixel_format_name(s.format.format), s.format.width,
-             s.format.height, models.empty() ? "" : " (sensor models that stream it: ",
-             models.c_str(), models.empty() ? "" : ")");
+  TLV_ENSURE(
+      got.format == s.format.format &&
+          ((got.width == s.format.width && got.height == s.format.height) || s.accept_other_size),
+      ErrorCode::kCaptureFormatRefused,
+      "sensor '%s': recording %s holds %s %dx%d, the sensor is configured for %s %dx%d%s%s%s",
+      s.name.c_str(), s.device.c_str(), image::pixel_format_name(got.format), got.width, got.height,
+      image::pixel_format_name(s.format.format), s.format.width, s.format.height,
+      models.empty() ? "" : " (sensor models that stream it: ", models.c_str(),
+      models.empty() ? "" : ")");
   return {};
 }
 
 }  // namespace
 
-Result<std::vector<std::unique_ptr<capture::FrameSource>>> make_sources(const DaemonConfig& config) {
+Result<std::vector<std::unique_ptr<capture::FrameSource>>> make_sources(
+    const DaemonConfig& config) {
   std::vector<std::unique_ptr<capture::FrameSource>> out;
   for (const SensorConfig& s : config.sensors) {
-    Result<std::unique_ptr<capture::FrameSource>> src =
-        s.source == SourceKind::kV4l2        ? v4l2(s)
-        : s.source == SourceKind::kLibcamera ? libcamera(s)
-                                             : replay(s);
+    Result<std::unique_ptr<capture::FrameSource>> src = s.source == SourceKind::kV4l2 ? v4l2(s)
+                                                        : s.source == SourceKind::kLibcamera
+                                                            ? libcamera(s)
+                                                            : replay(s);
     if (!src.ok()) return src.error();
     if (Status st = (*src)->start(); !st.ok()) {
       return st.error().with_context("sensor '%s'", s.name.c_str());

@@ -23,11 +23,11 @@ TLV_LOG_CATEGORY(kLogStream, "stream");
 }  // namespace
 
 Result<std::unique_ptr<StreamSink>> StreamSink::open(const std::string& spec,
-                                                      const DaemonConfig& config,
-                                                      const Model& model, const OutputNames& names,
-                                                      CommandQueue& commands) {
-  auto sink = std::unique_ptr<StreamSink>(new StreamSink(
-      config.processing.grasp_options.mode == pipeline::GraspOptions::Mode::kDetected));
+                                                     const DaemonConfig& config, const Model& model,
+                                                     const OutputNames& names,
+                                                     CommandQueue& commands) {
+  auto sink = std::unique_ptr<StreamSink>(new StreamSink(config.processing.grasp_options.mode ==
+                                                         pipeline::GraspOptions::Mode::kDetected));
   auto link = transport::make_transport(spec);
   if (!link.ok()) return link.error().with_context("output '%s'", spec.c_str());
   TLV_ASSIGN_OR_RETURN(sink->sender_, transport::Sender::create(std::move(link).value(), {}));
@@ -58,15 +58,20 @@ void StreamSink::close() {
   closed_ = true;
   sender_->stop();  // sends what is queued for up to flush_ms
   const transport::SenderCounters c = sender_->counters();
-  TLV_LOG(kLogStream, kInfo, "stream: %llu messages posted, %llu frames sent, dropped %llu (queue full) "
-          "%llu (link down) %llu (stale)", static_cast<unsigned long long>(c.posted),
-          static_cast<unsigned long long>(c.frames_sent), static_cast<unsigned long long>(c.dropped_queue_full),
-          static_cast<unsigned long long>(c.dropped_link_down), static_cast<unsigned long long>(c.dropped_stale));
+  TLV_LOG(kLogStream, kInfo,
+          "stream: %llu messages posted, %llu frames sent, dropped %llu (queue full) "
+          "%llu (link down) %llu (stale)",
+          static_cast<unsigned long long>(c.posted), static_cast<unsigned long long>(c.frames_sent),
+          static_cast<unsigned long long>(c.dropped_queue_full),
+          static_cast<unsigned long long>(c.dropped_link_down),
+          static_cast<unsigned long long>(c.dropped_stale));
   // What the flush could not send in time is lost with the process: say so (the frame being
   // written at the deadline has left the queue and is not counted).
   if (c.queue_messages > 0) {
-    TLV_LOG(kLogStream, kWarning, "stream: %u queued messages not sent at stop (the link did not take them within "
-            "the flush time)", c.queue_messages);
+    TLV_LOG(kLogStream, kWarning,
+            "stream: %u queued messages not sent at stop (the link did not take them within "
+            "the flush time)",
+            c.queue_messages);
   }
 }
 

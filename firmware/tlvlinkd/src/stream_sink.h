@@ -26,9 +26,9 @@ namespace tlvlink::daemon::internal {
 class StreamSink final : public OutputSink {
  public:
   // `spec`: serial:..., pty:..., usb... (transport_spec.h). Commands go to `commands`.
-  static Result<std::unique_ptr<StreamSink>> open(const std::string& spec, const DaemonConfig& config,
-                                                  const Model& model, const OutputNames& names,
-                                                  CommandQueue& commands);
+  static Result<std::unique_ptr<StreamSink>> open(const std::string& spec,
+                                                  const DaemonConfig& config, const Model& model,
+                                                  const OutputNames& names, CommandQueue& commands);
   ~StreamSink() override;
   void record(const OutputRecord& record, int64_t written_ns) override;
   void stats(const RunTotals& totals, bool final) override;

@@ -20,9 +20,7 @@ TLV_LOG_CATEGORY(kLogQuantize, "quantize");
 using encoder_internal::derive_seed;
 
 // Frames are made larger than the model input so preprocessing really resizes, as on a sensor.
-int32_t frame_side(int32_t resolution) {
-  return resolution + resolution / 4;
-}
+int32_t frame_side(int32_t resolution) { return resolution + resolution / 4; }
 
 Result<std::vector<std::vector<float>>> make_inputs(const ReferenceEncoderOptions& o,
                                                     const InputSpec& spec, int32_t count,

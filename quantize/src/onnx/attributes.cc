@@ -68,7 +68,8 @@ Result<std::string> attr_string(const onnx::NodeProto& node, std::string_view na
                                 std::string fallback) {
   const onnx::AttributeProto* a = find_attribute(node, name);
   if (a == nullptr) return fallback;
-  if (a->type() != onnx::AttributeProto_AttributeType_STRING) return wrong_type(node, *a, "a string");
+  if (a->type() != onnx::AttributeProto_AttributeType_STRING)
+    return wrong_type(node, *a, "a string");
   return a->s();
 }
 

@@ -10,9 +10,9 @@ namespace tlvlink::quantize::onnx_internal {
 namespace {
 
 constexpr std::string_view kEvaluable[] = {
-    "Constant", "ConstantOfShape", "Identity", "Shape", "Gather", "Unsqueeze", "Squeeze",
-    "Concat", "Reshape", "Flatten", "Slice", "Transpose", "Cast", "Expand", "Add", "Sub", "Mul",
-    "Div"};
+    "Constant", "ConstantOfShape", "Identity", "Shape",   "Gather", "Unsqueeze",
+    "Squeeze",  "Concat",          "Reshape",  "Flatten", "Slice",  "Transpose",
+    "Cast",     "Expand",          "Add",      "Sub",     "Mul",    "Div"};
 
 // ConstantOfShape builds shape-arithmetic helpers, never weights: a bigger fill is refused
 // rather than allocated.
@@ -68,8 +68,8 @@ Result<int64_t> normalise_axis(const onnx::NodeProto& node, int64_t axis, size_t
 }
 
 // Integer list from an attribute (older opsets) or a constant input (newer ones).
-Result<std::vector<int64_t>> ints_from(Importer& imp, const onnx::NodeProto& node,
-                                       const char* attr, int input, int64_t since_opset) {
+Result<std::vector<int64_t>> ints_from(Importer& imp, const onnx::NodeProto& node, const char* attr,
+                                       int input, int64_t since_opset) {
   if (imp.opset() < since_opset) return attr_ints(node, attr);
   if (!imp.has_input(node, input)) return std::vector<int64_t>{};
   TLV_ASSIGN_OR_RETURN(const Constant* c, imp.constant_input(node, input));
@@ -232,9 +232,10 @@ Result<Constant> eval_slice(Importer& imp, const onnx::NodeProto& node) {
     for (size_t k = 0; k < starts.size(); ++k) axes.push_back(static_cast<int64_t>(k));
   }
   if (steps.empty()) steps.assign(starts.size(), 1);
-  TLV_ENSURE(ends.size() == starts.size() && axes.size() == starts.size() &&
-             steps.size() == starts.size(), ErrorCode::kModelInvalidOperator,
-             "%s: starts/ends/axes/steps differ in length", node_label(node).c_str());
+  TLV_ENSURE(
+      ends.size() == starts.size() && axes.size() == starts.size() && steps.size() == starts.size(),
+      ErrorCode::kModelInvalidOperator, "%s: starts/ends/axes/steps differ in length",
+      node_label(node).c_str());
   std::vector<int64_t> first(rank, 0), step(rank, 1), dims = data->dims;
   for (size_t k = 0; k < starts.size(); ++k) {
     TLV_ASSIGN_OR_RETURN(const int64_t ax, normalise_axis(node, axes[k], rank));
@@ -273,7 +274,7 @@ Result<Constant> eval_cast(Importer& imp, const onnx::NodeProto& node) {
     return as_float(*data);
   }
   TLV_ENSURE(to != onnx::TensorProto_DataType_STRING && to != onnx::TensorProto_DataType_FLOAT16 &&
-             to != onnx::TensorProto_DataType_BFLOAT16 && to >= 1 && to <= 13,
+                 to != onnx::TensorProto_DataType_BFLOAT16 && to >= 1 && to <= 13,
              ErrorCode::kModelUnsupported, "%s: cast to type %lld is not supported",
              node_label(node).c_str(), static_cast<long long>(to));
   Constant out;
@@ -369,8 +370,8 @@ Result<Constant> evaluate_constant(Importer& imp, const onnx::NodeProto& node) {
                "%s: the shape must be a 1-D int64 tensor", node_label(node).c_str());
     const int64_t n = element_count(data->i);
     TLV_ENSURE(n >= 0 && n <= kMaxFilledElements, ErrorCode::kModelUnsupported,
-               "%s: shape %s is invalid or too large",
-               node_label(node).c_str(), dims_string(data->i).c_str());
+               "%s: shape %s is invalid or too large", node_label(node).c_str(),
+               dims_string(data->i).c_str());
     Constant fill;
     if (const onnx::AttributeProto* a = find_attribute(node, "value"); a != nullptr) {
       TLV_ASSIGN_OR_RETURN(fill, read_tensor(a->t(), node_label(node)));
@@ -408,9 +409,9 @@ Result<Constant> evaluate_constant(Importer& imp, const onnx::NodeProto& node) {
   std::vector<bool> seen(rank, false);
   for (int64_t p : perm) {
     TLV_ENSURE(perm.size() == rank && p >= 0 && p < static_cast<int64_t>(rank) &&
-               !seen[static_cast<size_t>(p)], ErrorCode::kModelInvalidOperator,
-               "%s: perm %s is not a permutation", node_label(node).c_str(),
-               dims_string(perm).c_str());
+                   !seen[static_cast<size_t>(p)],
+               ErrorCode::kModelInvalidOperator, "%s: perm %s is not a permutation",
+               node_label(node).c_str(), dims_string(perm).c_str());
     seen[static_cast<size_t>(p)] = true;
   }
   Constant out;

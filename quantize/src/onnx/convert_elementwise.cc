@@ -46,9 +46,8 @@ Status clip_bounds(Importer& imp, const onnx::NodeProto& node, float& lo, float&
     for (int k = 1; k <= 2; ++k) {
       if (!imp.has_input(node, k)) continue;
       TLV_ASSIGN_OR_RETURN(const Constant* c, imp.constant_input(node, k));
-      TLV_ENSURE(c->elements() == 1, ErrorCode::kModelUnsupported,
-                 "%s: bound %s must be a scalar", node_label(node).c_str(),
-                 dims_string(c->dims).c_str());
+      TLV_ENSURE(c->elements() == 1, ErrorCode::kModelUnsupported, "%s: bound %s must be a scalar",
+                 node_label(node).c_str(), dims_string(c->dims).c_str());
       (k == 1 ? lo : hi) = c->float_at(0);
     }
   }
@@ -112,9 +111,11 @@ Status convert_binary(Importer& imp, const onnx::NodeProto& node) {
     const Value va = imp.value(a), vb = imp.value(b);
     TLV_ASSIGN_OR_RETURN(std::vector<int64_t> shape, broadcast_dims(node, va.shape, vb.shape));
     TLV_ENSURE(va.layout == vb.layout && va.perm == vb.perm &&
-               (va.layout != Layout::kNhwc || shape.size() == 4), ErrorCode::kModelUnsupported,
+                   (va.layout != Layout::kNhwc || shape.size() == 4),
+               ErrorCode::kModelUnsupported,
                "%s: operands %s and %s are held in different layouts (NHWC feature map vs "
-               "flat tensor)", node_label(node).c_str(), dims_string(va.shape).c_str(),
+               "flat tensor)",
+               node_label(node).c_str(), dims_string(va.shape).c_str(),
                dims_string(vb.shape).c_str());
     Node n;
     n.type = type;
@@ -148,8 +149,7 @@ Status convert_binary(Importer& imp, const onnx::NodeProto& node) {
   }
   const Value in = imp.value(x);
   TLV_ASSIGN_OR_RETURN(std::vector<int64_t> shape, broadcast_dims(node, in.shape, k.dims));
-  TLV_ASSIGN_OR_RETURN(ConstOperand operand,
-                       constant_for(node, in, k, node.input(1 - act_index)));
+  TLV_ASSIGN_OR_RETURN(ConstOperand operand, constant_for(node, in, k, node.input(1 - act_index)));
   if (shape == in.shape) {
     const std::vector<float> v = per_channel(operand, in);
     Node* linear = v.empty() ? nullptr : foldable_linear(imp, x);

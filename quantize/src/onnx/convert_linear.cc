@@ -18,13 +18,15 @@ Activation fused_activation(const Node& n) {
 // A bias [cout] from input 2 of a Conv (1-D) or Gemm (broadcast to [1, cout], times beta).
 Result<ConstOperand> read_bias(Importer& imp, const onnx::NodeProto& node, int64_t cout,
                                float beta) {
-  ConstOperand bias{node_name(node) + ".bias", {static_cast<int32_t>(cout)},
+  ConstOperand bias{node_name(node) + ".bias",
+                    {static_cast<int32_t>(cout)},
                     std::vector<float>(static_cast<size_t>(cout), 0.0f)};
   if (!imp.has_input(node, 2)) return bias;
   TLV_ASSIGN_OR_RETURN(const Constant* c, imp.constant_input(node, 2));
   const int64_t n = static_cast<int64_t>(c->elements());
   TLV_ENSURE(c->is_float && (n == cout || n == 1) && c->dims.size() <= 2 &&
-             (c->dims.empty() || c->dims.back() == n), ErrorCode::kModelUnsupported,
+                 (c->dims.empty() || c->dims.back() == n),
+             ErrorCode::kModelUnsupported,
              "%s: bias %s does not broadcast per output channel (%lld)", node_label(node).c_str(),
              dims_string(c->dims).c_str(), static_cast<long long>(cout));
   bias.name = node.input(2);
@@ -64,8 +66,8 @@ Status add_fully_connected(Importer& imp, const onnx::NodeProto& node, int32_t x
 Status check_matrix_input(const onnx::NodeProto& node, const Value& in) {
   TLV_ENSURE(in.shape.size() == 2, ErrorCode::kModelUnsupported,
              "%s: input '%s' is %s; tlvlink's fully-connected op takes a 2-D [N, K] input "
-             "(flatten first)", node_label(node).c_str(), in.name.c_str(),
-             dims_string(in.shape).c_str());
+             "(flatten first)",
+             node_label(node).c_str(), in.name.c_str(), dims_string(in.shape).c_str());
   return {};
 }
 
@@ -103,11 +105,11 @@ Status convert_conv(Importer& imp, const onnx::NodeProto& node) {
              dims_string(w->dims).c_str());
   TLV_ASSIGN_OR_RETURN(const int64_t group, attr_int(node, "group", 1));
   const int64_t cout = w->dims[0];
-  TLV_ENSURE(group >= 1 && group <= in.shape[1] && in.shape[1] == w->dims[1] * group &&
-             cout % group == 0,
-             ErrorCode::kModelInvalidOperator, "%s: weights %s with group %lld do not fit input %s",
-             node_label(node).c_str(), dims_string(w->dims).c_str(),
-             static_cast<long long>(group), dims_string(in.shape).c_str());
+  TLV_ENSURE(
+      group >= 1 && group <= in.shape[1] && in.shape[1] == w->dims[1] * group && cout % group == 0,
+      ErrorCode::kModelInvalidOperator, "%s: weights %s with group %lld do not fit input %s",
+      node_label(node).c_str(), dims_string(w->dims).c_str(), static_cast<long long>(group),
+      dims_string(in.shape).c_str());
   TLV_ASSIGN_OR_RETURN(const std::vector<int64_t> kernel_shape, attr_ints(node, "kernel_shape"));
   const std::vector<int64_t> kernel = {w->dims[2], w->dims[3]};
   TLV_ENSURE(kernel_shape.empty() || kernel_shape == kernel, ErrorCode::kModelInvalidOperator,
@@ -205,7 +207,8 @@ Status convert_matmul(Importer& imp, const onnx::NodeProto& node) {
   const int64_t cout = b->dims[1];
   const int64_t to_rows[2] = {1, 0};
   std::vector<float> w = transpose<float>(b->f, b->dims, to_rows);
-  ConstOperand bias{node_name(node) + ".bias", {static_cast<int32_t>(cout)},
+  ConstOperand bias{node_name(node) + ".bias",
+                    {static_cast<int32_t>(cout)},
                     std::vector<float>(static_cast<size_t>(cout), 0.0f)};
   return add_fully_connected(imp, node, x, node.input(1), std::move(w), cout, std::move(bias));
 }

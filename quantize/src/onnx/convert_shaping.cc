@@ -19,8 +19,7 @@ Result<int32_t> feature_map_input(Importer& imp, const onnx::NodeProto& node) {
   return x;
 }
 
-Status reshape_to(Importer& imp, const onnx::NodeProto& node, int32_t x,
-                  std::vector<int64_t> out) {
+Status reshape_to(Importer& imp, const onnx::NodeProto& node, int32_t x, std::vector<int64_t> out) {
   const Value in = imp.value(x);
   Layout layout = out.size() == 4 ? Layout::kNhwc : Layout::kPlain;
   std::vector<int64_t> perm;
@@ -90,8 +89,8 @@ Status convert_reduce_mean(Importer& imp, const onnx::NodeProto& node) {
   gap.name = node_name(node);
   gap.inputs = {Operand{x, {}}};
   const std::string pooled = keepdims ? node.output(0) : node.output(0) + "/pooled";
-  TLV_ASSIGN_OR_RETURN(const int32_t n, imp.add_node(std::move(gap), pooled, {1, channels, 1, 1},
-                                                     Layout::kNhwc));
+  TLV_ASSIGN_OR_RETURN(const int32_t n,
+                       imp.add_node(std::move(gap), pooled, {1, channels, 1, 1}, Layout::kNhwc));
   if (keepdims) return {};
   const int32_t v = imp.node(n).output;
   imp.value(v).uses = 1;  // read by the reshape below
@@ -134,8 +133,7 @@ Status convert_max_pool(Importer& imp, const onnx::NodeProto& node) {
   n.name = node_name(node);
   n.params = p;
   n.inputs = {Operand{x, {}}};
-  return imp.add_node(std::move(n), node.output(0), {1, in.shape[1], out[0], out[1]},
-                      Layout::kNhwc)
+  return imp.add_node(std::move(n), node.output(0), {1, in.shape[1], out[0], out[1]}, Layout::kNhwc)
       .status();
 }
 
@@ -239,9 +237,9 @@ Status convert_pad(Importer& imp, const onnx::NodeProto& node) {
              dims_string(pads).c_str(), rank);
   std::vector<int64_t> before(rank, 0), after(rank, 0);
   for (size_t k = 0; k < axes.size(); ++k) {
-    TLV_ENSURE(axes[k] >= 0 && axes[k] < static_cast<int64_t>(rank), ErrorCode::kModelInvalidOperator,
-               "%s: axis %lld out of range", node_label(node).c_str(),
-               static_cast<long long>(axes[k]));
+    TLV_ENSURE(axes[k] >= 0 && axes[k] < static_cast<int64_t>(rank),
+               ErrorCode::kModelInvalidOperator, "%s: axis %lld out of range",
+               node_label(node).c_str(), static_cast<long long>(axes[k]));
     before[static_cast<size_t>(axes[k])] = pads[k];
     after[static_cast<size_t>(axes[k])] = pads[k + axes.size()];
   }
@@ -282,9 +280,8 @@ Status convert_identity(Importer& imp, const onnx::NodeProto& node) {
   TLV_ASSIGN_OR_RETURN(const int32_t x, imp.activation_input(node, 0));
   if (node.op_type() == "Dropout" && imp.has_input(node, 2)) {
     TLV_ASSIGN_OR_RETURN(const Constant* training, imp.constant_input(node, 2));
-    TLV_ENSURE(training->elements() == 1 && training->int_at(0) == 0,
-               ErrorCode::kModelUnsupported, "%s runs in training mode",
-               node_label(node).c_str());
+    TLV_ENSURE(training->elements() == 1 && training->int_at(0) == 0, ErrorCode::kModelUnsupported,
+               "%s runs in training mode", node_label(node).c_str());
   }
   imp.alias(node.output(0), x);
   return {};

@@ -90,10 +90,9 @@ Status Importer::bind_input(const onnx::ValueInfoProto& input) {
   TLV_ENSURE(is_float_tensor(input.type()), ErrorCode::kModelUnsupported,
              "input '%s' is not a float32 tensor; tlvlink convert imports float models", name);
   const onnx::TensorShapeProto& shape = input.type().tensor_type().shape();
-  TLV_ENSURE(input.type().tensor_type().has_shape() && shape.dim_size() == 4,
-             ErrorCode::kModelUnsupported,
-             "input '%s' has rank %d; tlvlink models take an image [N, C, H, W]", name,
-             shape.dim_size());
+  TLV_ENSURE(
+      input.type().tensor_type().has_shape() && shape.dim_size() == 4, ErrorCode::kModelUnsupported,
+      "input '%s' has rank %d; tlvlink models take an image [N, C, H, W]", name, shape.dim_size());
   std::vector<int64_t> dims(4);
   for (int k = 0; k < 4; ++k) {
     const onnx::TensorShapeProto_Dimension& d = shape.dim(k);
@@ -102,12 +101,14 @@ Status Importer::bind_input(const onnx::ValueInfoProto& input) {
       dims[0] = d.has_dim_value() ? d.dim_value() : 1;
       TLV_ENSURE(dims[0] == 1, ErrorCode::kModelUnsupported,
                  "input '%s' has batch %lld; tlvlink runs one frame at a time (export with "
-                 "batch 1 or a symbolic batch)", name, static_cast<long long>(dims[0]));
+                 "batch 1 or a symbolic batch)",
+                 name, static_cast<long long>(dims[0]));
       continue;
     }
     TLV_ENSURE(d.has_dim_value(), ErrorCode::kModelUnsupported,
                "input '%s' dimension %d is dynamic ('%s'); tlvlink needs a fixed input size: "
-               "export with fixed channels, height and width", name, k, d.dim_param().c_str());
+               "export with fixed channels, height and width",
+               name, k, d.dim_param().c_str());
     dims[static_cast<size_t>(k)] = d.dim_value();
     TLV_ENSURE(d.dim_value() >= 1 && d.dim_value() <= 65536, ErrorCode::kModelUnsupported,
                "input '%s' dimension %d is %lld", name, k, static_cast<long long>(d.dim_value()));
@@ -126,8 +127,8 @@ Status Importer::convert_node(const onnx::NodeProto& node) {
   if (!node.domain().empty() && node.domain() != "ai.onnx") {
     return Error::make(ErrorCode::kModelUnsupported,
                        "unsupported op type '%s' of domain '%s' (%s); tlvlink convert reads the "
-                       "default ONNX domain", op.c_str(), node.domain().c_str(),
-                       node_label(node).c_str());
+                       "default ONNX domain",
+                       op.c_str(), node.domain().c_str(), node_label(node).c_str());
   }
   bool all_constant = true;
   std::string first_activation;
@@ -137,7 +138,8 @@ Status Importer::convert_node(const onnx::NodeProto& node) {
     if (it == names_.end()) {
       return node_error(ErrorCode::kFormat, node,
                         "reads '%s', which no earlier node or initializer defines (a truncated "
-                        "file or a graph out of topological order)", in.c_str());
+                        "file or a graph out of topological order)",
+                        in.c_str());
     }
     if (it->second.value >= 0) {
       all_constant = false;
@@ -159,12 +161,13 @@ Status Importer::convert_node(const onnx::NodeProto& node) {
   } else if (const_evaluable(op)) {
     return node_error(ErrorCode::kModelUnsupported, node,
                       "is supported on constants only (shape arithmetic), here it reads the "
-                      "activation '%s'", first_activation.c_str());
+                      "activation '%s'",
+                      first_activation.c_str());
   } else {
     return Error::make(ErrorCode::kModelUnsupported,
                        "unsupported op type '%s' (%s, opset %lld); quantize/README.md lists "
-                       "the ops tlvlink convert supports", op.c_str(), node_label(node).c_str(),
-                       static_cast<long long>(opset_));
+                       "the ops tlvlink convert supports",
+                       op.c_str(), node_label(node).c_str(), static_cast<long long>(opset_));
   }
   // Secondary outputs (MaxPool indices, BatchNorm statistics, Dropout mask) are not computed.
   for (int k = 1; k < node.output_size(); ++k) {
@@ -184,11 +187,12 @@ Status Importer::bind_output(const onnx::ValueInfoProto& output) {
   TLV_ENSURE(it->second.value >= 0, ErrorCode::kModelUnsupported,
              "graph output '%s' is a constant; tlvlink outputs are computed from the frame", name);
   const Value& v = value(it->second.value);
-  TLV_ENSURE(v.producer >= 0, ErrorCode::kModelUnsupported,
-             "graph output '%s' is the input itself", name);
+  TLV_ENSURE(v.producer >= 0, ErrorCode::kModelUnsupported, "graph output '%s' is the input itself",
+             name);
   TLV_ENSURE(v.layout != Layout::kPermuted, ErrorCode::kModelUnsupported,
              "graph output '%s' is a flattened NCHW feature map, which tlvlink holds in NHWC "
-             "order; add a Gemm/Linear after the flatten or a GlobalAveragePool before it", name);
+             "order; add a Gemm/Linear after the flatten or a GlobalAveragePool before it",
+             name);
   TLV_ENSURE(!output.type().has_tensor_type() || is_float_tensor(output.type()),
              ErrorCode::kModelUnsupported, "graph output '%s' is not float32", name);
   // A declared static shape must match what the importer computed (batch may be symbolic).
@@ -233,7 +237,8 @@ Result<const Constant*> Importer::constant_input(const onnx::NodeProto& node, in
   if (b.constant == nullptr) {
     return node_error(ErrorCode::kModelUnsupported, node,
                       "input %d ('%s') must be a constant (an initializer or Constant node), "
-                      "not a computed tensor", k, node.input(k).c_str());
+                      "not a computed tensor",
+                      k, node.input(k).c_str());
   }
   return b.constant;
 }
@@ -251,8 +256,8 @@ Result<int32_t> Importer::add_node(Node node, const std::string& output_name,
              dims_string(shape).c_str());
   const auto n = static_cast<int32_t>(nodes_.size());
   const auto v = static_cast<int32_t>(values_.size());
-  values_.push_back(Value{output_name, std::move(shape), layout, std::move(perm), n,
-                          readers_[output_name]});
+  values_.push_back(
+      Value{output_name, std::move(shape), layout, std::move(perm), n, readers_[output_name]});
   node.output = v;
   nodes_.push_back(std::move(node));
   names_[output_name] = Binding{v, nullptr};

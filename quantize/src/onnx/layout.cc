@@ -27,8 +27,7 @@ bool memory_is_logical(const Value& v) {
   return false;
 }
 
-Result<std::vector<int64_t>> broadcast_dims(const onnx::NodeProto& node,
-                                            std::span<const int64_t> a,
+Result<std::vector<int64_t>> broadcast_dims(const onnx::NodeProto& node, std::span<const int64_t> a,
                                             std::span<const int64_t> b) {
   const size_t rank = std::max(a.size(), b.size());
   std::vector<int64_t> out(rank);
@@ -74,9 +73,8 @@ Result<std::vector<int64_t>> reshape_target(const onnx::NodeProto& node,
   }
   const int64_t total = element_count(in);
   if (inferred >= 0) {
-    TLV_ENSURE(total % known == 0, ErrorCode::kModelInvalidOperator,
-               "%s cannot reshape %s to %s", node_label(node).c_str(), dims_string(in).c_str(),
-               dims_string(shape.i).c_str());
+    TLV_ENSURE(total % known == 0, ErrorCode::kModelInvalidOperator, "%s cannot reshape %s to %s",
+               node_label(node).c_str(), dims_string(in).c_str(), dims_string(shape.i).c_str());
     out[static_cast<size_t>(inferred)] = total / known;
     known = total;
   }
@@ -108,9 +106,8 @@ Result<int64_t> window_output(const onnx::NodeProto& node, int64_t in, Window& w
   return (padded - effective) / w.stride + 1;
 }
 
-Result<Windows> read_windows(const onnx::NodeProto& node,
-                                           std::span<const int64_t> kernel,
-                                           std::string* auto_pad) {
+Result<Windows> read_windows(const onnx::NodeProto& node, std::span<const int64_t> kernel,
+                             std::string* auto_pad) {
   TLV_ASSIGN_OR_RETURN(std::vector<int64_t> strides, attr_ints(node, "strides"));
   TLV_ASSIGN_OR_RETURN(std::vector<int64_t> dilations, attr_ints(node, "dilations"));
   TLV_ASSIGN_OR_RETURN(std::vector<int64_t> pads, attr_ints(node, "pads"));
@@ -118,29 +115,29 @@ Result<Windows> read_windows(const onnx::NodeProto& node,
   if (strides.empty()) strides = {1, 1};
   if (dilations.empty()) dilations = {1, 1};
   if (pads.empty()) pads = {0, 0, 0, 0};
-  TLV_ENSURE(kernel.size() == 2 && strides.size() == 2 && dilations.size() == 2 &&
-             pads.size() == 4, ErrorCode::kModelUnsupported,
+  TLV_ENSURE(kernel.size() == 2 && strides.size() == 2 && dilations.size() == 2 && pads.size() == 4,
+             ErrorCode::kModelUnsupported,
              "%s: only 2-D windows are supported (kernel %s, strides %s, pads %s)",
              node_label(node).c_str(), dims_string(kernel).c_str(), dims_string(strides).c_str(),
              dims_string(pads).c_str());
   Windows w;
   for (size_t k = 0; k < 2; ++k) {
     w[k] = Window{kernel[k], strides[k], dilations[k], pads[k], pads[k + 2]};
-    TLV_ENSURE(w[k].kernel >= 1 && w[k].stride >= 1 && w[k].dilation >= 1 &&
-               w[k].kernel <= 1024 && w[k].stride <= 1024 && w[k].dilation <= 1024,
+    TLV_ENSURE(w[k].kernel >= 1 && w[k].stride >= 1 && w[k].dilation >= 1 && w[k].kernel <= 1024 &&
+                   w[k].stride <= 1024 && w[k].dilation <= 1024,
                ErrorCode::kModelUnsupported, "%s: kernel %s, strides %s, dilations %s invalid",
-               node_label(node).c_str(), dims_string(kernel).c_str(),
-               dims_string(strides).c_str(), dims_string(dilations).c_str());
-    TLV_ENSURE(w[k].pad_begin >= 0 && w[k].pad_end >= 0 && w[k].pad_begin <= 1024 &&
-               w[k].pad_end <= 1024, ErrorCode::kModelUnsupported,
-               "%s: pads %s are negative or too large", node_label(node).c_str(),
-               dims_string(pads).c_str());
+               node_label(node).c_str(), dims_string(kernel).c_str(), dims_string(strides).c_str(),
+               dims_string(dilations).c_str());
+    TLV_ENSURE(
+        w[k].pad_begin >= 0 && w[k].pad_end >= 0 && w[k].pad_begin <= 1024 && w[k].pad_end <= 1024,
+        ErrorCode::kModelUnsupported, "%s: pads %s are negative or too large",
+        node_label(node).c_str(), dims_string(pads).c_str());
   }
   return w;
 }
 
-Result<ConstOperand> constant_for(const onnx::NodeProto& node, const Value& act,
-                                  const Constant& c, std::string name) {
+Result<ConstOperand> constant_for(const onnx::NodeProto& node, const Value& act, const Constant& c,
+                                  std::string name) {
   ConstOperand out;
   out.name = std::move(name);
   std::vector<float> data(c.elements());
@@ -148,13 +145,12 @@ Result<ConstOperand> constant_for(const onnx::NodeProto& node, const Value& act,
   switch (act.layout) {
     case Layout::kNhwc: {
       TLV_ENSURE(c.dims.size() <= 4, ErrorCode::kModelUnsupported,
-                 "%s: constant %s has a higher rank than the feature map",
-                 node_label(node).c_str(), dims_string(c.dims).c_str());
+                 "%s: constant %s has a higher rank than the feature map", node_label(node).c_str(),
+                 dims_string(c.dims).c_str());
       std::vector<int64_t> d(4 - c.dims.size(), 1);
       d.insert(d.end(), c.dims.begin(), c.dims.end());
-      TLV_ENSURE(d[0] == 1, ErrorCode::kModelUnsupported,
-                 "%s: constant %s would enlarge the batch", node_label(node).c_str(),
-                 dims_string(c.dims).c_str());
+      TLV_ENSURE(d[0] == 1, ErrorCode::kModelUnsupported, "%s: constant %s would enlarge the batch",
+                 node_label(node).c_str(), dims_string(c.dims).c_str());
       const int64_t to_nhwc[4] = {0, 2, 3, 1};
       out.data = transpose<float>(data, d, to_nhwc);
       out.shape = {static_cast<int32_t>(d[0]), static_cast<int32_t>(d[2]),

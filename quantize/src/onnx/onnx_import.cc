@@ -24,8 +24,9 @@ Result<int64_t> default_opset(const onnx::ModelProto& model) {
       const int64_t v = id.version();
       TLV_ENSURE(v >= kMinOnnxOpset && v <= kMaxOnnxOpset, ErrorCode::kModelUnsupported,
                  "the model uses ONNX opset %lld; tlvlink convert reads opsets %lld to %lld "
-                 "(re-export with an opset in that range)", static_cast<long long>(v),
-                 static_cast<long long>(kMinOnnxOpset), static_cast<long long>(kMaxOnnxOpset));
+                 "(re-export with an opset in that range)",
+                 static_cast<long long>(v), static_cast<long long>(kMinOnnxOpset),
+                 static_cast<long long>(kMaxOnnxOpset));
       return v;
     }
   }
@@ -38,8 +39,7 @@ Result<std::vector<float>> per_channel_option(const std::vector<float>& given, f
   const auto c = static_cast<size_t>(channels);
   if (given.empty()) return std::vector<float>(c, fallback);
   TLV_ENSURE(given.size() == 1 || given.size() == c, ErrorCode::kInvalidArgument,
-             "%s has %zu values for a %zu-channel input (give 1 or %zu)", what, given.size(), c,
-             c);
+             "%s has %zu values for a %zu-channel input (give 1 or %zu)", what, given.size(), c, c);
   for (float v : given) {
     TLV_ENSURE(std::isfinite(v), ErrorCode::kInvalidArgument, "%s value %g is not finite", what,
                static_cast<double>(v));
@@ -47,8 +47,8 @@ Result<std::vector<float>> per_channel_option(const std::vector<float>& given, f
   return given.size() == 1 ? std::vector<float>(c, given[0]) : given;
 }
 
-Result<MetadataSpec> metadata_for(const Importer& imp, const onnx::ModelProto& model,
-                                  int64_t opset, const OnnxImportOptions& o) {
+Result<MetadataSpec> metadata_for(const Importer& imp, const onnx::ModelProto& model, int64_t opset,
+                                  const OnnxImportOptions& o) {
   const Value& in = imp.values()[static_cast<size_t>(imp.input())];
   const int64_t channels = in.shape[1];
   MetadataSpec m;
@@ -101,7 +101,8 @@ Result<OnnxImportResult> import_onnx(std::span<const std::byte> onnx_bytes,
   TLV_ENSURE(model.ParseFromArray(onnx_bytes.data(), static_cast<int>(onnx_bytes.size())),
              ErrorCode::kFormat,
              "not a readable ONNX model: protobuf parsing failed (%zu bytes; truncated or "
-             "corrupt file?)", onnx_bytes.size());
+             "corrupt file?)",
+             onnx_bytes.size());
   TLV_ENSURE(model.has_graph() && model.graph().node_size() > 0, ErrorCode::kFormat,
              "not a readable ONNX model: no graph or no nodes (truncated or not ONNX?)");
   TLV_ASSIGN_OR_RETURN(const int64_t opset, default_opset(model));
@@ -117,8 +118,7 @@ Result<OnnxImportResult> import_onnx(std::span<const std::byte> onnx_bytes,
   s.onnx_nodes = static_cast<size_t>(model.graph().node_size());
   s.fused = imp.fused();
   s.input_shape = onnx_internal::stored_shape(imp.values()[static_cast<size_t>(imp.input())]);
-  s.output_shape =
-      onnx_internal::stored_shape(imp.values()[static_cast<size_t>(imp.outputs()[0])]);
+  s.output_shape = onnx_internal::stored_shape(imp.values()[static_cast<size_t>(imp.outputs()[0])]);
   TLV_ASSIGN_OR_RETURN(r.model, onnx_internal::emit_model(imp, metadata, s.operators));
 
   // The writer does not validate; the loader does. A model that does not load is our bug.

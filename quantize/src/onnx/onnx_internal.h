@@ -38,8 +38,8 @@ inline constexpr int64_t kMaxElements = int64_t{1} << 30;
 struct Constant {
   std::vector<int64_t> dims;  // empty: a scalar
   bool is_float = true;
-  std::vector<float> f;       // when is_float
-  std::vector<int64_t> i;     // otherwise (every integer type and bool)
+  std::vector<float> f;    // when is_float
+  std::vector<int64_t> i;  // otherwise (every integer type and bool)
 
   size_t elements() const { return is_float ? f.size() : i.size(); }
   int64_t int_at(size_t k) const { return is_float ? static_cast<int64_t>(f[k]) : i[k]; }
@@ -91,9 +91,9 @@ struct Value {
   std::string name;
   std::vector<int64_t> shape;  // logical (ONNX) shape; batch is 1
   Layout layout = Layout::kPlain;
-  std::vector<int64_t> perm;   // kPermuted only
-  int32_t producer = -1;       // node index; -1: the graph input
-  int32_t uses = 0;            // readers: ONNX consumers of every name bound to it, graph outputs
+  std::vector<int64_t> perm;  // kPermuted only
+  int32_t producer = -1;      // node index; -1: the graph input
+  int32_t uses = 0;           // readers: ONNX consumers of every name bound to it, graph outputs
 };
 
 // The tlvlink shape of a value (NHWC for kNhwc).
@@ -108,7 +108,7 @@ struct ConstOperand {
 };
 
 struct Operand {
-  int32_t value = -1;     // an activation; -1: `constant` holds the data
+  int32_t value = -1;  // an activation; -1: `constant` holds the data
   ConstOperand constant;
 };
 
@@ -120,7 +120,10 @@ struct Node {
   OpParams params;
   bool removed = false;  // folded into the node that reads it
 
-  template <typename P> const P& get() const { return std::get<P>(params); }
+  template <typename P>
+  const P& get() const {
+    return std::get<P>(params);
+  }
 };
 
 // ---- the importer --------------------------------------------------------------------------
@@ -151,7 +154,7 @@ class Importer {
   // Appends a node and the activation it writes, bound to `output_name`; returns the node
   // index. Errors on an empty or too large shape.
   Result<int32_t> add_node(Node node, const std::string& output_name, std::vector<int64_t> shape,
-                   Layout layout, std::vector<int64_t> perm = {});
+                           Layout layout, std::vector<int64_t> perm = {});
   void bind_constant(const std::string& name, Constant c);
   // `name` now reads activation `v` (a fusion or an Identity): v gains name's readers and
   // loses the one node that consumed it to produce `name`.
@@ -166,7 +169,7 @@ class Importer {
   Status bind_output(const onnx::ValueInfoProto& output);
 
   struct Binding {
-    int32_t value = -1;        // activation, or
+    int32_t value = -1;  // activation, or
     const Constant* constant = nullptr;
   };
   const onnx::GraphProto& graph_;
@@ -210,8 +213,8 @@ Node* foldable_linear(Importer& imp, int32_t v);
 // out[c] = a[c] * out[c] + b[c] folded into the node's weights and bias.
 void fold_affine(Node& linear, std::span<const float> a, std::span<const float> b);
 // Appends Mul(x, a) and/or Add(., b) with per-channel constants (BatchNorm on an activation).
-Status emit_affine(Importer& imp, const onnx::NodeProto& node, int32_t x,
-                   std::vector<float> a, std::vector<float> b);
+Status emit_affine(Importer& imp, const onnx::NodeProto& node, int32_t x, std::vector<float> a,
+                   std::vector<float> b);
 // Fuses a clamp [lo, hi] into the producer of `x` when it is expressible as ReLU / ReLU6,
 // else appends a Clamp node; the node's output 0 reads the result.
 Status apply_clamp(Importer& imp, const onnx::NodeProto& node, int32_t x, float lo, float hi);
@@ -234,11 +237,10 @@ Result<std::vector<std::byte>> emit_model(const Importer& imp, const MetadataSpe
 
 // Target shape of Reshape (0 copies the input dimension unless allowzero, -1 is inferred).
 Result<std::vector<int64_t>> reshape_target(const onnx::NodeProto& node,
-                                            std::span<const int64_t> in,
-                                            const Constant& shape, bool allowzero);
+                                            std::span<const int64_t> in, const Constant& shape,
+                                            bool allowzero);
 // ONNX multidirectional broadcasting.
-Result<std::vector<int64_t>> broadcast_dims(const onnx::NodeProto& node,
-                                            std::span<const int64_t> a,
+Result<std::vector<int64_t>> broadcast_dims(const onnx::NodeProto& node, std::span<const int64_t> a,
                                             std::span<const int64_t> b);
 
 // One spatial axis of a Conv or MaxPool window.
@@ -251,14 +253,13 @@ Result<int64_t> window_output(const onnx::NodeProto& node, int64_t in, Window& w
                               std::string_view auto_pad);
 using Windows = std::array<Window, 2>;  // height, width
 // Reads kernel_shape / strides / dilations / pads / auto_pad for a 2-D Conv or MaxPool.
-Result<Windows> read_windows(const onnx::NodeProto& node,
-                                           std::span<const int64_t> kernel,
-                                           std::string* auto_pad);
+Result<Windows> read_windows(const onnx::NodeProto& node, std::span<const int64_t> kernel,
+                             std::string* auto_pad);
 
 // A constant broadcast against activation `act`, in act's stored layout. Errors when the
 // broadcast cannot be expressed without moving act's data.
-Result<ConstOperand> constant_for(const onnx::NodeProto& node, const Value& act,
-                                  const Constant& c, std::string name);
+Result<ConstOperand> constant_for(const onnx::NodeProto& node, const Value& act, const Constant& c,
+                                  std::string name);
 // The constant as one value per channel (act's last stored axis) when it broadcasts that way
 // and does not enlarge the activation; empty otherwise.
 std::vector<float> per_channel(const ConstOperand& c, const Value& act);

@@ -34,11 +34,31 @@ int64_t read_integer(const char* p, int type) {
     case onnx::TensorProto_DataType_INT8: return static_cast<int8_t>(*p);
     case onnx::TensorProto_DataType_UINT8: return static_cast<uint8_t>(*p);
     case onnx::TensorProto_DataType_BOOL: return *p != 0;
-    case onnx::TensorProto_DataType_INT16: { int16_t v; std::memcpy(&v, p, 2); return v; }
-    case onnx::TensorProto_DataType_UINT16: { uint16_t v; std::memcpy(&v, p, 2); return v; }
-    case onnx::TensorProto_DataType_INT32: { int32_t v; std::memcpy(&v, p, 4); return v; }
-    case onnx::TensorProto_DataType_UINT32: { uint32_t v; std::memcpy(&v, p, 4); return v; }
-    default: { int64_t v; std::memcpy(&v, p, 8); return v; }
+    case onnx::TensorProto_DataType_INT16: {
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case onnx::TensorProto_DataType_UINT16: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return v;
+    }
+    case onnx::TensorProto_DataType_INT32: {
+      int32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case onnx::TensorProto_DataType_UINT32: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    default: {
+      int64_t v;
+      std::memcpy(&v, p, 8);
+      return v;
+    }
   }
 }
 
@@ -78,13 +98,13 @@ Status read_floats(const onnx::TensorProto& t, int64_t n, const std::string& wha
   for (size_t k = 0; k < c.f.size(); ++k) {
     TLV_ENSURE(std::isfinite(c.f[k]), ErrorCode::kModelInvalidTensor,
                "%s value %zu is %s: the weights are not finite (diverged training or a corrupt "
-               "file)", what.c_str(), k, std::isnan(c.f[k]) ? "NaN" : "Inf");
+               "file)",
+               what.c_str(), k, std::isnan(c.f[k]) ? "NaN" : "Inf");
   }
   return {};
 }
 
-Status read_integers(const onnx::TensorProto& t, int64_t n, const std::string& what,
-                     Constant& c) {
+Status read_integers(const onnx::TensorProto& t, int64_t n, const std::string& what, Constant& c) {
   const int type = t.data_type();
   c.is_float = false;
   if (t.has_raw_data()) {
@@ -98,7 +118,8 @@ Status read_integers(const onnx::TensorProto& t, int64_t n, const std::string& w
   } else if (type == onnx::TensorProto_DataType_INT64) {
     TLV_TRY(check_count(static_cast<size_t>(t.int64_data_size()), n, what));
     c.i.assign(t.int64_data().begin(), t.int64_data().end());
-  } else if (type == onnx::TensorProto_DataType_UINT32 || type == onnx::TensorProto_DataType_UINT64) {
+  } else if (type == onnx::TensorProto_DataType_UINT32 ||
+             type == onnx::TensorProto_DataType_UINT64) {
     TLV_TRY(check_count(static_cast<size_t>(t.uint64_data_size()), n, what));
     for (uint64_t v : t.uint64_data()) c.i.push_back(static_cast<int64_t>(v));
   } else {
@@ -130,7 +151,8 @@ Result<Constant> read_tensor(const onnx::TensorProto& t, const std::string& what
   TLV_ENSURE(t.data_location() != onnx::TensorProto_DataLocation_EXTERNAL,
              ErrorCode::kModelUnsupported,
              "%s keeps its data in an external file; re-export with the weights inside the "
-             ".onnx file", what.c_str());
+             ".onnx file",
+             what.c_str());
   TLV_ENSURE(!t.has_segment(), ErrorCode::kModelUnsupported, "%s is a segmented tensor",
              what.c_str());
   Constant c;
@@ -178,8 +200,7 @@ std::vector<T> transpose(std::span<const T> data, std::span<const int64_t> dims,
 
 template std::vector<float> transpose<float>(std::span<const float>, std::span<const int64_t>,
                                              std::span<const int64_t>);
-template std::vector<int64_t> transpose<int64_t>(std::span<const int64_t>,
-                                                 std::span<const int64_t>,
+template std::vector<int64_t> transpose<int64_t>(std::span<const int64_t>, std::span<const int64_t>,
                                                  std::span<const int64_t>);
 
 }  // namespace tlvlink::quantize::onnx_internal

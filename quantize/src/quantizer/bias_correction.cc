@@ -116,7 +116,8 @@ void accumulate(const Probe& p, std::span<const std::byte> fb, std::span<const s
   }
 }
 
-void add_offset(std::vector<BiasOffset>& offsets, const std::string& op, const std::vector<float>& d) {
+void add_offset(std::vector<BiasOffset>& offsets, const std::string& op,
+                const std::vector<float>& d) {
   for (BiasOffset& o : offsets) {
     if (o.op != op) continue;
     for (size_t c = 0; c < d.size(); ++c) o.delta[c] += d[c];

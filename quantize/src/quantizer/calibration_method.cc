@@ -19,8 +19,10 @@ constexpr double kKlSmoothing = 1e-4;
 
 Range clamp_to_observed(const TensorObserver& obs, double lo, double hi) {
   Range r;
-  r.lo = static_cast<float>(std::clamp(lo, static_cast<double>(obs.min), static_cast<double>(obs.max)));
-  r.hi = static_cast<float>(std::clamp(hi, static_cast<double>(obs.min), static_cast<double>(obs.max)));
+  r.lo = static_cast<float>(
+      std::clamp(lo, static_cast<double>(obs.min), static_cast<double>(obs.max)));
+  r.hi = static_cast<float>(
+      std::clamp(hi, static_cast<double>(obs.min), static_cast<double>(obs.max)));
   if (r.lo > r.hi) std::swap(r.lo, r.hi);
   return r;
 }
@@ -45,7 +47,8 @@ double candidate_divergence(const std::vector<double>& p, size_t i, size_t level
       nonzero += p[b] > 0 ? 1 : 0;
     }
     if (nonzero == 0) continue;
-    for (size_t b = start; b < stop; ++b) quant[b] = p[b] > 0 ? total / static_cast<double>(nonzero) : 0;
+    for (size_t b = start; b < stop; ++b)
+      quant[b] = p[b] > 0 ? total / static_cast<double>(nonzero) : 0;
   }
   double ref_sum = 0, quant_sum = 0;
   for (size_t b = 0; b < i; ++b) {
@@ -114,9 +117,9 @@ Range entropy_range(const TensorObserver& obs) {
   p[0] = std::max(0.0, p[0] - static_cast<double>(obs.zeros));
   size_t used = kHalf;
   while (used > 0 && p[used - 1] == 0) --used;
-  const size_t levels = static_cast<size_t>(positive || negative
-                                                ? CalibrationOptions::kEntropyLevelsOneSided
-                                                : CalibrationOptions::kEntropyLevelsFolded);
+  const size_t levels =
+      static_cast<size_t>(positive || negative ? CalibrationOptions::kEntropyLevelsOneSided
+                                               : CalibrationOptions::kEntropyLevelsFolded);
   // Everything already fits in `levels` bins: quantizing the full range loses nothing to clip.
   if (used <= levels) return observed_range(obs);
   std::vector<double> ref, quant;
@@ -217,7 +220,8 @@ Range choose_range(const TensorObserver& obs, const CalibrationOptions& options)
   switch (options.method) {
     case CalibrationMethod::kMinMax: return observed_range(obs);
     case CalibrationMethod::kEma:
-      return clamp_to_observed(obs, std::min(obs.ema_min, obs.ema_max), std::max(obs.ema_min, obs.ema_max));
+      return clamp_to_observed(obs, std::min(obs.ema_min, obs.ema_max),
+                               std::max(obs.ema_min, obs.ema_max));
     case CalibrationMethod::kPercentile: return percentile_range(obs, options.percentile);
     case CalibrationMethod::kEntropy: return entropy_range(obs);
     case CalibrationMethod::kMse: return mse_range(obs);

@@ -28,7 +28,8 @@ void as_floats(const Tensor& t, std::span<const std::byte> bytes, std::vector<fl
     return;
   }
   const auto* q = reinterpret_cast<const int8_t*>(bytes.data());
-  for (size_t i = 0; i < n; ++i) out[i] = dequantize_value(q[i], t.quant.scale[0], t.quant.zero_point[0]);
+  for (size_t i = 0; i < n; ++i)
+    out[i] = dequantize_value(q[i], t.quant.scale[0], t.quant.zero_point[0]);
 }
 
 struct Match {
@@ -41,7 +42,8 @@ struct Match {
 std::vector<Match> match_tensors(const Graph& f, const Graph& q, std::vector<TensorError>& layers) {
   std::unordered_map<std::string_view, int32_t> by_name;
   std::vector<int32_t> producer(q.tensors.size(), -1);
-  for (size_t i = 0; i < q.tensors.size(); ++i) by_name.emplace(q.tensors[i].name, static_cast<int32_t>(i));
+  for (size_t i = 0; i < q.tensors.size(); ++i)
+    by_name.emplace(q.tensors[i].name, static_cast<int32_t>(i));
   for (size_t i = 0; i < q.operators.size(); ++i)
     producer[static_cast<size_t>(q.operators[i].output)] = static_cast<int32_t>(i);
   std::vector<Match> matches;
@@ -131,8 +133,10 @@ Result<ModelError> compare_models(const Model& fp32, const Model& quantized,
   TLV_ENSURE(fg.tensor(fout).shape.elements() == qg.tensor(qout).shape.elements(),
              ErrorCode::kShapeMismatch, "embedding outputs differ in size (%zu vs %zu)",
              fg.tensor(fout).shape.elements(), qg.tensor(qout).shape.elements());
-  for (size_t i = 1; i < fg.inputs.size(); ++i) std::memset(fe->input(i).data(), 0, fe->input(i).size());
-  for (size_t i = 1; i < qg.inputs.size(); ++i) std::memset(qe->input(i).data(), 0, qe->input(i).size());
+  for (size_t i = 1; i < fg.inputs.size(); ++i)
+    std::memset(fe->input(i).data(), 0, fe->input(i).size());
+  for (size_t i = 1; i < qg.inputs.size(); ++i)
+    std::memset(qe->input(i).data(), 0, qe->input(i).size());
 
   ModelError result;
   const std::vector<Match> matches =
@@ -144,8 +148,10 @@ Result<ModelError> compare_models(const Model& fp32, const Model& quantized,
                fe->input(0).size() / sizeof(float));
     std::memcpy(fe->input(0).data(), frames[n].data(), fe->input(0).size());
     std::memcpy(qe->input(0).data(), frames[n].data(), qe->input(0).size());
-    if (Status s = fe->invoke(); !s.ok()) return s.error().with_context("float model, frame %zu", n);
-    if (Status s = qe->invoke(); !s.ok()) return s.error().with_context("quantized model, frame %zu", n);
+    if (Status s = fe->invoke(); !s.ok())
+      return s.error().with_context("float model, frame %zu", n);
+    if (Status s = qe->invoke(); !s.ok())
+      return s.error().with_context("quantized model, frame %zu", n);
     for (const Match& m : matches) {
       TLV_ASSIGN_OR_RETURN(std::span<const std::byte> fb, fe->tensor(m.fp32));
       TLV_ASSIGN_OR_RETURN(std::span<const std::byte> qb, qe->tensor(m.quantized));
@@ -172,7 +178,8 @@ Result<std::vector<std::vector<float>>> embeddings(const Model& model,
   eo.threads = threads;
   TLV_ASSIGN_OR_RETURN(auto exec, make_executor(model, kind, eo));
   const Graph& g = model.graph();
-  for (size_t i = 1; i < g.inputs.size(); ++i) std::memset(exec->input(i).data(), 0, exec->input(i).size());
+  for (size_t i = 1; i < g.inputs.size(); ++i)
+    std::memset(exec->input(i).data(), 0, exec->input(i).size());
   const size_t e = embedding_output(model);
   std::vector<std::vector<float>> out(frames.size());
   for (size_t n = 0; n < frames.size(); ++n) {

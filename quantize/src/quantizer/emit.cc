@@ -39,7 +39,12 @@ class Emitter {
  public:
   Emitter(const Model& m, std::span<const TensorRange> ranges, const QuantizerOptions& o,
           const std::vector<OpPlan>& plan)
-      : model_(m), g_(m.graph()), ranges_(ranges), opt_(o), plan_(plan), slots_(g_.tensors.size()) {}
+      : model_(m),
+        g_(m.graph()),
+        ranges_(ranges),
+        opt_(o),
+        plan_(plan),
+        slots_(g_.tensors.size()) {}
 
   Result<QuantizedModel> run() {
     TLV_ENSURE(ranges_.size() == g_.tensors.size(), ErrorCode::kInvalidArgument,
@@ -50,8 +55,8 @@ class Emitter {
       TLV_ENSURE(t.dtype == DType::kFloat32, ErrorCode::kModelUnsupported,
                  "graph input '%.*s' is %s; the quantizer expects a float model",
                  static_cast<int>(t.name.size()), t.name.data(), dtype_name(t.dtype));
-      inputs.push_back(slot(in).f = out_.builder.add_activation(std::string(t.name), DType::kFloat32,
-                                                                dims_of(t.shape)));
+      inputs.push_back(slot(in).f = out_.builder.add_activation(std::string(t.name),
+                                                                DType::kFloat32, dims_of(t.shape)));
     }
     out_.layers.resize(g_.operators.size());
     for (size_t i = 0; i < g_.operators.size(); ++i) TLV_TRY(emit(i));
@@ -67,7 +72,7 @@ class Emitter {
  private:
   struct Slot {
     int32_t f = kNoTensor, q = kNoTensor;  // float / int8 form in the new graph
-    QuantSpec qspec;                        // parameters of the int8 form
+    QuantSpec qspec;                       // parameters of the int8 form
     bool native_int8 = false;
   };
   Slot& slot(int32_t t) { return slots_[static_cast<size_t>(t)]; }
@@ -173,7 +178,8 @@ class Emitter {
       }
     }
     const int32_t y = define_native(plan_[i].output, false);
-    out_.builder.add_op(op.type, std::string(op.name), in, y, with_activation(op, plan_[i].activation));
+    out_.builder.add_op(op.type, std::string(op.name), in, y,
+                        with_activation(op, plan_[i].activation));
     LayerDecision& d = out_.layers[i];
     d.precision = LayerPrecision::kFloat;
     d.reason = std::move(reason);
@@ -184,7 +190,8 @@ class Emitter {
   void finish_int8(size_t i, const std::vector<int32_t>& in, const QuantSpec& out_spec) {
     const Operator& op = g_.operators[i];
     const int32_t y = define_native(plan_[i].output, true, out_spec);
-    out_.builder.add_op(op.type, std::string(op.name), in, y, with_activation(op, plan_[i].activation));
+    out_.builder.add_op(op.type, std::string(op.name), in, y,
+                        with_activation(op, plan_[i].activation));
     ++out_.int8_ops;
   }
 
@@ -219,16 +226,17 @@ class Emitter {
     if (!lw.failure.empty()) return emit_float(i, lw.failure);
     const bool per_channel = opt_.weights == WeightGranularity::kPerChannel;
     const int32_t x = int8_of(op.inputs[0]);
-    const int32_t wt = out_.builder.add_constant<int8_t>(
-        std::string(w.name), dims_of(w.shape), lw.values,
-        per_channel ? QuantSpec::per_channel(lw.scales, 0) : QuantSpec::per_tensor(lw.scales[0], 0));
+    const int32_t wt =
+        out_.builder.add_constant<int8_t>(std::string(w.name), dims_of(w.shape), lw.values,
+                                          per_channel ? QuantSpec::per_channel(lw.scales, 0)
+                                                      : QuantSpec::per_tensor(lw.scales[0], 0));
     int32_t bt = kNoTensor;
     if (op.inputs[2] != kNoTensor) {
       const Tensor& b = g_.tensor(op.inputs[2]);
-      bt = out_.builder.add_constant<int32_t>(
-          std::string(b.name), dims_of(b.shape), lw.bias,
-          per_channel ? QuantSpec::per_channel(lw.bias_scales, 0)
-                      : QuantSpec::per_tensor(lw.bias_scales[0], 0));
+      bt = out_.builder.add_constant<int32_t>(std::string(b.name), dims_of(b.shape), lw.bias,
+                                              per_channel
+                                                  ? QuantSpec::per_channel(lw.bias_scales, 0)
+                                                  : QuantSpec::per_tensor(lw.bias_scales[0], 0));
     }
     finish_int8(i, {x, wt, bt}, out.spec);
     LayerDecision& d = out_.layers[i];
@@ -248,12 +256,15 @@ class Emitter {
     if (op.type == OpType::kAdd) {
       for (const float ratio : {sa / so, sb / so}) {
         if (!in_range(ratio, kAddRatioMin, kAddRatioMax))
-          return emit_float(i, strf("input/output scale ratio %.4g outside XNNPACK's int8 Add range "
-                                    "[2^-10, 2^8)", static_cast<double>(ratio)));
+          return emit_float(i,
+                            strf("input/output scale ratio %.4g outside XNNPACK's int8 Add range "
+                                 "[2^-10, 2^8)",
+                                 static_cast<double>(ratio)));
       }
     } else if (const float ratio = sa * sb / so; !in_range(ratio, kMulRatioMin, kMulRatioMax)) {
       return emit_float(i, strf("product/output scale ratio %.4g outside XNNPACK's int8 Multiply "
-                                "range [2^-16, 2^8)", static_cast<double>(ratio)));
+                                "range [2^-16, 2^8)",
+                                static_cast<double>(ratio)));
     }
     finish_int8(i, {int8_of(op.inputs[0]), int8_of(op.inputs[1])}, out.spec);
     return {};
@@ -268,7 +279,8 @@ class Emitter {
     const float ratio = in.spec.scale[0] / out.spec.scale[0];
     if (!in_range(ratio, kGapRatioMin, kGapRatioMax))
       return emit_float(i, strf("input/output scale ratio %.4g outside XNNPACK's int8 "
-                                "GlobalAveragePool range [2^-8, 2^8)", static_cast<double>(ratio)));
+                                "GlobalAveragePool range [2^-8, 2^8)",
+                                static_cast<double>(ratio)));
     finish_int8(i, {int8_of(op.inputs[0])}, out.spec);
     return {};
   }
@@ -278,7 +290,8 @@ class Emitter {
     ActivationParams in;
     std::string why;
     if (!operand(op.inputs[0], "input", in, why)) return emit_float(i, why);
-    finish_int8(i, {int8_of(op.inputs[0])}, QuantSpec::per_tensor(kSigmoidScale, kSigmoidZeroPoint));
+    finish_int8(i, {int8_of(op.inputs[0])},
+                QuantSpec::per_tensor(kSigmoidScale, kSigmoidZeroPoint));
     return {};
   }
 
@@ -299,8 +312,8 @@ class Emitter {
       const float v = op.get<PadParams>().value;
       const double q = static_cast<double>(v / spec.scale[0]) + spec.zero_point[0];
       if (!(q >= kInt8Min - 0.5 && q <= kInt8Max + 0.5))
-        return emit_float(i, strf("pad value %g is outside the input's int8 range",
-                                  static_cast<double>(v)));
+        return emit_float(
+            i, strf("pad value %g is outside the input's int8 range", static_cast<double>(v)));
     }
     finish_int8(i, {int8_of(op.inputs[0])}, spec);
     return {};

@@ -29,7 +29,8 @@ Result<CalibrationStats> calibrate(const Model& model, InputSource& inputs,
   eo.expose_all_tensors = true;
   eo.check_outputs = false;  // observe() names the tensor that goes non-finite
   TLV_ASSIGN_OR_RETURN(auto exec, make_reference_executor(model, eo));
-  for (size_t i = 1; i < g.inputs.size(); ++i) std::memset(exec->input(i).data(), 0, exec->input(i).size());
+  for (size_t i = 1; i < g.inputs.size(); ++i)
+    std::memset(exec->input(i).data(), 0, exec->input(i).size());
   CalibrationStats stats;
   stats.tensors.resize(g.tensors.size());
   std::vector<float> frame;
@@ -50,7 +51,8 @@ Result<CalibrationStats> calibrate(const Model& model, InputSource& inputs,
       TLV_ASSIGN_OR_RETURN(std::span<const std::byte> bytes, exec->tensor(static_cast<int32_t>(t)));
       const std::span<const float> values{reinterpret_cast<const float*>(bytes.data()),
                                           bytes.size() / sizeof(float)};
-      if (Status s = stats.tensors[t].observe(values, tensor.name, options.averaging_constant); !s.ok())
+      if (Status s = stats.tensors[t].observe(values, tensor.name, options.averaging_constant);
+          !s.ok())
         return s.error().with_context("calibration frame %llu", static_cast<unsigned long long>(n));
     }
     ++stats.frames;
@@ -97,19 +99,19 @@ Result<QuantizedModel> quantize_model(const Model& fp32, std::span<const TensorR
     const TensorRange& r = ranges[static_cast<size_t>(op.output)];
     const Tensor& t = g.tensor(op.output);
     if (t.dtype != DType::kFloat32) continue;  // not reached for a float model (checked above)
-    TLV_ENSURE(r.observed(), ErrorCode::kInvalidArgument,
-               "tensor '%.*s' has no calibration range", static_cast<int>(t.name.size()),
-               t.name.data());
+    TLV_ENSURE(r.observed(), ErrorCode::kInvalidArgument, "tensor '%.*s' has no calibration range",
+               static_cast<int>(t.name.size()), t.name.data());
   }
   for (const BiasOffset& o : options.bias_offsets) {
     const Operator* op = nullptr;
     for (const Operator& candidate : g.operators)
       if (candidate.name == o.op) op = &candidate;
-    TLV_ENSURE(op != nullptr && (op->type == OpType::kConv2D || op->type == OpType::kFullyConnected) &&
-                   op->inputs[2] != kNoTensor,
-               ErrorCode::kInvalidArgument,
-               "bias offset for '%s': the model has no Conv2D / FullyConnected of that name with a bias",
-               o.op.c_str());
+    TLV_ENSURE(
+        op != nullptr && (op->type == OpType::kConv2D || op->type == OpType::kFullyConnected) &&
+            op->inputs[2] != kNoTensor,
+        ErrorCode::kInvalidArgument,
+        "bias offset for '%s': the model has no Conv2D / FullyConnected of that name with a bias",
+        o.op.c_str());
     const size_t channels = g.tensor(op->inputs[2]).shape.elements();
     TLV_ENSURE(o.delta.size() == channels, ErrorCode::kInvalidArgument,
                "bias offset for '%s': %zu values for %zu output channels", o.op.c_str(),
@@ -119,10 +121,12 @@ Result<QuantizedModel> quantize_model(const Model& fp32, std::span<const TensorR
                  o.op.c_str());
   }
   TLV_ASSIGN_OR_RETURN(auto plan, quantizer_internal::make_plan(g, options));
-  TLV_ASSIGN_OR_RETURN(QuantizedModel q, quantizer_internal::emit_quantized(fp32, ranges, options, plan));
+  TLV_ASSIGN_OR_RETURN(QuantizedModel q,
+                       quantizer_internal::emit_quantized(fp32, ranges, options, plan));
   // The loader is the judge of a model file; a rejection here is a quantizer bug.
   auto check = Model::load(q.builder.finish());
-  if (!check.ok()) return check.error().with_context("the quantized model does not load (quantizer bug)");
+  if (!check.ok())
+    return check.error().with_context("the quantized model does not load (quantizer bug)");
   return q;
 }
 

@@ -52,7 +52,7 @@ bool has_int8_kernel(OpType type);
 struct LinearRequest {
   std::span<const float> weights;  // [cout, ...] row-major
   int32_t cout = 0;
-  std::span<const float> bias;     // [cout] or empty
+  std::span<const float> bias;  // [cout] or empty
   float input_scale = 0, output_scale = 0;
   WeightGranularity granularity = WeightGranularity::kPerChannel;
   double max_bias_scale_raise = 16.0;
@@ -63,7 +63,7 @@ struct LinearWeights {
   std::vector<int32_t> bias;       // empty without bias
   std::vector<float> bias_scales;  // same length as scales
   std::vector<std::string> adjustments;
-  std::string failure;             // non-empty: the layer cannot be int8, and why
+  std::string failure;  // non-empty: the layer cannot be int8, and why
   double weight_sqnr_db = 0;
 };
 LinearWeights quantize_linear(const LinearRequest& request);

@@ -55,7 +55,8 @@ LinearWeights quantize_linear(const LinearRequest& r) {
   const size_t per = r.weights.size() / cout;
   const bool per_channel = r.granularity == WeightGranularity::kPerChannel;
   const size_t nscales = per_channel ? cout : 1;
-  const double s_in = static_cast<double>(r.input_scale), s_out = static_cast<double>(r.output_scale);
+  const double s_in = static_cast<double>(r.input_scale),
+               s_out = static_cast<double>(r.output_scale);
 
   // 1. Scales from max|w| (floored so a dead channel still has a normal scale).
   out.scales.assign(nscales, 0.0f);
@@ -72,33 +73,37 @@ LinearWeights quantize_linear(const LinearRequest& r) {
   for (size_t c = 0; c < cout; ++c) {
     const size_t sc = per_channel ? c : 0;
     float& s = out.scales[sc];
-    const std::string channel = per_channel ? strf("channel %zu", c)
-                                            : strf("the per-tensor scale (channel %zu)", c);
+    const std::string channel =
+        per_channel ? strf("channel %zu", c) : strf("the per-tensor scale (channel %zu)", c);
     if (!r.bias.empty()) {
       const double b = std::fabs(static_cast<double>(r.bias[c]));
       const double needed = b / (s_in * kMaxBiasMagnitude);
       if (needed > static_cast<double>(s)) {
         const double factor = needed / static_cast<double>(s);
         if (factor > r.max_bias_scale_raise) {
-          out.failure = channel + strf(
-              ": int32 bias %.4g / (s_in * s_w) = %.3g does not fit in 2^30; fitting it would "
-              "raise the weight scale x%.3g (allowed x%g)",
-              b, b / (s_in * static_cast<double>(s)), factor, r.max_bias_scale_raise);
+          out.failure =
+              channel +
+              strf(
+                  ": int32 bias %.4g / (s_in * s_w) = %.3g does not fit in 2^30; fitting it would "
+                  "raise the weight scale x%.3g (allowed x%g)",
+                  b, b / (s_in * static_cast<double>(s)), factor, r.max_bias_scale_raise);
           return out;
         }
         raise_to(s, needed);
-        out.adjustments.push_back(channel + strf(
-            ": weight scale raised x%.3g so the int32 bias (%.4g at s_in*s_w) fits in 2^30",
-            factor, b));
+        out.adjustments.push_back(
+            channel +
+            strf(": weight scale raised x%.3g so the int32 bias (%.4g at s_in*s_w) fits in 2^30",
+                 factor, b));
       }
     }
     const double multiplier = s_in * static_cast<double>(s) / s_out;
     if (multiplier < kMinRequantMultiplier) {
       const double factor = raise_to(s, kMinRequantMultiplier * (1.0 + 1e-6) * s_out / s_in);
-      out.adjustments.push_back(channel + strf(
-          ": requantization multiplier %.3g < 2^-31 (weights move the output by < %.2g LSB); "
-          "weight scale raised x%.3g",
-          multiplier, multiplier * 255.0 * 127.0 * static_cast<double>(per), factor));
+      out.adjustments.push_back(
+          channel +
+          strf(": requantization multiplier %.3g < 2^-31 (weights move the output by < %.2g LSB); "
+               "weight scale raised x%.3g",
+               multiplier, multiplier * 255.0 * 127.0 * static_cast<double>(per), factor));
     }
   }
 
@@ -133,8 +138,10 @@ LinearWeights quantize_linear(const LinearRequest& r) {
     }
     int64_t abs_bias = 0;
     if (!r.bias.empty()) {
-      const double bq = std::nearbyint(static_cast<double>(r.bias[c]) / (s_in * static_cast<double>(s)));
-      out.bias.push_back(static_cast<int32_t>(std::clamp(bq, -kMaxBiasMagnitude, kMaxBiasMagnitude)));
+      const double bq =
+          std::nearbyint(static_cast<double>(r.bias[c]) / (s_in * static_cast<double>(s)));
+      out.bias.push_back(
+          static_cast<int32_t>(std::clamp(bq, -kMaxBiasMagnitude, kMaxBiasMagnitude)));
       abs_bias = std::llabs(static_cast<long long>(out.bias.back()));
     }
     const int64_t bound = abs_bias + kMaxCenteredInput * abs_sum;
@@ -147,7 +154,8 @@ LinearWeights quantize_linear(const LinearRequest& r) {
     }
   }
   if (!r.bias.empty()) {
-    for (float s : out.scales) out.bias_scales.push_back(static_cast<float>(s_in * static_cast<double>(s)));
+    for (float s : out.scales)
+      out.bias_scales.push_back(static_cast<float>(s_in * static_cast<double>(s)));
   }
   out.weight_sqnr_db = sqnr_db(signal, error);
   return out;
@@ -169,7 +177,8 @@ ActivationParams activation_params(const TensorRange& range, float min_range) {
     p.failure = strf("range [%.4g, %.4g] has no finite normal int8 scale (%.4g)", lo, hi, scale);
     return p;
   }
-  const double zp = std::nearbyint(static_cast<double>(kInt8Min) - lo / static_cast<double>(fscale));
+  const double zp =
+      std::nearbyint(static_cast<double>(kInt8Min) - lo / static_cast<double>(fscale));
   p.spec = QuantSpec::per_tensor(fscale, static_cast<int32_t>(std::clamp(zp, -128.0, 127.0)));
   return p;
 }

@@ -7,9 +7,7 @@ namespace {
 std::vector<std::string> strings(const std::vector<std::string_view>& v) {
   return {v.begin(), v.end()};
 }
-std::vector<float> floats(std::span<const float> v) {
-  return {v.begin(), v.end()};
-}
+std::vector<float> floats(std::span<const float> v) { return {v.begin(), v.end()}; }
 HeadTrustSpec trust(const HeadTrust& t) {
   HeadTrustSpec s;
   s.present = t.present;

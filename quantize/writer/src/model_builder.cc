@@ -57,12 +57,11 @@ std::vector<std::byte> ModelBuilder::serialize(const verify::GoldenHeadOutputs* 
   for (const auto& [in, out] : metadata_.golden) {
     buffers.push_back(in);
     buffers.push_back(out);
-    golden.push_back({static_cast<uint32_t>(buffers.size() - 2),
-                      static_cast<uint32_t>(buffers.size() - 1)});
+    golden.push_back(
+        {static_cast<uint32_t>(buffers.size() - 2), static_cast<uint32_t>(buffers.size() - 1)});
   }
   std::vector<std::span<const std::byte>> views(buffers.begin(), buffers.end());
-  const uint64_t checksum =
-      has_checksum_override_ ? checksum_override_ : content_checksum(views);
+  const uint64_t checksum = has_checksum_override_ ? checksum_override_ : content_checksum(views);
 
   flatbuffers::FlatBufferBuilder fbb(1 << 16);
   std::vector<flatbuffers::Offset<fb::Buffer>> fb_buffers;

@@ -44,7 +44,8 @@ std::string hex_line(const char* prefix, std::span<const uint8_t> bytes) {
 
 Result<std::vector<std::byte>> rewrite_model(const Model& model) {
   // created_utc, producer and settings are copied: the rewrite is the same model, not a new one.
-  TLV_ASSIGN_OR_RETURN(ModelBuilder b, rebuild_with_metadata(model, metadata_spec_from(model.metadata())));
+  TLV_ASSIGN_OR_RETURN(ModelBuilder b,
+                       rebuild_with_metadata(model, metadata_spec_from(model.metadata())));
   return b.finish();
 }
 

@@ -34,18 +34,16 @@ flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder&
   flatbuffers::Offset<fb::InputSpec> input = 0;
   if (spec.input.height > 0) {
     const InputSpecDef& in = spec.input;
-    input = fb::CreateInputSpec(fbb, in.height, in.width, in.channels,
-                                static_cast<fb::ChannelOrder>(in.channel_order), in.crop_x, in.crop_y,
-                                in.crop_w, in.crop_h, static_cast<fb::ResizeFilter>(in.resize_filter),
-                                fbb.CreateVector(in.mean), fbb.CreateVector(in.std),
-                                in.background_subtraction);
+    input = fb::CreateInputSpec(
+        fbb, in.height, in.width, in.channels, static_cast<fb::ChannelOrder>(in.channel_order),
+        in.crop_x, in.crop_y, in.crop_w, in.crop_h, static_cast<fb::ResizeFilter>(in.resize_filter),
+        fbb.CreateVector(in.mean), fbb.CreateVector(in.std), in.background_subtraction);
   }
   std::vector<flatbuffers::Offset<fb::LinearHead>> linear;
   for (const auto& h : spec.linear_heads) {
-    linear.push_back(fb::CreateLinearHead(fbb, fbb.CreateString(h.name),
-                                          fbb.CreateVectorOfStrings(h.labels),
-                                          fbb.CreateVector(h.weight), fbb.CreateVector(h.bias),
-                                          write_trust(fbb, h.trust)));
+    linear.push_back(fb::CreateLinearHead(
+        fbb, fbb.CreateString(h.name), fbb.CreateVectorOfStrings(h.labels),
+        fbb.CreateVector(h.weight), fbb.CreateVector(h.bias), write_trust(fbb, h.trust)));
   }
   std::vector<flatbuffers::Offset<fb::ZeroShotHead>> zero_shot;
   for (const auto& h : spec.zero_shot_heads) {
@@ -67,7 +65,8 @@ flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder&
   std::vector<flatbuffers::Offset<fb::GoldenPair>> golden;
   for (size_t i = 0; i < golden_buffers.size(); ++i) {
     flatbuffers::Offset<flatbuffers::Vector<float>> probabilities = 0;
-    if (heads != nullptr && i < heads->pairs.size()) probabilities = fbb.CreateVector(heads->pairs[i]);
+    if (heads != nullptr && i < heads->pairs.size())
+      probabilities = fbb.CreateVector(heads->pairs[i]);
     golden.push_back(fb::CreateGoldenPair(fbb, golden_buffers[i].input, golden_buffers[i].output,
                                           probabilities));
   }
@@ -75,8 +74,8 @@ flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder&
   if (heads != nullptr && heads->has_grasp) golden_grasp = fbb.CreateVector(&heads->grasp, 1);
   return fb::CreateMetadata(fbb, fbb.CreateString(spec.name), input, spec.embedding_dim,
                             spec.embedding_output, fbb.CreateVector(linear),
-                            fbb.CreateVector(zero_shot), grasp, provenance, fbb.CreateVector(golden),
-                            golden_grasp);
+                            fbb.CreateVector(zero_shot), grasp, provenance,
+                            fbb.CreateVector(golden), golden_grasp);
 }
 
 }  // namespace tlvlink::quantize::writer_internal

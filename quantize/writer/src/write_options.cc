@@ -22,12 +22,13 @@ std::pair<fb::OpOptions, flatbuffers::Offset<void>> write_options(
     return {fb::OpOptions::ClampOptions, fb::CreateClampOptions(fbb, p->min, p->max).Union()};
   }
   if (const auto* p = std::get_if<Pool2DParams>(&params)) {
-    auto o = fb::CreatePool2DOptions(fbb, p->pool_h, p->pool_w, p->stride_h, p->stride_w, p->pad_top,
-                                     p->pad_bottom, p->pad_left, p->pad_right);
+    auto o = fb::CreatePool2DOptions(fbb, p->pool_h, p->pool_w, p->stride_h, p->stride_w,
+                                     p->pad_top, p->pad_bottom, p->pad_left, p->pad_right);
     return {fb::OpOptions::Pool2DOptions, o.Union()};
   }
   if (const auto* p = std::get_if<PadParams>(&params)) {
-    std::vector<int32_t> before(p->before.begin(), p->before.begin() + static_cast<long>(input_rank));
+    std::vector<int32_t> before(p->before.begin(),
+                                p->before.begin() + static_cast<long>(input_rank));
     std::vector<int32_t> after(p->after.begin(), p->after.begin() + static_cast<long>(input_rank));
     auto o = fb::CreatePadOptions(fbb, fbb.CreateVector(before), fbb.CreateVector(after), p->value);
     return {fb::OpOptions::PadOptions, o.Union()};

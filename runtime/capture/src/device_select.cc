@@ -30,9 +30,7 @@ std::string read_line(const std::string& path) {
   return out;
 }
 
-bool exists(const std::string& path) {
-  return ::access(path.c_str(), F_OK) == 0;
-}
+bool exists(const std::string& path) { return ::access(path.c_str(), F_OK) == 0; }
 
 std::string real_path(const std::string& path) {
   char buf[PATH_MAX];

@@ -11,7 +11,8 @@ void begin_outage(const OutageBook& o, bool streamed) {
   o.stats.outage_ns = o.backoff.outage_ns(now);
 }
 
-Status reconnect_until(const OutageBook& o, const char* name, int64_t deadline_ns, ReopenFn reopen) {
+Status reconnect_until(const OutageBook& o, const char* name, int64_t deadline_ns,
+                       ReopenFn reopen) {
   for (;;) {
     int64_t now = board_clock_ns();
     if (o.backoff.due(now)) {

@@ -40,7 +40,7 @@ Result<RecordingReader> RecordingReader::open(const std::string& path) {
   RecordingReader r;
   r.path_ = path;
   r.fd_ = fd;
-  struct stat st{};
+  struct stat st {};
   TLV_ENSURE(::fstat(fd, &st) == 0, ErrorCode::kIo, "recording %s: cannot stat: %s", path.c_str(),
              std::strerror(errno));
   TLV_ENSURE(S_ISREG(st.st_mode), ErrorCode::kIo, "recording %s: not a regular file (%s)",
@@ -49,10 +49,11 @@ Result<RecordingReader> RecordingReader::open(const std::string& path) {
   r.summary_.file_bytes = static_cast<uint64_t>(st.st_size);
   uint8_t header[kRecordingHeaderBytes];
   TLV_ASSIGN_OR_RETURN(const bool whole, pread_all(fd, header, sizeof(header), 0, path.c_str()));
-  TLV_ENSURE(whole, ErrorCode::kFormat, "recording %s: %llu bytes, shorter than the %zu-byte header",
-             path.c_str(), static_cast<unsigned long long>(r.summary_.file_bytes),
-             kRecordingHeaderBytes);
-  TLV_TRY(internal::decode_file_header(header, path.c_str(), r.summary_.format, r.summary_.version));
+  TLV_ENSURE(whole, ErrorCode::kFormat,
+             "recording %s: %llu bytes, shorter than the %zu-byte header", path.c_str(),
+             static_cast<unsigned long long>(r.summary_.file_bytes), kRecordingHeaderBytes);
+  TLV_TRY(
+      internal::decode_file_header(header, path.c_str(), r.summary_.format, r.summary_.version));
   TLV_TRY(r.scan());
   return r;
 }
@@ -101,7 +102,8 @@ Result<bool> RecordingReader::parse_record(uint64_t offset, uint64_t index,
   const uint64_t body = offset + kRecordHeaderBytes;
   if ((f.flags & kRecordRepeat) != 0) {
     uint8_t target[kRepeatStoredBytes];
-    TLV_ASSIGN_OR_RETURN(const bool got, pread_all(fd_, target, sizeof(target), body, path_.c_str()));
+    TLV_ASSIGN_OR_RETURN(const bool got,
+                         pread_all(fd_, target, sizeof(target), body, path_.c_str()));
     if (!got) return false;
     out.data_offset = internal::get_u64(target);
     TLV_ENSURE(out.data_offset >= kRecordingHeaderBytes + kRecordHeaderBytes &&

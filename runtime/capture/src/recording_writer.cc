@@ -10,9 +10,9 @@
 #include <cstring>
 #include <utility>
 
-#include "tlvlink/crc32.h"
 #include "recording_format.h"
 #include "tlvlink/capture/recording.h"
+#include "tlvlink/crc32.h"
 
 namespace tlvlink::capture {
 
@@ -63,9 +63,7 @@ RecordingWriter& RecordingWriter::operator=(RecordingWriter&& o) noexcept {
   return *this;
 }
 
-RecordingWriter::~RecordingWriter() {
-  (void)close();
-}
+RecordingWriter::~RecordingWriter() { (void)close(); }
 
 // Writes header (+ data) at end_ with as many writev calls as it takes; on failure the file is
 // cut back to end_ so a later append starts at a record boundary again.
@@ -97,8 +95,8 @@ Status RecordingWriter::write_record(const uint8_t* header, const uint8_t* data,
         return Error::make(ErrorCode::kIo,
                            "recording %s: write at offset %llu failed (%s) and the partial "
                            "record could not be cut off (%s)",
-                           path_.c_str(), static_cast<unsigned long long>(end_),
-                           std::strerror(err), std::strerror(errno));
+                           path_.c_str(), static_cast<unsigned long long>(end_), std::strerror(err),
+                           std::strerror(errno));
       }
       return Error::make(ErrorCode::kIo, "recording %s: write at offset %llu failed: %s",
                          path_.c_str(), static_cast<unsigned long long>(end_), std::strerror(err));

@@ -12,7 +12,6 @@
 namespace tlvlink::capture {
 namespace {
 
-
 TLV_LOG_CATEGORY(kLogReplay, "replay");
 
 class ReplaySource final : public FrameSource {
@@ -62,8 +61,8 @@ class ReplaySource final : public FrameSource {
   Result<CapturedFrame> next(int32_t timeout_ms) override {
     TLV_ENSURE(reader_.has_value(), ErrorCode::kInvalidState, "replay '%s': not started",
                config_.label.c_str());
-    const int64_t deadline = board_clock_ns() + static_cast<int64_t>(std::max(timeout_ms, 0)) *
-                                                  kNsPerMs;
+    const int64_t deadline =
+        board_clock_ns() + static_cast<int64_t>(std::max(timeout_ms, 0)) * kNsPerMs;
     for (;;) {
       RecordInfo info;
       TLV_ASSIGN_OR_RETURN(bool have, peek(info));
@@ -163,8 +162,7 @@ class ReplaySource final : public FrameSource {
   int64_t due_ns(const RecordInfo& info) const {
     // Offsets count from the recording's origin, shared by fingers recorded together: a second
     // camera's phase (its first frame at +7 ms) survives the replay.
-    return start_ns_ + info.offset_ns +
-           static_cast<int64_t>(passes_) * loop_span_ns_;
+    return start_ns_ + info.offset_ns + static_cast<int64_t>(passes_) * loop_span_ns_;
   }
 
   ReplayConfig config_;

@@ -12,7 +12,8 @@ namespace {
 
 Result<image::Image> decode_with(const image::FrameFormat& format, const SensorModel& sensor,
                                  std::span<const uint8_t> bytes, const std::string& what) {
-  TLV_ASSIGN_OR_RETURN(image::FrameDecoder decoder, image::FrameDecoder::create(format, sensor.view));
+  TLV_ASSIGN_OR_RETURN(image::FrameDecoder decoder,
+                       image::FrameDecoder::create(format, sensor.view));
   image::Image out{sensor.view.width, sensor.view.height, 3, {}};
   out.pixels.resize(decoder.output_bytes());
   TLV_TRY(decoder.decode(bytes, out.pixels, what.c_str()));
@@ -28,11 +29,12 @@ const char* still_kind_name(StillKind kind) {
 Result<StillKind> classify_still(const SensorModel& s, int32_t width, int32_t height) {
   if (width == s.view.width && height == s.view.height) return StillKind::kProcessedView;
   if (width == s.width && height == s.height) return StillKind::kCameraFrame;
-  return Error::make(ErrorCode::kShapeMismatch,
-                     "a %dx%d frame is neither a %.*s camera frame (%dx%d) nor its processed view "
-                     "(%dx%d); resizing it would change the gel's scale or aspect the model learned",
-                     width, height, static_cast<int>(s.name.size()), s.name.data(), s.width,
-                     s.height, s.view.width, s.view.height);
+  return Error::make(
+      ErrorCode::kShapeMismatch,
+      "a %dx%d frame is neither a %.*s camera frame (%dx%d) nor its processed view "
+      "(%dx%d); resizing it would change the gel's scale or aspect the model learned",
+      width, height, static_cast<int>(s.name.size()), s.name.data(), s.width, s.height,
+      s.view.width, s.view.height);
 }
 
 std::vector<const SensorModel*> sensors_of_size(int32_t width, int32_t height) {
@@ -66,7 +68,8 @@ Result<image::Image> view_from_still_rgb(const image::ImageView& rgb, const Sens
     std::memcpy(packed.data() + static_cast<size_t>(y) * static_cast<size_t>(rgb.width) * 3,
                 rgb.row(y), static_cast<size_t>(rgb.width) * 3);
   }
-  if (kind == StillKind::kProcessedView) return image::Image{rgb.width, rgb.height, 3, std::move(packed)};
+  if (kind == StillKind::kProcessedView)
+    return image::Image{rgb.width, rgb.height, 3, std::move(packed)};
   return decode_with({image::PixelFormat::kRgb24, s.width, s.height, 0}, s, packed, what);
 }
 

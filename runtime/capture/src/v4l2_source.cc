@@ -55,9 +55,7 @@ bool requeue(V4l2Source::State& s, uint32_t index, int& err) {
 }  // namespace
 
 V4l2Source::V4l2Source(std::unique_ptr<State> state) : state_(std::move(state)) {}
-V4l2Source::~V4l2Source() {
-  stop();
-}
+V4l2Source::~V4l2Source() { stop(); }
 
 Status V4l2Source::start() {
   State& s = *state_;
@@ -147,8 +145,7 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
     }
 
     const int64_t now = board_clock_ns();
-    const int64_t watchdog_at =
-        s.last_frame_ns + static_cast<int64_t>(s.watchdog_ms) * kNsPerMs;
+    const int64_t watchdog_at = s.last_frame_ns + static_cast<int64_t>(s.watchdog_ms) * kNsPerMs;
     if (now >= watchdog_at) {
       ++s.stats.stalls;
       return begin_outage(s, "no frame within the watchdog (device stalled)", 0);
@@ -160,8 +157,7 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
     }
     const int64_t until = deadline < watchdog_at ? deadline : watchdog_at;
     pollfd p{s.fd, POLLIN, 0};
-    const int rc = ::poll(
-        &p, 1, static_cast<int>((until - now + kNsPerMs - 1) / kNsPerMs));
+    const int rc = ::poll(&p, 1, static_cast<int>((until - now + kNsPerMs - 1) / kNsPerMs));
     if (rc < 0 && errno != EINTR) return begin_outage(s, "poll failed", errno);
     if (rc > 0 && (p.revents & (POLLERR | POLLHUP | POLLNVAL)) && !(p.revents & POLLIN)) {
       // An unregistered node (unplugged) polls POLLERR|POLLHUP; so does a queue in error state
@@ -172,26 +168,12 @@ Result<CapturedFrame> V4l2Source::next(int32_t timeout_ms) {
   }
 }
 
-const image::FrameFormat& V4l2Source::format() const {
-  return state_->format;
-}
-const SourceStats& V4l2Source::stats() const {
-  return state_->stats;
-}
-const char* V4l2Source::name() const {
-  return state_->name;
-}
-const DeviceInfo& V4l2Source::device() const {
-  return state_->device;
-}
-const std::vector<AppliedControl>& V4l2Source::applied_controls() const {
-  return state_->applied;
-}
-uint32_t V4l2Source::buffer_count() const {
-  return state_->buffer_count;
-}
-size_t V4l2Source::buffer_bytes() const {
-  return state_->buffers[0].length;
-}
+const image::FrameFormat& V4l2Source::format() const { return state_->format; }
+const SourceStats& V4l2Source::stats() const { return state_->stats; }
+const char* V4l2Source::name() const { return state_->name; }
+const DeviceInfo& V4l2Source::device() const { return state_->device; }
+const std::vector<AppliedControl>& V4l2Source::applied_controls() const { return state_->applied; }
+uint32_t V4l2Source::buffer_count() const { return state_->buffer_count; }
+size_t V4l2Source::buffer_bytes() const { return state_->buffers[0].length; }
 
 }  // namespace tlvlink::capture

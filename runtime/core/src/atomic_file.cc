@@ -97,9 +97,7 @@ AtomicFile& AtomicFile::operator=(AtomicFile&& other) noexcept {
   return *this;
 }
 
-AtomicFile::~AtomicFile() {
-  abandon();
-}
+AtomicFile::~AtomicFile() { abandon(); }
 
 void AtomicFile::abandon() {
   if (fd_ >= 0) ::close(fd_);

@@ -9,7 +9,8 @@ namespace {
 
 // Formats into a fixed buffer; an over-long message ends in "..." rather than being cut silently.
 // The format attribute lets clang check the callers' literal formats instead of this forward.
-[[gnu::format(printf, 2, 0)]] void format_into(char (&out)[Error::kMaxErrorMessage + 1], const char* format, va_list args) {
+[[gnu::format(printf, 2, 0)]] void format_into(char (&out)[Error::kMaxErrorMessage + 1],
+                                               const char* format, va_list args) {
   const int n = std::vsnprintf(out, sizeof(out), format, args);
   if (n > static_cast<int>(Error::kMaxErrorMessage)) {
     std::memcpy(out + Error::kMaxErrorMessage - 3, "...", 4);
@@ -41,7 +42,8 @@ Error Error::with_context(const char* format, ...) const {
   format_into(prefix, format, args);
   va_end(args);
   const int n = std::snprintf(e.message_, sizeof(e.message_), "%s: %s", prefix, message_);
-  if (n > static_cast<int>(kMaxErrorMessage)) std::memcpy(e.message_ + kMaxErrorMessage - 3, "...", 4);
+  if (n > static_cast<int>(kMaxErrorMessage))
+    std::memcpy(e.message_ + kMaxErrorMessage - 3, "...", 4);
   return e;
 }
 

@@ -23,9 +23,9 @@ bool parse_level(const char* s, size_t n, LogLevel& out) {
   const struct {
     const char* name;
     LogLevel level;
-  } names[] = {{"debug", LogLevel::kDebug}, {"info", LogLevel::kInfo},
+  } names[] = {{"debug", LogLevel::kDebug},  {"info", LogLevel::kInfo},
                {"warn", LogLevel::kWarning}, {"warning", LogLevel::kWarning},
-               {"error", LogLevel::kError}, {"off", LogLevel::kOff}};
+               {"error", LogLevel::kError},  {"off", LogLevel::kOff}};
   for (const auto& e : names) {
     if (std::strlen(e.name) == n && std::strncmp(e.name, s, n) == 0) {
       out = e.level;

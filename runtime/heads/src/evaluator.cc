@@ -56,7 +56,8 @@ Result<HeadEvaluator> HeadEvaluator::create(const Metadata& m) {
     h.results_.push_back(r);
   };
   for (const LinearHead& l : m.linear_heads) add(l.name, HeadKind::kProbe, l.labels, l.trust);
-  for (const ZeroShotHead& z : m.zero_shot_heads) add(z.name, HeadKind::kZeroShot, z.class_names, z.trust);
+  for (const ZeroShotHead& z : m.zero_shot_heads)
+    add(z.name, HeadKind::kZeroShot, z.class_names, z.trust);
   if (m.grasp_head.present) {
     TLV_ASSIGN_OR_RETURN(h.grasp_layout_, parse_grasp_layout(m.grasp_head.feature_layout));
     const size_t needs = layout_values(h.grasp_layout_, m.embedding_dim);
@@ -111,8 +112,8 @@ Result<float> HeadEvaluator::grasp_probability(
   for (size_t k = 0; k < features.size(); ++k) {
     const auto want = static_cast<size_t>(feature_values(grasp_layout_[k], dim_));
     TLV_ENSURE(features[k].size() == want, ErrorCode::kShapeMismatch,
-               "grasp feature %zu has %zu values, the head reads %zu there", k,
-               features[k].size(), want);
+               "grasp feature %zu has %zu values, the head reads %zu there", k, features[k].size(),
+               want);
   }
   return sigmoid(grasp_logit(metadata_->grasp_head.weight, metadata_->grasp_head.bias, features));
 }

@@ -33,9 +33,7 @@ int32_t mirror(int32_t i, int32_t n) {
   return i;
 }
 
-float signed_log1p(double v) {
-  return static_cast<float>(v < 0 ? -std::log1p(-v) : std::log1p(v));
-}
+float signed_log1p(double v) { return static_cast<float>(v < 0 ? -std::log1p(-v) : std::log1p(v)); }
 
 }  // namespace
 
@@ -99,8 +97,9 @@ Status GraspDifference::compute(std::span<const float> before, std::span<const f
       for (int32_t c = 0; c < kChannels; ++c) {
         float acc = 0;
         for (int32_t t = -kRadius; t <= kRadius; ++t) {
-          acc += taps[static_cast<size_t>(t + kRadius)] *
-                 row[static_cast<size_t>(mirror(x + t, width_)) * kChannels + static_cast<size_t>(c)];
+          acc +=
+              taps[static_cast<size_t>(t + kRadius)] *
+              row[static_cast<size_t>(mirror(x + t, width_)) * kChannels + static_cast<size_t>(c)];
         }
         dst[static_cast<size_t>(x) * kChannels + static_cast<size_t>(c)] = acc;
       }

@@ -17,7 +17,7 @@ TrustAssessment assess_head(const HeadTrust& t) {
                         kTrustZ * std::sqrt(majority * (1 - majority) / static_cast<double>(t.n)));
   a.below_baseline = t.baseline_accuracy >= 0 && t.accuracy <= t.baseline_accuracy;
   a.level = a.margin >= a.required && !a.below_baseline ? HeadTrustLevel::kTrusted
-                                                         : HeadTrustLevel::kUntrusted;
+                                                        : HeadTrustLevel::kUntrusted;
   return a;
 }
 

@@ -102,16 +102,16 @@ Size upright_size(int32_t width, int32_t height, Orientation o) {
   return o == Orientation::kTransposed ? Size{height, width} : Size{width, height};
 }
 
-Status camera_to_upright_rgb(std::span<const uint8_t> frame, const FrameFormat& f,
-                             Orientation o, std::span<uint8_t> upright, const char* what) {
+Status camera_to_upright_rgb(std::span<const uint8_t> frame, const FrameFormat& f, Orientation o,
+                             std::span<uint8_t> upright, const char* what) {
   TLV_ENSURE(f.format != PixelFormat::kMjpeg, ErrorCode::kInvalidArgument,
              "%s: MJPEG is decoded by JpegDecoder, not converted", what);
   TLV_ENSURE(f.width >= 1 && f.height >= 1 && (f.format != PixelFormat::kYuyv || f.width % 2 == 0),
              ErrorCode::kFormat, "%s: %s frame of %dx%d", what, pixel_format_name(f.format),
              f.width, f.height);
   const size_t need = frame_bytes(f);
-  TLV_ENSURE(frame.size() >= need, ErrorCode::kFormat, "%s: %zu bytes; %dx%d %s is %zu bytes",
-             what, frame.size(), f.width, f.height, pixel_format_name(f.format), need);
+  TLV_ENSURE(frame.size() >= need, ErrorCode::kFormat, "%s: %zu bytes; %dx%d %s is %zu bytes", what,
+             frame.size(), f.width, f.height, pixel_format_name(f.format), need);
   TLV_ENSURE(upright.size() == static_cast<size_t>(f.width) * static_cast<size_t>(f.height) * 3,
              ErrorCode::kShapeMismatch, "%s: RGB buffer of %zu bytes for %dx%d", what,
              upright.size(), f.width, f.height);
@@ -124,23 +124,25 @@ Status camera_to_upright_rgb(std::span<const uint8_t> frame, const FrameFormat& 
   return {};
 }
 
-Status upright_rgb_to_camera(std::span<const uint8_t> upright, const FrameFormat& f,
-                             Orientation o, std::span<uint8_t> frame) {
+Status upright_rgb_to_camera(std::span<const uint8_t> upright, const FrameFormat& f, Orientation o,
+                             std::span<uint8_t> frame) {
   const bool yuv = f.format == PixelFormat::kYuyv;
   TLV_ENSURE((yuv && f.width % 2 == 0) || f.format == PixelFormat::kRgb24,
-             ErrorCode::kInvalidArgument, "simulated cameras emit RGB24 or YUYV (even width), not %s %dx%d",
+             ErrorCode::kInvalidArgument,
+             "simulated cameras emit RGB24 or YUYV (even width), not %s %dx%d",
              pixel_format_name(f.format), f.width, f.height);
   const size_t pixels = static_cast<size_t>(f.width) * static_cast<size_t>(f.height);
   TLV_ENSURE(upright.size() == pixels * 3 && frame.size() == pixels * (yuv ? 2 : 3),
-             ErrorCode::kShapeMismatch, "%dx%d %s: buffers of %zu and %zu bytes", f.width,
-             f.height, pixel_format_name(f.format), upright.size(), frame.size());
+             ErrorCode::kShapeMismatch, "%dx%d %s: buffers of %zu and %zu bytes", f.width, f.height,
+             pixel_format_name(f.format), upright.size(), frame.size());
   const Walk w = walk(f.width, f.height, o);
   const uint8_t* up = upright.data();
   for (int32_t v = 0; v < f.height; ++v) {
     ptrdiff_t at = w.origin + v * w.step_v;
     if (!yuv) {
       uint8_t* out = frame.data() + static_cast<size_t>(v) * static_cast<size_t>(f.width) * 3;
-      for (int32_t u = 0; u < f.width; ++u, at += w.step_u, out += 3) std::copy_n(up + at * 3, 3, out);
+      for (int32_t u = 0; u < f.width; ++u, at += w.step_u, out += 3)
+        std::copy_n(up + at * 3, 3, out);
       continue;
     }
     uint8_t* out = frame.data() + static_cast<size_t>(v) * static_cast<size_t>(f.width) * 2;

@@ -27,9 +27,9 @@ Result<std::vector<uint8_t>> encode_jpeg(const Image& image, int32_t quality) {
              image.width, image.height, image.channels, need);
   TLV_ASSIGN_OR_RETURN(
       const std::span<const uint8_t> bytes,
-      thread_encoder().encode(image.view(), quality,
-                              image.channels == 3 ? JpegEncoder::Subsampling::k420
-                                                  : JpegEncoder::Subsampling::kGray));
+      thread_encoder().encode(
+          image.view(), quality,
+          image.channels == 3 ? JpegEncoder::Subsampling::k420 : JpegEncoder::Subsampling::kGray));
   return std::vector<uint8_t>(bytes.begin(), bytes.end());
 }
 

@@ -77,21 +77,22 @@ Status JpegDecoder::decode_rgb(std::span<const uint8_t> jpeg, int32_t scale_deno
              "%s: JPEG scale 1/%d not offered (1, 2, 4 or 8)", what, scale_denominator);
   TLV_ASSIGN_OR_RETURN(const JpegHeader h, read_header(jpeg, what));
   TLV_ENSURE(expect.width <= 0 || (h.width == expect.width && h.height == expect.height),
-             ErrorCode::kFormat, "%s: JPEG frame is %dx%d, expected %dx%d", what, h.width,
-             h.height, expect.width, expect.height);
+             ErrorCode::kFormat, "%s: JPEG frame is %dx%d, expected %dx%d", what, h.width, h.height,
+             expect.width, expect.height);
   const int32_t w = jpeg_scaled_size(h.width, scale_denominator);
   const int32_t hh = jpeg_scaled_size(h.height, scale_denominator);
   const size_t row = stride != 0 ? stride : static_cast<size_t>(w) * 3;
-  TLV_ENSURE(row >= static_cast<size_t>(w) * 3 && out_bytes >= row * static_cast<size_t>(hh - 1) +
-                                                                    static_cast<size_t>(w) * 3,
-             ErrorCode::kShapeMismatch, "%s: a %dx%d RGB image does not fit %zu bytes", what, w,
-             hh, out_bytes);
+  TLV_ENSURE(row >= static_cast<size_t>(w) * 3 &&
+                 out_bytes >= row * static_cast<size_t>(hh - 1) + static_cast<size_t>(w) * 3,
+             ErrorCode::kShapeMismatch, "%s: a %dx%d RGB image does not fit %zu bytes", what, w, hh,
+             out_bytes);
   // STOPONWARNING: a truncated or damaged stream is reported, not silently padded with grey.
   if (tjDecompress2(handle_, const_cast<unsigned char*>(jpeg.data()), jpeg.size(), out, w,
                     static_cast<int>(row), hh, TJPF_RGB, TJFLAG_STOPONWARNING) != 0) {
-    return reset_after(Error::make(ErrorCode::kFormat, "%s: truncated or corrupt JPEG (%dx%d, %zu bytes): %s",
-                                   what, h.width, h.height, jpeg.size(), tjGetErrorStr2(handle_)),
-                       what);
+    return reset_after(
+        Error::make(ErrorCode::kFormat, "%s: truncated or corrupt JPEG (%dx%d, %zu bytes): %s",
+                    what, h.width, h.height, jpeg.size(), tjGetErrorStr2(handle_)),
+        what);
   }
   return {};
 }

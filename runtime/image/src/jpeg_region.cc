@@ -99,14 +99,14 @@ Status JpegRegionDecoder::decode(std::span<const uint8_t> jpeg, const char* what
   const size_t row_bytes = static_cast<size_t>(want_.width + widen) * 3;
   // The header first: a frame of another size must not be decoded into this region's buffers.
   Outcome h = run(jpeg.data(), jpeg.size(), scale_, want_, nullptr, 0, true, err);
-  TLV_ENSURE(h.ok, ErrorCode::kFormat, "%s: unreadable or incomplete JPEG header (%zu bytes): %s", what,
-             jpeg.size(), err.message);
+  TLV_ENSURE(h.ok, ErrorCode::kFormat, "%s: unreadable or incomplete JPEG header (%zu bytes): %s",
+             what, jpeg.size(), err.message);
   TLV_ENSURE(h.width == width_ && h.height == height_, ErrorCode::kFormat,
              "%s: JPEG frame is %dx%d, expected %dx%d", what, h.width, h.height, width_, height_);
   TLV_TRY(check_decode_budget(h.width, h.height, 3, jpeg.size(), kJpegMaxRatio, "JPEG", what));
   Outcome o = run(jpeg.data(), jpeg.size(), scale_, want_, pixels_.data(), row_bytes, false, err);
-  TLV_ENSURE(o.ok, ErrorCode::kFormat, "%s: truncated or corrupt JPEG (%dx%d, %zu bytes): %s",
-             what, width_, height_, jpeg.size(), err.message);
+  TLV_ENSURE(o.ok, ErrorCode::kFormat, "%s: truncated or corrupt JPEG (%dx%d, %zu bytes): %s", what,
+             width_, height_, jpeg.size(), err.message);
   got_ = {static_cast<int32_t>(o.x), want_.y, static_cast<int32_t>(o.w), want_.height};
   return {};
 }

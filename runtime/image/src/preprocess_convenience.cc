@@ -27,7 +27,8 @@ Image resize_bilinear(const Image& in, int32_t height, int32_t width) {
     const detail::ResizeTap r = detail::bilinear_tap(in.height, height, y, 0);
     for (int32_t x = 0; x < width; ++x) {
       const detail::ResizeTap c = detail::bilinear_tap(in.width, width, x, 0);
-      for (int32_t k = 0; k < in.channels; ++k) out.pixels[i++] = detail::bilinear_value(src, r, c, k);
+      for (int32_t k = 0; k < in.channels; ++k)
+        out.pixels[i++] = detail::bilinear_value(src, r, c, k);
     }
   }
   return out;

@@ -10,7 +10,8 @@ namespace tlvlink::image {
 
 Result<InputEncoding> input_encoding(const Tensor& input) {
   if (input.dtype == DType::kFloat32) return InputEncoding{};
-  TLV_ENSURE(input.dtype == DType::kInt8 && input.quant.quantized() && !input.quant.per_channel(), ErrorCode::kModelUnsupported,
+  TLV_ENSURE(input.dtype == DType::kInt8 && input.quant.quantized() && !input.quant.per_channel(),
+             ErrorCode::kModelUnsupported,
              "model input '%.*s' is %s; frames can feed float32 or per-tensor int8 inputs",
              static_cast<int>(input.name.size()), input.name.data(), dtype_name(input.dtype));
   return InputEncoding{DType::kInt8, input.quant.scale[0], input.quant.zero_point[0]};
@@ -31,10 +32,10 @@ Result<PreprocessPlan> PreprocessPlan::create(const InputSpec& spec, int32_t fra
                  spec.std.size() >= static_cast<size_t>(spec.channels),
              ErrorCode::kModelInvalidMetadata, "input spec %dx%dx%d with %zu means, %zu stds",
              spec.height, spec.width, spec.channels, spec.mean.size(), spec.std.size());
-  TLV_ENSURE(encoding.dtype == DType::kFloat32 ||
-                 (encoding.dtype == DType::kInt8 && encoding.scale > 0),
-             ErrorCode::kInvalidArgument, "preprocessing can write float32 or int8, not %s",
-             dtype_name(encoding.dtype));
+  TLV_ENSURE(
+      encoding.dtype == DType::kFloat32 || (encoding.dtype == DType::kInt8 && encoding.scale > 0),
+      ErrorCode::kInvalidArgument, "preprocessing can write float32 or int8, not %s",
+      dtype_name(encoding.dtype));
   PreprocessPlan p;
   p.frame_width_ = frame_width;
   p.frame_height_ = frame_height;
@@ -56,9 +57,10 @@ Result<PreprocessPlan> PreprocessPlan::create(const InputSpec& spec, int32_t fra
   }
   int32_t src_w = frame_width, src_h = frame_height;
   if (spec.crop_w > 0) {
-    TLV_ENSURE(spec.crop_x + spec.crop_w <= frame_width && spec.crop_y + spec.crop_h <= frame_height,
-               ErrorCode::kShapeMismatch, "crop %d,%d %dx%d does not fit the %dx%d image",
-               spec.crop_x, spec.crop_y, spec.crop_w, spec.crop_h, frame_width, frame_height);
+    TLV_ENSURE(
+        spec.crop_x + spec.crop_w <= frame_width && spec.crop_y + spec.crop_h <= frame_height,
+        ErrorCode::kShapeMismatch, "crop %d,%d %dx%d does not fit the %dx%d image", spec.crop_x,
+        spec.crop_y, spec.crop_w, spec.crop_h, frame_width, frame_height);
     p.crop_x_ = spec.crop_x;
     p.crop_y_ = spec.crop_y;
     src_w = spec.crop_w;
@@ -81,12 +83,13 @@ Result<PreprocessPlan> PreprocessPlan::create(const InputSpec& spec, int32_t fra
       case ResizeFilter::kArea:
         for (int32_t o = 0; o < out_len; ++o) {
           const int32_t a = o * in_len / out_len;
-          taps[static_cast<size_t>(o)] = {off + a, off + std::max(a + 1, (o + 1) * in_len / out_len),
-                                          0};
+          taps[static_cast<size_t>(o)] = {off + a,
+                                          off + std::max(a + 1, (o + 1) * in_len / out_len), 0};
         }
         break;
       case ResizeFilter::kBilinear:
-        for (int32_t o = 0; o < out_len; ++o) taps[static_cast<size_t>(o)] = detail::bilinear_tap(in_len, out_len, o, off);
+        for (int32_t o = 0; o < out_len; ++o)
+          taps[static_cast<size_t>(o)] = detail::bilinear_tap(in_len, out_len, o, off);
         break;
     }
   };

@@ -24,7 +24,8 @@ Status check_finite_values(std::span<const float> values, const char* what, std:
   return {};
 }
 
-std::vector<std::string_view> strings(const flatbuffers::Vector<flatbuffers::Offset<flatbuffers::String>>* v) {
+std::vector<std::string_view> strings(
+    const flatbuffers::Vector<flatbuffers::Offset<flatbuffers::String>>* v) {
   std::vector<std::string_view> out;
   if (v == nullptr) return out;
   out.reserve(v->size());
@@ -37,25 +38,31 @@ Status convert_input_spec(const fb::InputSpec* in, const Graph& graph, InputSpec
   out.height = in->height();
   out.width = in->width();
   out.channels = in->channels();
-  out.crop_x = in->crop_x(); out.crop_y = in->crop_y();
-  out.crop_w = in->crop_w(); out.crop_h = in->crop_h();
+  out.crop_x = in->crop_x();
+  out.crop_y = in->crop_y();
+  out.crop_w = in->crop_w();
+  out.crop_h = in->crop_h();
   out.background_subtraction = in->background_subtraction();
   const int order = static_cast<int>(in->channel_order());
   const int filter = static_cast<int>(in->resize_filter());
-  TLV_ENSURE(order >= 0 && order <= 2 && filter >= 0 && filter <= 2, ErrorCode::kModelInvalidMetadata,
+  TLV_ENSURE(order >= 0 && order <= 2 && filter >= 0 && filter <= 2,
+             ErrorCode::kModelInvalidMetadata,
              "input spec has unknown channel order %d or resize filter %d", order, filter);
   out.channel_order = static_cast<ChannelOrder>(order);
   out.resize_filter = static_cast<ResizeFilter>(filter);
   TLV_ENSURE(out.height >= 1 && out.width >= 1 && (out.channels == 1 || out.channels == 3),
-             ErrorCode::kModelInvalidMetadata, "input spec %dx%dx%d: need positive size, 1 or 3 channels",
-             out.height, out.width, out.channels);
+             ErrorCode::kModelInvalidMetadata,
+             "input spec %dx%dx%d: need positive size, 1 or 3 channels", out.height, out.width,
+             out.channels);
   TLV_ENSURE(out.crop_x >= 0 && out.crop_y >= 0 && out.crop_w >= 0 && out.crop_h >= 0 &&
-             (out.crop_w == 0) == (out.crop_h == 0), ErrorCode::kModelInvalidMetadata,
-             "input spec crop %d,%d %dx%d is invalid", out.crop_x, out.crop_y, out.crop_w, out.crop_h);
+                 (out.crop_w == 0) == (out.crop_h == 0),
+             ErrorCode::kModelInvalidMetadata, "input spec crop %d,%d %dx%d is invalid", out.crop_x,
+             out.crop_y, out.crop_w, out.crop_h);
   out.mean = floats(in->mean());
   out.std = floats(in->std());
   const auto channels = static_cast<size_t>(out.channels);
-  TLV_ENSURE(out.mean.size() == channels && out.std.size() == channels, ErrorCode::kModelInvalidMetadata,
+  TLV_ENSURE(out.mean.size() == channels && out.std.size() == channels,
+             ErrorCode::kModelInvalidMetadata,
              "input spec has %zu means and %zu stds for %d channels", out.mean.size(),
              out.std.size(), out.channels);
   for (size_t c = 0; c < channels; ++c) {
@@ -120,14 +127,15 @@ Status convert_heads(const fb::Metadata& m, Metadata& out) {
   if (m.linear_heads() != nullptr) {
     for (uint32_t i = 0; i < m.linear_heads()->size(); ++i) {
       const fb::LinearHead* h = m.linear_heads()->Get(i);
-      LinearHead head{view(h->name()), strings(h->labels()), floats(h->weight()),
-                      floats(h->bias()), {}};
+      LinearHead head{
+          view(h->name()), strings(h->labels()), floats(h->weight()), floats(h->bias()), {}};
       const size_t n = head.labels.size();
       TLV_ENSURE(n >= 1 && dim >= 1 && head.weight.size() == n * dim && head.bias.size() == n,
                  ErrorCode::kModelInvalidMetadata,
                  "linear head '%.*s': %zu labels need %zu weights and %zu biases (embedding %zu), "
-                 "has %zu and %zu", static_cast<int>(head.name.size()), head.name.data(), n,
-                 n * dim, n, dim, head.weight.size(), head.bias.size());
+                 "has %zu and %zu",
+                 static_cast<int>(head.name.size()), head.name.data(), n, n * dim, n, dim,
+                 head.weight.size(), head.bias.size());
       TLV_TRY(check_finite_values(head.weight, "linear head", head.name));
       TLV_TRY(check_finite_values(head.bias, "linear head", head.name));
       TLV_TRY(convert_trust(h->trust(), "linear head", head.name, head.trust));
@@ -137,15 +145,20 @@ Status convert_heads(const fb::Metadata& m, Metadata& out) {
   if (m.zero_shot_heads() != nullptr) {
     for (uint32_t i = 0; i < m.zero_shot_heads()->size(); ++i) {
       const fb::ZeroShotHead* h = m.zero_shot_heads()->Get(i);
-      ZeroShotHead head{view(h->name()), strings(h->class_names()), view(h->prompt_template()),
-                        floats(h->prompt_matrix()), h->logit_scale(), {}};
+      ZeroShotHead head{view(h->name()),
+                        strings(h->class_names()),
+                        view(h->prompt_template()),
+                        floats(h->prompt_matrix()),
+                        h->logit_scale(),
+                        {}};
       const size_t n = head.class_names.size();
       TLV_ENSURE(n >= 1 && dim >= 1 && head.prompt_matrix.size() == n * dim &&
-                 std::isfinite(head.logit_scale) && head.logit_scale > 0,
+                     std::isfinite(head.logit_scale) && head.logit_scale > 0,
                  ErrorCode::kModelInvalidMetadata,
                  "zero-shot head '%.*s': %zu classes need a %zux%zu prompt matrix (has %zu values) "
-                 "and a positive logit scale", static_cast<int>(head.name.size()), head.name.data(),
-                 n, n, dim, head.prompt_matrix.size());
+                 "and a positive logit scale",
+                 static_cast<int>(head.name.size()), head.name.data(), n, n, dim,
+                 head.prompt_matrix.size());
       TLV_TRY(check_finite_values(head.prompt_matrix, "zero-shot head", head.name));
       TLV_TRY(convert_trust(h->trust(), "zero-shot head", head.name, head.trust));
       out.zero_shot_heads.push_back(std::move(head));
@@ -197,7 +210,8 @@ Status convert_golden(const fb::Metadata& m, Buffers buffers, const Graph& graph
                                std::isfinite(grasp[0])),
              ErrorCode::kModelInvalidMetadata,
              "golden grasp output: %zu values (one finite value expected, with a grasp head and "
-             "golden pairs)", grasp.size());
+             "golden pairs)",
+             grasp.size());
   out.has_golden_grasp = !grasp.empty();
   out.golden_grasp = grasp.empty() ? 0.0f : grasp[0];
   return {};
@@ -211,9 +225,10 @@ Status convert_metadata(const fb::Metadata* m, Buffers buffers, const Graph& gra
   TLV_TRY(convert_input_spec(m->input(), graph, out.input));
   out.embedding_dim = m->embedding_dim();
   out.embedding_output = m->embedding_output();
-  TLV_ENSURE(out.embedding_output >= 0 && static_cast<size_t>(out.embedding_output) < graph.outputs.size(),
-             ErrorCode::kModelInvalidMetadata, "embedding output %d, the graph has %zu outputs",
-             out.embedding_output, graph.outputs.size());
+  TLV_ENSURE(
+      out.embedding_output >= 0 && static_cast<size_t>(out.embedding_output) < graph.outputs.size(),
+      ErrorCode::kModelInvalidMetadata, "embedding output %d, the graph has %zu outputs",
+      out.embedding_output, graph.outputs.size());
   if (out.embedding_dim != 0) {
     const Shape& s = graph.tensor(graph.outputs[static_cast<size_t>(out.embedding_output)]).shape;
     TLV_ENSURE(out.embedding_dim > 0 && s.elements() / static_cast<size_t>(s[0]) ==

@@ -37,29 +37,34 @@ Result<OpParams> convert_params(const fb::Operator& op, OpType type, const Graph
                                 const Label& who) {
   const auto opt = op.options_type();
   auto wrong_options = [&]() {
-    return Error::make(ErrorCode::kModelInvalidOperator, "%s has options of type %s",
-                       who.text, fb::EnumNameOpOptions(opt));
+    return Error::make(ErrorCode::kModelInvalidOperator, "%s has options of type %s", who.text,
+                       fb::EnumNameOpOptions(opt));
   };
   switch (type) {
     case OpType::kConv2D: {
       const auto* o = op.options_as_Conv2DOptions();
       if (o == nullptr) return wrong_options();
       Conv2DParams p;
-      p.kernel_h = o->kernel_h(); p.kernel_w = o->kernel_w();
-      p.stride_h = o->stride_h(); p.stride_w = o->stride_w();
-      p.dilation_h = o->dilation_h(); p.dilation_w = o->dilation_w();
-      p.pad_top = o->pad_top(); p.pad_bottom = o->pad_bottom();
-      p.pad_left = o->pad_left(); p.pad_right = o->pad_right();
+      p.kernel_h = o->kernel_h();
+      p.kernel_w = o->kernel_w();
+      p.stride_h = o->stride_h();
+      p.stride_w = o->stride_w();
+      p.dilation_h = o->dilation_h();
+      p.dilation_w = o->dilation_w();
+      p.pad_top = o->pad_top();
+      p.pad_bottom = o->pad_bottom();
+      p.pad_left = o->pad_left();
+      p.pad_right = o->pad_right();
       p.groups = o->groups();
       TLV_ENSURE(in_range(p.kernel_h, 1, kMaxKernel) && in_range(p.kernel_w, 1, kMaxKernel) &&
-                 in_range(p.stride_h, 1, kMaxKernel) && in_range(p.stride_w, 1, kMaxKernel) &&
-                 in_range(p.dilation_h, 1, kMaxKernel) && in_range(p.dilation_w, 1, kMaxKernel),
+                     in_range(p.stride_h, 1, kMaxKernel) && in_range(p.stride_w, 1, kMaxKernel) &&
+                     in_range(p.dilation_h, 1, kMaxKernel) && in_range(p.dilation_w, 1, kMaxKernel),
                  ErrorCode::kModelInvalidOperator,
                  "%s kernel %dx%d stride %dx%d dilation %dx%d: each must be in [1, %d]", who.text,
                  p.kernel_h, p.kernel_w, p.stride_h, p.stride_w, p.dilation_h, p.dilation_w,
                  kMaxKernel);
       TLV_ENSURE(in_range(p.pad_top, 0, kMaxKernel) && in_range(p.pad_bottom, 0, kMaxKernel) &&
-                 in_range(p.pad_left, 0, kMaxKernel) && in_range(p.pad_right, 0, kMaxKernel),
+                     in_range(p.pad_left, 0, kMaxKernel) && in_range(p.pad_right, 0, kMaxKernel),
                  ErrorCode::kModelInvalidOperator, "%s padding %d,%d,%d,%d must be in [0, %d]",
                  who.text, p.pad_top, p.pad_bottom, p.pad_left, p.pad_right, kMaxKernel);
       TLV_ENSURE(p.groups >= 1, ErrorCode::kModelInvalidOperator, "%s groups is %d", who.text,
@@ -98,20 +103,25 @@ Result<OpParams> convert_params(const fb::Operator& op, OpType type, const Graph
       const auto* o = op.options_as_Pool2DOptions();
       if (o == nullptr) return wrong_options();
       Pool2DParams p;
-      p.pool_h = o->pool_h(); p.pool_w = o->pool_w();
-      p.stride_h = o->stride_h(); p.stride_w = o->stride_w();
-      p.pad_top = o->pad_top(); p.pad_bottom = o->pad_bottom();
-      p.pad_left = o->pad_left(); p.pad_right = o->pad_right();
+      p.pool_h = o->pool_h();
+      p.pool_w = o->pool_w();
+      p.stride_h = o->stride_h();
+      p.stride_w = o->stride_w();
+      p.pad_top = o->pad_top();
+      p.pad_bottom = o->pad_bottom();
+      p.pad_left = o->pad_left();
+      p.pad_right = o->pad_right();
       TLV_ENSURE(in_range(p.pool_h, 1, kMaxKernel) && in_range(p.pool_w, 1, kMaxKernel) &&
-                 in_range(p.stride_h, 1, kMaxKernel) && in_range(p.stride_w, 1, kMaxKernel),
+                     in_range(p.stride_h, 1, kMaxKernel) && in_range(p.stride_w, 1, kMaxKernel),
                  ErrorCode::kModelInvalidOperator,
                  "%s pool %dx%d stride %dx%d: each must be in [1, %d]", who.text, p.pool_h,
                  p.pool_w, p.stride_h, p.stride_w, kMaxKernel);
       TLV_ENSURE(in_range(p.pad_top, 0, p.pool_h - 1) && in_range(p.pad_bottom, 0, p.pool_h - 1) &&
-                 in_range(p.pad_left, 0, p.pool_w - 1) && in_range(p.pad_right, 0, p.pool_w - 1),
+                     in_range(p.pad_left, 0, p.pool_w - 1) &&
+                     in_range(p.pad_right, 0, p.pool_w - 1),
                  ErrorCode::kModelInvalidOperator,
-                 "%s padding %d,%d,%d,%d must be smaller than the pool window", who.text,
-                 p.pad_top, p.pad_bottom, p.pad_left, p.pad_right);
+                 "%s padding %d,%d,%d,%d must be smaller than the pool window", who.text, p.pad_top,
+                 p.pad_bottom, p.pad_left, p.pad_right);
       return OpParams{p};
     }
     case OpType::kPad: {
@@ -119,10 +129,10 @@ Result<OpParams> convert_params(const fb::Operator& op, OpType type, const Graph
       if (o == nullptr) return wrong_options();
       const Tensor& in = graph.tensor(op.inputs()->Get(0));
       TLV_ENSURE(o->before() && o->after() && o->before()->size() == in.shape.rank &&
-                 o->after()->size() == in.shape.rank,
+                     o->after()->size() == in.shape.rank,
                  ErrorCode::kModelInvalidOperator,
-                 "%s needs before/after paddings for each of the input's %zu dimensions",
-                 who.text, in.shape.rank);
+                 "%s needs before/after paddings for each of the input's %zu dimensions", who.text,
+                 in.shape.rank);
       TLV_ENSURE(std::isfinite(o->value()), ErrorCode::kModelInvalidOperator,
                  "%s padding value is not finite", who.text);
       PadParams p;
@@ -146,7 +156,8 @@ Result<OpParams> convert_params(const fb::Operator& op, OpType type, const Graph
       return OpParams{p};
     }
     case OpType::kReshape:
-      if (opt != fb::OpOptions::NONE && opt != fb::OpOptions::ReshapeOptions) return wrong_options();
+      if (opt != fb::OpOptions::NONE && opt != fb::OpOptions::ReshapeOptions)
+        return wrong_options();
       return OpParams{NoParams{}};
     default:
       if (opt != fb::OpOptions::NONE && opt != fb::OpOptions::EmptyOptions) return wrong_options();

@@ -61,9 +61,8 @@ Status check_quantization(const fb::Tensor& t, Graph& graph, int32_t index, Tens
                "%s quantization axis %d is out of range for rank %zu", who.text, axis,
                out.shape.rank);
     TLV_ENSURE(static_cast<int64_t>(n) == out.shape.dims[static_cast<size_t>(axis)],
-               ErrorCode::kModelInvalidTensor,
-               "%s has %u scales for %d channels along axis %d", who.text, n,
-               out.shape.dims[static_cast<size_t>(axis)], axis);
+               ErrorCode::kModelInvalidTensor, "%s has %u scales for %d channels along axis %d",
+               who.text, n, out.shape.dims[static_cast<size_t>(axis)], axis);
   }
   for (uint32_t i = 0; i < n; ++i) {
     const float s = q->scale()->Get(i);

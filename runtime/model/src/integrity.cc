@@ -123,7 +123,8 @@ Status check_signature(const ModelIntegrity& m, const PublicKey& key) {
   to_hex(key_id(key), want, sizeof want);
   TLV_ENSURE(m.is_signed, ErrorCode::kModelSignature,
              "the model is not signed; a signature by key %s is required (sign it with "
-             "`tlvlink sign MODEL --key SECRET`)", want);
+             "`tlvlink sign MODEL --key SECRET`)",
+             want);
   to_hex(m.key_id, have, sizeof have);
   TLV_ENSURE(m.key_id == key_id(key), ErrorCode::kModelSignature,
              "the model is signed by key %s, not by the required key %s", have, want);

@@ -34,12 +34,12 @@ Status parse_key(std::span<const char> text, std::string_view prefix, const char
              "not a tlvlink %s key file: it should start with '%.*s'", what,
              static_cast<int>(prefix.size() - 1), prefix.data());
   s.remove_prefix(prefix.size());
-  TLV_ENSURE(s.size() == 2 * out.size(), ErrorCode::kFormat,
-             "%s key: %zu hex digits, expected %zu", what, s.size(), 2 * out.size());
+  TLV_ENSURE(s.size() == 2 * out.size(), ErrorCode::kFormat, "%s key: %zu hex digits, expected %zu",
+             what, s.size(), 2 * out.size());
   for (size_t i = 0; i < out.size(); ++i) {
     const int hi = hex_digit(s[2 * i]), lo = hex_digit(s[2 * i + 1]);
-    TLV_ENSURE(hi >= 0 && lo >= 0, ErrorCode::kFormat,
-               "%s key: character %zu is not a hex digit", what, prefix.size() + 2 * i);
+    TLV_ENSURE(hi >= 0 && lo >= 0, ErrorCode::kFormat, "%s key: character %zu is not a hex digit",
+               what, prefix.size() + 2 * i);
     out[i] = static_cast<uint8_t>(hi << 4 | lo);
   }
   return {};

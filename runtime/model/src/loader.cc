@@ -73,20 +73,14 @@ Status validate_operators(const Graph& graph) {
     TLV_TRY(check_activation_quantization(graph, i));
     switch (graph.operators[i].type) {
       case OpType::kConv2D:
-      case OpType::kFullyConnected:
-        TLV_TRY(model_internal::validate_conv_fc(graph, i));
-        break;
+      case OpType::kFullyConnected: TLV_TRY(model_internal::validate_conv_fc(graph, i)); break;
       case OpType::kAdd:
       case OpType::kMul:
       case OpType::kClamp:
       case OpType::kSigmoid:
       case OpType::kQuantize:
-      case OpType::kDequantize:
-        TLV_TRY(model_internal::validate_elementwise(graph, i));
-        break;
-      default:
-        TLV_TRY(model_internal::validate_shaping(graph, i));
-        break;
+      case OpType::kDequantize: TLV_TRY(model_internal::validate_elementwise(graph, i)); break;
+      default: TLV_TRY(model_internal::validate_shaping(graph, i)); break;
     }
   }
   // Inputs that some operator reads were checked with that operator (whose name is the better
@@ -140,8 +134,8 @@ Result<std::unique_ptr<Model>> Model::parse(std::unique_ptr<Model> model,
       !fb::ModelBufferHasIdentifier(reinterpret_cast<const uint8_t*>(bytes.data()))) {
     return model_internal::check_identifier(reinterpret_cast<const uint8_t*>(bytes.data())).error();
   }
-  const bool legacy = !has_integrity_trailer(bytes) && (options.accept_legacy ||
-                                                        !options.verify_checksum);
+  const bool legacy =
+      !has_integrity_trailer(bytes) && (options.accept_legacy || !options.verify_checksum);
   if (!legacy) {
     TLV_ASSIGN_OR_RETURN(integrity, read_integrity(bytes, options.verify_checksum));
   }
@@ -163,7 +157,8 @@ Result<std::unique_ptr<Model>> Model::parse(std::unique_ptr<Model> model,
                                  /*max_tables=*/4 * (kMaxTensors + kMaxOperators));
   TLV_ENSURE(fb::VerifyModelBuffer(verifier), ErrorCode::kModelMalformed,
              "flatbuffers verification failed: the file is truncated or corrupt "
-             "(a table or vector points outside the %zu-byte flatbuffer)", body_size);
+             "(a table or vector points outside the %zu-byte flatbuffer)",
+             body_size);
 
   const fb::Model* root = fb::GetModel(raw);
   model->schema_version_ = root->schema_version();

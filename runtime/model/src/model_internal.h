@@ -1,6 +1,7 @@
 #pragma once
 #ifndef TLVLINK_MODEL_PRIVATE
-#error "model_internal.h is internal to runtime/model: include the public tlvlink/... headers instead"
+#error \
+    "model_internal.h is internal to runtime/model: include the public tlvlink/... headers instead"
 #endif
 // Internals of model loading: flatbuffer -> validated Graph / Metadata. Each function checks
 // one aspect and returns an Error naming the tensor or operator involved.

@@ -45,9 +45,8 @@ Status check_quantized(const Graph& graph, size_t op_index, const Operator& op, 
   const Tensor* bias = op.inputs[2] == kNoTensor ? nullptr : &graph.tensor(op.inputs[2]);
   if (bias != nullptr) {
     TLV_ENSURE(bias->dtype == DType::kInt32 && bias->quant.quantized(),
-               ErrorCode::kModelInvalidOperator,
-               "%s int8 needs an int32 quantized bias, %s is %s", who.text,
-               tensor_label(graph, op.inputs[2]).text, dtype_name(bias->dtype));
+               ErrorCode::kModelInvalidOperator, "%s int8 needs an int32 quantized bias, %s is %s",
+               who.text, tensor_label(graph, op.inputs[2]).text, dtype_name(bias->dtype));
     TLV_ENSURE(bias->quant.scale.size() == w.quant.scale.size(), ErrorCode::kModelInvalidOperator,
                "%s bias has %zu scales, weights have %zu", who.text, bias->quant.scale.size(),
                w.quant.scale.size());
@@ -66,8 +65,8 @@ Status check_quantized(const Graph& graph, size_t op_index, const Operator& op, 
     for (size_t i = 0; i < per_channel; ++i) {
       const int8_t v = wq[static_cast<size_t>(c) * per_channel + i];
       TLV_ENSURE(v >= kWeightMin, ErrorCode::kModelInvalidOperator,
-                 "%s weight %zu of channel %d is -128; weights must be in [-127, 127]", who.text,
-                 i, c);
+                 "%s weight %zu of channel %d is -128; weights must be in [-127, 127]", who.text, i,
+                 c);
       abs_sum += std::abs(static_cast<int32_t>(v));
     }
     int64_t abs_bias = 0;
@@ -104,14 +103,16 @@ Status check_common(const Graph& graph, size_t op_index, const Operator& op, int
                who.text, tensor_label(graph, op.inputs[2]).text, cout, shape_label(b.shape).text);
   }
   if (in.dtype == DType::kFloat32) {
-    const bool bias_ok = op.inputs[2] == kNoTensor || graph.tensor(op.inputs[2]).dtype == DType::kFloat32;
+    const bool bias_ok =
+        op.inputs[2] == kNoTensor || graph.tensor(op.inputs[2]).dtype == DType::kFloat32;
     TLV_ENSURE(w.dtype == DType::kFloat32 && out.dtype == DType::kFloat32 && bias_ok,
                ErrorCode::kModelInvalidOperator,
                "%s float32 input needs float32 weights, bias and output", who.text);
     return {};
   }
   TLV_ENSURE(in.dtype == DType::kInt8, ErrorCode::kModelInvalidOperator,
-             "%s input dtype %s is not supported (float32 or int8)", who.text, dtype_name(in.dtype));
+             "%s input dtype %s is not supported (float32 or int8)", who.text,
+             dtype_name(in.dtype));
   return check_quantized(graph, op_index, op, cout, k);
 }
 
@@ -131,8 +132,8 @@ Status validate_conv(const Graph& graph, size_t op_index, const Operator& op) {
              p.groups, cin, cout);
   TLV_ENSURE(dim(w, 1) == p.kernel_h && dim(w, 2) == p.kernel_w && dim(w, 3) == cin / p.groups,
              ErrorCode::kModelInvalidOperator,
-             "%s weights %s do not match kernel %dx%d with %d input channels per group",
-             who.text, shape_label(w.shape).text, p.kernel_h, p.kernel_w, cin / p.groups);
+             "%s weights %s do not match kernel %dx%d with %d input channels per group", who.text,
+             shape_label(w.shape).text, p.kernel_h, p.kernel_w, cin / p.groups);
   const int64_t eff_h = int64_t{p.dilation_h} * (p.kernel_h - 1) + 1;
   const int64_t eff_w = int64_t{p.dilation_w} * (p.kernel_w - 1) + 1;
   const int64_t padded_h = int64_t{dim(in, 1)} + p.pad_top + p.pad_bottom;
@@ -143,10 +144,11 @@ Status validate_conv(const Graph& graph, size_t op_index, const Operator& op) {
              static_cast<long long>(padded_h), static_cast<long long>(padded_w));
   const int64_t oh = (padded_h - eff_h) / p.stride_h + 1;
   const int64_t ow = (padded_w - eff_w) / p.stride_w + 1;
-  TLV_ENSURE(dim(out, 0) == dim(in, 0) && dim(out, 1) == oh && dim(out, 2) == ow &&
-             dim(out, 3) == cout, ErrorCode::kModelInvalidOperator,
-             "%s output is %s, expected [%d,%lld,%lld,%d]", who.text, shape_label(out.shape).text,
-             dim(in, 0), static_cast<long long>(oh), static_cast<long long>(ow), cout);
+  TLV_ENSURE(
+      dim(out, 0) == dim(in, 0) && dim(out, 1) == oh && dim(out, 2) == ow && dim(out, 3) == cout,
+      ErrorCode::kModelInvalidOperator, "%s output is %s, expected [%d,%lld,%lld,%d]", who.text,
+      shape_label(out.shape).text, dim(in, 0), static_cast<long long>(oh),
+      static_cast<long long>(ow), cout);
   return check_common(graph, op_index, op, cout, int64_t{p.kernel_h} * p.kernel_w * dim(w, 3));
 }
 
@@ -157,13 +159,11 @@ Status validate_fc(const Graph& graph, size_t op_index, const Operator& op) {
   const Tensor& out = graph.tensor(op.output);
   TLV_ENSURE(in.shape.rank == 2 && w.shape.rank == 2 && out.shape.rank == 2,
              ErrorCode::kModelInvalidOperator,
-             "%s needs input [N,Cin], weights [Cout,Cin], output [N,Cout]; got %s %s %s",
-             who.text, shape_label(in.shape).text, shape_label(w.shape).text,
-             shape_label(out.shape).text);
+             "%s needs input [N,Cin], weights [Cout,Cin], output [N,Cout]; got %s %s %s", who.text,
+             shape_label(in.shape).text, shape_label(w.shape).text, shape_label(out.shape).text);
   TLV_ENSURE(dim(w, 1) == dim(in, 1) && dim(out, 0) == dim(in, 0) && dim(out, 1) == dim(w, 0),
-             ErrorCode::kModelInvalidOperator, "%s shapes %s x %s -> %s are inconsistent",
-             who.text, shape_label(in.shape).text, shape_label(w.shape).text,
-             shape_label(out.shape).text);
+             ErrorCode::kModelInvalidOperator, "%s shapes %s x %s -> %s are inconsistent", who.text,
+             shape_label(in.shape).text, shape_label(w.shape).text, shape_label(out.shape).text);
   return check_common(graph, op_index, op, dim(w, 0), dim(w, 1));
 }
 

@@ -65,7 +65,8 @@ Status validate_binary(const Graph& graph, size_t op_index, const Operator& op) 
 
 Status validate_elementwise(const Graph& graph, size_t op_index) {
   const Operator& op = graph.operators[op_index];
-  if (op.type == OpType::kAdd || op.type == OpType::kMul) return validate_binary(graph, op_index, op);
+  if (op.type == OpType::kAdd || op.type == OpType::kMul)
+    return validate_binary(graph, op_index, op);
 
   const Label who = op_label(graph, op_index);
   const Tensor& in = graph.tensor(op.inputs[0]);
@@ -101,13 +102,12 @@ Status validate_elementwise(const Graph& graph, size_t op_index) {
       TLV_TRY(check_per_tensor_int8(graph, op_index, op.inputs[0]));
       TLV_TRY(check_per_tensor_int8(graph, op_index, op.output));
       TLV_ENSURE(out.quant.scale[0] == kSigmoidOutputScale &&
-                 out.quant.zero_point[0] == kSigmoidOutputZeroPoint,
+                     out.quant.zero_point[0] == kSigmoidOutputZeroPoint,
                  ErrorCode::kModelInvalidOperator,
                  "%s int8 output must have scale 1/256 and zero point -128, has %g and %d",
                  who.text, static_cast<double>(out.quant.scale[0]), out.quant.zero_point[0]);
       return {};
-    default:
-      return {};
+    default: return {};
   }
 }
 

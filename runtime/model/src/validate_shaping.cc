@@ -35,9 +35,10 @@ Status validate_shaping(const Graph& graph, size_t op_index) {
 
   switch (op.type) {
     case OpType::kGlobalAveragePool:
-      TLV_ENSURE(s.rank == 4 && o.rank == 4 && o[0] == s[0] && o[1] == 1 && o[2] == 1 && o[3] == s[3],
-                 ErrorCode::kModelInvalidOperator, "%s maps %s to %s, expected [N,H,W,C] -> [N,1,1,C]",
-                 who.text, shape_label(s).text, shape_label(o).text);
+      TLV_ENSURE(
+          s.rank == 4 && o.rank == 4 && o[0] == s[0] && o[1] == 1 && o[2] == 1 && o[3] == s[3],
+          ErrorCode::kModelInvalidOperator, "%s maps %s to %s, expected [N,H,W,C] -> [N,1,1,C]",
+          who.text, shape_label(s).text, shape_label(o).text);
       return check_dtypes(graph, op_index, in, out, /*pass_through=*/false);
     case OpType::kMaxPool2D: {
       const auto& p = op.get<Pool2DParams>();
@@ -56,7 +57,8 @@ Status validate_shaping(const Graph& graph, size_t op_index) {
     }
     case OpType::kPad: {
       const auto& p = op.get<PadParams>();
-      TLV_ENSURE(o.rank == s.rank, ErrorCode::kModelInvalidOperator, "%s changes the rank", who.text);
+      TLV_ENSURE(o.rank == s.rank, ErrorCode::kModelInvalidOperator, "%s changes the rank",
+                 who.text);
       for (size_t d = 0; d < s.rank; ++d) {
         TLV_ENSURE(int64_t{o[d]} == int64_t{s[d]} + p.before[d] + p.after[d],
                    ErrorCode::kModelInvalidOperator,
@@ -76,8 +78,7 @@ Status validate_shaping(const Graph& graph, size_t op_index) {
                  "%s maps %s to %s; batch and channels must be kept", who.text, shape_label(s).text,
                  shape_label(o).text);
       return check_dtypes(graph, op_index, in, out, true);
-    default:
-      return Error::make(ErrorCode::kModelInvalidOperator, "%s: no validator", who.text);
+    default: return Error::make(ErrorCode::kModelInvalidOperator, "%s: no validator", who.text);
   }
 }
 

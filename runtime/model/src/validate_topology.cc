@@ -15,9 +15,9 @@ Status read_index_list(const flatbuffers::Vector<int32_t>* list, const char* wha
              list->size(), what);
   for (uint32_t i = 0; i < list->size(); ++i) {
     const int32_t t = list->Get(i);
-    TLV_ENSURE(t >= 0 && static_cast<size_t>(t) < graph.tensors.size(),
-               ErrorCode::kModelMalformed, "graph %s %u refers to tensor %d, the graph has %zu",
-               what, i, t, graph.tensors.size());
+    TLV_ENSURE(t >= 0 && static_cast<size_t>(t) < graph.tensors.size(), ErrorCode::kModelMalformed,
+               "graph %s %u refers to tensor %d, the graph has %zu", what, i, t,
+               graph.tensors.size());
     TLV_ENSURE(!graph.tensor(t).is_constant(), ErrorCode::kModelMalformed,
                "graph %s %u is %s, which is a constant", what, i, tensor_label(graph, t).text);
     for (int32_t seen : out) {
@@ -46,7 +46,8 @@ Status validate_topology(const fb::Graph& fb_graph, Graph& graph) {
       TLV_ENSURE(graph.tensor(t).is_constant() || producer[static_cast<size_t>(t)] != -2,
                  ErrorCode::kModelInvalidOperator,
                  "%s reads %s before any operator writes it (operators must be in "
-                 "topological order)", op_label(graph, i).text, tensor_label(graph, t).text);
+                 "topological order)",
+                 op_label(graph, i).text, tensor_label(graph, t).text);
     }
     const int32_t out = op.output;
     TLV_ENSURE(!graph.tensor(out).is_constant(), ErrorCode::kModelInvalidOperator,

@@ -8,14 +8,14 @@ namespace tlvlink::pipeline {
 Status validate(const ContactGateOptions& o) {
   TLV_ENSURE(o.reference_frames >= 1 && o.reference_frames <= 1000, ErrorCode::kInvalidArgument,
              "contact.reference_frames %d outside [1, 1000]", o.reference_frames);
-  TLV_ENSURE(o.grid_width >= 1 && o.grid_width <= 256 && o.grid_height >= 1 &&
-                 o.grid_height <= 256,
+  TLV_ENSURE(o.grid_width >= 1 && o.grid_width <= 256 && o.grid_height >= 1 && o.grid_height <= 256,
              ErrorCode::kInvalidArgument, "contact grid %dx%d outside [1, 256]", o.grid_width,
              o.grid_height);
   TLV_ENSURE(o.noise_multiple > 0 && o.noise_multiple <= 1000, ErrorCode::kInvalidArgument,
              "contact.noise_multiple %g outside (0, 1000]", static_cast<double>(o.noise_multiple));
   TLV_ENSURE(o.min_threshold_dn >= 0 && o.min_threshold_dn <= 255, ErrorCode::kInvalidArgument,
-             "contact.min_threshold_dn %g outside [0, 255]", static_cast<double>(o.min_threshold_dn));
+             "contact.min_threshold_dn %g outside [0, 255]",
+             static_cast<double>(o.min_threshold_dn));
   TLV_ENSURE(o.release_fraction > 0 && o.release_fraction <= 1, ErrorCode::kInvalidArgument,
              "contact.release_fraction %g outside (0, 1]", static_cast<double>(o.release_fraction));
   TLV_ENSURE(o.release_frames >= 1 && o.release_frames <= 1000, ErrorCode::kInvalidArgument,
@@ -76,7 +76,8 @@ void ContactGate::reduce(const image::ImageView& f) {
   const auto ch = static_cast<size_t>(channels_);
   for (int32_t y = 0; y < height_; ++y) {
     const uint8_t* row = f.row(y);
-    float* sums = sums_.data() + static_cast<size_t>(block_of_row_[static_cast<size_t>(y)]) * gw * ch;
+    float* sums =
+        sums_.data() + static_cast<size_t>(block_of_row_[static_cast<size_t>(y)]) * gw * ch;
     for (int32_t x = 0; x < width_; ++x) {
       float* s = sums + static_cast<size_t>(block_of_column_[static_cast<size_t>(x)]) * ch;
       for (size_t c = 0; c < ch; ++c) s[c] += row[static_cast<size_t>(x) * ch + c];
@@ -87,12 +88,14 @@ void ContactGate::reduce(const image::ImageView& f) {
 
 float ContactGate::score() const {
   float worst = 0;
-  for (size_t i = 0; i < blocks_.size(); ++i) worst = std::max(worst, std::fabs(blocks_[i] - reference_[i]));
+  for (size_t i = 0; i < blocks_.size(); ++i)
+    worst = std::max(worst, std::fabs(blocks_[i] - reference_[i]));
   return worst;
 }
 
 Status ContactGate::contact_mask(std::span<uint8_t> bits) const {
-  const auto cells = static_cast<size_t>(options_.grid_width) * static_cast<size_t>(options_.grid_height);
+  const auto cells =
+      static_cast<size_t>(options_.grid_width) * static_cast<size_t>(options_.grid_height);
   TLV_ENSURE(bits.size() == (cells + 7) / 8, ErrorCode::kInvalidArgument,
              "contact mask: %zu bytes for %zu cells", bits.size(), cells);
   std::fill(bits.begin(), bits.end(), uint8_t{0});
@@ -100,7 +103,8 @@ Status ContactGate::contact_mask(std::span<uint8_t> bits) const {
   const auto ch = static_cast<size_t>(channels_);
   for (size_t cell = 0; cell < cells; ++cell) {
     bool hit = false;
-    for (size_t c = 0; c < ch; ++c) hit |= std::fabs(blocks_[cell * ch + c] - reference_[cell * ch + c]) > threshold_;
+    for (size_t c = 0; c < ch; ++c)
+      hit |= std::fabs(blocks_[cell * ch + c] - reference_[cell * ch + c]) > threshold_;
     if (hit) bits[cell / 8] = static_cast<uint8_t>(bits[cell / 8] | (1u << (cell % 8)));
   }
   return {};
@@ -114,10 +118,10 @@ void ContactGate::rezero() {
 }
 
 Result<ContactDecision> ContactGate::update(const image::ImageView& f) {
-  TLV_ENSURE(f.pixels != nullptr && f.width == width_ && f.height == height_ &&
-                 f.channels == channels_,
-             ErrorCode::kShapeMismatch, "contact gate: frame %dx%dx%d, expected %dx%dx%d",
-             f.width, f.height, f.channels, width_, height_, channels_);
+  TLV_ENSURE(
+      f.pixels != nullptr && f.width == width_ && f.height == height_ && f.channels == channels_,
+      ErrorCode::kShapeMismatch, "contact gate: frame %dx%dx%d, expected %dx%dx%d", f.width,
+      f.height, f.channels, width_, height_, channels_);
   reduce(f);
   ContactDecision d;
   if (state_ == ContactState::kCalibrating) {

@@ -22,8 +22,8 @@ Result<std::vector<int16_t>> select_heads(const heads::HeadEvaluator& h,
   }
   for (const std::string& name : names) {
     const auto it = std::find_if(results.begin(), results.end(), [&](const heads::HeadResult& r) {
-      return r.name == name || (std::string(heads::head_kind_name(r.kind)) + ":" +
-                                std::string(r.name)) == name;
+      return r.name == name ||
+             (std::string(heads::head_kind_name(r.kind)) + ":" + std::string(r.name)) == name;
     });
     if (it == results.end()) {
       std::string known;
@@ -57,7 +57,8 @@ int32_t int8_end(const Graph& g, int32_t embedding_tensor) {
 }
 
 // report_embedding: both tensors fit a FramePrediction, and the int8 one is readable.
-Result<int32_t> reported_int8_tensor(const Graph& g, const Executor& executor, int32_t embedding_tensor) {
+Result<int32_t> reported_int8_tensor(const Graph& g, const Executor& executor,
+                                     int32_t embedding_tensor) {
   const size_t dim = g.tensor(embedding_tensor).shape.elements();
   TLV_ENSURE(dim <= static_cast<size_t>(kMaxReportedEmbedding), ErrorCode::kModelUnsupported,
              "report_embedding: the embedding has %zu values; at most %d can be reported", dim,
@@ -65,7 +66,8 @@ Result<int32_t> reported_int8_tensor(const Graph& g, const Executor& executor, i
   const int32_t q = int8_end(g, embedding_tensor);
   if (q < 0) return q;
   const Tensor& t = g.tensor(q);
-  TLV_ENSURE(t.shape.elements() <= static_cast<size_t>(kMaxReportedInt8), ErrorCode::kModelUnsupported,
+  TLV_ENSURE(t.shape.elements() <= static_cast<size_t>(kMaxReportedInt8),
+             ErrorCode::kModelUnsupported,
              "report_embedding: int8 tensor '%.*s' has %zu values; at most %d can be reported",
              static_cast<int>(t.name.size()), t.name.data(), t.shape.elements(), kMaxReportedInt8);
   auto bytes = executor.tensor(q);
@@ -75,9 +77,10 @@ Result<int32_t> reported_int8_tensor(const Graph& g, const Executor& executor, i
 
 }  // namespace
 
-Result<std::unique_ptr<FrameProcessor>> FrameProcessor::create(
-    const Model& model, Executor& executor, std::span<const SensorSetup> sensors,
-    const ProcessorOptions& options) {
+Result<std::unique_ptr<FrameProcessor>> FrameProcessor::create(const Model& model,
+                                                               Executor& executor,
+                                                               std::span<const SensorSetup> sensors,
+                                                               const ProcessorOptions& options) {
   TLV_ENSURE(!sensors.empty() && sensors.size() <= static_cast<size_t>(kMaxSensors),
              ErrorCode::kInvalidArgument, "%zu sensors (1..%d)", sensors.size(), kMaxSensors);
   auto p = std::unique_ptr<FrameProcessor>(new FrameProcessor(model, executor));
@@ -96,14 +99,15 @@ Result<std::unique_ptr<FrameProcessor>> FrameProcessor::create(
              out.shape.elements(), model.metadata().embedding_dim);
   p->embedding_.assign(out.shape.elements(), 0.0f);
   if (options.report_embedding) {
-    TLV_ASSIGN_OR_RETURN(p->int8_tensor_,
-                         reported_int8_tensor(g, executor, g.outputs[static_cast<size_t>(out_index)]));
+    TLV_ASSIGN_OR_RETURN(
+        p->int8_tensor_,
+        reported_int8_tensor(g, executor, g.outputs[static_cast<size_t>(out_index)]));
   }
   int32_t fingers[2] = {-1, -1};
   for (size_t i = 0; i < sensors.size(); ++i) {
     const SensorSetup& s = sensors[i];
-    auto plan = image::PreprocessPlan::create(model.metadata().input, s.width, s.height,
-                                              s.channels, encoding);
+    auto plan = image::PreprocessPlan::create(model.metadata().input, s.width, s.height, s.channels,
+                                              encoding);
     if (!plan.ok()) {
       return plan.error().with_context("sensor '%s' (%dx%dx%d frames) cannot feed the model",
                                        s.name.c_str(), s.width, s.height, s.channels);
@@ -118,19 +122,19 @@ Result<std::unique_ptr<FrameProcessor>> FrameProcessor::create(
     }
     if (s.finger == 0 || s.finger == 1) {
       TLV_ENSURE(fingers[s.finger] < 0, ErrorCode::kInvalidArgument,
-                 "sensors '%s' and '%s' are both finger %c", sensors[static_cast<size_t>(fingers[s.finger])].name.c_str(),
-                 s.name.c_str(), s.finger == 0 ? 'A' : 'B');
+                 "sensors '%s' and '%s' are both finger %c",
+                 sensors[static_cast<size_t>(fingers[s.finger])].name.c_str(), s.name.c_str(),
+                 s.finger == 0 ? 'A' : 'B');
       fingers[s.finger] = static_cast<int32_t>(i);
     }
     p->sensors_.push_back(std::move(sensor));
   }
   if (options.grasp && p->heads_.has_grasp() && fingers[0] >= 0 && fingers[1] >= 0) {
     const InputSpec& input = model.metadata().input;
-    TLV_ASSIGN_OR_RETURN(GraspTracker t,
-                         GraspTracker::create(p->heads_.grasp_layout(),
-                                              model.metadata().embedding_dim,
-                                              options.grasp_options,
-                                              {input.height, input.width, input.channels}));
+    TLV_ASSIGN_OR_RETURN(
+        GraspTracker t,
+        GraspTracker::create(p->heads_.grasp_layout(), model.metadata().embedding_dim,
+                             options.grasp_options, {input.height, input.width, input.channels}));
     p->tracker_ = std::make_unique<GraspTracker>(std::move(t));
     for (int32_t finger : {0, 1}) {
       if (!p->tracker_->wants_image(finger)) continue;
@@ -163,8 +167,8 @@ Status FrameProcessor::embed(Sensor& s, const image::ImageView& frame, FrameTime
     std::memcpy(embedding_.data(), bytes.data(), embedding_.size() * sizeof(float));
   } else {
     for (size_t i = 0; i < embedding_.size(); ++i) {
-      embedding_[i] = dequantize_value(static_cast<int8_t>(bytes[i]), t.quant.scale[0],
-                                       t.quant.zero_point[0]);
+      embedding_[i] =
+          dequantize_value(static_cast<int8_t>(bytes[i]), t.quant.scale[0], t.quant.zero_point[0]);
     }
   }
   return heads_.evaluate(embedding_);
@@ -188,7 +192,8 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
   out.contact_score_dn = decision->score_dn;
   const bool contact = decision->state != ContactState::kNoContact;
   const int32_t finger = s.setup.finger;
-  const bool wanted = tracker_ != nullptr && finger >= 0 && tracker_->wants(finger, in_times.capture_ns);
+  const bool wanted =
+      tracker_ != nullptr && finger >= 0 && tracker_->wants(finger, in_times.capture_ns);
   const bool run = !options_.contact_gating || contact || wanted;
   if (decision->onset) {
     for (ProbabilitySmoother& sm : s.smoothers) sm.restart();
@@ -218,7 +223,8 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
       h.labels = static_cast<int16_t>(r.labels.size());
       const std::span<float> smoothed(h.probability.data(), r.labels.size());
       s.smoothers[k].add(r.probabilities, in_times.capture_ns, smoothed);
-      h.top = static_cast<int16_t>(std::max_element(smoothed.begin(), smoothed.end()) - smoothed.begin());
+      h.top = static_cast<int16_t>(std::max_element(smoothed.begin(), smoothed.end()) -
+                                   smoothed.begin());
     }
   }
   if (!run) {
@@ -258,8 +264,8 @@ bool FrameProcessor::take_grasp(GraspPrediction& out) {
   std::span<const float> features[kMaxGraspFeatures];
   if (!tracker_->take_finished(out, features)) return false;
   if (out.computed) {
-    auto p = heads_.grasp_probability(std::span<const std::span<const float>>(
-        features, static_cast<size_t>(out.feature_count)));
+    auto p = heads_.grasp_probability(
+        std::span<const std::span<const float>>(features, static_cast<size_t>(out.feature_count)));
     if (p.ok()) {
       out.probability = *p;
     } else {

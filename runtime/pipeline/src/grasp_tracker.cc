@@ -18,13 +18,13 @@ constexpr size_t index(Moment m) { return static_cast<size_t>(m); }
 
 Status validate(const GraspOptions& o) {
   constexpr int64_t kMax = 60'000'000'000;  // a minute: anything longer is a unit mistake
-  for (const auto& [name, v] :
-       {std::pair{"grasp.onset_window_ms", o.onset_window_ns}, {"grasp.settle_ms", o.settle_ns},
-        {"grasp.after_delay_ms", o.after_delay_ns},
-        {"grasp.idle_refresh_ms", o.idle_refresh_ns},
-        {"grasp.before_max_age_ms", o.before_max_age_ns},
-        {"grasp.pair_tolerance_ms", o.pair_tolerance_ns},
-        {"grasp.frame_timeout_ms", o.frame_timeout_ns}}) {
+  for (const auto& [name, v] : {std::pair{"grasp.onset_window_ms", o.onset_window_ns},
+                                {"grasp.settle_ms", o.settle_ns},
+                                {"grasp.after_delay_ms", o.after_delay_ns},
+                                {"grasp.idle_refresh_ms", o.idle_refresh_ns},
+                                {"grasp.before_max_age_ms", o.before_max_age_ns},
+                                {"grasp.pair_tolerance_ms", o.pair_tolerance_ns},
+                                {"grasp.frame_timeout_ms", o.frame_timeout_ns}}) {
     TLV_ENSURE(v >= 0 && v <= kMax, ErrorCode::kInvalidArgument, "%s = %lld ms outside [0, 60000]",
                name, static_cast<long long>(v / 1'000'000));
   }
@@ -42,9 +42,8 @@ const char* grasp_mode_name(GraspOptions::Mode m) {
   return m == GraspOptions::Mode::kCommanded ? "commanded" : "detected";
 }
 
-Result<GraspTracker> GraspTracker::create(std::span<const heads::GraspFeature> layout,
-                                          int32_t dim, const GraspOptions& options,
-                                          GraspImageShape images) {
+Result<GraspTracker> GraspTracker::create(std::span<const heads::GraspFeature> layout, int32_t dim,
+                                          const GraspOptions& options, GraspImageShape images) {
   TLV_TRY(validate(options));
   TLV_ENSURE(!layout.empty() && layout.size() <= static_cast<size_t>(kMaxGraspFeatures),
              ErrorCode::kModelUnsupported, "grasp layout of %zu features (1..%d supported)",
@@ -169,11 +168,12 @@ void GraspTracker::start(int64_t t_ns) {
            static_cast<double>(options_.before_max_age_ns) * 1e-9);
       return;
     }
-    std::memcpy(embeddings_.data() + (static_cast<size_t>(f) * heads::kMoments +
-                                      index(Moment::kBefore)) * d,
+    std::memcpy(embeddings_.data() +
+                    (static_cast<size_t>(f) * heads::kMoments + index(Moment::kBefore)) * d,
                 idle_.data() + static_cast<size_t>(f) * d, d * sizeof(float));
     if (image_needed(f, Moment::kBefore)) {
-      std::memcpy(image_slot(f, Moment::kBefore), idle_images_.data() + static_cast<size_t>(f) * image_values_,
+      std::memcpy(image_slot(f, Moment::kBefore),
+                  idle_images_.data() + static_cast<size_t>(f) * image_values_,
                   image_values_ * sizeof(float));
     }
     slots_[f][index(Moment::kBefore)] = idle;
@@ -203,7 +203,8 @@ void GraspTracker::finish(bool computed, int64_t now_ns) {
       if (ref.finger == finger && ref.moment == static_cast<uint8_t>(m)) return;
     }
     const Slot& s = slots_[finger][index(m)];
-    r.frames[static_cast<size_t>(r.frame_count++)] = {finger, static_cast<uint8_t>(m), s.sequence, s.t_ns};
+    r.frames[static_cast<size_t>(r.frame_count++)] = {finger, static_cast<uint8_t>(m), s.sequence,
+                                                      s.t_ns};
   };
   for (const heads::GraspFeature& f : layout_) {
     if (f.kind == heads::FeatureKind::kDifference) {
@@ -268,8 +269,9 @@ void GraspTracker::check_complete(int64_t now_ns) {
   if (!all) return;
   for (int32_t f = 0; f < heads::kFingers; ++f) {
     if (!difference_[f]) continue;
-    const std::span<float> out(differences_.data() + static_cast<size_t>(f) * heads::kDifferenceFeatures,
-                               heads::kDifferenceFeatures);
+    const std::span<float> out(
+        differences_.data() + static_cast<size_t>(f) * heads::kDifferenceFeatures,
+        heads::kDifferenceFeatures);
     const Status st = difference_stats_.compute(
         std::span<const float>(image_slot(f, Moment::kBefore), image_values_),
         std::span<const float>(image_slot(f, Moment::kDuring), image_values_), out);
@@ -293,7 +295,8 @@ void GraspTracker::on_frame(int32_t finger, uint64_t sequence, int64_t t_ns, boo
   const bool has_image = image.size() == image_values_ && image_values_ > 0;
   if (!contact && phase_ != Phase::kWaiting && embedding.size() == d &&
       (!difference_[finger] || has_image)) {
-    std::memcpy(idle_.data() + static_cast<size_t>(finger) * d, embedding.data(), d * sizeof(float));
+    std::memcpy(idle_.data() + static_cast<size_t>(finger) * d, embedding.data(),
+                d * sizeof(float));
     if (difference_[finger]) {
       std::memcpy(idle_images_.data() + static_cast<size_t>(finger) * image_values_, image.data(),
                   image_values_ * sizeof(float));
@@ -332,8 +335,10 @@ void GraspTracker::on_frame(int32_t finger, uint64_t sequence, int64_t t_ns, boo
     }
     if (image_needed(finger, m)) {
       if (!has_image) {
-        fail(t_ns, "finger %c frame %llu (its '%s' frame) came without the image its difference "
-             "features need", finger_letter(finger), static_cast<unsigned long long>(sequence),
+        fail(t_ns,
+             "finger %c frame %llu (its '%s' frame) came without the image its difference "
+             "features need",
+             finger_letter(finger), static_cast<unsigned long long>(sequence),
              heads::moment_name(m));
         return;
       }
@@ -375,11 +380,11 @@ bool GraspTracker::take_finished(GraspPrediction& out,
   out = finished_[static_cast<size_t>(at)];
   const float* base = finished_features_.data() + static_cast<size_t>(at) * feature_values_;
   for (size_t k = 0; k < static_cast<size_t>(kMaxGraspFeatures); ++k) {
-    features[k] = out.computed && k < layout_.size()
-                      ? std::span<const float>(
-                            base + offsets_[k],
-                            static_cast<size_t>(heads::feature_values(layout_[k], dim_)))
-                      : std::span<const float>();
+    features[k] =
+        out.computed && k < layout_.size()
+            ? std::span<const float>(base + offsets_[k],
+                                     static_cast<size_t>(heads::feature_values(layout_[k], dim_)))
+            : std::span<const float>();
   }
   return true;
 }

@@ -42,8 +42,12 @@ ClockEstimate ClockSync::estimate(int64_t now_ns) const {
   return e;
 }
 
-int64_t ClockSync::board_to_host(int64_t board_ns) const { return have_ ? board_ns - best_offset_ : board_ns; }
-int64_t ClockSync::host_to_board(int64_t host_ns) const { return have_ ? host_ns + best_offset_ : host_ns; }
+int64_t ClockSync::board_to_host(int64_t board_ns) const {
+  return have_ ? board_ns - best_offset_ : board_ns;
+}
+int64_t ClockSync::host_to_board(int64_t host_ns) const {
+  return have_ ? host_ns + best_offset_ : host_ns;
+}
 
 void ClockSync::reset() {
   count_ = next_ = 0;

@@ -51,7 +51,8 @@ Result<size_t> cobs_decode(std::span<const std::byte> in, std::span<std::byte> o
   size_t i = 0, o = 0;
   while (i < in.size()) {
     const size_t code = static_cast<uint8_t>(in[i++]);
-    TLV_ENSURE(code != 0, ErrorCode::kProtocolMalformed, "COBS: zero byte inside a frame at %zu", i - 1);
+    TLV_ENSURE(code != 0, ErrorCode::kProtocolMalformed, "COBS: zero byte inside a frame at %zu",
+               i - 1);
     const size_t run = code - 1;
     TLV_ENSURE(run <= in.size() - i, ErrorCode::kProtocolMalformed,
                "COBS: code byte at %zu runs %zu bytes past the end of the frame", i - 1,

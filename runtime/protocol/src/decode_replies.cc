@@ -10,7 +10,8 @@ using internal::view;
 }  // namespace
 
 Result<ErrorReport> decode_error_report(std::span<const std::byte> payload) {
-  TLV_ASSIGN_OR_RETURN(const fb::ErrorReport* r, verified_root<fb::ErrorReport>("ErrorReport", payload));
+  TLV_ASSIGN_OR_RETURN(const fb::ErrorReport* r,
+                       verified_root<fb::ErrorReport>("ErrorReport", payload));
   return ErrorReport{r->code(), view(r->name()), view(r->text()), r->sensor()};
 }
 
@@ -21,7 +22,8 @@ Result<Ack> decode_ack(std::span<const std::byte> payload) {
 
 Result<Nack> decode_nack(std::span<const std::byte> payload) {
   TLV_ASSIGN_OR_RETURN(const fb::Nack* r, verified_root<fb::Nack>("Nack", payload));
-  return Nack{r->command_sequence(), static_cast<CommandKind>(r->kind()), r->code(), view(r->text())};
+  return Nack{r->command_sequence(), static_cast<CommandKind>(r->kind()), r->code(),
+              view(r->text())};
 }
 
 Result<Pong> decode_pong(std::span<const std::byte> payload) {
@@ -56,7 +58,8 @@ Status verify_payload(MessageType type, std::span<const std::byte> payload) {
     case MessageType::kFrameImage: return decode_frame_image(payload).status();
     case MessageType::kCommand: return decode_command(payload).status();
   }
-  return Error::make(ErrorCode::kProtocolUnsupported, "message type 0x%04x is not known to protocol %u.%u",
+  return Error::make(ErrorCode::kProtocolUnsupported,
+                     "message type 0x%04x is not known to protocol %u.%u",
                      static_cast<unsigned>(type), kVersionMajor, kVersionMinor);
 }
 

@@ -35,7 +35,8 @@ ReceivedFrame Deframer::finish_segment() {
   } else if (decoded.value() > kMaxFrameSize) {
     out.verdict = FrameVerdict::kOversized;
   } else {
-    out.verdict = check_frame(std::span<const std::byte>(frame_, decoded.value()), out.header, out.payload);
+    out.verdict =
+        check_frame(std::span<const std::byte>(frame_, decoded.value()), out.header, out.payload);
   }
   switch (out.verdict) {
     case FrameVerdict::kOk: ++counters_.frames; return out;

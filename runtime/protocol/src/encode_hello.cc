@@ -17,7 +17,8 @@ Result<internal::SizeBound> hello_bound(const Hello& m) {
   TLV_TRY(internal::check_list(kWhat, "stage_names", m.stage_names.size()));
   internal::SizeBound b;
   b.table(13);
-  for (std::string_view s : {m.device, m.board, m.firmware_version, m.model_id, m.clock}) b.string(s);
+  for (std::string_view s : {m.device, m.board, m.firmware_version, m.model_id, m.clock})
+    b.string(s);
   b.vector(m.sensors.size(), 4);
   for (const SensorInfo& s : m.sensors) {
     b.table(8);
@@ -45,7 +46,8 @@ Result<std::span<const std::byte>> encode_payload(const Hello& m, std::span<std:
     for (size_t i = 0; i < m.sensors.size(); ++i) {
       const SensorInfo& s = m.sensors[i];
       const auto name = string_or_null(fbb, s.name), model = string_or_null(fbb, s.model),
-                 serial = string_or_null(fbb, s.serial), format = string_or_null(fbb, s.pixel_format);
+                 serial = string_or_null(fbb, s.serial),
+                 format = string_or_null(fbb, s.pixel_format);
       fb::SensorInfoBuilder sb(fbb);
       sb.add_index(s.index);
       sb.add_name(name);
@@ -75,7 +77,8 @@ Result<std::span<const std::byte>> encode_payload(const Hello& m, std::span<std:
       hb.add_groups(h.groups);
       heads[i] = hb.Finish();
     }
-    const auto sensor_vec = m.sensors.empty() ? 0 : fbb.CreateVector(sensors.data(), m.sensors.size());
+    const auto sensor_vec =
+        m.sensors.empty() ? 0 : fbb.CreateVector(sensors.data(), m.sensors.size());
     const auto head_vec = m.heads.empty() ? 0 : fbb.CreateVector(heads.data(), m.heads.size());
     const auto stages = string_list(fbb, m.stage_names);
     const auto device = string_or_null(fbb, m.device), board = string_or_null(fbb, m.board),

@@ -12,7 +12,8 @@ static_assert(sizeof(GraspFrame) == sizeof(fb::GraspFrame), "GraspFrame mirrors 
 
 }  // namespace
 
-Result<std::span<const std::byte>> encode_payload(const FramePrediction& m, std::span<std::byte> buffer) {
+Result<std::span<const std::byte>> encode_payload(const FramePrediction& m,
+                                                  std::span<std::byte> buffer) {
   constexpr const char* kWhat = "FramePrediction";
   TLV_TRY(internal::check_list(kWhat, "heads", m.heads.size()));
   internal::SizeBound bound;
@@ -41,7 +42,8 @@ Result<std::span<const std::byte>> encode_payload(const FramePrediction& m, std:
     if (!m.stage_ns.empty()) stages = fbb.CreateVector(m.stage_ns.data(), m.stage_ns.size());
     flatbuffers::Offset<flatbuffers::Vector<float>> embedding;
     if (!m.embedding.empty()) embedding = fbb.CreateVector(m.embedding.data(), m.embedding.size());
-    const fb::FrameTiming timing(m.timing.capture_ns, m.timing.infer_start_ns, m.timing.infer_end_ns);
+    const fb::FrameTiming timing(m.timing.capture_ns, m.timing.infer_start_ns,
+                                 m.timing.infer_end_ns);
     fb::FramePredictionBuilder b(fbb);
     b.add_sensor(m.sensor);
     b.add_frame_sequence(m.frame_sequence);
@@ -54,7 +56,8 @@ Result<std::span<const std::byte>> encode_payload(const FramePrediction& m, std:
   });
 }
 
-Result<std::span<const std::byte>> encode_payload(const GraspPrediction& m, std::span<std::byte> buffer) {
+Result<std::span<const std::byte>> encode_payload(const GraspPrediction& m,
+                                                  std::span<std::byte> buffer) {
   constexpr const char* kWhat = "GraspPrediction";
   TLV_TRY(internal::check_list(kWhat, "frames", m.frames.size()));
   internal::SizeBound bound;

@@ -18,7 +18,8 @@ uint32_t read_u32_le(const std::byte* p) {
 Result<size_t> encode_frame(FrameHeader header, std::span<const std::byte> payload,
                             std::span<std::byte> out) {
   TLV_ENSURE(payload.size() <= kMaxPayloadSize, ErrorCode::kProtocolTooLarge,
-             "frame payload of %zu bytes exceeds the protocol's %zu", payload.size(), kMaxPayloadSize);
+             "frame payload of %zu bytes exceeds the protocol's %zu", payload.size(),
+             kMaxPayloadSize);
   header.payload_length = static_cast<uint32_t>(payload.size());
   std::array<std::byte, kHeaderSize> head;
   write_header(header, head.data());

@@ -13,7 +13,8 @@ std::span<const uint8_t> bytes_of(const flatbuffers::Vector<uint8_t>* v) {
 
 }  // namespace
 
-Result<std::span<const std::byte>> encode_payload(const FrameImage& m, std::span<std::byte> buffer) {
+Result<std::span<const std::byte>> encode_payload(const FrameImage& m,
+                                                  std::span<std::byte> buffer) {
   constexpr const char* kWhat = "FrameImage";
   const size_t cells = size_t{m.mask_width} * m.mask_height;
   TLV_ENSURE(m.mask.size() == (cells + 7) / 8, ErrorCode::kInvalidArgument,

@@ -57,8 +57,8 @@ Result<std::span<const std::byte>> build_payload(const char* what, const SizeBou
              "encoding %s: the buffer must be 8-byte aligned", what);
   const size_t capacity = buffer.size() & ~size_t{7};
   TLV_ENSURE(bound.bytes <= capacity, ErrorCode::kProtocolTooLarge,
-             "encoding %s: the message may need up to %zu bytes to build; the buffer has %zu",
-             what, bound.bytes, capacity);
+             "encoding %s: the message may need up to %zu bytes to build; the buffer has %zu", what,
+             bound.bytes, capacity);
   FixedAllocator allocator(buffer.first(capacity));
   flatbuffers::FlatBufferBuilder fbb(capacity, &allocator, false, 8);
   const auto root = build(fbb);

@@ -11,14 +11,18 @@ const fb::Hello* hello(const void* t) { return static_cast<const fb::Hello*>(t);
 const fb::HeadInfo* head_info(const void* t) { return static_cast<const fb::HeadInfo*>(t); }
 
 template <typename V>
-size_t size_of(const V* v) { return v ? v->size() : 0; }
+size_t size_of(const V* v) {
+  return v ? v->size() : 0;
+}
 
 }  // namespace
 
 std::string_view HeadInfoView::name() const { return view(head_info(table_)->name()); }
 HeadKind HeadInfoView::kind() const { return static_cast<HeadKind>(head_info(table_)->kind()); }
 size_t HeadInfoView::label_count() const { return size_of(head_info(table_)->labels()); }
-std::string_view HeadInfoView::label(size_t i) const { return view(head_info(table_)->labels()->Get(static_cast<flatbuffers::uoffset_t>(i))); }
+std::string_view HeadInfoView::label(size_t i) const {
+  return view(head_info(table_)->labels()->Get(static_cast<flatbuffers::uoffset_t>(i)));
+}
 float HeadInfoView::accuracy() const { return head_info(table_)->accuracy(); }
 float HeadInfoView::majority_rate() const { return head_info(table_)->majority_rate(); }
 float HeadInfoView::accuracy_ci_low() const { return head_info(table_)->accuracy_ci_low(); }
@@ -29,7 +33,9 @@ uint32_t HeadInfoView::groups() const { return head_info(table_)->groups(); }
 
 std::string_view HelloView::device() const { return view(hello(table_)->device()); }
 std::string_view HelloView::board() const { return view(hello(table_)->board()); }
-std::string_view HelloView::firmware_version() const { return view(hello(table_)->firmware_version()); }
+std::string_view HelloView::firmware_version() const {
+  return view(hello(table_)->firmware_version());
+}
 uint64_t HelloView::boot_id() const { return hello(table_)->boot_id(); }
 uint64_t HelloView::schema_hash() const { return hello(table_)->schema_hash(); }
 std::string_view HelloView::model_id() const { return view(hello(table_)->model_id()); }

@@ -6,12 +6,17 @@ namespace {
 
 namespace fb = tlvlink::wire;
 
-const fb::FramePrediction* frame(const void* t) { return static_cast<const fb::FramePrediction*>(t); }
-const fb::GraspPrediction* grasp(const void* t) { return static_cast<const fb::GraspPrediction*>(t); }
+const fb::FramePrediction* frame(const void* t) {
+  return static_cast<const fb::FramePrediction*>(t);
+}
+const fb::GraspPrediction* grasp(const void* t) {
+  return static_cast<const fb::GraspPrediction*>(t);
+}
 
 // Scalar vectors are little-endian on the wire and 4-byte aligned in a verified buffer: on a
 // little-endian machine they are read in place.
-static_assert(FLATBUFFERS_LITTLEENDIAN, "tlvlink reads scalar vectors in place (little-endian only)");
+static_assert(FLATBUFFERS_LITTLEENDIAN,
+              "tlvlink reads scalar vectors in place (little-endian only)");
 template <typename T>
 std::span<const T> span_of(const flatbuffers::Vector<T>* v) {
   return v ? std::span<const T>(v->data(), v->size()) : std::span<const T>();
@@ -30,7 +35,9 @@ FrameTiming FramePredictionView::timing() const {
   }
   return t;
 }
-std::span<const uint32_t> FramePredictionView::stage_ns() const { return span_of(frame(table_)->stage_ns()); }
+std::span<const uint32_t> FramePredictionView::stage_ns() const {
+  return span_of(frame(table_)->stage_ns());
+}
 bool FramePredictionView::contact() const { return frame(table_)->contact(); }
 size_t FramePredictionView::head_count() const {
   const auto* heads = frame(table_)->heads();
@@ -40,22 +47,33 @@ HeadOutput FramePredictionView::head(size_t i) const {
   const fb::HeadOutput* h = frame(table_)->heads()->Get(static_cast<flatbuffers::uoffset_t>(i));
   return HeadOutput{h->head(), span_of(h->probabilities())};
 }
-std::span<const float> FramePredictionView::embedding() const { return span_of(frame(table_)->embedding()); }
+std::span<const float> FramePredictionView::embedding() const {
+  return span_of(frame(table_)->embedding());
+}
 
 uint32_t GraspPredictionView::grasp_id() const { return grasp(table_)->grasp_id(); }
-GraspStatus GraspPredictionView::status() const { return static_cast<GraspStatus>(grasp(table_)->status()); }
+GraspStatus GraspPredictionView::status() const {
+  return static_cast<GraspStatus>(grasp(table_)->status());
+}
 float GraspPredictionView::probability() const { return grasp(table_)->probability(); }
-GraspReason GraspPredictionView::reason() const { return static_cast<GraspReason>(grasp(table_)->reason()); }
-std::string_view GraspPredictionView::reason_text() const { return internal::view(grasp(table_)->reason_text()); }
+GraspReason GraspPredictionView::reason() const {
+  return static_cast<GraspReason>(grasp(table_)->reason());
+}
+std::string_view GraspPredictionView::reason_text() const {
+  return internal::view(grasp(table_)->reason_text());
+}
 size_t GraspPredictionView::frame_count() const {
   const auto* frames = grasp(table_)->frames();
   return frames ? frames->size() : 0;
 }
 GraspFrame GraspPredictionView::frame(size_t i) const {
   const fb::GraspFrame* f = grasp(table_)->frames()->Get(static_cast<flatbuffers::uoffset_t>(i));
-  return GraspFrame{f->sensor(), static_cast<GraspPhase>(f->phase()), f->frame_sequence(), f->capture_ns()};
+  return GraspFrame{f->sensor(), static_cast<GraspPhase>(f->phase()), f->frame_sequence(),
+                    f->capture_ns()};
 }
-PhaseSource GraspPredictionView::phase_source() const { return static_cast<PhaseSource>(grasp(table_)->phase_source()); }
+PhaseSource GraspPredictionView::phase_source() const {
+  return static_cast<PhaseSource>(grasp(table_)->phase_source());
+}
 int64_t GraspPredictionView::closed_ns() const { return grasp(table_)->closed_ns(); }
 int64_t GraspPredictionView::lifting_ns() const { return grasp(table_)->lifting_ns(); }
 int64_t GraspPredictionView::infer_end_ns() const { return grasp(table_)->infer_end_ns(); }

@@ -7,7 +7,8 @@ namespace {
 
 template <typename T>
 void put_le(std::byte* out, T value) {
-  for (size_t i = 0; i < sizeof(T); ++i) out[i] = static_cast<std::byte>((static_cast<uint64_t>(value) >> (8 * i)) & 0xFF);
+  for (size_t i = 0; i < sizeof(T); ++i)
+    out[i] = static_cast<std::byte>((static_cast<uint64_t>(value) >> (8 * i)) & 0xFF);
 }
 
 template <typename T>

@@ -42,7 +42,8 @@ Result<Command> from_protocol(const protocol::Command& c, int64_t now_ns) {
       break;
     default:
       // The Nack's text (the wire carries it; kept as the daemon has always said it).
-      return Error::make(ErrorCode::kProtocolUnsupported, "tlvlinkd does not take this command yet");
+      return Error::make(ErrorCode::kProtocolUnsupported,
+                         "tlvlinkd does not take this command yet");
   }
   return cmd;
 }

@@ -10,8 +10,9 @@ HelloBuilder::HelloBuilder(const BoardIdentity& board, const Model& model,
   const std::string_view device = strings_.emplace_back(board.device);
   const std::string_view board_name = strings_.emplace_back(board.board);
   const std::string_view version = strings_.emplace_back(board.firmware_version);
-  const std::string_view model_id = strings_.emplace_back(
-      model.metadata().name.empty() ? std::string(model_id_fallback) : std::string(model.metadata().name));
+  const std::string_view model_id =
+      strings_.emplace_back(model.metadata().name.empty() ? std::string(model_id_fallback)
+                                                          : std::string(model.metadata().name));
   for (size_t i = 0; i < sensors.size(); ++i) {
     const SensorDescription& s = sensors[i];
     protocol::SensorInfo info;

@@ -19,8 +19,8 @@ uint32_t span_ns(int64_t from, int64_t to) {
 
 protocol::FramePrediction MessageMapper::frame(const pipeline::FramePrediction& p) {
   const pipeline::FrameTimes& t = p.times;
-  stage_ns_ = {span_ns(t.capture_ns, t.dequeued_ns),     span_ns(t.dequeued_ns, t.decoded_ns),
-               span_ns(t.decoded_ns, t.gated_ns),        span_ns(t.gated_ns, t.preprocessed_ns),
+  stage_ns_ = {span_ns(t.capture_ns, t.dequeued_ns),      span_ns(t.dequeued_ns, t.decoded_ns),
+               span_ns(t.decoded_ns, t.gated_ns),         span_ns(t.gated_ns, t.preprocessed_ns),
                span_ns(t.preprocessed_ns, t.inferred_ns), span_ns(t.inferred_ns, t.heads_ns)};
   for (int32_t k = 0; k < p.head_count; ++k) {
     const pipeline::HeadProbabilities& h = p.heads[static_cast<size_t>(k)];
@@ -55,7 +55,8 @@ protocol::GraspPrediction MessageMapper::grasp(const pipeline::GraspPrediction& 
   if (g.computed) m.probability = g.probability;
   m.reason = g.computed ? protocol::GraspReason::kNone : protocol::GraspReason::kOther;
   m.reason_text = g.reason.data();
-  m.frames = std::span<const protocol::GraspFrame>(grasp_frames_.data(), static_cast<size_t>(g.frame_count));
+  m.frames = std::span<const protocol::GraspFrame>(grasp_frames_.data(),
+                                                   static_cast<size_t>(g.frame_count));
   // Detected grasps say so (an absent phase_source reads as its default, "command").
   m.phase_source = detected_ ? protocol::PhaseSource::kDetected : protocol::PhaseSource::kCommand;
   m.closed_ns = g.started_ns;
@@ -96,16 +97,20 @@ protocol::Stats MessageMapper::stats(const StreamTotals& t) {
                         t.sensor_frames[k], t.sensor_encoded[k], t.sensor_gated[k]};
   }
   // One entry a cause; the link's own drops (link_down, stale, its queue_full) are the Sender's.
-  drops_ = {protocol::DropCount{protocol::DropCause::kCaptureGap, t.capture_gap, protocol::kNoSensor},
-            protocol::DropCount{protocol::DropCause::kCaptureError, t.capture_error, protocol::kNoSensor},
-            protocol::DropCount{protocol::DropCause::kInferenceBusy, t.inference_busy, protocol::kNoSensor},
-            protocol::DropCount{protocol::DropCause::kQueueFull, t.queue_full, protocol::kNoSensor},
-            protocol::DropCount{protocol::DropCause::kImageBusy, t.image_busy, protocol::kNoSensor}};
+  drops_ = {
+      protocol::DropCount{protocol::DropCause::kCaptureGap, t.capture_gap, protocol::kNoSensor},
+      protocol::DropCount{protocol::DropCause::kCaptureError, t.capture_error, protocol::kNoSensor},
+      protocol::DropCount{protocol::DropCause::kInferenceBusy, t.inference_busy,
+                          protocol::kNoSensor},
+      protocol::DropCount{protocol::DropCause::kQueueFull, t.queue_full, protocol::kNoSensor},
+      protocol::DropCount{protocol::DropCause::kImageBusy, t.image_busy, protocol::kNoSensor}};
   protocol::Stats m;
   m.uptime_ns = static_cast<int64_t>(t.seconds * 1e9);
-  m.sensors = std::span<const protocol::SensorStats>(sensor_stats_.data(), static_cast<size_t>(t.sensors));
+  m.sensors =
+      std::span<const protocol::SensorStats>(sensor_stats_.data(), static_cast<size_t>(t.sensors));
   // image_busy only from a board that sends images (a 1.1 host would print an unknown cause).
-  m.drops = std::span<const protocol::DropCount>(drops_.data(), drops_.size() - (t.frame_images ? 0 : 1));
+  m.drops =
+      std::span<const protocol::DropCount>(drops_.data(), drops_.size() - (t.frame_images ? 0 : 1));
   m.cpu_percent = static_cast<float>(t.cpu_percent);
   m.cpu_cores = t.cpu_cores;
   m.rss_bytes = t.rss_bytes;

@@ -17,7 +17,9 @@ OutputNames output_names(std::vector<std::string> sensors, const heads::HeadEval
       const HeadTrust& t = *r.trust;
       h.accuracy = t.accuracy;
       h.majority = t.majority;
-      const auto recorded = [](float v) { return v >= 0 ? v : std::numeric_limits<float>::quiet_NaN(); };
+      const auto recorded = [](float v) {
+        return v >= 0 ? v : std::numeric_limits<float>::quiet_NaN();
+      };
       h.ci_low = recorded(t.ci_low);
       h.ci_high = recorded(t.ci_high);
       h.balanced = recorded(t.balanced_accuracy);

@@ -37,8 +37,9 @@ Status Aio::submit(iocb& cb, int fd, bool write, void* buffer, size_t size, uint
   const long n = syscall(SYS_io_submit, context_, 1, list);
   if (n == 1) return Status();
   const int err = n < 0 ? errno : EAGAIN;
-  return Error::make(err == EAGAIN || err == ESHUTDOWN || err == ENODEV ? ErrorCode::kTransportDisconnected
-                                                                         : ErrorCode::kTransport,
+  return Error::make(err == EAGAIN || err == ESHUTDOWN || err == ENODEV
+                         ? ErrorCode::kTransportDisconnected
+                         : ErrorCode::kTransport,
                      "io_submit (%s): %s", write ? "write" : "read", std::strerror(err));
 }
 
@@ -46,9 +47,11 @@ size_t Aio::reap(io_event* events, size_t max) { return reap_wait(events, max, 0
 
 size_t Aio::reap_wait(io_event* events, size_t max, int timeout_ms) {
   uint64_t count;
-  (void)!::read(event_fd_, &count, sizeof(count));  // reset the eventfd; completions are counted below
+  (void)!::read(event_fd_, &count,
+                sizeof(count));  // reset the eventfd; completions are counted below
   timespec timeout{timeout_ms / 1000, static_cast<long>(timeout_ms % 1000) * 1'000'000};
-  const long n = syscall(SYS_io_getevents, context_, timeout_ms > 0 ? 1 : 0, static_cast<long>(max), events, &timeout);
+  const long n = syscall(SYS_io_getevents, context_, timeout_ms > 0 ? 1 : 0, static_cast<long>(max),
+                         events, &timeout);
   return n > 0 ? static_cast<size_t>(n) : 0;
 }
 

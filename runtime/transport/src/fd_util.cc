@@ -36,17 +36,18 @@ bool is_disconnect_errno(int err) {
 }
 
 Error open_error(std::string_view what, std::string_view path, int err) {
-  const bool absent = err == ENOENT || err == ENODEV || err == ENXIO || err == EIO || err == EBUSY ||
-                      err == EAGAIN;
+  const bool absent =
+      err == ENOENT || err == ENODEV || err == ENXIO || err == EIO || err == EBUSY || err == EAGAIN;
   return Error::make(absent ? ErrorCode::kTransportUnavailable : ErrorCode::kTransport,
                      "%.*s %.*s: %s", static_cast<int>(what.size()), what.data(),
                      static_cast<int>(path.size()), path.data(), std::strerror(err));
 }
 
 Error io_error(std::string_view what, std::string_view name, int err) {
-  return Error::make(is_disconnect_errno(err) ? ErrorCode::kTransportDisconnected : ErrorCode::kTransport,
-                     "%.*s on %.*s: %s", static_cast<int>(what.size()), what.data(),
-                     static_cast<int>(name.size()), name.data(), std::strerror(err));
+  return Error::make(
+      is_disconnect_errno(err) ? ErrorCode::kTransportDisconnected : ErrorCode::kTransport,
+      "%.*s on %.*s: %s", static_cast<int>(what.size()), what.data(), static_cast<int>(name.size()),
+      name.data(), std::strerror(err));
 }
 
 Result<short> poll_with_wake(int fd, short events, int wake_fd, int timeout_ms) {

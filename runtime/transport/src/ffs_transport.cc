@@ -26,7 +26,9 @@ constexpr uint64_t kReadTag = 1, kWriteTag = 2;
 class FfsTransport final : public Transport {
  public:
   explicit FfsTransport(FfsConfig config)
-      : config_(std::move(config)), name_("usb-ffs:" + config_.dir), wake_(internal::make_wake_fd()) {}
+      : config_(std::move(config)),
+        name_("usb-ffs:" + config_.dir),
+        wake_(internal::make_wake_fd()) {}
   ~FfsTransport() override {
     close();
     close_fd(ep_in_);
@@ -44,8 +46,8 @@ class FfsTransport final : public Transport {
     if (ep0_ < 0) TLV_TRY(start_function());
     TLV_TRY(handle_events());
     if (!enabled_) {
-      return Error::make(ErrorCode::kTransportUnavailable, "%s: the USB host has not enabled the function yet",
-                         name_.c_str());
+      return Error::make(ErrorCode::kTransportUnavailable,
+                         "%s: the USB host has not enabled the function yet", name_.c_str());
     }
     rx_len_ = rx_pos_ = 0;
     TLV_TRY(submit_read());
@@ -62,7 +64,8 @@ class FfsTransport final : public Transport {
     io_event events[4];
     for (int tries = 0; (rx_pending_ || tx_pending_) && tries < 20; ++tries) {
       const size_t n = aio_.reap_wait(events, 4, 50);
-      for (size_t i = 0; i < n; ++i) (events[i].data == kReadTag ? rx_pending_ : tx_pending_) = false;
+      for (size_t i = 0; i < n; ++i)
+        (events[i].data == kReadTag ? rx_pending_ : tx_pending_) = false;
     }
     rx_pending_ = tx_pending_ = false;
   }
@@ -84,10 +87,13 @@ class FfsTransport final : public Transport {
     Readiness ready{rx_pos_ < rx_len_, !tx_pending_};
     if (ready.readable || (want_write && ready.writable)) return ready;
     pollfd fds[3] = {{ep0_, POLLIN, 0}, {aio_.event_fd(), POLLIN, 0}, {wake_, POLLIN, 0}};
-    if (::poll(fds, 3, timeout_ms) < 0 && errno != EINTR) return internal::io_error("poll", name_, errno);
+    if (::poll(fds, 3, timeout_ms) < 0 && errno != EINTR)
+      return internal::io_error("poll", name_, errno);
     if (fds[2].revents & POLLIN) internal::drain_wake_fd(wake_);
     if (fds[0].revents & POLLIN) TLV_TRY(handle_events());
-    if (!enabled_) return Error::make(ErrorCode::kTransportDisconnected, "%s: the USB host disabled the function", name_.c_str());
+    if (!enabled_)
+      return Error::make(ErrorCode::kTransportDisconnected,
+                         "%s: the USB host disabled the function", name_.c_str());
     TLV_TRY(reap());
     return Readiness{rx_pos_ < rx_len_, !tx_pending_};
   }
@@ -119,13 +125,16 @@ class FfsTransport final : public Transport {
     const std::string ep0 = config_.dir + "/ep0";
     ep0_ = ::open(ep0.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
     if (ep0_ < 0) {
-      return internal::open_error("opening (is functionfs mounted? see scripts/usb_gadget.sh)", ep0, errno);
+      return internal::open_error("opening (is functionfs mounted? see scripts/usb_gadget.sh)", ep0,
+                                  errno);
     }
     std::byte blob[256];
     const size_t nd = ffs_descriptors(blob);
-    if (::write(ep0_, blob, nd) != static_cast<ssize_t>(nd)) return fail_function("writing descriptors to", ep0);
+    if (::write(ep0_, blob, nd) != static_cast<ssize_t>(nd))
+      return fail_function("writing descriptors to", ep0);
     const size_t ns = ffs_strings(blob);
-    if (::write(ep0_, blob, ns) != static_cast<ssize_t>(ns)) return fail_function("writing strings to", ep0);
+    if (::write(ep0_, blob, ns) != static_cast<ssize_t>(ns))
+      return fail_function("writing strings to", ep0);
     ep_in_ = ::open((config_.dir + "/ep1").c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
     ep_out_ = ::open((config_.dir + "/ep2").c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
     if (ep_in_ < 0 || ep_out_ < 0) return fail_function("opening the endpoints of", config_.dir);
@@ -151,7 +160,8 @@ class FfsTransport final : public Transport {
     ::close(fd);
     // EBUSY: already bound (by usb_gadget.sh or an earlier run).
     TLV_ENSURE(n == static_cast<ssize_t>(config_.udc.size()) || err == EBUSY, ErrorCode::kTransport,
-               "binding the gadget to %s (%s): %s", config_.udc.c_str(), path.c_str(), std::strerror(err));
+               "binding the gadget to %s (%s): %s", config_.udc.c_str(), path.c_str(),
+               std::strerror(err));
     return Status();
   }
 
@@ -173,8 +183,10 @@ class FfsTransport final : public Transport {
           case FUNCTIONFS_SUSPEND: enabled_ = false; break;
           case FUNCTIONFS_SETUP:
             // Stall: answer in the direction opposite to the request's data stage.
-            if (events[i].u.setup.bRequestType & USB_DIR_IN) (void)!::read(ep0_, nullptr, 0);
-            else (void)!::write(ep0_, nullptr, 0);
+            if (events[i].u.setup.bRequestType & USB_DIR_IN)
+              (void)!::read(ep0_, nullptr, 0);
+            else
+              (void)!::write(ep0_, nullptr, 0);
             break;
           default: break;  // BIND, RESUME
         }
@@ -230,7 +242,8 @@ Result<std::unique_ptr<Transport>> make_ffs_transport(const FfsConfig& config) {
 }
 
 namespace internal {
-Result<std::unique_ptr<Transport>> make_usb_device_transport(const std::string& ffs_dir, const std::string& udc,
+Result<std::unique_ptr<Transport>> make_usb_device_transport(const std::string& ffs_dir,
+                                                             const std::string& udc,
                                                              const std::string& gadget) {
   return make_ffs_transport(FfsConfig{ffs_dir, udc, gadget});
 }

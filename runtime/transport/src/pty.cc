@@ -3,9 +3,9 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <stdlib.h>
 #include <sys/ioctl.h>
 #include <sys/stat.h>
-#include <stdlib.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -39,13 +39,15 @@ Status check_pty_link(const std::string& link) {
              ErrorCode::kInvalidArgument,
              "pty link %s already exists and is not a symlink to a /dev/pts slave (%s): "
              "refusing to replace it; remove it or choose another path",
-             link.c_str(), S_ISLNK(st.st_mode) ? "a symlink elsewhere"
-                           : S_ISREG(st.st_mode) ? "a regular file"
-                                                 : file_type_name(st.st_mode));
+             link.c_str(),
+             S_ISLNK(st.st_mode)   ? "a symlink elsewhere"
+             : S_ISREG(st.st_mode) ? "a regular file"
+                                   : file_type_name(st.st_mode));
   return Status();
 }
 
-PtyTransport::PtyTransport(PtyConfig config) : config_(std::move(config)), wake_(internal::make_wake_fd()) {
+PtyTransport::PtyTransport(PtyConfig config)
+    : config_(std::move(config)), wake_(internal::make_wake_fd()) {
   name_ = "pty";
   if (!config_.link.empty()) name_ += ":" + config_.link;
 }
@@ -100,7 +102,8 @@ void PtyTransport::close() {
     // Remove the link only if it still points at this pty (a newer one may have replaced it).
     char target[128];
     const ssize_t n = ::readlink(config_.link.c_str(), target, sizeof(target) - 1);
-    if (n > 0 && slave_path_ == std::string(target, static_cast<size_t>(n))) ::unlink(config_.link.c_str());
+    if (n > 0 && slave_path_ == std::string(target, static_cast<size_t>(n)))
+      ::unlink(config_.link.c_str());
   }
   slave_path_.clear();
   peer_present_ = false;
@@ -113,7 +116,8 @@ Result<Readiness> PtyTransport::wait(bool want_write, int timeout_ms) {
   if (revents & POLLHUP) {
     peer_present_ = false;
     // Nobody reads: wait for the reader (or a wake-up) a little at a time.
-    TLV_ASSIGN_OR_RETURN(revents, internal::poll_with_wake(-1, 0, wake_, std::min(timeout_ms, kAbsentPollMs)));
+    TLV_ASSIGN_OR_RETURN(
+        revents, internal::poll_with_wake(-1, 0, wake_, std::min(timeout_ms, kAbsentPollMs)));
     return Readiness{};
   }
   peer_present_ = true;

@@ -20,7 +20,8 @@ static_assert(sizeof(Header) == SendQueue::kRecordHeader);
 }  // namespace
 
 SendQueue::SendQueue(size_t capacity_bytes)
-    : capacity_(capacity_bytes & ~size_t{15}), buffer_(new std::byte[capacity_ > 0 ? capacity_ : 16]) {}
+    : capacity_(capacity_bytes & ~size_t{15}),
+      buffer_(new std::byte[capacity_ > 0 ? capacity_ : 16]) {}
 
 bool SendQueue::is_marker(size_t offset) const {
   uint32_t length;
@@ -67,9 +68,11 @@ Result<size_t> SendQueue::push(protocol::MessageType type, uint16_t flags, int64
     pop();
     ++dropped;
   }
-  const Header header{static_cast<uint32_t>(payload.size()), static_cast<uint16_t>(type), flags, enqueue_ns};
+  const Header header{static_cast<uint32_t>(payload.size()), static_cast<uint16_t>(type), flags,
+                      enqueue_ns};
   std::memcpy(buffer_.get() + at, &header, sizeof(header));
-  if (!payload.empty()) std::memcpy(buffer_.get() + at + kRecordHeader, payload.data(), payload.size());
+  if (!payload.empty())
+    std::memcpy(buffer_.get() + at + kRecordHeader, payload.data(), payload.size());
   tail_ = at + need;
   ++count_;
   bytes_ += need;
@@ -99,8 +102,6 @@ void SendQueue::pop() {
   if (head_ == capacity_ || is_marker(head_)) head_ = 0;
 }
 
-void SendQueue::clear() {
-  head_ = tail_ = count_ = bytes_ = 0;
-}
+void SendQueue::clear() { head_ = tail_ = count_ = bytes_ = 0; }
 
 }  // namespace tlvlink::transport

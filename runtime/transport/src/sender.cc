@@ -19,12 +19,13 @@ Sender::Sender(std::unique_ptr<Transport> transport, const SenderConfig& config)
   counters_.link_error = Error(ErrorCode::kTransportUnavailable, "not connected yet");
 }
 
-Result<std::unique_ptr<Sender>> Sender::create(std::unique_ptr<Transport> transport, const SenderConfig& config) {
+Result<std::unique_ptr<Sender>> Sender::create(std::unique_ptr<Transport> transport,
+                                               const SenderConfig& config) {
   TLV_ENSURE(transport != nullptr, ErrorCode::kInvalidArgument, "sender: no transport");
   TLV_ENSURE(config.queue_bytes >= SendQueue::record_size(protocol::kMaxPayloadSize),
              ErrorCode::kInvalidArgument,
-             "sender: queue_bytes %zu cannot hold one largest message (%zu bytes)", config.queue_bytes,
-             SendQueue::record_size(protocol::kMaxPayloadSize));
+             "sender: queue_bytes %zu cannot hold one largest message (%zu bytes)",
+             config.queue_bytes, SendQueue::record_size(protocol::kMaxPayloadSize));
   TLV_ENSURE(config.reconnect_min_ms > 0 && config.reconnect_max_ms >= config.reconnect_min_ms &&
                  config.stall_ms > 0 && config.flush_ms >= 0 && config.max_age_ms >= 0 &&
                  config.realtime_priority >= 0 && config.realtime_priority <= 99,
@@ -39,7 +40,8 @@ Sender::~Sender() { stop(); }
 Status Sender::set_hello(const protocol::Hello& hello) {
   TLV_ENSURE(!started_, ErrorCode::kInvalidState, "sender: set_hello() after start()");
   std::lock_guard lock(mutex_);
-  TLV_ASSIGN_OR_RETURN(const std::span<const std::byte> payload, protocol::encode_payload(hello, scratch_));
+  TLV_ASSIGN_OR_RETURN(const std::span<const std::byte> payload,
+                       protocol::encode_payload(hello, scratch_));
   hello_payload_.assign(payload.begin(), payload.end());
   return Status();
 }
@@ -77,11 +79,12 @@ template <typename M>
 Status Sender::post_message(const M& m) {
   {
     std::lock_guard lock(mutex_);
-    TLV_ASSIGN_OR_RETURN(const std::span<const std::byte> payload, protocol::encode_payload(m, scratch_));
+    TLV_ASSIGN_OR_RETURN(const std::span<const std::byte> payload,
+                         protocol::encode_payload(m, scratch_));
     const bool up = counters_.link_up;
     TLV_ASSIGN_OR_RETURN(const size_t dropped,
-                         queue_.push(protocol::MessageTypeOf<M>::value, up ? 0 : protocol::kFlagDelayed,
-                                     board_clock_ns(), payload));
+                         queue_.push(protocol::MessageTypeOf<M>::value,
+                                     up ? 0 : protocol::kFlagDelayed, board_clock_ns(), payload));
     (up ? counters_.dropped_queue_full : counters_.dropped_link_down) += dropped;
     ++counters_.posted;
   }
@@ -130,7 +133,8 @@ Status Sender::post(const protocol::Stats& m) {
     s.link.queue_messages = static_cast<uint32_t>(queue_.size());
     s.link.queue_bytes = static_cast<uint32_t>(queue_.bytes());
     s.link.queue_capacity_bytes = static_cast<uint32_t>(queue_.capacity());
-    TLV_ASSIGN_OR_RETURN(const std::span<const std::byte> payload, protocol::encode_payload(s, scratch_));
+    TLV_ASSIGN_OR_RETURN(const std::span<const std::byte> payload,
+                         protocol::encode_payload(s, scratch_));
     std::copy(payload.begin(), payload.end(), stats_payload_);
     stats_size_ = payload.size();
     ++counters_.posted;

@@ -5,8 +5,8 @@
 
 namespace tlvlink::transport {
 
-void Sender::Link::on_command(const protocol::FrameHeader& header, std::span<const std::byte> payload,
-                              int64_t received_ns) {
+void Sender::Link::on_command(const protocol::FrameHeader& header,
+                              std::span<const std::byte> payload, int64_t received_ns) {
   using protocol::CommandKind;
   const uint32_t seq = header.sequence;
   Result<protocol::Command> decoded = protocol::decode_command(payload);
@@ -30,7 +30,8 @@ void Sender::Link::on_command(const protocol::FrameHeader& header, std::span<con
     case CommandKind::kTimeSync:
       if (c.clock_uncertainty_ns > 0) {
         std::lock_guard lock(s_.mutex_);
-        s_.host_clock_ = protocol::ClockEstimate{true, c.clock_offset_ns, c.clock_uncertainty_ns, 0, 0};
+        s_.host_clock_ =
+            protocol::ClockEstimate{true, c.clock_offset_ns, c.clock_uncertainty_ns, 0, 0};
       }
       [[fallthrough]];
     case CommandKind::kPing:
@@ -51,20 +52,24 @@ void Sender::Link::on_command(const protocol::FrameHeader& header, std::span<con
       // Set before start() and never changed after: read without the lock, not copied.
       const CommandHandler& handler = s_.handler_;
       if (!handler) {
-        refuse(c.kind, Error::make(ErrorCode::kProtocolUnsupported, "this board does not handle '%s' commands",
+        refuse(c.kind, Error::make(ErrorCode::kProtocolUnsupported,
+                                   "this board does not handle '%s' commands",
                                    protocol::command_kind_name(c.kind)));
         return;
       }
       const Status st = handler(c);
-      if (st.ok()) reply(protocol::Ack{seq, c.kind});
-      else refuse(c.kind, st.error());
+      if (st.ok())
+        reply(protocol::Ack{seq, c.kind});
+      else
+        refuse(c.kind, st.error());
       return;
     }
-    case CommandKind::kNone:
-      break;
+    case CommandKind::kNone: break;
   }
-  refuse(c.kind, Error::make(ErrorCode::kProtocolUnsupported, "unknown command kind %u (protocol %u.%u)",
-                             static_cast<unsigned>(c.kind), protocol::kVersionMajor, protocol::kVersionMinor));
+  refuse(
+      c.kind,
+      Error::make(ErrorCode::kProtocolUnsupported, "unknown command kind %u (protocol %u.%u)",
+                  static_cast<unsigned>(c.kind), protocol::kVersionMajor, protocol::kVersionMinor));
 }
 
 }  // namespace tlvlink::transport

@@ -2,19 +2,22 @@
 
 #include <algorithm>
 
+#include "tlvlink/clock.h"
 #include "tlvlink/protocol/names.h"
 #include "tlvlink/protocol/views.h"
-#include "tlvlink/clock.h"
 
 namespace tlvlink::transport {
 namespace {
-constexpr int kWaitMs = 100;          // longest idle wait (stop() interrupts it anyway)
+constexpr int kWaitMs = 100;  // longest idle wait (stop() interrupts it anyway)
 constexpr size_t kControlBytes = 64 * 1024;
-constexpr int kReadsPerStep = 16;     // bounded so a flood of input cannot starve the writer
+constexpr int kReadsPerStep = 16;  // bounded so a flood of input cannot starve the writer
 }  // namespace
 
 Sender::Link::Link(Sender& sender)
-    : s_(sender), t_(*sender.transport_), control_(kControlBytes), backoff_ms_(sender.config_.reconnect_min_ms) {
+    : s_(sender),
+      t_(*sender.transport_),
+      control_(kControlBytes),
+      backoff_ms_(sender.config_.reconnect_min_ms) {
   down_reason_ = Error(ErrorCode::kTransportUnavailable, "not opened yet");
 }
 
@@ -22,7 +25,8 @@ void Sender::Link::run() {
   while (!s_.stopping_) step(kWaitMs);
   // Flush: what is queued goes out while the link is up, for at most flush_ms.
   const int64_t deadline = board_clock_ns() + static_cast<int64_t>(s_.config_.flush_ms) * 1'000'000;
-  for (int64_t now = board_clock_ns(); now < deadline && t_.is_open() && up_ && has_output(); now = board_clock_ns()) {
+  for (int64_t now = board_clock_ns(); now < deadline && t_.is_open() && up_ && has_output();
+       now = board_clock_ns()) {
     step(static_cast<int>(std::max<int64_t>(1, (deadline - now) / 1'000'000)));
   }
   if (t_.is_open() && up_) {
@@ -73,10 +77,12 @@ void Sender::Link::step(int timeout_ms) {
   const int64_t now = board_clock_ns();
   if (!want_write) {
     last_progress_ns_ = now;
-  } else if (!stalled_ && now - last_progress_ns_ > static_cast<int64_t>(s_.config_.stall_ms) * 1'000'000) {
+  } else if (!stalled_ &&
+             now - last_progress_ns_ > static_cast<int64_t>(s_.config_.stall_ms) * 1'000'000) {
     stalled_ = true;
-    down_reason_ = Error::make(ErrorCode::kTransportUnavailable, "%.*s accepted nothing for %d ms",
-                               static_cast<int>(t_.name().size()), t_.name().data(), s_.config_.stall_ms);
+    down_reason_ =
+        Error::make(ErrorCode::kTransportUnavailable, "%.*s accepted nothing for %d ms",
+                    static_cast<int>(t_.name().size()), t_.name().data(), s_.config_.stall_ms);
     publish();
   }
 }
@@ -169,11 +175,13 @@ void Sender::Link::fill_out() {
     return;
   }
   if (!take_message()) return;
-  encode(inflight_type_, inflight_flags_, std::span<const std::byte>(inflight_payload_, inflight_size_));
+  encode(inflight_type_, inflight_flags_,
+         std::span<const std::byte>(inflight_payload_, inflight_size_));
   if (!out_is_frame_) inflight_ = false;  // could not be framed: drop it rather than loop
 }
 
-void Sender::Link::encode(protocol::MessageType type, uint16_t flags, std::span<const std::byte> payload) {
+void Sender::Link::encode(protocol::MessageType type, uint16_t flags,
+                          std::span<const std::byte> payload) {
   protocol::FrameHeader h;
   h.type = type;
   h.flags = flags;
@@ -226,22 +234,26 @@ void Sender::Link::read_all() {
 void Sender::Link::on_frame(const protocol::ReceivedFrame& f, int64_t received_ns) {
   {
     std::lock_guard lock(s_.mutex_);
-    ++(f.verdict == protocol::FrameVerdict::kOk ? s_.counters_.frames_received : s_.counters_.frames_rejected);
+    ++(f.verdict == protocol::FrameVerdict::kOk ? s_.counters_.frames_received
+                                                : s_.counters_.frames_rejected);
   }
   if (f.verdict == protocol::FrameVerdict::kVersion && !version_reported_) {
     version_reported_ = true;  // once per connection: say it clearly, then ignore such frames
     char text[160];
-    std::snprintf(text, sizeof(text),
-                  "the host speaks stream protocol %u.%u; this board speaks %u.%u: its commands are "
-                  "ignored (update the host client or the board)",
-                  f.header.version_major, f.header.version_minor, protocol::kVersionMajor,
-                  protocol::kVersionMinor);
+    std::snprintf(
+        text, sizeof(text),
+        "the host speaks stream protocol %u.%u; this board speaks %u.%u: its commands are "
+        "ignored (update the host client or the board)",
+        f.header.version_major, f.header.version_minor, protocol::kVersionMajor,
+        protocol::kVersionMinor);
     reply(protocol::ErrorReport{static_cast<uint16_t>(ErrorCode::kProtocolVersion),
-                                error_code_name(ErrorCode::kProtocolVersion), text, protocol::kNoSensor});
+                                error_code_name(ErrorCode::kProtocolVersion), text,
+                                protocol::kNoSensor});
     return;
   }
   if (f.verdict != protocol::FrameVerdict::kOk) return;
-  if (f.header.type == protocol::MessageType::kCommand) on_command(f.header, f.payload, received_ns);
+  if (f.header.type == protocol::MessageType::kCommand)
+    on_command(f.header, f.payload, received_ns);
   // Anything else from the host is not for the board: skipped.
 }
 

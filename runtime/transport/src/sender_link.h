@@ -6,9 +6,9 @@
 #error "sender_link.h is internal to tlvlink_transport"
 #endif
 
+#include "tlvlink/clock.h"
 #include "tlvlink/protocol/deframer.h"
 #include "tlvlink/transport/sender.h"
-#include "tlvlink/clock.h"
 
 namespace tlvlink::transport {
 
@@ -30,7 +30,8 @@ class Sender::Link {
   void write_some();
   void read_all();
   void on_frame(const protocol::ReceivedFrame& frame, int64_t received_ns);
-  void on_command(const protocol::FrameHeader& header, std::span<const std::byte> payload, int64_t received_ns);
+  void on_command(const protocol::FrameHeader& header, std::span<const std::byte> payload,
+                  int64_t received_ns);
   template <typename M>
   void reply(const M& message);
   void reply_hello();
@@ -64,7 +65,8 @@ class Sender::Link {
 template <typename M>
 void Sender::Link::reply(const M& message) {
   Result<std::span<const std::byte>> p = protocol::encode_payload(message, scratch_);
-  if (p.ok()) (void)control_.push(protocol::MessageTypeOf<M>::value, 0, board_clock_ns(), p.value());
+  if (p.ok())
+    (void)control_.push(protocol::MessageTypeOf<M>::value, 0, board_clock_ns(), p.value());
 }
 
 }  // namespace tlvlink::transport

@@ -22,13 +22,13 @@ bool baud_constant(int baud, speed_t& out) {
     int baud;
     speed_t constant;
   };
-  static constexpr Rate kRates[] = {
-      {1200, B1200},       {2400, B2400},       {4800, B4800},       {9600, B9600},
-      {19200, B19200},     {38400, B38400},     {57600, B57600},     {115200, B115200},
-      {230400, B230400},   {460800, B460800},   {500000, B500000},   {576000, B576000},
-      {921600, B921600},   {1000000, B1000000}, {1152000, B1152000}, {1500000, B1500000},
-      {2000000, B2000000}, {2500000, B2500000}, {3000000, B3000000}, {3500000, B3500000},
-      {4000000, B4000000}};
+  static constexpr Rate kRates[] = {{1200, B1200},       {2400, B2400},       {4800, B4800},
+                                    {9600, B9600},       {19200, B19200},     {38400, B38400},
+                                    {57600, B57600},     {115200, B115200},   {230400, B230400},
+                                    {460800, B460800},   {500000, B500000},   {576000, B576000},
+                                    {921600, B921600},   {1000000, B1000000}, {1152000, B1152000},
+                                    {1500000, B1500000}, {2000000, B2000000}, {2500000, B2500000},
+                                    {3000000, B3000000}, {3500000, B3500000}, {4000000, B4000000}};
   for (const Rate& r : kRates) {
     if (r.baud == baud) {
       out = r.constant;
@@ -41,7 +41,9 @@ bool baud_constant(int baud, speed_t& out) {
 class SerialTransport final : public Transport {
  public:
   explicit SerialTransport(SerialConfig config)
-      : config_(std::move(config)), name_("serial:" + config_.path), wake_(internal::make_wake_fd()) {}
+      : config_(std::move(config)),
+        name_("serial:" + config_.path),
+        wake_(internal::make_wake_fd()) {}
   ~SerialTransport() override {
     close();
     close_fd(wake_);
@@ -65,8 +67,10 @@ class SerialTransport final : public Transport {
     cfmakeraw(&tio);  // 8 data bits, no parity, no echo, no line editing, no CR/LF mapping
     tio.c_cflag |= CLOCAL | CREAD;
     tio.c_cflag &= ~CSTOPB;
-    if (config_.flow == FlowControl::kRtsCts) tio.c_cflag |= CRTSCTS;
-    else tio.c_cflag &= ~CRTSCTS;
+    if (config_.flow == FlowControl::kRtsCts)
+      tio.c_cflag |= CRTSCTS;
+    else
+      tio.c_cflag &= ~CRTSCTS;
     // VMIN 1: with O_NONBLOCK an empty line reads as EAGAIN and 0 means end of file (hangup).
     // With VMIN 0 an empty tty reads as 0 on some kernels (the emulated board's 6.1 on
     // /dev/ttyGS0), which looked like end of file after every burst of commands: the board
@@ -98,7 +102,8 @@ class SerialTransport final : public Transport {
   Result<Readiness> wait(bool want_write, int timeout_ms) override {
     TLV_ENSURE(fd_ >= 0, ErrorCode::kInvalidState, "%s: wait() on a closed link", name_.c_str());
     const short events = static_cast<short>(POLLIN | (want_write ? POLLOUT : 0));
-    TLV_ASSIGN_OR_RETURN(const short revents, internal::poll_with_wake(fd_, events, wake_, timeout_ms));
+    TLV_ASSIGN_OR_RETURN(const short revents,
+                         internal::poll_with_wake(fd_, events, wake_, timeout_ms));
     // Hangup: the pty master closed, the USB device or gadget went away.
     if (revents & (POLLHUP | POLLERR | POLLNVAL)) {
       return Error::make(ErrorCode::kTransportDisconnected, "%s: hangup", name_.c_str());
@@ -109,7 +114,8 @@ class SerialTransport final : public Transport {
   Result<size_t> read(std::span<std::byte> out) override {
     const ssize_t n = ::read(fd_, out.data(), out.size());
     if (n > 0) return static_cast<size_t>(n);
-    if (n == 0) return Error::make(ErrorCode::kTransportDisconnected, "%s: end of file", name_.c_str());
+    if (n == 0)
+      return Error::make(ErrorCode::kTransportDisconnected, "%s: end of file", name_.c_str());
     if (errno == EAGAIN || errno == EINTR) return size_t{0};
     return internal::io_error("read", name_, errno);
   }
@@ -143,8 +149,8 @@ Result<std::unique_ptr<Transport>> make_serial_transport(const SerialConfig& con
   TLV_ENSURE(!config.path.empty(), ErrorCode::kInvalidArgument, "serial link: no device path");
   speed_t speed;
   TLV_ENSURE(config.baud == 0 || baud_constant(config.baud, speed), ErrorCode::kInvalidArgument,
-             "serial link %s: %d baud is not a standard rate (1200 ... 4000000)", config.path.c_str(),
-             config.baud);
+             "serial link %s: %d baud is not a standard rate (1200 ... 4000000)",
+             config.path.c_str(), config.baud);
   auto t = std::make_unique<SerialTransport>(config);
   return std::unique_ptr<Transport>(std::move(t));
 }

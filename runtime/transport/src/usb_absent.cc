@@ -5,8 +5,9 @@ namespace tlvlink::transport::internal {
 
 Result<std::unique_ptr<Transport>> make_usb_device_transport(const std::string&, const std::string&,
                                                              const std::string&) {
-  return Error(ErrorCode::kInvalidArgument,
-               "this build has no USB transport: configure with -DTLVLINK_WITH_USB=ON (FunctionFS)");
+  return Error(
+      ErrorCode::kInvalidArgument,
+      "this build has no USB transport: configure with -DTLVLINK_WITH_USB=ON (FunctionFS)");
 }
 
 }  // namespace tlvlink::transport::internal

@@ -13,7 +13,8 @@
 
 namespace tlvlink::transport::internal {
 
-Result<std::unique_ptr<Transport>> make_usb_device_transport(const std::string& ffs_dir, const std::string& udc,
+Result<std::unique_ptr<Transport>> make_usb_device_transport(const std::string& ffs_dir,
+                                                             const std::string& udc,
                                                              const std::string& gadget);
 
 }  // namespace tlvlink::transport::internal

@@ -78,8 +78,9 @@ float output_value(const Tensor& t, std::span<const std::byte> bytes, size_t i) 
 
 OutputComparison compare_output(const Graph& graph, int32_t output, std::span<const float> got,
                                 std::span<const float> want) {
-  return compare(graph, output, got.size(), want.size(),
-                 [&](size_t k) { return std::pair{got[k], want[k]}; });
+  return compare(graph, output, got.size(), want.size(), [&](size_t k) {
+    return std::pair{got[k], want[k]};
+  });
 }
 
 OutputComparison compare_output_bytes(const Graph& graph, int32_t output,

@@ -24,7 +24,8 @@ void embedding_of(const Model& model, size_t pair, std::vector<float>& out) {
 
 bool golden_heads_apply(const Model& model) {
   const Metadata& m = model.metadata();
-  const bool any_head = !m.linear_heads.empty() || !m.zero_shot_heads.empty() || m.grasp_head.present;
+  const bool any_head =
+      !m.linear_heads.empty() || !m.zero_shot_heads.empty() || m.grasp_head.present;
   const Tensor& out = model.graph().tensor(model.graph().outputs[0]);
   return !m.golden.empty() && any_head && m.embedding_output == 0 && m.embedding_dim > 0 &&
          out.shape.elements() == static_cast<size_t>(m.embedding_dim);
@@ -75,8 +76,8 @@ Result<HeadCheck> check_golden_heads(const Model& model) {
   const auto worse = [&c](double got, double stored) {
     // A NaN must fail, never compare as "not greater".
     const double e = std::fabs(got - stored);
-    c.max_abs_error = std::isfinite(e) ? std::max(c.max_abs_error, e)
-                                         : std::numeric_limits<double>::infinity();
+    c.max_abs_error =
+        std::isfinite(e) ? std::max(c.max_abs_error, e) : std::numeric_limits<double>::infinity();
   };
   for (size_t p = 0; p < m.golden.size(); ++p) {
     const std::span<const float> stored = m.golden[p].head_probabilities;

@@ -162,9 +162,7 @@ void LoopFeeder::run() {
   }
 }
 
-void LoopFeeder::feed_every(int32_t interval_ms) {
-  interval_ms_.store(interval_ms);
-}
+void LoopFeeder::feed_every(int32_t interval_ms) { interval_ms_.store(interval_ms); }
 
 void LoopFeeder::stop_output() {
   interval_ms_.store(0);

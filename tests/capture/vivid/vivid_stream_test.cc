@@ -57,8 +57,8 @@ TEST_F(VividStream, NewestFrameUnderASlowConsumer) {
     auto f = (*src)->next(2000);
     ASSERT_TRUE(f.ok()) << f.error().message();
     if (i > 0) {
-      ages_ms.push_back(
-          (static_cast<double>(asked_ns) - static_cast<double>(f->timestamp_ns)) / 1e6);
+      ages_ms.push_back((static_cast<double>(asked_ns) - static_cast<double>(f->timestamp_ns)) /
+                        1e6);
       EXPECT_GT(f->sequence, last_sequence + 1)
           << "a slow consumer must not see consecutive frames";
     }
@@ -73,8 +73,8 @@ TEST_F(VividStream, NewestFrameUnderASlowConsumer) {
   // generator now and then (its buffers full, the newest frame then ~130 ms old).
   std::sort(ages_ms.begin(), ages_ms.end());
   const double median_age_ms = ages_ms[ages_ms.size() / 2];
-  EXPECT_LT(median_age_ms, 2 * period_ns / 1e6) << "median age at the call " << median_age_ms
-                                                << " ms, oldest " << ages_ms.back() << " ms";
+  EXPECT_LT(median_age_ms, 2 * period_ns / 1e6)
+      << "median age at the call " << median_age_ms << " ms, oldest " << ages_ms.back() << " ms";
   const SourceStats& s = (*src)->stats();
   std::printf(
       "note: slow consumer: %llu delivered, %llu stale skipped, %llu dropped by the device (all "

@@ -195,8 +195,8 @@ TEST(GraspPrior, SamplingIsDeterministicAndSuccessProbabilityIsSane) {
   EXPECT_EQ(internal::success_probability_over_friction(mid, {}, hidden), 0);
   // The prior's values: 16 slices of each graspable class's range.
   const std::vector<double> prior = internal::prior_friction_values();
-  EXPECT_EQ(prior.size(),
-            internal::graspable_classes().size() * static_cast<size_t>(internal::kOracleFrictionDraws));
+  EXPECT_EQ(prior.size(), internal::graspable_classes().size() *
+                              static_cast<size_t>(internal::kOracleFrictionDraws));
   for (double mu : prior) {
     EXPECT_GT(mu, 0.1);
     EXPECT_LT(mu, 1.25);

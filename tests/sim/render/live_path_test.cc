@@ -29,8 +29,8 @@ int max_difference_inside(const std::vector<uint8_t>& a, const std::vector<uint8
   int worst = 0;
   for (int32_t y = margin; y < height - margin; ++y) {
     for (int32_t x = margin; x < width - margin; ++x) {
-      const size_t i = (static_cast<size_t>(y) * static_cast<size_t>(width) +
-                        static_cast<size_t>(x)) * 3;
+      const size_t i =
+          (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * 3;
       for (size_t k = 0; k < 3; ++k) worst = std::max(worst, std::abs(a[i + k] - b[i + k]));
     }
   }
@@ -59,9 +59,8 @@ TEST(SimLivePath, EqualsTheRawCameraAndDecoderInsideTheFrame) {
       std::vector<uint8_t> frame = raw.processed.rgb;
       const Status st = live->apply(frame);
       ASSERT_TRUE(st.ok()) << st.error().message();
-      EXPECT_EQ(max_difference_inside(frame, expected, raw.processed.width,
-                                      raw.processed.height, 1),
-                0);
+      EXPECT_EQ(
+          max_difference_inside(frame, expected, raw.processed.width, raw.processed.height, 1), 0);
       // And the frame did go through the camera: not the processed frame any more.
       EXPECT_NE(frame, raw.processed.rgb);
     }

@@ -8,10 +8,10 @@
 
 #include <gtest/gtest.h>
 
-#include "tlvlink/image/jpeg.h"
-#include "tlvlink/io/image.h"
 #include "sim/render/raw_test_util.h"
 #include "sim/render/render_test_util.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
 #include "tlvlink/sim/extreme.h"
 
 namespace tlvlink::sim {

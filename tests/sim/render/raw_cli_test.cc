@@ -6,13 +6,13 @@
 
 #include <gtest/gtest.h>
 
-#include "tlvlink/io/file.h"
-#include "tlvlink/image/jpeg.h"
-#include "tlvlink/io/image.h"
-#include "tlvlink/io/pnm.h"
 #include "sim/render/raw_test_util.h"
 #include "support/cli_run.h"
 #include "support/temp_dir.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/io/pnm.h"
 
 namespace tlvlink::sim {
 namespace {

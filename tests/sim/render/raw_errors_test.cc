@@ -46,9 +46,8 @@ TEST(SimRenderRawErrors, BadMjpegFramesAreNamed) {
                       {"JPEG header", "Not a JPEG file"});
   // A valid JPEG of another camera's size.
   const RawFrame small = render_raw(*r15, testing::sphere(4), RenderOptions{});
-  expect_format_error(
-      *decoder, small.bytes,
-      {"gelsight-mini raw frame", "JPEG frame is 320x240, expected 3280x2464"});
+  expect_format_error(*decoder, small.bytes,
+                      {"gelsight-mini raw frame", "JPEG frame is 320x240, expected 3280x2464"});
   // The decoder keeps working after errors, also after a frame cut inside its header tables
   // (libjpeg-turbo 2.1 leaves the handle of such a header read unusable for the next frame).
   std::vector<uint8_t> reference, rgb;

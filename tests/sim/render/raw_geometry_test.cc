@@ -6,11 +6,11 @@
 
 #include <gtest/gtest.h>
 
-#include "tlvlink/image/jpeg.h"
-#include "tlvlink/io/image.h"
 #include "render/renderer_internal.h"
 #include "sim/render/raw_test_util.h"
 #include "sim/render/render_test_util.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
 
 namespace tlvlink::sim {
 namespace {

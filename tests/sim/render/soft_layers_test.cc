@@ -39,8 +39,7 @@ TEST(SimRenderSoftLayers, ALayerBottomsOutAndTheGelTakesTheRest) {
   const Frame capped = render_ok(*r, fabric(8, 1.0), quiet());
   const double kappa = capped.state.kappa;
   ASSERT_LT(kappa, 0.6);
-  const double object_unbounded =
-      unbounded.state.press_mm - unbounded.state.max_gel_indentation_mm;
+  const double object_unbounded = unbounded.state.press_mm - unbounded.state.max_gel_indentation_mm;
   ASSERT_GT(object_unbounded, internal::kMaxLayerStrain * 1.0) << "the cap must matter here";
   const double object_capped = capped.state.press_mm - capped.state.max_gel_indentation_mm;
   constexpr double kBisection = 0.02;  // mm: force tolerance 1e-3 F on this press

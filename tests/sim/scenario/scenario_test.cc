@@ -142,8 +142,10 @@ TEST_F(Scenario, ScoreCountsAPerfectRunAsPerfectAndEachMistakeOnce) {
     bool missed = false, wrong = false;
     for (const json& j : t) {
       if (j["type"] != "frame") continue;
-      json f = {{"type", "frame"}, {"sensor", j["finger"] == "A" ? "left" : "right"},
-                {"seq", j["seq"]}, {"contact", j["contact"].get<bool>() ? "contact" : "none"},
+      json f = {{"type", "frame"},
+                {"sensor", j["finger"] == "A" ? "left" : "right"},
+                {"seq", j["seq"]},
+                {"contact", j["contact"].get<bool>() ? "contact" : "none"},
                 {"encoded", j["contact"]}};
       const int e = j["event"].get<int>();
       if (j["contact"].get<bool>() && e >= 0) {
@@ -165,9 +167,11 @@ TEST_F(Scenario, ScoreCountsAPerfectRunAsPerfectAndEachMistakeOnce) {
     for (const auto& [id, e] : events) {
       if (e["kind"] != "grasp") continue;
       const int64_t during = e["first_seq"].get<int64_t>() + 20;
-      out << json{{"type", "grasp"}, {"computed", true},
+      out << json{{"type", "grasp"},
+                  {"computed", true},
                   {"prediction", e["success"].get<bool>() ? "success" : "failure"},
-                  {"frames", json::array({{{"finger", "A"}, {"moment", "during"}, {"seq", during}}})}}
+                  {"frames",
+                   json::array({{{"finger", "A"}, {"moment", "during"}, {"seq", during}}})}}
                  .dump()
           << "\n";
     }
@@ -191,12 +195,13 @@ TEST_F(Scenario, ScoreCountsAPerfectRunAsPerfectAndEachMistakeOnce) {
   EXPECT_EQ(m->missed_contact, 1);
   EXPECT_EQ(m->missed_by_kind.at("grasp").hits, 1);  // B touches only in grasps
   EXPECT_EQ(p->missed_by_kind.at("press").hits, 0);
-  EXPECT_EQ(m->heads[0].frames.hits, m->heads[0].frames.total - 1);  // the wrong label
+  EXPECT_EQ(m->heads[0].frames.hits, m->heads[0].frames.total - 1);   // the wrong label
   EXPECT_EQ(m->heads[0].frames.total, p->heads[0].frames.total - 1);  // the missed frame
   // Live (perfect) against offline (planted) on the same frames: only frames both predicted are
   // paired (the planted miss drops one), the planted wrong label is the whole difference, and
   // grasps agree.
-  auto c = score::compare_live_offline({{dir_ + "/truth.jsonl", perfect, planted}}, {"left", "right"});
+  auto c =
+      score::compare_live_offline({{dir_ + "/truth.jsonl", perfect, planted}}, {"left", "right"});
   ASSERT_TRUE(c.ok()) << c.error().message();
   ASSERT_EQ(c->heads.size(), 1u);
   const score::PairedRate& f = c->heads[0].frames;
@@ -212,14 +217,15 @@ TEST_F(Scenario, ScoreCountsAPerfectRunAsPerfectAndEachMistakeOnce) {
   EXPECT_EQ(c->live.missed_contact, 0);
   EXPECT_EQ(c->offline.missed_contact, 1);
   EXPECT_NE(score::format_live_offline(*c).find("live - offline"), std::string::npos);
-  auto pooled = score::compare_live_offline({{dir_ + "/truth.jsonl", perfect, planted},
-                                             {dir_ + "/truth.jsonl", perfect, planted}},
-                                            {"left", "right"});
+  auto pooled = score::compare_live_offline(
+      {{dir_ + "/truth.jsonl", perfect, planted}, {dir_ + "/truth.jsonl", perfect, planted}},
+      {"left", "right"});
   ASSERT_TRUE(pooled.ok());
   EXPECT_EQ(pooled->heads[0].frames.live.total, 2 * f.live.total);  // runs pool
   EXPECT_EQ(pooled->grasps_scripted, 4);
   EXPECT_EQ(score::compare_live_offline({{dir_ + "/truth.jsonl", perfect, ""}}, {"left", "right"})
-                .error().code(),
+                .error()
+                .code(),
             ErrorCode::kInvalidArgument);
   // Wrong inputs are errors naming the file.
   auto bad = score::score_live_run(dir_ + "/A.tlvraw", perfect, {"left", "right"});
@@ -231,21 +237,31 @@ TEST_F(Scenario, ScoreCountsAPerfectRunAsPerfectAndEachMistakeOnce) {
 // the end of a press) is the gate's mistake, not the head's: counted apart, and it is not the
 // event's answer.
 TEST(Score, LabelsOfFramesWithoutContactAreCountedApart) {
-  const std::string dir = (std::filesystem::temp_directory_path() /
-                           ("tlvlink_score_" + std::to_string(::getpid())))
-                              .string();
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("tlvlink_score_" + std::to_string(::getpid())))
+          .string();
   std::filesystem::create_directories(dir);
   {
     std::ofstream t(dir + "/truth.jsonl");
-    t << R"({"type":"scenario","sensor":"gelsight-mini","fps":25,"frames":4,"fingers":["A","B"]})" "\n"
-      << R"({"type":"event","id":0,"kind":"press","success":null,"material":"metal","hard_soft":"hard","rough_smooth":null})" "\n";
+    t << R"({"type":"scenario","sensor":"gelsight-mini","fps":25,"frames":4,"fingers":["A","B"]})"
+         "\n"
+      << R"({"type":"event","id":0,"kind":"press","success":null,"material":"metal","hard_soft":"hard","rough_smooth":null})"
+         "\n";
     const bool contact[4] = {false, true, false, false};
     const int event[4] = {-1, 0, 0, -1};
     for (int k = 0; k < 4; ++k) {
-      t << json{{"type", "frame"}, {"finger", "A"}, {"seq", k}, {"contact", contact[k]},
-                {"force_n", contact[k] ? 3.0 : 0.0}, {"event", event[k]}}.dump() << "\n"
-        << json{{"type", "frame"}, {"finger", "B"}, {"seq", k}, {"contact", false},
-                {"force_n", 0.0}, {"event", -1}}.dump() << "\n";
+      t << json{{"type", "frame"},
+                {"finger", "A"},
+                {"seq", k},
+                {"contact", contact[k]},
+                {"force_n", contact[k] ? 3.0 : 0.0},
+                {"event", event[k]}}
+               .dump()
+        << "\n"
+        << json{{"type", "frame"},  {"finger", "B"},  {"seq", k},
+                {"contact", false}, {"force_n", 0.0}, {"event", -1}}
+               .dump()
+        << "\n";
     }
     std::ofstream p(dir + "/predictions.jsonl");
     const auto frame = [&](int seq, const char* gate, const char* material) {
@@ -258,7 +274,8 @@ TEST(Score, LabelsOfFramesWithoutContactAreCountedApart) {
     frame(2, "contact", "glass");  // the imprint has gone; the gate still says contact
     frame(3, "none", nullptr);
   }
-  auto r = score::score_live_run(dir + "/truth.jsonl", dir + "/predictions.jsonl", {"left", "right"});
+  auto r =
+      score::score_live_run(dir + "/truth.jsonl", dir + "/predictions.jsonl", {"left", "right"});
   std::filesystem::remove_all(dir);
   ASSERT_TRUE(r.ok()) << r.error().message();
   EXPECT_EQ(r->false_contact, 1);
@@ -274,31 +291,41 @@ TEST(Score, LabelsOfFramesWithoutContactAreCountedApart) {
 // A contact whose image is the open gel's (signal below kInvisibleSignalDn: a smooth flat face
 // filling the gel) is no miss of the gate: counted apart, with its event.
 TEST(Score, ContactsTheOpticsCannotShowAreCountedApart) {
-  const std::string dir = (std::filesystem::temp_directory_path() /
-                           ("tlvlink_invisible_" + std::to_string(::getpid())))
-                              .string();
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("tlvlink_invisible_" + std::to_string(::getpid())))
+          .string();
   std::filesystem::create_directories(dir);
   {
     std::ofstream t(dir + "/truth.jsonl");
-    t << R"({"type":"scenario","sensor":"gelsight-mini","fps":25,"frames":4,"fingers":["A","B"]})" "\n"
-      << R"({"type":"event","id":0,"kind":"press","success":null,"material":"glass","hard_soft":"hard","rough_smooth":"smooth"})" "\n"
-      << R"({"type":"event","id":1,"kind":"press","success":null,"material":"rock","hard_soft":"hard","rough_smooth":"rough"})" "\n";
+    t << R"({"type":"scenario","sensor":"gelsight-mini","fps":25,"frames":4,"fingers":["A","B"]})"
+         "\n"
+      << R"({"type":"event","id":0,"kind":"press","success":null,"material":"glass","hard_soft":"hard","rough_smooth":"smooth"})"
+         "\n"
+      << R"({"type":"event","id":1,"kind":"press","success":null,"material":"rock","hard_soft":"hard","rough_smooth":"rough"})"
+         "\n";
     const double signal[4] = {0.3, 0.9, 12.0, 0.4};
     const int event[4] = {0, 0, 1, 1};
     for (int k = 0; k < 4; ++k) {
-      t << json{{"type", "frame"}, {"finger", "A"}, {"seq", k}, {"contact", true},
-                {"force_n", 20.0}, {"signal_dn", signal[k]}, {"event", event[k]}}.dump() << "\n";
+      t << json{{"type", "frame"}, {"finger", "A"},          {"seq", k},         {"contact", true},
+                {"force_n", 20.0}, {"signal_dn", signal[k]}, {"event", event[k]}}
+               .dump()
+        << "\n";
     }
     std::ofstream p(dir + "/predictions.jsonl");
     for (int k = 0; k < 4; ++k) {
-      p << json{{"type", "frame"}, {"sensor", "left"}, {"seq", k},
-                {"contact", k == 2 ? "contact" : "none"}}.dump() << "\n";
+      p << json{{"type", "frame"},
+                {"sensor", "left"},
+                {"seq", k},
+                {"contact", k == 2 ? "contact" : "none"}}
+               .dump()
+        << "\n";
     }
   }
-  auto r = score::score_live_run(dir + "/truth.jsonl", dir + "/predictions.jsonl", {"left", "right"});
+  auto r =
+      score::score_live_run(dir + "/truth.jsonl", dir + "/predictions.jsonl", {"left", "right"});
   std::filesystem::remove_all(dir);
   ASSERT_TRUE(r.ok()) << r.error().message();
-  EXPECT_EQ(r->truth_contact, 1);     // the rock's visible frame
+  EXPECT_EQ(r->truth_contact, 1);  // the rock's visible frame
   EXPECT_EQ(r->missed_contact, 0);
   EXPECT_EQ(r->invisible_contact, 3);
   EXPECT_EQ(r->invisible_events, 1);  // the glass: no frame a camera can see

@@ -47,7 +47,8 @@ bool entropy_decode(std::span<const uint8_t> jpeg) {
     jpeg_start_decompress(&c);
     // Skip all but the last row, then read it: every iMCU row before it must be entropy-decoded
     // to stay in sync (no restart markers); skipping to the very end would decode nothing.
-    std::vector<uint8_t> row(static_cast<size_t>(c.output_width) * static_cast<size_t>(c.output_components));
+    std::vector<uint8_t> row(static_cast<size_t>(c.output_width) *
+                             static_cast<size_t>(c.output_components));
     jpeg_skip_scanlines(&c, c.output_height - 1);
     JSAMPROW r = row.data();
     jpeg_read_scanlines(&c, &r, 1);
@@ -55,8 +56,8 @@ bool entropy_decode(std::span<const uint8_t> jpeg) {
   });
 }
 
-bool cropped_decode(std::span<const uint8_t> jpeg, int32_t scale, int32_t x0, int32_t y0,
-                    int32_t w, int32_t h, std::vector<uint8_t>& rgb) {
+bool cropped_decode(std::span<const uint8_t> jpeg, int32_t scale, int32_t x0, int32_t y0, int32_t w,
+                    int32_t h, std::vector<uint8_t>& rgb) {
   return with_decompressor(jpeg, [&](jpeg_decompress_struct& c) {
     c.scale_num = 1;
     c.scale_denom = static_cast<unsigned>(scale);

@@ -30,7 +30,8 @@ Status make_frames(const std::string& sensor, const std::string& dir, int count)
     char name[64];
     std::snprintf(name, sizeof name, "/frame_%04d.%s", i, mjpeg ? "jpg" : "yuyv");
     std::ofstream out(dir + name, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(raw.bytes.data()), static_cast<std::streamsize>(raw.bytes.size()));
+    out.write(reinterpret_cast<const char*>(raw.bytes.data()),
+              static_cast<std::streamsize>(raw.bytes.size()));
     TLV_ENSURE(out.good(), ErrorCode::kIo, "%s%s: write failed", dir.c_str(), name);
   }
   return {};

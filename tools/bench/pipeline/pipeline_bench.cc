@@ -59,19 +59,22 @@ Timing measure(const std::string& label, size_t frames, int rounds,
       const double c0 = cpu_ms();
       step(i);
       cpu.push_back(cpu_ms() - c0);
-      wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      wall.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     }
   }
-  const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double total_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::vector<double> sorted = wall;
   std::sort(sorted.begin(), sorted.end());
   std::sort(cpu.begin(), cpu.end());
   t.median_ms = sorted[sorted.size() / 2];
-  t.p99_ms = sorted[std::min(sorted.size() - 1, static_cast<size_t>(0.99 * static_cast<double>(sorted.size())))];
+  t.p99_ms = sorted[std::min(sorted.size() - 1,
+                             static_cast<size_t>(0.99 * static_cast<double>(sorted.size())))];
   t.cpu_ms = cpu[cpu.size() / 2];
   t.fps = static_cast<double>(wall.size()) / total_s;
-  std::printf("%-46s median %8.3f ms  p99 %8.3f ms  CPU %8.3f ms  %8.1f frames/s\n",
-              label.c_str(), t.median_ms, t.p99_ms, t.cpu_ms, t.fps);
+  std::printf("%-46s median %8.3f ms  p99 %8.3f ms  CPU %8.3f ms  %8.1f frames/s\n", label.c_str(),
+              t.median_ms, t.p99_ms, t.cpu_ms, t.fps);
   return t;
 }
 
@@ -93,21 +96,32 @@ std::vector<std::vector<uint8_t>> load(const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string dir, sensor = "gelsight-mini", model_path = "firmware/models/touch-tiny-int8.tlvm", json;
+  std::string dir, sensor = "gelsight-mini", model_path = "firmware/models/touch-tiny-int8.tlvm",
+                   json;
   int make = 0, rounds = 3;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--frames") dir = argv[i + 1];
-    else if (a == "--make") make = std::atoi(argv[i + 1]);
-    else if (a == "--sensor") sensor = argv[i + 1];
-    else if (a == "--model") model_path = argv[i + 1];
-    else if (a == "--rounds") rounds = std::atoi(argv[i + 1]);
-    else if (a == "--json") json = argv[i + 1];
-    else return std::fprintf(stderr, "unknown option %s\n", a.c_str()), 2;
+    if (a == "--frames")
+      dir = argv[i + 1];
+    else if (a == "--make")
+      make = std::atoi(argv[i + 1]);
+    else if (a == "--sensor")
+      sensor = argv[i + 1];
+    else if (a == "--model")
+      model_path = argv[i + 1];
+    else if (a == "--rounds")
+      rounds = std::atoi(argv[i + 1]);
+    else if (a == "--json")
+      json = argv[i + 1];
+    else
+      return std::fprintf(stderr, "unknown option %s\n", a.c_str()), 2;
   }
   const capture::SensorModel* sm = capture::find_sensor_model(sensor);
   if (dir.empty() || sm == nullptr || rounds < 1) {
-    std::fprintf(stderr, "usage: %s --frames DIR [--make N] [--sensor gelsight-mini|digit] [--model M] [--rounds R] [--json OUT]\n", argv[0]);
+    std::fprintf(stderr,
+                 "usage: %s --frames DIR [--make N] [--sensor gelsight-mini|digit] [--model M] "
+                 "[--rounds R] [--json OUT]\n",
+                 argv[0]);
     return 2;
   }
   if (make > 0) {
@@ -137,27 +151,33 @@ int main(int argc, char** argv) {
     image::JpegDecoder dec;
     size_t mean_bytes = 0;
     for (const auto& f : frames) mean_bytes += f.size();
-    std::printf("mean MJPEG frame %zu bytes, restart interval %d MCUs (0: none, no parallel slices)\n",
-                mean_bytes / frames.size(), bench::restart_interval(frames[0]));
+    std::printf(
+        "mean MJPEG frame %zu bytes, restart interval %d MCUs (0: none, no parallel slices)\n",
+        mean_bytes / frames.size(), bench::restart_interval(frames[0]));
     rgb.resize(static_cast<size_t>(sm->width) * static_cast<size_t>(sm->height) * 3);
-    rows.push_back(measure("jpeg decode, full size (TurboJPEG)", frames.size(), rounds, [&](size_t i) {
-      return dec.decode_rgb(frames[i], 1, rgb.data(), rgb.size(), 0, "bench").ok();
-    }));
+    rows.push_back(
+        measure("jpeg decode, full size (TurboJPEG)", frames.size(), rounds, [&](size_t i) {
+          return dec.decode_rgb(frames[i], 1, rgb.data(), rgb.size(), 0, "bench").ok();
+        }));
     rows.push_back(measure("jpeg decode, 1/8 DCT scale", frames.size(), rounds, [&](size_t i) {
       return dec.decode_rgb(frames[i], 8, rgb.data(), rgb.size(), 0, "bench").ok();
     }));
     rows.push_back(measure("jpeg entropy decoding only (the floor)", frames.size(), rounds,
                            [&](size_t i) { return bench::entropy_decode(frames[i]); }));
-    const int32_t sw = image::jpeg_scaled_size(sm->width, 8), sh = image::jpeg_scaled_size(sm->height, 8);
-    const auto cx = static_cast<int32_t>(sm->view.crop * sw), cy = static_cast<int32_t>(sm->view.crop * sh);
-    rows.push_back(measure("jpeg decode, 1/8, only the view (libjpeg crop)", frames.size(), rounds, [&](size_t i) {
-      return bench::cropped_decode(frames[i], 8, cx, cy, sw - 2 * cx, sh - 2 * cy, rgb);
-    }));
+    const int32_t sw = image::jpeg_scaled_size(sm->width, 8),
+                  sh = image::jpeg_scaled_size(sm->height, 8);
+    const auto cx = static_cast<int32_t>(sm->view.crop * sw),
+               cy = static_cast<int32_t>(sm->view.crop * sh);
+    rows.push_back(measure(
+        "jpeg decode, 1/8, only the view (libjpeg crop)", frames.size(), rounds, [&](size_t i) {
+          return bench::cropped_decode(frames[i], 8, cx, cy, sw - 2 * cx, sh - 2 * cy, rgb);
+        }));
   }
   const Metadata& meta = (*model)->metadata();
   const Graph& g = (*model)->graph();
   auto encoding = image::input_encoding(g.tensor(g.inputs[0]));
-  auto plan = image::PreprocessPlan::create(meta.input, sm->view.width, sm->view.height, 3, *encoding);
+  auto plan =
+      image::PreprocessPlan::create(meta.input, sm->view.width, sm->view.height, 3, *encoding);
   if (!plan.ok()) return std::fprintf(stderr, "%s\n", plan.error().message()), 1;
   auto decoder = image::FrameDecoder::create(camera, sm->view);
   image::SensorView full_view = sm->view;
@@ -166,13 +186,17 @@ int main(int argc, char** argv) {
   view_rgb.resize(decoder->output_bytes());
   const image::ImageView view{view_rgb.data(), sm->view.width, sm->view.height, 3, 0};
   Executor& e = **exec;
-  rows.push_back(measure("decode + preprocess (pipeline's scale)", frames.size(), rounds, [&](size_t i) {
-    return decoder->decode(frames[i], view_rgb, "bench").ok() && plan->run(view, e.input(0)).ok();
-  }));
+  rows.push_back(
+      measure("decode + preprocess (pipeline's scale)", frames.size(), rounds, [&](size_t i) {
+        return decoder->decode(frames[i], view_rgb, "bench").ok() &&
+               plan->run(view, e.input(0)).ok();
+      }));
   if (mjpeg) {
-    rows.push_back(measure("decode + preprocess (full-size decode)", frames.size(), rounds, [&](size_t i) {
-      return full_decoder->decode(frames[i], view_rgb, "bench").ok() && plan->run(view, e.input(0)).ok();
-    }));
+    rows.push_back(
+        measure("decode + preprocess (full-size decode)", frames.size(), rounds, [&](size_t i) {
+          return full_decoder->decode(frames[i], view_rgb, "bench").ok() &&
+                 plan->run(view, e.input(0)).ok();
+        }));
   }
   rows.push_back(measure("encoder, invoke() with the input scan", frames.size(), rounds,
                          [&](size_t) { return e.invoke().ok(); }));
@@ -185,24 +209,27 @@ int main(int argc, char** argv) {
   if (!processor.ok()) return std::fprintf(stderr, "%s\n", processor.error().message()), 1;
   pipeline::FramePrediction out;
   uint64_t seq = 0;
-  rows.push_back(measure("whole frame: decode, preprocess, encoder, heads", frames.size(), rounds, [&](size_t i) {
-    pipeline::FrameTimes t;
-    t.capture_ns = static_cast<int64_t>(++seq) * 40'000'000;
-    return decoder->decode(frames[i], view_rgb, "bench").ok() &&
-           (*processor)->process(0, seq, view, t, out).ok();
-  }));
+  rows.push_back(measure("whole frame: decode, preprocess, encoder, heads", frames.size(), rounds,
+                         [&](size_t i) {
+                           pipeline::FrameTimes t;
+                           t.capture_ns = static_cast<int64_t>(++seq) * 40'000'000;
+                           return decoder->decode(frames[i], view_rgb, "bench").ok() &&
+                                  (*processor)->process(0, seq, view, t, out).ok();
+                         }));
   const double period_ms = 1000.0 / sm->fps;
   const Timing& enc = rows[rows.size() - 2];
   const Timing& whole = rows.back();
-  std::printf("frame period %.1f ms (%.0f fps): encoder %.1f %% of it, the whole frame %.1f %% (one core)\n",
-              period_ms, sm->fps, 100 * enc.median_ms / period_ms, 100 * whole.median_ms / period_ms);
+  std::printf(
+      "frame period %.1f ms (%.0f fps): encoder %.1f %% of it, the whole frame %.1f %% (one "
+      "core)\n",
+      period_ms, sm->fps, 100 * enc.median_ms / period_ms, 100 * whole.median_ms / period_ms);
   if (!json.empty()) {
     std::ofstream o(json);
     o << "{\"sensor\":\"" << sensor << "\",\"frames\":" << frames.size() << ",\"rows\":[";
     for (size_t i = 0; i < rows.size(); ++i) {
-      o << (i ? "," : "") << "{\"label\":\"" << rows[i].label << "\",\"median_ms\":" << rows[i].median_ms
-        << ",\"p99_ms\":" << rows[i].p99_ms << ",\"cpu_ms\":" << rows[i].cpu_ms
-        << ",\"fps\":" << rows[i].fps << "}";
+      o << (i ? "," : "") << "{\"label\":\"" << rows[i].label
+        << "\",\"median_ms\":" << rows[i].median_ms << ",\"p99_ms\":" << rows[i].p99_ms
+        << ",\"cpu_ms\":" << rows[i].cpu_ms << ",\"fps\":" << rows[i].fps << "}";
     }
     o << "]}\n";
   }

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <fstream>
-#include <sstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 namespace tlvlink::boards {
 namespace {
@@ -21,7 +21,8 @@ Result<json> read_json(const std::string& path) {
 }
 
 // The configure preset `preset` in `file` or in the files it includes (relative paths).
-Result<json> find_preset(const std::string& dir, const std::string& file, const std::string& preset) {
+Result<json> find_preset(const std::string& dir, const std::string& file,
+                         const std::string& preset) {
   TLV_ASSIGN_OR_RETURN(const json j, read_json(dir + "/" + file));
   for (const json& p : j.value("configurePresets", json::array()))
     if (p.value("name", "") == preset) return p;
@@ -61,7 +62,8 @@ std::vector<std::string> board_names(const std::string& dir) {
       if (f.size() <= 5 || f.compare(f.size() - 5, 5, ".json") != 0) continue;
       const std::string name = f.substr(0, f.size() - 5);
       auto p = find_preset(dir, f, "board-" + name);
-      if (p.ok() && p->contains("vendor") && (*p)["vendor"].contains("tlvlink/board")) out.push_back(name);
+      if (p.ok() && p->contains("vendor") && (*p)["vendor"].contains("tlvlink/board"))
+        out.push_back(name);
     }
     ::closedir(d);
   }

@@ -9,8 +9,9 @@ Result<BuildPlan> plan_build(const Board& board, const daemon::Scene& scene) {
     p.options.push_back({name, "OFF", why});
     p.left_out.push_back(std::string(what) + " (" + why + ")");
   };
-  for (const char* o : {"TLVLINK_BUILD_TESTS", "TLVLINK_BUILD_HOST_TOOLS", "TLVLINK_BUILD_BENCHMARKS",
-                        "TLVLINK_BUILD_TRAINER", "TLVLINK_BUILD_FUZZERS"}) {
+  for (const char* o :
+       {"TLVLINK_BUILD_TESTS", "TLVLINK_BUILD_HOST_TOOLS", "TLVLINK_BUILD_BENCHMARKS",
+        "TLVLINK_BUILD_TRAINER", "TLVLINK_BUILD_FUZZERS"}) {
     p.options.push_back({o, "OFF", "not part of a board image"});
   }
   p.left_out.push_back("tests, host tools (tlvlink CLI, quantizer), trainer, benchmarks, fuzzers");
@@ -18,16 +19,19 @@ Result<BuildPlan> plan_build(const Board& board, const daemon::Scene& scene) {
              ErrorCode::kInvalidArgument,
              "scene '%s' uses a libcamera source, but board '%s' is built without libcamera "
              "(TLVLINK_WITH_LIBCAMERA=%s: no arm64 libcamera in the cross sysroot)",
-             scene.name.c_str(), board.name.c_str(), board.option("TLVLINK_WITH_LIBCAMERA").c_str());
+             scene.name.c_str(), board.name.c_str(),
+             board.option("TLVLINK_WITH_LIBCAMERA").c_str());
   p.options.push_back({"TLVLINK_WITH_LIBCAMERA", needs.libcamera ? "ON" : "OFF",
                        needs.libcamera ? "a libcamera source" : "every sensor is a V4L2 camera"});
   if (!needs.libcamera) p.left_out.push_back("libcamera source (every sensor is a V4L2 camera)");
   if (!needs.stream) {
     off("TLVLINK_WITH_USB", "USB transport", "no stream link: JSON lines only");
-    off("TLVLINK_WITH_SERIAL", "serial transports and the sender", "no stream link: JSON lines only");
+    off("TLVLINK_WITH_SERIAL", "serial transports and the sender",
+        "no stream link: JSON lines only");
     // The daemon names its outputs and stages through runtime/stream, which links the protocol
     // library (flatbuffers only, no transport): kept, with no link to send over.
-    p.options.push_back({"TLVLINK_WITH_PROTOCOL", "ON", "the daemon's output names (runtime/stream)"});
+    p.options.push_back(
+        {"TLVLINK_WITH_PROTOCOL", "ON", "the daemon's output names (runtime/stream)"});
   } else {
     p.options.push_back({"TLVLINK_WITH_PROTOCOL", "ON", "a stream link"});
     p.options.push_back({"TLVLINK_WITH_SERIAL", "ON", "a stream link"});

@@ -5,7 +5,6 @@
 
 #include <cstdlib>
 
-
 namespace tlvlink::boards {
 namespace {
 
@@ -25,14 +24,18 @@ std::string absolute(const std::string& p) {
 // Configure + build tlvlinkd for the board with the scene's options (logs beside the build).
 Status build_daemon(const FlashOptions& o, const Board& b, const BuildPlan& plan,
                     const std::string& dir) {
-  std::string configure = "cmake -S " + shell_quote(o.source_dir) + " --preset " + b.name +
-                          " -B " + shell_quote(dir);
+  std::string configure =
+      "cmake -S " + shell_quote(o.source_dir) + " --preset " + b.name + " -B " + shell_quote(dir);
   for (const BuildOption& opt : plan.options) configure += " -D" + opt.name + "=" + opt.value;
   Status s = run_command(configure + " >" + shell_quote(dir + ".configure.log") + " 2>&1");
-  if (!s.ok()) return s.error().with_context("configuring %s (log: %s.configure.log)", b.name.c_str(), dir.c_str());
+  if (!s.ok())
+    return s.error().with_context("configuring %s (log: %s.configure.log)", b.name.c_str(),
+                                  dir.c_str());
   s = run_command("cmake --build " + shell_quote(dir) + " -j " + std::to_string(o.jobs) +
                   " --target tlvlinkd >" + shell_quote(dir + ".build.log") + " 2>&1");
-  if (!s.ok()) return s.error().with_context("building tlvlinkd for %s (log: %s.build.log)", b.name.c_str(), dir.c_str());
+  if (!s.ok())
+    return s.error().with_context("building tlvlinkd for %s (log: %s.build.log)", b.name.c_str(),
+                                  dir.c_str());
   return {};
 }
 
@@ -59,8 +62,8 @@ Status check_tree_cpu(const std::string& dir, const Board& b) {
   if (cpu.empty()) return {};  // a new tree, or one without a target CPU
   TLV_ENSURE(cpu == b.option("TLVLINK_TARGET_CPU"), ErrorCode::kInvalidArgument,
              "build tree %s is configured for -mcpu=%s; board '%s' needs -mcpu=%s (use another "
-             "--build-dir)", dir.c_str(), cpu.c_str(), b.name.c_str(),
-             b.option("TLVLINK_TARGET_CPU").c_str());
+             "--build-dir)",
+             dir.c_str(), cpu.c_str(), b.name.c_str(), b.option("TLVLINK_TARGET_CPU").c_str());
   return {};
 }
 
@@ -76,8 +79,8 @@ Status write_emulated_image(const std::string& source, const std::string& root,
                             const std::string& dir) {
   const std::string cmd = "python3 " + shell_quote(source + "/tools/rig/rig.py") +
                           " image --rootfs " + shell_quote(root) + " --script " +
-                          shell_quote(source + "/firmware/package/qemu-virt-boot.sh") +
-                          " --out " + shell_quote(dir) + " >" + shell_quote(dir + ".log") + " 2>&1";
+                          shell_quote(source + "/firmware/package/qemu-virt-boot.sh") + " --out " +
+                          shell_quote(dir) + " >" + shell_quote(dir + ".log") + " 2>&1";
   TLV_TRY(run_command("mkdir -p " + shell_quote(dir)));
   Status s = run_command(cmd);
   if (!s.ok()) return s.error().with_context("emulated board image (log: %s.log)", dir.c_str());
@@ -100,7 +103,8 @@ Result<FlashReport> flash(const FlashOptions& o) {
       o.model.empty() ? o.source_dir + "/firmware/models/touch-tiny-int8.tlvm" : o.model;
   TLV_ASSIGN_OR_RETURN(r.strip, strip_model(source_model, r.scene, model, o.sign_key));
 
-  const std::string build = absolute(o.build_dir.empty() ? default_build_dir(o, r.board) : o.build_dir);
+  const std::string build =
+      absolute(o.build_dir.empty() ? default_build_dir(o, r.board) : o.build_dir);
   TLV_TRY(check_tree_cpu(build, r.board));
   TLV_TRY(build_daemon(o, r.board, r.plan, build));
   r.build_dir = build;

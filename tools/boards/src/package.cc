@@ -55,7 +55,10 @@ std::string fill_template(std::string t, const PackageInput& in) {
   t = replace_all(t, "@BOARD@", in.board.name);
   t = replace_all(t, "@SCENE@", in.scene.name);
   t = replace_all(t, "@CPU@", in.board.cpu);
-  t = replace_all(t, "@MCPU@", in.board.option("TLVLINK_TARGET_CPU").empty() ? "default" : in.board.option("TLVLINK_TARGET_CPU"));
+  t = replace_all(t, "@MCPU@",
+                  in.board.option("TLVLINK_TARGET_CPU").empty()
+                      ? "default"
+                      : in.board.option("TLVLINK_TARGET_CPU"));
   t = replace_all(t, "@CPU_FEATURES@", join(in.board.cpu_features, " "));
   t = replace_all(t, "@UNITS@", join(units, " "));
   t = replace_all(t, "@UNITS_REVERSED@", join(reversed, " "));
@@ -69,10 +72,10 @@ namespace {
 // The systemd unit with the board's CPU affinity (RK3588: the A76 cluster).
 std::string unit_text(std::string unit, const PackageInput& in) {
   if (!in.board.cpu_affinity.empty()) {
-    unit = replace_all(unit, "Restart=on-failure\n",
-                       "Restart=on-failure\n# " + in.board.name +
-                           ": the encoder threads on the big cores.\nCPUAffinity=" +
-                           in.board.cpu_affinity + "\n");
+    unit = replace_all(
+        unit, "Restart=on-failure\n",
+        "Restart=on-failure\n# " + in.board.name +
+            ": the encoder threads on the big cores.\nCPUAffinity=" + in.board.cpu_affinity + "\n");
   }
   return replace_all(unit, "file:///usr/share/doc/tlvlink/README.md", "man:tlvlinkd(8)");
 }
@@ -194,7 +197,8 @@ Result<std::vector<StagedFile>> stage_root(const PackageInput& in, const std::st
 }
 
 Result<std::string> package_depends(const PackageInput& in, const std::string& binary) {
-  TLV_ASSIGN_OR_RETURN(const std::string dynamic, command_output("readelf -d " + shell_quote(binary)));
+  TLV_ASSIGN_OR_RETURN(const std::string dynamic,
+                       command_output("readelf -d " + shell_quote(binary)));
   std::map<std::string, std::string> versions;  // package -> version (stamp: "pkg:arm64=ver")
   if (!in.sysroot_stamp.empty()) {
     auto stamp = read_text(in.sysroot_stamp);
@@ -211,20 +215,24 @@ Result<std::string> package_depends(const PackageInput& in, const std::string& b
     if (a == std::string::npos || lb == std::string::npos || rb == std::string::npos) continue;
     const std::string soname = l.substr(lb + 1, rb - lb - 1);
     const SonamePackage* found = nullptr;
-    for (const SonamePackage& s : kSonames) if (soname == s.soname) found = &s;
+    for (const SonamePackage& s : kSonames)
+      if (soname == s.soname) found = &s;
     if (found == nullptr && soname.rfind("ld-linux", 0) == 0) continue;  // libc6's loader
     TLV_ENSURE(found != nullptr, ErrorCode::kInvalidState,
                "%s needs %s, which no Debian package in tools/boards/src/package.cc's table "
-               "provides: add it there", binary.c_str(), soname.c_str());
+               "provides: add it there",
+               binary.c_str(), soname.c_str());
     std::string version = found->min_version;
     if (version.empty() && versions.count(found->package)) version = versions[found->package];
     if (version.empty() && in.board.arch == "amd64") {
       auto v = command_output(std::string("dpkg-query -W -f='${Version}' ") + found->package);
       if (v.ok()) version = *v;
     }
-    const std::string dep = std::string(found->package) + (version.empty() ? "" : " (>= " + version + ")");
+    const std::string dep =
+        std::string(found->package) + (version.empty() ? "" : " (>= " + version + ")");
     bool seen = false;
-    for (const std::string& d : deps) seen = seen || d.rfind(std::string(found->package) + " ", 0) == 0 || d == found->package;
+    for (const std::string& d : deps)
+      seen = seen || d.rfind(std::string(found->package) + " ", 0) == 0 || d == found->package;
     if (!seen) deps.push_back(dep);
   }
   return join(deps, ", ");
@@ -233,11 +241,12 @@ Result<std::string> package_depends(const PackageInput& in, const std::string& b
 Result<std::string> build_deb(const PackageInput& in, const std::string& work_dir,
                               const std::string& out_dir) {
   const std::string root = work_dir + "/root";
-  TLV_TRY(run_command("rm -rf " + shell_quote(root) + " && mkdir -p " + shell_quote(root + "/DEBIAN") +
-                      " " + shell_quote(out_dir)));
+  TLV_TRY(run_command("rm -rf " + shell_quote(root) + " && mkdir -p " +
+                      shell_quote(root + "/DEBIAN") + " " + shell_quote(out_dir)));
   TLV_TRY(stage_root(in, root).status());
   TLV_ASSIGN_OR_RETURN(const std::string depends, package_depends(in, in.daemon_binary));
-  TLV_ASSIGN_OR_RETURN(const std::string du, command_output("du -sk --exclude=DEBIAN " + shell_quote(root)));
+  TLV_ASSIGN_OR_RETURN(const std::string du,
+                       command_output("du -sk --exclude=DEBIAN " + shell_quote(root)));
   const std::string pkg = in.source_dir + "/firmware/package/";
   std::string control;
   control += "Package: tlvlink\nVersion: " + in.version + "\nArchitecture: " + in.board.arch + "\n";
@@ -245,11 +254,12 @@ Result<std::string> build_deb(const PackageInput& in, const std::string& work_di
   control += "Installed-Size: " + du.substr(0, du.find_first_of(" \t")) + "\n";
   control += "Depends: " + depends + "\nSection: misc\nPriority: optional\n";
   control += "Description: tactile sensor inference daemon for " + in.board.name + "\n";
-  control += " tlvlinkd turns the frames of GelSight-type tactile sensors into predictions\n"
-             " (int8 touch encoder on XNNPACK) and streams them over a serial or USB link\n"
-             " or as JSON lines.\n .\n Board: " + in.board.name + "\n CPU: " + in.board.cpu +
-             "\n Scene: " + in.scene.name +
-             "\n .\n It refuses to install on a CPU without the features the build needs.\n";
+  control +=
+      " tlvlinkd turns the frames of GelSight-type tactile sensors into predictions\n"
+      " (int8 touch encoder on XNNPACK) and streams them over a serial or USB link\n"
+      " or as JSON lines.\n .\n Board: " +
+      in.board.name + "\n CPU: " + in.board.cpu + "\n Scene: " + in.scene.name +
+      "\n .\n It refuses to install on a CPU without the features the build needs.\n";
   TLV_TRY(write_text(root + "/DEBIAN/control", control, 0644));
   TLV_TRY(write_text(root + "/DEBIAN/conffiles", "/etc/tlvlink/tlvlinkd.toml\n", 0644));
   for (const char* script : {"preinst", "postinst", "prerm", "postrm"}) {

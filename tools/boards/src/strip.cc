@@ -18,7 +18,8 @@ namespace tlvlink::boards {
 namespace {
 
 // A scene names a head by its name or "kind:name" (as tlvlinkd's `heads`).
-bool named(const std::vector<std::string>& names, const std::string& kind, const std::string& name) {
+bool named(const std::vector<std::string>& names, const std::string& kind,
+           const std::string& name) {
   return std::any_of(names.begin(), names.end(),
                      [&](const std::string& n) { return n == name || n == kind + ":" + name; });
 }
@@ -46,22 +47,30 @@ Result<StripReport> strip_model(const std::string& model_path, const daemon::Sce
 
   // Every head the scene asks for must exist.
   std::string known;
-  for (const LinearHead& h : md.linear_heads) known += (known.empty() ? "" : ", ") + std::string("probe:") + std::string(h.name);
-  for (const ZeroShotHead& h : md.zero_shot_heads) known += (known.empty() ? "" : ", ") + std::string("zero-shot:") + std::string(h.name);
-  if (md.grasp_head.present) known += (known.empty() ? "" : ", ") + std::string("grasp:") + std::string(md.grasp_head.name);
+  for (const LinearHead& h : md.linear_heads)
+    known += (known.empty() ? "" : ", ") + std::string("probe:") + std::string(h.name);
+  for (const ZeroShotHead& h : md.zero_shot_heads)
+    known += (known.empty() ? "" : ", ") + std::string("zero-shot:") + std::string(h.name);
+  if (md.grasp_head.present)
+    known += (known.empty() ? "" : ", ") + std::string("grasp:") + std::string(md.grasp_head.name);
   for (const std::string& want : scene.heads) {
     const bool found =
-        std::any_of(md.linear_heads.begin(), md.linear_heads.end(), [&](const LinearHead& h) { return named({want}, "probe", std::string(h.name)); }) ||
-        std::any_of(md.zero_shot_heads.begin(), md.zero_shot_heads.end(), [&](const ZeroShotHead& h) { return named({want}, "zero-shot", std::string(h.name)); });
+        std::any_of(
+            md.linear_heads.begin(), md.linear_heads.end(),
+            [&](const LinearHead& h) { return named({want}, "probe", std::string(h.name)); }) ||
+        std::any_of(
+            md.zero_shot_heads.begin(), md.zero_shot_heads.end(),
+            [&](const ZeroShotHead& h) { return named({want}, "zero-shot", std::string(h.name)); });
     TLV_ENSURE(found, ErrorCode::kInvalidArgument,
                "scene '%s' (%s) asks for head '%s', which %s does not have (it has: %s)",
                scene.name.c_str(), scene.path.c_str(), want.c_str(), model_path.c_str(),
                known.empty() ? "no heads" : known.c_str());
   }
-  TLV_ENSURE(scene.grasp == "off" || md.grasp_head.present, ErrorCode::kInvalidArgument,
-             "scene '%s' (%s) predicts grasps (grasp = \"%s\"), but %s has no grasp head (it has: %s)",
-             scene.name.c_str(), scene.path.c_str(), scene.grasp.c_str(), model_path.c_str(),
-             known.empty() ? "no heads" : known.c_str());
+  TLV_ENSURE(
+      scene.grasp == "off" || md.grasp_head.present, ErrorCode::kInvalidArgument,
+      "scene '%s' (%s) predicts grasps (grasp = \"%s\"), but %s has no grasp head (it has: %s)",
+      scene.name.c_str(), scene.path.c_str(), scene.grasp.c_str(), model_path.c_str(),
+      known.empty() ? "no heads" : known.c_str());
 
   // Keep what the scene uses.
   const std::vector<quantize::LinearHeadSpec> linear = std::move(spec.linear_heads);
@@ -96,7 +105,8 @@ Result<StripReport> strip_model(const std::string& model_path, const daemon::Sce
     spec.golden.emplace_back(std::vector<std::byte>(g.input.begin(), g.input.end()),
                              std::vector<std::byte>(g.output.begin(), g.output.end()));
   }
-  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder, quantize::rebuild_with_metadata(model, spec));
+  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder,
+                       quantize::rebuild_with_metadata(model, spec));
   std::vector<std::byte> bytes = builder.finish();
   if (!secret_key_file.empty()) {
     TLV_ASSIGN_OR_RETURN(bytes, quantize::sign_model(bytes, key));

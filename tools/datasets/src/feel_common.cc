@@ -8,9 +8,7 @@ std::string gelsight_key(int finger, int moment) {
   return std::string("gelsight") + kFingerNames[finger] + "_" + kMomentNames[moment];
 }
 
-std::string kinect_key(int moment) {
-  return std::string("kinectA_rgb_") + kMomentNames[moment];
-}
+std::string kinect_key(int moment) { return std::string("kinectA_rgb_") + kMomentNames[moment]; }
 
 Status validate(const FeelWriterOptions& o) {
   TLV_TRY(validate(static_cast<const WriterOptions&>(o)));

@@ -95,8 +95,7 @@ class FeelLoader final : public GraspEpisodeLoader {
   }
 
   // Reads one image key: absent = malformed record, unreadable = corrupt file.
-  bool read_image(hid_t group, const std::string& record, const std::string& key,
-                  RgbImage& out) {
+  bool read_image(hid_t group, const std::string& record, const std::string& key, RgbImage& out) {
     if (!h5::exists(group, key.c_str()))
       return problem(ProblemKind::kMalformedRecord, record, "no '" + key + "'");
     if (Status s = h5::read_image(group, key.c_str(), out); !s.ok())
@@ -188,9 +187,7 @@ Status validate_feel(const FeelLoaderOptions& options) {
 
 }  // namespace
 
-Status validate(const FeelLoaderOptions& options) {
-  return validate_feel(options);
-}
+Status validate(const FeelLoaderOptions& options) { return validate_feel(options); }
 
 Result<std::unique_ptr<GraspEpisodeLoader>> open_feel(const std::string& path,
                                                       const FeelLoaderOptions& options) {

@@ -136,9 +136,7 @@ Status write_string_attribute(hid_t loc, const char* name, const std::string& va
   return {};
 }
 
-bool exists(hid_t loc, const char* name) {
-  return H5Lexists(loc, name, H5P_DEFAULT) > 0;
-}
+bool exists(hid_t loc, const char* name) { return H5Lexists(loc, name, H5P_DEFAULT) > 0; }
 
 Result<std::string> read_string(hid_t loc, const char* name) {
   TLV_ENSURE(exists(loc, name), ErrorCode::kFormat, "no '%s'", name);
@@ -214,9 +212,7 @@ Status read_image(hid_t loc, const char* name, RgbImage& out) {
   return {};
 }
 
-bool has_attribute(hid_t loc, const char* name) {
-  return H5Aexists(loc, name) > 0;
-}
+bool has_attribute(hid_t loc, const char* name) { return H5Aexists(loc, name) > 0; }
 
 Result<std::string> read_string_attribute(hid_t loc, const char* name) {
   Handle attr(H5Aopen(loc, name, H5P_DEFAULT), H5Aclose);

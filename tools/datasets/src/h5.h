@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "tlvlink/error.h"
 #include "tlvlink/datasets/records.h"
+#include "tlvlink/error.h"
 
 namespace tlvlink::datasets::h5 {
 

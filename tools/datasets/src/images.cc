@@ -4,8 +4,8 @@
 
 #include <utility>
 
-#include "tlvlink/io/file.h"
 #include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/file.h"
 #include "tlvlink/io/image.h"
 
 namespace tlvlink::datasets {
@@ -46,8 +46,7 @@ Status check_image(const RgbImage& image, const std::string& what) {
   return {};
 }
 
-Result<int64_t> write_jpeg_image(const std::string& path, const RgbImage& image,
-                                 int32_t quality) {
+Result<int64_t> write_jpeg_image(const std::string& path, const RgbImage& image, int32_t quality) {
   TLV_TRY(check_image(image, path));
   auto encoded = image::encode_jpeg(to_tool_image(image), quality);
   if (!encoded.ok()) return encoded.error().with_context("%s", path.c_str());

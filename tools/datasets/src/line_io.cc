@@ -1,7 +1,7 @@
 #include "line_io.h"
 
-#include <cerrno>
 #include <algorithm>
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
 
@@ -38,9 +38,7 @@ Status LineWriter::close() {
   return s;
 }
 
-bool is_blank(std::string_view line) {
-  return trim(line).empty();
-}
+bool is_blank(std::string_view line) { return trim(line).empty(); }
 
 std::string_view trim(std::string_view s) {
   const char* ws = " \t\r\n";

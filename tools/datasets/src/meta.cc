@@ -190,7 +190,7 @@ bool apply_grasp_meta(const Json& meta, GraspEpisode& out, std::string& why) {
     out.object_id = meta.at("object_id").get<int32_t>();
     for (int f = 0; f < heads::kFingers; ++f) out.sensor_instance[f] = read_instance(meta, f);
     out.sensor = meta.value("sensor", std::string());  // recorded since mixed-profile sets
-    out.live_path = meta.value("live_path", false);     // recorded since live-path shares
+    out.live_path = meta.value("live_path", false);    // recorded since live-path shares
     read_material(meta.at("material"), out.material);
     read_variables(meta.at("variables"), out.variables);
     const Json& states = meta.at("states");

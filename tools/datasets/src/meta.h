@@ -10,8 +10,8 @@
 #include <string>
 
 #include "line_io.h"
-#include "tlvlink/datasets/report.h"
 #include "tlvlink/datasets/records.h"
+#include "tlvlink/datasets/report.h"
 
 namespace tlvlink::datasets {
 

@@ -3,8 +3,8 @@
 #include <charconv>
 
 #include "line_io.h"
-#include "touch_common.h"
 #include "tlvlink/datasets/touch_and_go.h"
+#include "touch_common.h"
 
 namespace tlvlink::datasets {
 

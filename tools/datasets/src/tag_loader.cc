@@ -14,9 +14,7 @@ namespace tlvlink::datasets {
 namespace {
 
 // Touch-and-Go's soft classes: leather, synthetic fabric, natural fabric, paper, grass.
-bool class_is_soft(int32_t id) {
-  return id == 7 || id == 8 || id == 9 || id == 11 || id == 13;
-}
+bool class_is_soft(int32_t id) { return id == 7 || id == 8 || id == 9 || id == 11 || id == 13; }
 
 // "train.txt" -> "tlvlink_sim_train.jsonl"
 std::string sidecar_name(const std::string& label_file) {

@@ -7,8 +7,8 @@
 #include "line_io.h"
 #include "meta.h"
 #include "provenance.h"
-#include "touch_common.h"
 #include "tlvlink/datasets/touch_and_go.h"
+#include "touch_common.h"
 
 namespace tlvlink::datasets {
 namespace {
@@ -57,7 +57,8 @@ class TagWriter final : public TouchDatasetWriter {
     TLV_TRY(check_touch_sample(s));
     TLV_ENSURE(s.material.class_id >= 0 && s.material.class_id < touch::kMaterialClassCount,
                ErrorCode::kInvalidArgument, "touch sample %s/%d: material class %d outside 0..%d",
-               s.session.c_str(), s.frame_index, s.material.class_id, touch::kMaterialClassCount - 1);
+               s.session.c_str(), s.frame_index, s.material.class_id,
+               touch::kMaterialClassCount - 1);
     TLV_ASSIGN_OR_RETURN(const bool test, splitter_.is_test(s));
     if (s.session != last_session_) {
       TLV_TRY(make_dirs(join_path(dir_, s.session + "/gelsight_frame")));

@@ -3,8 +3,8 @@
 #include "images.h"
 #include "line_io.h"
 #include "meta.h"
-#include "touch_common.h"
 #include "tlvlink/datasets/touch100k.h"
+#include "touch_common.h"
 
 namespace tlvlink::datasets {
 

@@ -6,8 +6,8 @@
 #include "line_io.h"
 #include "meta.h"
 #include "provenance.h"
-#include "touch_common.h"
 #include "tlvlink/datasets/touch100k.h"
+#include "touch_common.h"
 
 namespace tlvlink::datasets {
 namespace {

@@ -8,10 +8,10 @@
 #include <string_view>
 #include <unordered_map>
 
+#include "tlvlink/datasets/records.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/datasets/writer.h"
 #include "tlvlink/error.h"
-#include "tlvlink/datasets/records.h"
 
 namespace tlvlink::datasets {
 

@@ -1,12 +1,14 @@
-// live_path_frames: render the same scenes three ways and write them (tools/eval/live_path/README.md):
+// live_path_frames: render the same scenes three ways and write them
+// (tools/eval/live_path/README.md):
 //   NNNN_p.ppm  the processed render (RawFrame::processed)
 //   NNNN_j.jpg  the processed render as a dataset writer stores it (encode_jpeg q90, 4:2:0)
 //   NNNN_r.ppm  the raw MJPEG 3280x2464 (q90, 4:2:2) recovered by RawDecoder (= the daemon's
 //               FrameDecoder with the gelsight-mini SensorView)
 // Scene sets: "touch" (touch-session presses, copied from touch_generator.cc make_press),
-// "grasp" (GraspEpisodeGenerator "during" scenes, finger A, as `tlvlink sim scenario` animates them).
-// Usage: live_path_frames SET N SEED MARKERS OUTDIR   (MARKERS 0, 1, or -1 = half of the scenes)
-// Writes OUTDIR/labels.jsonl (one line per scene) and, for scenes 0-2, NNNN_raw.jpg (the MJPEG).
+// "grasp" (GraspEpisodeGenerator "during" scenes, finger A, as `tlvlink sim scenario` animates
+// them). Usage: live_path_frames SET N SEED MARKERS OUTDIR   (MARKERS 0, 1, or -1 = half of the
+// scenes) Writes OUTDIR/labels.jsonl (one line per scene) and, for scenes 0-2, NNNN_raw.jpg (the
+// MJPEG).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -38,7 +40,8 @@ class Rng {
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
   double log_uniform(double lo, double hi) { return std::exp(uniform(std::log(lo), std::log(hi))); }
   int32_t int_in(int32_t lo, int32_t hi) {
-    return static_cast<int32_t>(lo + static_cast<int64_t>(next() % static_cast<uint64_t>(hi - lo + 1)));
+    return static_cast<int32_t>(lo +
+                                static_cast<int64_t>(next() % static_cast<uint64_t>(hi - lo + 1)));
   }
   bool bernoulli(double p) { return uniform() < p; }
   size_t weighted(std::span<const double> w) {
@@ -192,8 +195,8 @@ int main(int argc, char** argv) {
     std::fprintf(labels,
                  "{\"i\":%d,\"material\":\"%s\",\"rough\":%d,\"force\":%.3f,\"shape\":%d,"
                  "\"radius\":%.2f,\"contact\":%d,\"area\":%.2f,\"markers\":%d}\n",
-                 i, material_classes()[static_cast<size_t>(m.class_id)].name.data(), m.rough,
-                 force, static_cast<int>(scene.geometry.shape), scene.geometry.radius_mm,
+                 i, material_classes()[static_cast<size_t>(m.class_id)].name.data(), m.rough, force,
+                 static_cast<int>(scene.geometry.shape), scene.geometry.radius_mm,
                  p.state.in_contact ? 1 : 0, p.state.contact_area_mm2, ro.markers ? 1 : 0);
   }
   std::fclose(labels);

@@ -28,7 +28,10 @@ int main(int argc, char** argv) {
     if (want.count(info.sequence)) {
       if (!rec.read_frame(info, bytes, false).ok()) return 1;
       auto st = dec.decode({bytes.data(), info.bytes}, rgb, "frame");
-      if (!st.ok()) { std::fprintf(stderr, "%s\n", st.error().message()); return 1; }
+      if (!st.ok()) {
+        std::fprintf(stderr, "%s\n", st.error().message());
+        return 1;
+      }
       char name[512];
       std::snprintf(name, sizeof name, "%s/%04u_r.ppm", out.c_str(), info.sequence);
       FILE* f = std::fopen(name, "wb");
@@ -37,7 +40,9 @@ int main(int argc, char** argv) {
       std::fclose(f);
       if (info.sequence == *want.begin()) {
         std::snprintf(name, sizeof name, "%s/%04u_raw.jpg", out.c_str(), info.sequence);
-        f = std::fopen(name, "wb"); std::fwrite(bytes.data(), 1, info.bytes, f); std::fclose(f);
+        f = std::fopen(name, "wb");
+        std::fwrite(bytes.data(), 1, info.bytes, f);
+        std::fclose(f);
       }
     }
     off = info.next;

@@ -41,8 +41,8 @@ Result<Discordance> discordance(const TaskResult& first, const TaskResult& secon
     if (first.item_correct[i] != 0 && second.item_correct[i] == 0) ++d.only_first;
     if (first.item_correct[i] == 0 && second.item_correct[i] != 0) ++d.only_second;
   }
-  d.p = two_sided_half_binomial(std::min(d.only_first, d.only_second),
-                                d.only_first + d.only_second);
+  d.p =
+      two_sided_half_binomial(std::min(d.only_first, d.only_second), d.only_first + d.only_second);
   return d;
 }
 

@@ -9,7 +9,6 @@
 namespace tlvlink::eval {
 namespace {
 
-
 Result<image::Image> read_view(const std::string& path, const std::string& sensor) {
   TLV_ASSIGN_OR_RETURN(tools::SensorFrame f, tools::sensor_frame_from_file(path, sensor));
   return std::move(f.view);
@@ -31,8 +30,9 @@ Result<ContactCheck> check_contact(const std::vector<std::string>& references,
     if (!calibrated) {
       width = view.width;
       height = view.height;
-      TLV_ASSIGN_OR_RETURN(pipeline::ContactGate g,
-                           pipeline::ContactGate::create(width, height, view.channels, gate_options));
+      TLV_ASSIGN_OR_RETURN(
+          pipeline::ContactGate g,
+          pipeline::ContactGate::create(width, height, view.channels, gate_options));
       calibrated.emplace(std::move(g));
     }
     auto d = calibrated->update(view.view());

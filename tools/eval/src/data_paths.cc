@@ -9,9 +9,9 @@
 #include <set>
 
 #include "tlvlink/datasets/detect.h"
+#include "tlvlink/datasets/touch100k.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/io/file.h"
-#include "tlvlink/datasets/touch100k.h"
 
 namespace tlvlink::eval::internal {
 

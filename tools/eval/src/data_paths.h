@@ -9,10 +9,10 @@
 #include <optional>
 #include <string>
 
+#include "tlvlink/datasets/records.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/error.h"
 #include "tlvlink/eval/embeddings.h"
-#include "tlvlink/datasets/records.h"
 
 namespace tlvlink::eval::internal {
 

@@ -2,9 +2,9 @@
 
 #include <cstring>
 
+#include "tlvlink/eval/embeddings.h"
 #include "tlvlink/image/preprocess.h"
 #include "tlvlink/io/npy_image.h"
-#include "tlvlink/eval/embeddings.h"
 #include "tlvlink/quant_math.h"
 
 namespace tlvlink::eval {
@@ -24,17 +24,15 @@ Result<std::unique_ptr<Embedder>> Embedder::create(const Model& model,
   TLV_ENSURE(m.embedding_dim > 0, ErrorCode::kModelUnsupported,
              "model '%.*s' has no embedding output (metadata embedding_dim = %d)",
              static_cast<int>(m.name.size()), m.name.data(), m.embedding_dim);
-  TLV_ENSURE(m.embedding_output >= 0 &&
-                 static_cast<size_t>(m.embedding_output) < g.outputs.size(),
+  TLV_ENSURE(m.embedding_output >= 0 && static_cast<size_t>(m.embedding_output) < g.outputs.size(),
              ErrorCode::kModelUnsupported,
              "model has no embedding output: embedding_output = %d, graph has %zu outputs",
              m.embedding_output, g.outputs.size());
   const Tensor& out = g.tensor(g.outputs[static_cast<size_t>(m.embedding_output)]);
-  TLV_ENSURE(out.shape.elements() == static_cast<size_t>(m.embedding_dim),
-             ErrorCode::kModelUnsupported,
-             "embedding output '%.*s' holds %zu values, metadata embedding_dim is %d",
-             static_cast<int>(out.name.size()), out.name.data(), out.shape.elements(),
-             m.embedding_dim);
+  TLV_ENSURE(
+      out.shape.elements() == static_cast<size_t>(m.embedding_dim), ErrorCode::kModelUnsupported,
+      "embedding output '%.*s' holds %zu values, metadata embedding_dim is %d",
+      static_cast<int>(out.name.size()), out.name.data(), out.shape.elements(), m.embedding_dim);
   TLV_ENSURE(out.dtype == DType::kFloat32 ||
                  (out.dtype == DType::kInt8 && out.quant.quantized() && !out.quant.per_channel()),
              ErrorCode::kModelUnsupported,
@@ -42,8 +40,7 @@ Result<std::unique_ptr<Embedder>> Embedder::create(const Model& model,
              static_cast<int>(out.name.size()), out.name.data(), dtype_name(out.dtype));
   ExecutorOptions eo;
   eo.threads = options.threads;
-  TLV_ASSIGN_OR_RETURN(std::unique_ptr<Executor> exec,
-                       make_executor(model, options.executor, eo));
+  TLV_ASSIGN_OR_RETURN(std::unique_ptr<Executor> exec, make_executor(model, options.executor, eo));
   std::unique_ptr<Embedder> e(new Embedder());
   e->model_ = &model;
   e->exec_ = std::move(exec);
@@ -55,8 +52,8 @@ Status Embedder::embed(const sim::RgbImage& frame, std::span<float> out) {
   TLV_ENSURE(out.size() == static_cast<size_t>(dim_), ErrorCode::kShapeMismatch,
              "embed: output span holds %zu floats, embedding has %d", out.size(), dim_);
   TLV_ENSURE(frame.height > 0 && frame.width > 0 &&
-                 frame.rgb.size() == static_cast<size_t>(frame.height) *
-                                         static_cast<size_t>(frame.width) * 3,
+                 frame.rgb.size() ==
+                     static_cast<size_t>(frame.height) * static_cast<size_t>(frame.width) * 3,
              ErrorCode::kShapeMismatch, "embed: frame %dx%d holds %zu bytes", frame.width,
              frame.height, frame.rgb.size());
   tools::Image image{frame.width, frame.height, 3, frame.rgb};

@@ -95,8 +95,10 @@ TaskResult score_touch(const TouchEmbeddings& t, Task task, Method method, const
       tally.add(-1, 0);
       continue;
     }
-    if (h.zero_shot) heads::zero_shot_logits(h.weight, h.scale, t.row(i), logits);
-    else heads::linear_logits(h.weight, h.bias, t.row(i), logits);
+    if (h.zero_shot)
+      heads::zero_shot_logits(h.weight, h.scale, t.row(i), logits);
+    else
+      heads::linear_logits(h.weight, h.bias, t.row(i), logits);
     tally.add(labels[i], h.classes[static_cast<size_t>(heads::argmax(logits))]);
   }
   finish(r, std::move(tally), std::move(source));
@@ -168,8 +170,8 @@ std::optional<GraspOracle> oracle_for(const GraspEmbeddings& g, int64_t samples)
   o.seed = j.value("seed", o.seed);
   auto r = sim::grasp_oracle_report(o, samples);
   if (!r.ok()) return std::nullopt;
-  return GraspOracle{r->accuracy, r->class_friction_accuracy, r->prior_friction_accuracy,
-                     r->success_rate, r->majority_rate, r->samples};
+  return GraspOracle{r->accuracy,     r->class_friction_accuracy, r->prior_friction_accuracy,
+                     r->success_rate, r->majority_rate,           r->samples};
 }
 
 Status evaluate_probes(const EmbeddingSet& set, const FittedHeads& fit, EvalReport& rep) {
@@ -179,8 +181,8 @@ Status evaluate_probes(const EmbeddingSet& set, const FittedHeads& fit, EvalRepo
       if (t == task) probe = &p;
     const bool touch_task = task != Task::kGrasp;
     if ((touch_task && !set.touch) || (!touch_task && !set.grasp)) {
-      rep.results.push_back(unavailable(task, Method::kProbe,
-                                        touch_task ? "no touch data" : "no grasp data"));
+      rep.results.push_back(
+          unavailable(task, Method::kProbe, touch_task ? "no touch data" : "no grasp data"));
       continue;
     }
     if (probe == nullptr) {
@@ -196,10 +198,10 @@ Status evaluate_probes(const EmbeddingSet& set, const FittedHeads& fit, EvalRepo
       for (int32_t c = 0; c < task_class_count(task); ++c) h.classes.push_back(c);
       rep.results.push_back(score_touch(*set.touch, task, Method::kProbe, h, probe_source(*probe)));
     } else {
-      TLV_ASSIGN_OR_RETURN(TaskResult r,
-                           score_grasp_head(*set.grasp, Method::kProbe, fit.grasp->weight,
-                                            fit.grasp->bias, fit.grasp->feature_layout,
-                                            probe_source(*probe)));
+      TLV_ASSIGN_OR_RETURN(
+          TaskResult r,
+          score_grasp_head(*set.grasp, Method::kProbe, fit.grasp->weight, fit.grasp->bias,
+                           fit.grasp->feature_layout, probe_source(*probe)));
       rep.results.push_back(std::move(r));
     }
   }
@@ -240,8 +242,8 @@ Status evaluate_model_heads(const Metadata& m, const EmbeddingSet& set, EvalRepo
       continue;
     }
     HeadView h{std::string(head->name), head->weight, head->bias, 0, *classes, false};
-    rep.results.push_back(score_touch(*set.touch, task, Method::kModelHeads, h,
-                                      "model head '" + h.name + "'"));
+    rep.results.push_back(
+        score_touch(*set.touch, task, Method::kModelHeads, h, "model head '" + h.name + "'"));
   }
   return {};
 }
@@ -253,8 +255,8 @@ Status evaluate_zero_shot(const Metadata& m, const EmbeddingSet& set, const Eval
   for (Task task : kAllTasks) {
     const bool touch_task = task != Task::kGrasp;
     if ((touch_task && !set.touch) || (!touch_task && !set.grasp)) {
-      rep.results.push_back(unavailable(task, Method::kZeroShot,
-                                        touch_task ? "no touch data" : "no grasp data"));
+      rep.results.push_back(
+          unavailable(task, Method::kZeroShot, touch_task ? "no touch data" : "no grasp data"));
       continue;
     }
     HeadView h;
@@ -274,8 +276,10 @@ Status evaluate_zero_shot(const Metadata& m, const EmbeddingSet& set, const Eval
     if (!classes && o.zero_shot != ZeroShotSource::kModel) {
       if (!text && text_error.empty()) {
         auto t = zero_shot_heads_from_text(m, o.text);
-        if (t.ok()) text = std::move(t).value();
-        else text_error = t.error().message();
+        if (t.ok())
+          text = std::move(t).value();
+        else
+          text_error = t.error().message();
       }
       if (text) {
         for (const quantize::ZeroShotHeadSpec& z : text->heads) {
@@ -289,10 +293,11 @@ Status evaluate_zero_shot(const Metadata& m, const EmbeddingSet& set, const Eval
       }
     }
     if (!classes) {
-      rep.results.push_back(unavailable(
-          task, Method::kZeroShot,
-          !text_error.empty() ? "text encoder: " + text_error
-                              : std::string("model has no ") + task_name(task) + " zero-shot head"));
+      rep.results.push_back(
+          unavailable(task, Method::kZeroShot,
+                      !text_error.empty()
+                          ? "text encoder: " + text_error
+                          : std::string("model has no ") + task_name(task) + " zero-shot head"));
       continue;
     }
     if (!classes->ok()) {
@@ -300,9 +305,8 @@ Status evaluate_zero_shot(const Metadata& m, const EmbeddingSet& set, const Eval
       continue;
     }
     h.classes = std::move(*classes).value();
-    rep.results.push_back(touch_task
-                              ? score_touch(*set.touch, task, Method::kZeroShot, h, source)
-                              : score_grasp_zero_shot(*set.grasp, h, source));
+    rep.results.push_back(touch_task ? score_touch(*set.touch, task, Method::kZeroShot, h, source)
+                                     : score_grasp_zero_shot(*set.grasp, h, source));
   }
   return {};
 }

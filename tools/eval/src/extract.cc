@@ -4,12 +4,12 @@
 #include <chrono>
 
 #include "data_paths.h"
-#include "tlvlink/io/progress.h"
 #include "tlvlink/datasets/feel.h"
 #include "tlvlink/datasets/touch100k.h"
 #include "tlvlink/datasets/touch_and_go.h"
 #include "tlvlink/eval/embeddings.h"
 #include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/progress.h"
 
 namespace tlvlink::eval {
 namespace {
@@ -112,7 +112,7 @@ Status run_tag(const EvalData& data, TouchSink& sink) {
       if (!more || sink.full(test)) break;
       TLV_TRY(sink.add(s, loader->key(), test, s.material.class_id >= 0));
     }
-      summary += std::string(summary.empty() ? "" : "; ") + (test ? "test: " : "train: ") +
+    summary += std::string(summary.empty() ? "" : "; ") + (test ? "test: " : "train: ") +
                loader->report().summary();
   }
   sink.out.split.source = internal::split_source(hash);
@@ -129,10 +129,11 @@ Result<TouchEmbeddings> extract_touch(Embedder& embedder, const EvalData& data,
   out.dim = embedder.dim();
   int64_t total = internal::expected_touch_items(data.touch_dir, format);
   if (data.max_touch_samples > 0) total = std::min(total, 2 * data.max_touch_samples);
-  tools::Progress progress("embedding touch frames", total, stderr,
-                           options.progress ? tools::ProgressMode::kAuto
-                                            : tools::ProgressMode::kQuiet);
-  TouchSink sink{embedder, out, progress, data.max_touch_samples, {0, 0}, data.train_jpeg_qualities};
+  tools::Progress progress(
+      "embedding touch frames", total, stderr,
+      options.progress ? tools::ProgressMode::kAuto : tools::ProgressMode::kQuiet);
+  TouchSink sink{
+      embedder, out, progress, data.max_touch_samples, {0, 0}, data.train_jpeg_qualities};
   if (format == TouchFormat::kTouch100k) {
     TLV_TRY(run_touch100k(data, sink));
   } else {
@@ -169,10 +170,12 @@ class EpisodeDifference {
     for (int32_t f = 0; f < heads::kFingers; ++f) {
       const sim::RgbImage& b = e.frames[f][static_cast<int>(heads::Moment::kBefore)];
       const sim::RgbImage& d = e.frames[f][static_cast<int>(heads::Moment::kDuring)];
-      TLV_ASSIGN_OR_RETURN(const std::vector<float> before,
-                           image::preprocess(image::ImageView{b.rgb.data(), b.width, b.height, 3, 0}, spec_));
-      TLV_ASSIGN_OR_RETURN(const std::vector<float> during,
-                           image::preprocess(image::ImageView{d.rgb.data(), d.width, d.height, 3, 0}, spec_));
+      TLV_ASSIGN_OR_RETURN(
+          const std::vector<float> before,
+          image::preprocess(image::ImageView{b.rgb.data(), b.width, b.height, 3, 0}, spec_));
+      TLV_ASSIGN_OR_RETURN(
+          const std::vector<float> during,
+          image::preprocess(image::ImageView{d.rgb.data(), d.width, d.height, 3, 0}, spec_));
       TLV_TRY(stats_.compute(before, during, out.subspan(static_cast<size_t>(f) * n, n)));
     }
     return {};
@@ -198,9 +201,9 @@ Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
   const size_t d = static_cast<size_t>(out.dim);
   int64_t total = internal::expected_grasp_items(data.grasp_dir, format);
   if (data.max_grasp_episodes > 0) total = std::min(total, 2 * data.max_grasp_episodes);
-  tools::Progress progress("embedding grasp episodes", total, stderr,
-                           options.progress ? tools::ProgressMode::kAuto
-                                            : tools::ProgressMode::kQuiet);
+  tools::Progress progress(
+      "embedding grasp episodes", total, stderr,
+      options.progress ? tools::ProgressMode::kAuto : tools::ProgressMode::kQuiet);
   std::string summary;
   for (const bool test : {false, true}) {
     datasets::FeelLoaderOptions o;
@@ -209,8 +212,9 @@ Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
     o.split = test ? datasets::Split::kTest : datasets::Split::kTrain;
     o.resplit = hash;
     o.gelsight_quarter_turns = data.gelsight_quarter_turns;
-    auto loader = format == GraspFormat::kFeelHdf5 ? datasets::open_feel(data.grasp_dir, o)
-                                                   : datasets::open_feel_repacked(data.grasp_dir, o);
+    auto loader = format == GraspFormat::kFeelHdf5
+                      ? datasets::open_feel(data.grasp_dir, o)
+                      : datasets::open_feel_repacked(data.grasp_dir, o);
     if (!loader.ok()) return loader.error();
     if (data.problems != nullptr) (*loader)->report().on_problem = data.problems->callback();
     sim::GraspEpisode e;
@@ -250,7 +254,7 @@ Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
       ++taken;
       progress.add();
     }
-      summary += std::string(summary.empty() ? "" : "; ") + (test ? "test: " : "train: ") +
+    summary += std::string(summary.empty() ? "" : "; ") + (test ? "test: " : "train: ") +
                (*loader)->report().summary();
   }
   if (options.progress) progress.finish();

@@ -49,14 +49,15 @@ std::string cell_text(const TaskResult* r) {
 std::string split_line(const char* what, const std::string& format,
                        const std::optional<SplitInfo>& s, const std::string& load) {
   if (!s) return {};
-  return fmt("  %s (%s) split %s: train %lld items / %lld groups, test %lld items / %lld groups; %s\n",
-             what, format.c_str(), s->source.c_str(), static_cast<long long>(s->train_items),
-             static_cast<long long>(s->train_groups), static_cast<long long>(s->test_items),
-             static_cast<long long>(s->test_groups), load.c_str());
+  return fmt(
+      "  %s (%s) split %s: train %lld items / %lld groups, test %lld items / %lld groups; %s\n",
+      what, format.c_str(), s->source.c_str(), static_cast<long long>(s->train_items),
+      static_cast<long long>(s->train_groups), static_cast<long long>(s->test_items),
+      static_cast<long long>(s->test_groups), load.c_str());
 }
 
-std::optional<Discordance> discordance_of(const EvalReport& first, const EvalReport& second,
-                                          Task t, Method m) {
+std::optional<Discordance> discordance_of(const EvalReport& first, const EvalReport& second, Task t,
+                                          Method m) {
   const TaskResult* a = first.find(t, m);
   const TaskResult* b = second.find(t, m);
   if (a == nullptr || b == nullptr) return std::nullopt;
@@ -82,8 +83,8 @@ std::string disagreement_row(const EvalReport& first, const EvalReport& second, 
 }
 
 nlohmann::json result_json(const TaskResult& r) {
-  nlohmann::json j = {{"task", task_name(r.task)}, {"method", method_name(r.method)},
-                      {"available", r.available}};
+  nlohmann::json j = {
+      {"task", task_name(r.task)}, {"method", method_name(r.method)}, {"available", r.available}};
   if (r.available) {
     j["accuracy"] = r.accuracy;
     j["n"] = r.n;
@@ -100,9 +101,13 @@ nlohmann::json result_json(const TaskResult& r) {
 nlohmann::json split_json(const std::string& format, const std::optional<SplitInfo>& s,
                           const std::string& load) {
   if (!s) return nullptr;
-  return {{"format", format},           {"source", s->source},       {"train_items", s->train_items},
-          {"test_items", s->test_items}, {"train_groups", s->train_groups},
-          {"test_groups", s->test_groups}, {"load", load}};
+  return {{"format", format},
+          {"source", s->source},
+          {"train_items", s->train_items},
+          {"test_items", s->test_items},
+          {"train_groups", s->train_groups},
+          {"test_groups", s->test_groups},
+          {"load", load}};
 }
 
 }  // namespace
@@ -113,12 +118,11 @@ std::string format_table(std::span<const EvalReport* const> reports, bool paper_
   std::string out;
   for (size_t i = 0; i < reports.size(); ++i) {
     const EvalReport& r = *reports[i];
-    out += fmt("model%s %s (%s executor): %lld frames embedded in %.1f s, probes fitted in %.1f s\n",
-               label_of(r, i, reports.size()).c_str(),
-               (r.model_path.empty() ? r.model_name : r.model_path + " '" + r.model_name + "'")
-                   .c_str(),
-               r.executor.c_str(), static_cast<long long>(r.frames), r.extract_seconds,
-               r.fit_seconds);
+    out += fmt(
+        "model%s %s (%s executor): %lld frames embedded in %.1f s, probes fitted in %.1f s\n",
+        label_of(r, i, reports.size()).c_str(),
+        (r.model_path.empty() ? r.model_name : r.model_path + " '" + r.model_name + "'").c_str(),
+        r.executor.c_str(), static_cast<long long>(r.frames), r.extract_seconds, r.fit_seconds);
     out += split_line("touch", r.touch_format, r.touch_split, r.touch_load_summary);
     out += split_line("grasp", r.grasp_format, r.grasp_split, r.grasp_load_summary);
   }
@@ -173,8 +177,7 @@ std::string format_table(std::span<const EvalReport* const> reports, bool paper_
     }
   }
   if (first.oracle) {
-    out += pad("grasp oracle (visible variables)", kLabelWidth) +
-           pad("", 3 * kCellWidth) +
+    out += pad("grasp oracle (visible variables)", kLabelWidth) + pad("", 3 * kCellWidth) +
            fmt("%.1f (%lld episodes)\n", 100 * first.oracle->accuracy,
                static_cast<long long>(first.oracle->samples));
     out += pad("grasp oracle (mu via class only)", kLabelWidth) + pad("", 3 * kCellWidth) +
@@ -198,7 +201,8 @@ std::string format_table(std::span<const EvalReport* const> reports, bool paper_
     out += "paper (real data), Table 2 — not comparable to simulated data:\n";
     for (const PaperRow& p : kPaper) {
       out += pad(std::string("  ") + p.label, kLabelWidth);
-      for (double v : {p.material, p.hard, p.rough, p.grasp}) out += pad(fmt("%.1f", 100 * v), kCellWidth);
+      for (double v : {p.material, p.hard, p.rough, p.grasp})
+        out += pad(fmt("%.1f", 100 * v), kCellWidth);
       out += "\n";
     }
   }
@@ -232,16 +236,18 @@ std::string format_table(std::span<const EvalReport* const> reports, bool paper_
                      ? "its own heads"
                      : "linear probes fitted on this training split");
     if (!r.touch_oracles.empty())
-      out += fmt("oracles%s: hidden = from the simulator's recorded variables (hard/soft and "
-                 "rough/smooth are functions of them); one frame = %d-NN on force, contact area, "
-                 "gel depth and the texture the gel shows (tools/eval/README.md)\n",
-                 label_of(r, i, reports.size()).c_str(), kFrameOracleNeighbours);
+      out +=
+          fmt("oracles%s: hidden = from the simulator's recorded variables (hard/soft and "
+              "rough/smooth are functions of them); one frame = %d-NN on force, contact area, "
+              "gel depth and the texture the gel shows (tools/eval/README.md)\n",
+              label_of(r, i, reports.size()).c_str(), kFrameOracleNeighbours);
     if (r.grasp_frames_oracle)
-      out += fmt("grasp oracles%s: visible variables / mu via class / mu unknown on fresh "
-                 "episodes; on the test split, mu via class and the frames = mu through a %d-NN "
-                 "material vote on both fingers' frame features, force and areas as recorded "
-                 "(tools/eval/README.md)\n",
-                 label_of(r, i, reports.size()).c_str(), kFrameOracleNeighbours);
+      out +=
+          fmt("grasp oracles%s: visible variables / mu via class / mu unknown on fresh "
+              "episodes; on the test split, mu via class and the frames = mu through a %d-NN "
+              "material vote on both fingers' frame features, force and areas as recorded "
+              "(tools/eval/README.md)\n",
+              label_of(r, i, reports.size()).c_str(), kFrameOracleNeighbours);
     out += fmt("grasp features%s: %s\n", label_of(r, i, reports.size()).c_str(),
                grasp_features_name(r.grasp_features));
   }
@@ -255,7 +261,8 @@ std::string report_json(std::span<const EvalReport* const> reports) {
     for (Method m : {Method::kProbe, Method::kModelHeads, Method::kZeroShot}) {
       for (Task t : kAllTasks) {
         if (const auto d = discordance_of(*reports[0], *reports[1], t, m)) {
-          doc["disagreement"].push_back({{"task", task_name(t)}, {"method", method_name(m)},
+          doc["disagreement"].push_back({{"task", task_name(t)},
+                                         {"method", method_name(m)},
                                          {"right_only_first", d->only_first},
                                          {"right_only_second", d->only_second},
                                          {"mcnemar_p", d->p}});
@@ -264,18 +271,19 @@ std::string report_json(std::span<const EvalReport* const> reports) {
     }
   }
   for (const EvalReport* r : reports) {
-    nlohmann::json j = {{"model_name", r->model_name},
-                        {"model_path", r->model_path},
-                        {"executor", r->executor},
-                        {"grasp_features", grasp_features_name(r->grasp_features)},
-                        {"frames", r->frames},
-                        {"extract_seconds", r->extract_seconds},
-                        {"fit_seconds", r->fit_seconds},
-                        {"touch_split", split_json(r->touch_format, r->touch_split, r->touch_load_summary)},
-                        {"grasp_split", split_json(r->grasp_format, r->grasp_split, r->grasp_load_summary)},
-                        {"results", nlohmann::json::array()},
-                        {"probes", nlohmann::json::object()},
-                        {"notes", r->notes}};
+    nlohmann::json j = {
+        {"model_name", r->model_name},
+        {"model_path", r->model_path},
+        {"executor", r->executor},
+        {"grasp_features", grasp_features_name(r->grasp_features)},
+        {"frames", r->frames},
+        {"extract_seconds", r->extract_seconds},
+        {"fit_seconds", r->fit_seconds},
+        {"touch_split", split_json(r->touch_format, r->touch_split, r->touch_load_summary)},
+        {"grasp_split", split_json(r->grasp_format, r->grasp_split, r->grasp_load_summary)},
+        {"results", nlohmann::json::array()},
+        {"probes", nlohmann::json::object()},
+        {"notes", r->notes}};
     for (const TaskResult& c : r->results) j["results"].push_back(result_json(c));
     for (const auto& [task, p] : r->probes) {
       j["probes"][task_name(task)] = {{"l2", p.l2},
@@ -298,8 +306,10 @@ std::string report_json(std::span<const EvalReport* const> reports) {
       j["touch_oracles"].push_back(std::move(oj));
     }
     for (const BoundRow& b : r->bounds) {
-      nlohmann::json bj = {{"label", b.label}, {"model_path", b.model_path},
-                           {"model_name", b.model_name}, {"results", nlohmann::json::array()}};
+      nlohmann::json bj = {{"label", b.label},
+                           {"model_path", b.model_path},
+                           {"model_name", b.model_name},
+                           {"results", nlohmann::json::array()}};
       for (const TaskResult& c : b.results) bj["results"].push_back(result_json(c));
       j["bounds"].push_back(std::move(bj));
     }
@@ -321,8 +331,12 @@ std::string report_json(std::span<const EvalReport* const> reports) {
     doc["reports"].push_back(std::move(j));
   }
   for (const PaperRow& p : kPaper) {
-    doc["paper"].push_back({{"row", p.label}, {"data", "real"}, {"material", p.material},
-                            {"hard_soft", p.hard}, {"rough_smooth", p.rough}, {"grasp", p.grasp}});
+    doc["paper"].push_back({{"row", p.label},
+                            {"data", "real"},
+                            {"material", p.material},
+                            {"hard_soft", p.hard},
+                            {"rough_smooth", p.rough},
+                            {"grasp", p.grasp}});
   }
   return doc.dump(2);
 }

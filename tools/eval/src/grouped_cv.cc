@@ -33,8 +33,10 @@ Status validate(const GroupedRows& r) {
              ">= 2)",
              n, r.dim, r.classes);
   TLV_ENSURE(r.x.size() == n * static_cast<size_t>(r.dim) && r.groups.size() == n,
-             ErrorCode::kShapeMismatch, "cross-validation: %zu features and %zu groups for %zu rows "
-             "of dim %d", r.x.size(), r.groups.size(), n, r.dim);
+             ErrorCode::kShapeMismatch,
+             "cross-validation: %zu features and %zu groups for %zu rows "
+             "of dim %d",
+             r.x.size(), r.groups.size(), n, r.dim);
   for (size_t i = 0; i < n; ++i) {
     TLV_ENSURE(r.labels[i] >= 0 && r.labels[i] < r.classes, ErrorCode::kInvalidArgument,
                "cross-validation: row %zu has label %d outside [0, %d)", i, r.labels[i], r.classes);
@@ -65,20 +67,21 @@ Indexed index_rows(const GroupedRows& r, uint64_t seed) {
   for (size_t g = 0; g < counts.size(); ++g) {
     for (size_t c = 0; c < counts[g].size(); ++c)
       if (counts[g][c] > 0) ix.groups_with[c].push_back(static_cast<int32_t>(g));
-    const auto c = static_cast<int32_t>(
-        std::max_element(counts[g].begin(), counts[g].end()) - counts[g].begin());
+    const auto c = static_cast<int32_t>(std::max_element(counts[g].begin(), counts[g].end()) -
+                                        counts[g].begin());
     ix.group_class.push_back(c);
     ix.class_groups[static_cast<size_t>(c)].push_back(static_cast<int32_t>(g));
   }
   for (auto* lists : {&ix.class_groups, &ix.groups_with})
-  for (auto& groups : *lists) {
-    std::sort(groups.begin(), groups.end(), [&](int32_t a, int32_t b) {
-      const double ha = datasets::split_hash_unit(ix.group_names[static_cast<size_t>(a)], seed);
-      const double hb = datasets::split_hash_unit(ix.group_names[static_cast<size_t>(b)], seed);
-      return ha != hb ? ha < hb : ix.group_names[static_cast<size_t>(a)] <
-                                      ix.group_names[static_cast<size_t>(b)];
-    });
-  }
+    for (auto& groups : *lists) {
+      std::sort(groups.begin(), groups.end(), [&](int32_t a, int32_t b) {
+        const double ha = datasets::split_hash_unit(ix.group_names[static_cast<size_t>(a)], seed);
+        const double hb = datasets::split_hash_unit(ix.group_names[static_cast<size_t>(b)], seed);
+        return ha != hb ? ha < hb
+                        : ix.group_names[static_cast<size_t>(a)] <
+                              ix.group_names[static_cast<size_t>(b)];
+      });
+    }
   return ix;
 }
 
@@ -104,7 +107,8 @@ std::vector<int32_t> fold_of_groups(const Indexed& ix, int32_t folds) {
   for (size_t c = 0; c < ix.class_groups.size(); ++c) {
     const auto& groups = ix.class_groups[c];
     for (size_t i = 0; i < groups.size(); ++i)
-      fold[static_cast<size_t>(groups[i])] = static_cast<int32_t>((i + c) % static_cast<size_t>(folds));
+      fold[static_cast<size_t>(groups[i])] =
+          static_cast<int32_t>((i + c) % static_cast<size_t>(folds));
   }
   return fold;
 }
@@ -165,7 +169,8 @@ Result<std::vector<int32_t>> out_of_fold(const GroupedRows& r, const CvOptions& 
       if (chosen != nullptr) chosen->push_back(strength);
     }
     TLV_ASSIGN_OR_RETURN(FittedProbe p, fit_at(fit_view, o, strength));
-    for (int64_t i : score_rows) predicted[static_cast<size_t>(i)] = predict(p, r, static_cast<size_t>(i));
+    for (int64_t i : score_rows)
+      predicted[static_cast<size_t>(i)] = predict(p, r, static_cast<size_t>(i));
   }
   return predicted;
 }

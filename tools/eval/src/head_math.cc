@@ -45,11 +45,12 @@ Result<float> grasp_head_logit(std::span<const float> weight, float bias,
   const size_t needs = heads::layout_values(layout, set.dim);
   TLV_ENSURE(weight.size() == needs, ErrorCode::kShapeMismatch,
              "grasp head has %zu weights; layout '%.*s' with embedding dim %d needs %zu",
-             weight.size(), static_cast<int>(feature_layout.size()), feature_layout.data(),
-             set.dim, needs);
+             weight.size(), static_cast<int>(feature_layout.size()), feature_layout.data(), set.dim,
+             needs);
   TLV_ENSURE(!heads::has_difference(layout) || !set.difference.empty(), ErrorCode::kShapeMismatch,
              "grasp layout '%.*s' reads difference features; the set has none (the model's input "
-             "is not 3-channel)", static_cast<int>(feature_layout.size()), feature_layout.data());
+             "is not 3-channel)",
+             static_cast<int>(feature_layout.size()), feature_layout.data());
   std::span<const float> features[heads::kFingers * (heads::kMoments + 1)];
   TLV_ENSURE(layout.size() <= std::size(features), ErrorCode::kModelInvalidMetadata,
              "grasp layout of %zu features (at most %zu)", layout.size(), std::size(features));

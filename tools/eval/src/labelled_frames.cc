@@ -37,8 +37,7 @@ Status find_frames(const fs::path& class_dir, const std::string& class_name,
                                       ec);
   TLV_ENSURE(!ec, ErrorCode::kIo, "%s: cannot list: %s", class_dir.c_str(), ec.message().c_str());
   for (; it != fs::recursive_directory_iterator(); it.increment(ec)) {
-    TLV_ENSURE(!ec, ErrorCode::kIo, "%s: cannot list: %s", class_dir.c_str(),
-               ec.message().c_str());
+    TLV_ENSURE(!ec, ErrorCode::kIo, "%s: cannot list: %s", class_dir.c_str(), ec.message().c_str());
     const fs::path& p = it->path();
     if (hidden(p)) {
       if (it->is_directory(ec)) it.disable_recursion_pending();
@@ -162,8 +161,8 @@ Result<LabelledFrames> read_labelled_folder(const std::string& dir) {
         case Grouping::kNone:
         case Grouping::kRecordings: group = f.relative; break;
       }
-      set.frames.push_back({std::move(f.path), std::move(f.relative), static_cast<int32_t>(c),
-                            std::move(group)});
+      set.frames.push_back(
+          {std::move(f.path), std::move(f.relative), static_cast<int32_t>(c), std::move(group)});
     }
   }
   for (const auto& [key, group] : listed) {

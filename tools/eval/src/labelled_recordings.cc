@@ -54,14 +54,15 @@ Result<LabelledFrames> read_labelled_recordings(const std::string& labels_file, 
     const std::vector<std::string> f = split_tabs(text);
     Line l;
     l.number = reader.line_number();
-    const bool shape = (f.size() == 2 || f.size() == 4 || f.size() == 5) && !f[0].empty() &&
-                       !f[1].empty();
-    const bool times = shape && (f.size() < 4 || (parse_seconds(f[2], l.from) &&
-                                                   parse_seconds(f[3], l.to)));
-    TLV_ENSURE(shape && times && (!l.from || !l.to || *l.from < *l.to), ErrorCode::kFormat,
-               "%s:%lld: expected \"<recording><TAB><class>[<TAB><from_s><TAB><to_s>][<TAB><group>]\" "
-               "with from < to (seconds, or -), got \"%.100s\"",
-               labels_file.c_str(), static_cast<long long>(l.number), text.c_str());
+    const bool shape =
+        (f.size() == 2 || f.size() == 4 || f.size() == 5) && !f[0].empty() && !f[1].empty();
+    const bool times =
+        shape && (f.size() < 4 || (parse_seconds(f[2], l.from) && parse_seconds(f[3], l.to)));
+    TLV_ENSURE(
+        shape && times && (!l.from || !l.to || *l.from < *l.to), ErrorCode::kFormat,
+        "%s:%lld: expected \"<recording><TAB><class>[<TAB><from_s><TAB><to_s>][<TAB><group>]\" "
+        "with from < to (seconds, or -), got \"%.100s\"",
+        labels_file.c_str(), static_cast<long long>(l.number), text.c_str());
     l.recording = fs::path(f[0]).is_absolute() ? f[0] : (base / f[0]).string();
     l.cls = f[1];
     l.group = f.size() == 5 && !f[4].empty() ? f[4] : f[0];
@@ -92,7 +93,9 @@ Result<LabelledFrames> read_labelled_recordings(const std::string& labels_file, 
     capture::RecordInfo info;
     for (uint64_t at = rec.first_record();;) {
       auto more = rec.record_at(at, info);
-      if (!more.ok()) return more.error().with_context("%s:%lld", labels_file.c_str(), static_cast<long long>(l.number));
+      if (!more.ok())
+        return more.error().with_context("%s:%lld", labels_file.c_str(),
+                                         static_cast<long long>(l.number));
       if (!*more) break;
       at = info.next;
       if ((info.flags & (capture::kRecordRepeat | capture::kRecordErrorFlag)) != 0) continue;

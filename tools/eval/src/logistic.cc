@@ -101,7 +101,8 @@ Standardisation standardisation_of_rows(std::span<const float> x, int32_t dim,
   s.mean.assign(d, 0.0);
   s.std.assign(d, 0.0);
   for (int64_t r : rows)
-    for (size_t j = 0; j < d; ++j) s.mean[j] += static_cast<double>(x[static_cast<size_t>(r) * d + j]);
+    for (size_t j = 0; j < d; ++j)
+      s.mean[j] += static_cast<double>(x[static_cast<size_t>(r) * d + j]);
   const double n = static_cast<double>(std::max<size_t>(rows.size(), 1));
   for (double& v : s.mean) v /= n;
   for (int64_t r : rows) {
@@ -133,7 +134,7 @@ StdMatrix standardise(std::span<const float> x, int32_t dim, std::span<const int
 }
 
 Minimised minimise_logistic(const StdMatrix& m, std::span<const int32_t> labels, int32_t classes,
-                          const LogisticOptions& o, std::vector<double>& theta) {
+                            const LogisticOptions& o, std::vector<double>& theta) {
   const size_t p = static_cast<size_t>(classes) * (static_cast<size_t>(m.dim) + 1);
   theta.resize(p, 0.0);
   std::vector<double> g(p), g_new(p), dir(p), x_new(p), alpha(static_cast<size_t>(o.history));
@@ -151,8 +152,10 @@ Minimised minimise_logistic(const StdMatrix& m, std::span<const int32_t> labels,
       for (size_t i = 0; i < p; ++i) dir[i] -= alpha[k] * y_hist[k][i];
     }
     double gamma = 1.0;
-    if (h > 0) gamma = dot(s_hist[h - 1], y_hist[h - 1]) / dot(y_hist[h - 1], y_hist[h - 1]);
-    else gamma = 1.0 / std::max(1.0, std::sqrt(dot(g, g)));
+    if (h > 0)
+      gamma = dot(s_hist[h - 1], y_hist[h - 1]) / dot(y_hist[h - 1], y_hist[h - 1]);
+    else
+      gamma = 1.0 / std::max(1.0, std::sqrt(dot(g, g)));
     for (double& v : dir) v *= gamma;
     for (size_t k = 0; k < h; ++k) {
       const double beta = rho_hist[k] * dot(y_hist[k], dir);

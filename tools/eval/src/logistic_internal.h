@@ -28,10 +28,10 @@ Standardisation standardisation_of_rows(std::span<const float> x, int32_t dim,
 // starting from `theta` (warm start; zeros for a cold one).
 struct Minimised {
   int32_t iterations = 0;
-  bool converged = false;    // max |gradient| <= tolerance, or no further decrease possible
-  double max_gradient = 0;   // at the returned theta
+  bool converged = false;   // max |gradient| <= tolerance, or no further decrease possible
+  double max_gradient = 0;  // at the returned theta
 };
 Minimised minimise_logistic(const StdMatrix& m, std::span<const int32_t> labels, int32_t classes,
-                          const LogisticOptions& options, std::vector<double>& theta);
+                            const LogisticOptions& options, std::vector<double>& theta);
 
 }  // namespace tlvlink::eval::internal

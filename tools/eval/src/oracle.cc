@@ -174,8 +174,7 @@ std::vector<int32_t> knn_predict(std::span<const double> train, std::span<const 
 
 std::vector<std::array<double, sim::kMaterialClassCount>> knn_class_weights_other_groups(
     std::span<const double> rows, std::span<const int32_t> classes,
-    std::span<const std::string> groups, std::span<const size_t> queries, int32_t dims,
-    int32_t k) {
+    std::span<const std::string> groups, std::span<const size_t> queries, int32_t dims, int32_t k) {
   const auto d = static_cast<size_t>(dims);
   const size_t n = classes.size();
   const FeatureScale scale = feature_scale(rows.first(n * d), d);
@@ -236,8 +235,8 @@ std::vector<TouchOracle> touch_oracles(const TouchEmbeddings& t) {
           hidden_correct += 1.0 / ties;
       } else {
         // The label is the physics rule of the recorded variable (materials.h): always right.
-        const int32_t rule =
-            task == Task::kHard ? (sim::hard_label(m.modulus_pa) ? 1 : 0) : sim::rough_label(m.sq_um);
+        const int32_t rule = task == Task::kHard ? (sim::hard_label(m.modulus_pa) ? 1 : 0)
+                                                 : sim::rough_label(m.sq_um);
         hidden_correct += rule == label ? 1.0 : 0.0;
       }
     }
@@ -250,9 +249,8 @@ std::vector<TouchOracle> touch_oracles(const TouchEmbeddings& t) {
     }
     o.available = true;
     o.hidden_accuracy = hidden_correct / static_cast<double>(o.n);
-    const std::vector<int32_t> pred =
-        knn_predict(train, train_labels, query, kFrameFeatures, task_class_count(task),
-                    kFrameOracleNeighbours);
+    const std::vector<int32_t> pred = knn_predict(train, train_labels, query, kFrameFeatures,
+                                                  task_class_count(task), kFrameOracleNeighbours);
     int64_t correct = 0;
     for (size_t i = 0; i < pred.size(); ++i) correct += pred[i] == query_labels[i] ? 1 : 0;
     o.frame_accuracy = static_cast<double>(correct) / static_cast<double>(o.n);
@@ -293,8 +291,8 @@ Result<GraspFramesOracle> grasp_frames_oracle(const GraspEmbeddings& g) {
     o.note = "no test episode with recorded variables";
     return o;
   }
-  const auto weights = knn_class_weights_other_groups(rows, classes, groups, queries, kDims,
-                                                      kFrameOracleNeighbours);
+  const auto weights =
+      knn_class_weights_other_groups(rows, classes, groups, queries, kDims, kFrameOracleNeighbours);
   std::vector<std::array<double, sim::kMaterialClassCount>> truth(queries.size());
   for (size_t r = 0; r < queries.size(); ++r) {
     truth[r].fill(0.0);
@@ -316,7 +314,8 @@ Result<GraspFramesOracle> grasp_frames_oracle(const GraspEmbeddings& g) {
   o.available = true;
   o.frames_accuracy = static_cast<double>(frames_ok) / n;
   o.class_accuracy = static_cast<double>(class_ok) / n;
-  o.majority_rate = std::max(static_cast<double>(successes), n - static_cast<double>(successes)) / n;
+  o.majority_rate =
+      std::max(static_cast<double>(successes), n - static_cast<double>(successes)) / n;
   return o;
 }
 

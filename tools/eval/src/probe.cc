@@ -6,8 +6,8 @@
 #include <map>
 
 #include "logistic_internal.h"
-#include "tlvlink/heads/head_math.h"
 #include "tlvlink/datasets/split.h"
+#include "tlvlink/heads/head_math.h"
 
 namespace tlvlink::eval {
 namespace {
@@ -82,15 +82,13 @@ void record_convergence(const Fit& f, const LogisticOptions& o, FittedProbe& p) 
   p.converged = f.result.converged;
   if (!p.converged) {
     char buf[160];
-    std::snprintf(buf, sizeof buf,
-                  "not converged in %d iterations (max |gradient| %.2g > %.2g)",
+    std::snprintf(buf, sizeof buf, "not converged in %d iterations (max |gradient| %.2g > %.2g)",
                   o.max_iterations, f.result.max_gradient, o.gradient_tolerance);
     p.note += (p.note.empty() ? "" : "; ") + std::string(buf);
   }
 }
 
 }  // namespace
-
 
 Result<FittedProbe> fit_logistic(const ProbeData& d, const LogisticOptions& o) {
   TLV_TRY(validate_data(d));
@@ -131,15 +129,15 @@ Result<FittedProbe> fit_probe(const ProbeData& d, const ProbeOptions& options) {
     ranked.emplace_back(datasets::split_hash_unit(g, options.validation_seed), g);
   std::sort(ranked.begin(), ranked.end());
   const size_t n_groups = ranked.size();
-  const size_t n_val = std::min(
-      n_groups > 0 ? n_groups - 1 : 0,
-      std::max<size_t>(1, static_cast<size_t>(std::lround(static_cast<double>(n_groups) *
-                                                          options.validation_fraction))));
+  const size_t n_val =
+      std::min(n_groups > 0 ? n_groups - 1 : 0,
+               std::max<size_t>(1, static_cast<size_t>(std::lround(static_cast<double>(n_groups) *
+                                                                   options.validation_fraction))));
   std::vector<int64_t> fit_part, val_rows, all_rows;
   for (size_t k = 0; k < n_groups; ++k) {
     const std::vector<int64_t>& rows = by_group[ranked[k].second];
-    (k < n_val ? val_rows : fit_part).insert((k < n_val ? val_rows : fit_part).end(),
-                                              rows.begin(), rows.end());
+    (k < n_val ? val_rows : fit_part)
+        .insert((k < n_val ? val_rows : fit_part).end(), rows.begin(), rows.end());
   }
   for (size_t i = 0; i < d.labels.size(); ++i) all_rows.push_back(static_cast<int64_t>(i));
   std::sort(fit_part.begin(), fit_part.end());

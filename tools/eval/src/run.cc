@@ -4,9 +4,9 @@
 
 #include <memory>
 
+#include "tlvlink/eval/trust.h"
 #include "tlvlink/io/file.h"
 #include "tlvlink/io/model_file.h"
-#include "tlvlink/eval/trust.h"
 
 namespace tlvlink::eval {
 namespace {
@@ -38,8 +38,8 @@ Result<std::vector<EvalReport>> evaluate_files(std::span<const std::string> path
 Result<BoundRow> evaluate_bound(const std::string& spec, const EvalData& data,
                                 const EvalOptions& options) {
   const size_t eq = spec.find('=');
-  TLV_ENSURE(eq != std::string::npos && eq > 0 && eq + 1 < spec.size(),
-             ErrorCode::kInvalidArgument, "--bound '%s': expected LABEL=MODEL.tlvm", spec.c_str());
+  TLV_ENSURE(eq != std::string::npos && eq > 0 && eq + 1 < spec.size(), ErrorCode::kInvalidArgument,
+             "--bound '%s': expected LABEL=MODEL.tlvm", spec.c_str());
   BoundRow b;
   b.label = spec.substr(0, eq);
   b.model_path = spec.substr(eq + 1);
@@ -53,8 +53,10 @@ Result<BoundRow> evaluate_bound(const std::string& spec, const EvalData& data,
   for (Task t : kAllTasks) {
     const TaskResult* heads = r.find(t, Method::kModelHeads);
     const TaskResult* probe = r.find(t, Method::kProbe);
-    if (heads != nullptr && heads->available) b.results.push_back(*heads);
-    else if (probe != nullptr) b.results.push_back(*probe);
+    if (heads != nullptr && heads->available)
+      b.results.push_back(*heads);
+    else if (probe != nullptr)
+      b.results.push_back(*probe);
   }
   return b;
 }
@@ -101,8 +103,7 @@ Result<HeadsFitResult> fit_heads_into_file(const HeadsFitJob& job) {
   wo.provenance_note = "tlvlink heads fit";
   if (!job.data.touch_dir.empty()) wo.provenance_note += " --touch " + job.data.touch_dir;
   if (!job.data.grasp_dir.empty()) wo.provenance_note += " --grasp " + job.data.grasp_dir;
-  TLV_ASSIGN_OR_RETURN(const std::vector<std::byte> bytes,
-                       model_with_heads(*model, out.heads, wo));
+  TLV_ASSIGN_OR_RETURN(const std::vector<std::byte> bytes, model_with_heads(*model, out.heads, wo));
   // Score what will be written, as the device applies it (the model's heads on the test split),
   // and record that score in the heads (trust.h) before the file is written.
   TLV_ASSIGN_OR_RETURN(const std::unique_ptr<Model> written, Model::load(bytes));

@@ -153,7 +153,8 @@ Status real_frames(const std::string& dir, Probe& probe, std::vector<PathTally>&
        !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
     if (!it->is_regular_file()) continue;
     std::string ext = it->path().extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     if (ext == ".png" || ext == ".jpg" || ext == ".jpeg") files.push_back(it->path().string());
   }
   TLV_ENSURE(!ec, ErrorCode::kIo, "%s: %s", dir.c_str(), ec.message().c_str());
@@ -189,7 +190,8 @@ PathStability summarise(const PathTally& t) {
   std::vector<double> sorted = t.cosines;
   std::sort(sorted.begin(), sorted.end());
   const auto at = [&](double q) {
-    return sorted[std::min(sorted.size() - 1, static_cast<size_t>(q * static_cast<double>(sorted.size())))];
+    return sorted[std::min(sorted.size() - 1,
+                           static_cast<size_t>(q * static_cast<double>(sorted.size())))];
   };
   p.cos_p05 = at(0.05);
   p.cos_median = at(0.5);
@@ -206,8 +208,8 @@ bool PathStability::meets_target() const {
 }
 
 bool StabilityReport::meets_target() const {
-  return !paths.empty() &&
-         std::all_of(paths.begin(), paths.end(), [](const PathStability& p) { return p.meets_target(); });
+  return !paths.empty() && std::all_of(paths.begin(), paths.end(),
+                                       [](const PathStability& p) { return p.meets_target(); });
 }
 
 Result<StabilityReport> measure_stability(const Model& model, const StabilityOptions& o) {
@@ -272,10 +274,15 @@ std::string stability_json(const StabilityReport& r) {
     for (const HeadAgreement& h : p.heads) {
       heads.push_back({{"head", h.head}, {"trusted", h.trusted}, {"same", h.same}, {"n", h.n}});
     }
-    j["paths"].push_back({{"source", p.source}, {"path", p.path}, {"n", p.n},
-                          {"cos_min", p.cos_min}, {"cos_p05", p.cos_p05},
-                          {"cos_median", p.cos_median}, {"worst", p.worst},
-                          {"heads", heads}, {"meets_target", p.meets_target()}});
+    j["paths"].push_back({{"source", p.source},
+                          {"path", p.path},
+                          {"n", p.n},
+                          {"cos_min", p.cos_min},
+                          {"cos_p05", p.cos_p05},
+                          {"cos_median", p.cos_median},
+                          {"worst", p.worst},
+                          {"heads", heads},
+                          {"meets_target", p.meets_target()}});
   }
   return j.dump(2);
 }

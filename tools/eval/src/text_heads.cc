@@ -51,7 +51,8 @@ Result<TextHeads> zero_shot_heads_from_text(const Metadata& metadata, const Text
     quantize::ZeroShotHeadSpec h;
     h.name = p.task;
     h.class_names = p.class_names;
-    h.prompt_template = p.templates.empty() ? join(p.fixed_prompts, " | ") : join(p.templates, " | ");
+    h.prompt_template =
+        p.templates.empty() ? join(p.fixed_prompts, " | ") : join(p.templates, " | ");
     auto matrix = text::zero_shot_matrix(*enc, p);
     if (!matrix.ok()) return matrix.error().with_context("zero-shot head '%s'", p.task.c_str());
     h.prompt_matrix = std::move(matrix).value();

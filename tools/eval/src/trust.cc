@@ -56,9 +56,9 @@ std::string line_of(const std::string& kind, const std::string& name,
                   "%s head '%s': accuracy %.1f %% vs majority %.1f %% (n=%lld): %s "
                   "(margin %+.1f, needs %+.1f)%s",
                   kind.c_str(), name.c_str(), 100.0 * static_cast<double>(t.accuracy),
-                  100.0 * static_cast<double>(t.majority),
-                  static_cast<long long>(t.n), head_trust_level_name(a.level), 100 * a.margin,
-                  100 * a.required, dropped ? "; removed" : "");
+                  100.0 * static_cast<double>(t.majority), static_cast<long long>(t.n),
+                  head_trust_level_name(a.level), 100 * a.margin, 100 * a.required,
+                  dropped ? "; removed" : "");
   }
   return buf;
 }
@@ -84,7 +84,8 @@ Result<std::vector<std::byte>> model_with_trust(const Model& model, const EvalRe
   quantize::MetadataSpec meta = quantize::metadata_spec_from(model.metadata());
   std::vector<std::string> out;
   for (quantize::LinearHeadSpec& h : meta.linear_heads) {
-    if (const TaskResult* c = scored(report, h.name, Method::kModelHeads)) h.trust = record_of(report, *c);
+    if (const TaskResult* c = scored(report, h.name, Method::kModelHeads))
+      h.trust = record_of(report, *c);
     out.push_back(line_of("linear", h.name, h.trust, false));
   }
   if (meta.has_grasp_head) {
@@ -94,14 +95,16 @@ Result<std::vector<std::byte>> model_with_trust(const Model& model, const EvalRe
   }
   std::vector<quantize::ZeroShotHeadSpec> kept;
   for (quantize::ZeroShotHeadSpec& h : meta.zero_shot_heads) {
-    if (const TaskResult* c = scored(report, h.name, Method::kZeroShot)) h.trust = record_of(report, *c);
+    if (const TaskResult* c = scored(report, h.name, Method::kZeroShot))
+      h.trust = record_of(report, *c);
     const bool drop = options.drop_untrusted_zero_shot && h.trust.present &&
                       assess_head(trust_view(h.trust)).level == HeadTrustLevel::kUntrusted;
     out.push_back(line_of("zero-shot", h.name, h.trust, drop));
     if (!drop) kept.push_back(std::move(h));
   }
   meta.zero_shot_heads = std::move(kept);
-  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder, quantize::rebuild_with_metadata(model, meta));
+  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder,
+                       quantize::rebuild_with_metadata(model, meta));
   std::vector<std::byte> bytes = builder.finish();
   auto check = Model::load(bytes);
   if (!check.ok()) return check.error().with_context("model with trust records does not load");

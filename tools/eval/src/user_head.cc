@@ -10,17 +10,16 @@
 
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/capture/sensor_models.h"
-#include "tlvlink/eval/trust.h"
-#include "tlvlink/image/frame_decoder.h"
-#include "tlvlink/heads/head_math.h"
-#include "tlvlink/image/preprocess.h"
 #include "tlvlink/eval/labelled_frames.h"
+#include "tlvlink/eval/trust.h"
+#include "tlvlink/heads/head_math.h"
+#include "tlvlink/image/frame_decoder.h"
+#include "tlvlink/image/preprocess.h"
 #include "tlvlink/io/sensor_frame.h"
 #include "tlvlink/quantize/model_copy.h"
 
 namespace tlvlink::eval {
 namespace {
-
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -43,8 +42,9 @@ class RecordedFrames {
     if (it == open_.end()) {
       TLV_ASSIGN_OR_RETURN(capture::RecordingReader reader, capture::RecordingReader::open(f.path));
       TLV_ASSIGN_OR_RETURN(const capture::SensorModel* model, sensor_of(reader, f.path));
-      TLV_ASSIGN_OR_RETURN(image::FrameDecoder decoder,
-                           image::FrameDecoder::create(reader.summary().format.format, model->view));
+      TLV_ASSIGN_OR_RETURN(
+          image::FrameDecoder decoder,
+          image::FrameDecoder::create(reader.summary().format.format, model->view));
       Open o{std::move(reader), std::move(decoder), model, {}, {}};
       o.bytes.resize(o.reader.summary().max_frame_bytes);
       o.rgb.resize(o.decoder.output_bytes());
@@ -128,13 +128,15 @@ Result<FrameFeatures> frame_features(const Model& model, const LabelledFrames& f
     TLV_ENSURE(sf.view.channels == 3, ErrorCode::kFormat, "%s: %d channel(s); frames must be RGB",
                lf.path.c_str(), sf.view.channels);
     char size[48];
-    std::snprintf(size, sizeof size, " %dx%d", sf.view.width, sf.view.height);  // "a processed view 320x240"
+    std::snprintf(size, sizeof size, " %dx%d", sf.view.width,
+                  sf.view.height);  // "a processed view 320x240"
     ++views[(sf.sensor.empty() ? "a processed view" : sf.sensor) + size];
     rgb.width = sf.view.width;
     rgb.height = sf.view.height;
     rgb.rgb = sf.view.pixels;
-    TLV_TRY(e->embed(rgb, std::span<float>(f.embeddings)
-                              .subspan(i * static_cast<size_t>(f.dim), static_cast<size_t>(f.dim))));
+    TLV_TRY(
+        e->embed(rgb, std::span<float>(f.embeddings)
+                          .subspan(i * static_cast<size_t>(f.dim), static_cast<size_t>(f.dim))));
     TLV_ASSIGN_OR_RETURN(image::Image small, image::resize(sf.view.view(), kBaselineHeight,
                                                            kBaselineWidth, ResizeFilter::kArea));
     for (size_t k = 0; k < pixel_dim; ++k)
@@ -160,9 +162,8 @@ Result<UserHeadFit> fit_user_head(const Model& model, const LabelledFrames& fram
   const FrameFeatures& f = fit.features;
   const auto classes = static_cast<int32_t>(frames.classes.size());
   const GroupedRows head_rows{f.embeddings, f.dim, f.labels, classes, f.groups, frames.classes};
-  const GroupedRows pixel_rows{f.pixels,  kBaselineWidth * kBaselineHeight * 3, f.labels,
-                               classes,   f.groups,
-                               frames.classes};
+  const GroupedRows pixel_rows{
+      f.pixels, kBaselineWidth * kBaselineHeight * 3, f.labels, classes, f.groups, frames.classes};
   const auto t0 = std::chrono::steady_clock::now();
   TLV_ASSIGN_OR_RETURN(fit.head_cv, cross_validate(head_rows, o.cv));
   TLV_ASSIGN_OR_RETURN(fit.baseline_cv, cross_validate(pixel_rows, o.cv));
@@ -209,7 +210,8 @@ Result<std::vector<std::byte>> model_with_user_head(const Model& model,
   } else {
     meta.linear_heads.push_back(head);
   }
-  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder, quantize::rebuild_with_metadata(model, meta));
+  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder,
+                       quantize::rebuild_with_metadata(model, meta));
   std::vector<std::byte> bytes = builder.finish();
   auto check = Model::load(bytes);
   if (!check.ok()) return check.error().with_context("model with the new head does not load");
@@ -224,9 +226,11 @@ Result<HeadScore> score_model_head(const Model& model, const FrameFeatures& f,
                          [&](const LinearHead& h) { return h.name == head; });
   if (it == m.linear_heads.end()) {
     std::string names;
-    for (const LinearHead& h : m.linear_heads) names += (names.empty() ? "" : ", ") + std::string(h.name);
-    return Error::make(ErrorCode::kInvalidArgument, "the model has no linear head '%s' (it has: %s)",
-                       head.c_str(), names.empty() ? "none" : names.c_str());
+    for (const LinearHead& h : m.linear_heads)
+      names += (names.empty() ? "" : ", ") + std::string(h.name);
+    return Error::make(ErrorCode::kInvalidArgument,
+                       "the model has no linear head '%s' (it has: %s)", head.c_str(),
+                       names.empty() ? "none" : names.c_str());
   }
   const LinearHead& h = *it;
   std::vector<int32_t> to_head(frames.classes.size(), -1);
@@ -277,25 +281,29 @@ std::string format_user_head(const LabelledFrames& frames, const UserHeadFit& fi
   char b[512];
   const CvResult& h = fit.head_cv;
   const CvResult& p = fit.baseline_cv;
-  std::snprintf(b, sizeof b, "frames: %lld in %zu classes, %lld groups (grouping: %s); read as %s\n",
-                static_cast<long long>(h.n), frames.classes.size(), static_cast<long long>(h.groups),
-                grouping_name(frames.grouping), fit.features.view_note.c_str());
+  std::snprintf(
+      b, sizeof b, "frames: %lld in %zu classes, %lld groups (grouping: %s); read as %s\n",
+      static_cast<long long>(h.n), frames.classes.size(), static_cast<long long>(h.groups),
+      grouping_name(frames.grouping), fit.features.view_note.c_str());
   out += b;
   for (size_t c = 0; c < frames.classes.size(); ++c) {
-    std::snprintf(b, sizeof b, "  class %-16s %5lld frames  %4lld groups\n", frames.classes[c].c_str(),
-                  static_cast<long long>(h.class_rows[c]), static_cast<long long>(h.class_groups[c]));
+    std::snprintf(b, sizeof b, "  class %-16s %5lld frames  %4lld groups\n",
+                  frames.classes[c].c_str(), static_cast<long long>(h.class_rows[c]),
+                  static_cast<long long>(h.class_groups[c]));
     out += b;
   }
   if (frames.grouping == Grouping::kNone) {
-    out += "  warning: no groups (groups.tsv or <class>/<group>/ folders): frames of one object can "
-           "be fitted and scored in different folds, so the accuracy below is optimistic\n";
+    out +=
+        "  warning: no groups (groups.tsv or <class>/<group>/ folders): frames of one object can "
+        "be fitted and scored in different folds, so the accuracy below is optimistic\n";
   }
-  std::snprintf(b, sizeof b, "grouped %d-fold cross-validation (L2 chosen inside each fitting fold):\n",
+  std::snprintf(b, sizeof b,
+                "grouped %d-fold cross-validation (L2 chosen inside each fitting fold):\n",
                 h.folds);
   out += b;
-  std::snprintf(b, sizeof b, "  %-30s accuracy %5s %% [%s, %s]  balanced %5s %%\n", "head (embeddings)",
-                percent(h.accuracy).c_str(), percent(h.ci_low).c_str(), percent(h.ci_high).c_str(),
-                percent(h.balanced_accuracy).c_str());
+  std::snprintf(b, sizeof b, "  %-30s accuracy %5s %% [%s, %s]  balanced %5s %%\n",
+                "head (embeddings)", percent(h.accuracy).c_str(), percent(h.ci_low).c_str(),
+                percent(h.ci_high).c_str(), percent(h.balanced_accuracy).c_str());
   out += b;
   std::snprintf(b, sizeof b, "  %-30s accuracy %5s %% [%s, %s]  balanced %5s %%\n",
                 "baseline (32x24 pixels)", percent(p.accuracy).c_str(), percent(p.ci_low).c_str(),
@@ -304,17 +312,22 @@ std::string format_user_head(const LabelledFrames& frames, const UserHeadFit& fi
   std::snprintf(b, sizeof b, "  %-30s %5s %%\n", "majority class", percent(h.majority).c_str());
   out += b;
   for (size_t k = 0; k < fit.head_curve.size(); ++k) {
-    if (k == 0) out += "accuracy on the other groups, fitted on k groups per class (mean [min, max] over draws):\n";
+    if (k == 0)
+      out +=
+          "accuracy on the other groups, fitted on k groups per class (mean [min, max] over "
+          "draws):\n";
     const CurvePoint& c = fit.head_curve[k];
     const CurvePoint& q = fit.baseline_curve[k];
     std::snprintf(b, sizeof b,
-                  "  k=%-2d draws %3d  head %5s %% [%s, %s]  baseline %5s %% [%s, %s]  (%.0f frames scored)\n",
+                  "  k=%-2d draws %3d  head %5s %% [%s, %s]  baseline %5s %% [%s, %s]  (%.0f "
+                  "frames scored)\n",
                   c.groups_per_class, c.draws, percent(c.mean).c_str(), percent(c.min).c_str(),
                   percent(c.max).c_str(), percent(q.mean).c_str(), percent(q.min).c_str(),
                   percent(q.max).c_str(), c.mean_test_rows);
     out += b;
   }
-  std::snprintf(b, sizeof b, "times: reading and embedding %.2f s, validation and fit %.2f s (L2 %g)\n",
+  std::snprintf(b, sizeof b,
+                "times: reading and embedding %.2f s, validation and fit %.2f s (L2 %g)\n",
                 fit.features.seconds, fit.fit_seconds, fit.l2);
   out += b;
   return out;

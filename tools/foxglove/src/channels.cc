@@ -16,7 +16,8 @@ using protocol::MessageType;
 namespace {
 
 // foxglove.CompressedImage's frame_id: the sensor's name from the Hello, else "sensorN".
-void add_frame_id(const listen::Message& m, const listen::FormatContext& context, std::string& json) {
+void add_frame_id(const listen::Message& m, const listen::FormatContext& context,
+                  std::string& json) {
   Result<protocol::FrameImage> f = m.frame_image();
   if (!f.ok()) return;
   std::string id = "sensor" + std::to_string(f.value().sensor);
@@ -29,7 +30,8 @@ void add_frame_id(const listen::Message& m, const listen::FormatContext& context
     }
   }
   json.pop_back();
-  json += ",\"frame_id\":" + nlohmann::json(id).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "}";
+  json += ",\"frame_id\":" +
+          nlohmann::json(id).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "}";
 }
 
 }  // namespace
@@ -51,7 +53,8 @@ std::span<const ChannelSpec> channel_table() {
   return kTable;
 }
 
-std::optional<ChannelMessage> to_channel_message(const listen::Message& m, const listen::FormatContext& context) {
+std::optional<ChannelMessage> to_channel_message(const listen::Message& m,
+                                                 const listen::FormatContext& context) {
   uint16_t channel = 0;
   int64_t board_ns = m.send_ns();
   switch (m.type()) {
@@ -76,12 +79,14 @@ std::optional<ChannelMessage> to_channel_message(const listen::Message& m, const
   out.channel_id = channel;
   out.publish_time_ns = m.receive_ns();
   out.log_time_ns = m.clock().valid ? m.to_host_ns(board_ns) : m.receive_ns();
-  if (out.log_time_ns < 0) out.log_time_ns = m.receive_ns();  // a board time before the host's clock origin
+  if (out.log_time_ns < 0)
+    out.log_time_ns = m.receive_ns();  // a board time before the host's clock origin
   // The listener's JSON line, with one more key: json_line always ends its object with '}'.
   out.json = listen::json_line(m, context);
   char stamp[64];
   std::snprintf(stamp, sizeof(stamp), ",\"timestamp\":{\"sec\":%lld,\"nsec\":%lld}}",
-                static_cast<long long>(out.log_time_ns / 1'000'000'000), static_cast<long long>(out.log_time_ns % 1'000'000'000));
+                static_cast<long long>(out.log_time_ns / 1'000'000'000),
+                static_cast<long long>(out.log_time_ns % 1'000'000'000));
   out.json.pop_back();
   out.json += stamp;
   if (channel == 9) add_frame_id(m, context, out.json);

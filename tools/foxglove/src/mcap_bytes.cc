@@ -44,9 +44,11 @@ uint64_t ByteReader::le(int n, const char* field) {
 std::span<const std::byte> ByteReader::bytes(uint64_t n, const char* field) {
   if (error_) return {};
   if (n > remaining()) {
-    error_ = Error::make(ErrorCode::kFormat, "%s record, field %s at offset %llu: length %llu, but only %zu bytes remain",
-                         record_, field, static_cast<unsigned long long>(offset()), static_cast<unsigned long long>(n),
-                         remaining());
+    error_ =
+        Error::make(ErrorCode::kFormat,
+                    "%s record, field %s at offset %llu: length %llu, but only %zu bytes remain",
+                    record_, field, static_cast<unsigned long long>(offset()),
+                    static_cast<unsigned long long>(n), remaining());
     return {};
   }
   std::span<const std::byte> out = data_.subspan(pos_, n);

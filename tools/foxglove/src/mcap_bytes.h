@@ -18,9 +18,21 @@
 namespace tlvlink::foxglove::internal {
 
 enum Opcode : uint8_t {
-  kHeader = 0x01, kFooter = 0x02, kSchema = 0x03, kChannel = 0x04, kMessage = 0x05, kChunk = 0x06,
-  kMessageIndex = 0x07, kChunkIndex = 0x08, kAttachment = 0x09, kAttachmentIndex = 0x0A,
-  kStatistics = 0x0B, kMetadata = 0x0C, kMetadataIndex = 0x0D, kSummaryOffset = 0x0E, kDataEnd = 0x0F,
+  kHeader = 0x01,
+  kFooter = 0x02,
+  kSchema = 0x03,
+  kChannel = 0x04,
+  kMessage = 0x05,
+  kChunk = 0x06,
+  kMessageIndex = 0x07,
+  kChunkIndex = 0x08,
+  kAttachment = 0x09,
+  kAttachmentIndex = 0x0A,
+  kStatistics = 0x0B,
+  kMetadata = 0x0C,
+  kMetadataIndex = 0x0D,
+  kSummaryOffset = 0x0E,
+  kDataEnd = 0x0F,
 };
 const char* opcode_name(uint8_t op);  // "Message", or "unknown"
 
@@ -61,7 +73,7 @@ class ByteReader {
   uint16_t u16(const char* field) { return static_cast<uint16_t>(le(2, field)); }
   uint32_t u32(const char* field) { return static_cast<uint32_t>(le(4, field)); }
   uint64_t u64(const char* field) { return le(8, field); }
-  std::string str(const char* field);                                // u32 length + bytes
+  std::string str(const char* field);                               // u32 length + bytes
   std::span<const std::byte> bytes(uint64_t n, const char* field);  // n bytes
   size_t remaining() const { return data_.size() - pos_; }
   uint64_t offset() const { return base_ + pos_; }  // in the file

@@ -17,7 +17,8 @@ std::span<const std::byte> magic() { return std::as_bytes(std::span(kMcapMagic))
 
 std::vector<std::byte> schema_content(const McapSchema& s) {
   ByteWriter w;
-  w.u16(s.id), w.str(s.name), w.str(s.encoding), w.str(s.data);  // data: u32 length + bytes, as a string
+  w.u16(s.id), w.str(s.name), w.str(s.encoding),
+      w.str(s.data);  // data: u32 length + bytes, as a string
   return std::move(w.bytes());
 }
 
@@ -31,7 +32,8 @@ std::vector<std::byte> channel_content(const McapChannel& c) {
   return std::move(w.bytes());
 }
 
-void append_record(std::vector<std::byte>& out, uint8_t opcode, std::span<const std::byte> content) {
+void append_record(std::vector<std::byte>& out, uint8_t opcode,
+                   std::span<const std::byte> content) {
   ByteWriter w;
   w.u8(opcode), w.u64(content.size());
   out.insert(out.end(), w.bytes().begin(), w.bytes().end());
@@ -49,7 +51,8 @@ McapWriter::~McapWriter() {
 
 Result<std::unique_ptr<McapWriter>> McapWriter::create(const std::string& path, bool overwrite,
                                                        const McapWriterOptions& options) {
-  TLV_ASSIGN_OR_RETURN(std::FILE* f, listen::create_recording_file(path, overwrite, "MCAP recording"));
+  TLV_ASSIGN_OR_RETURN(std::FILE * f,
+                       listen::create_recording_file(path, overwrite, "MCAP recording"));
   std::unique_ptr<McapWriter> w(new McapWriter(f, path, options));
   ByteWriter header;
   header.str(options.profile), header.str(options.library);
@@ -61,9 +64,11 @@ Result<std::unique_ptr<McapWriter>> McapWriter::create(const std::string& path, 
 
 Status McapWriter::put(std::span<const std::byte> bytes, bool data_section) {
   if (failed_) return *failed_;
-  TLV_ENSURE(!closed_, ErrorCode::kInvalidState, "MCAP recording %s: written after close", path_.c_str());
+  TLV_ENSURE(!closed_, ErrorCode::kInvalidState, "MCAP recording %s: written after close",
+             path_.c_str());
   if (std::fwrite(bytes.data(), 1, bytes.size(), file_) != bytes.size()) {
-    failed_ = Error::make(ErrorCode::kIo, "writing MCAP recording %s: %s", path_.c_str(), write_error_text(errno));
+    failed_ = Error::make(ErrorCode::kIo, "writing MCAP recording %s: %s", path_.c_str(),
+                          write_error_text(errno));
     return *failed_;
   }
   position_ += bytes.size();
@@ -71,7 +76,8 @@ Status McapWriter::put(std::span<const std::byte> bytes, bool data_section) {
   return Status();
 }
 
-Status McapWriter::put_record(uint8_t opcode, std::span<const std::byte> content, bool data_section) {
+Status McapWriter::put_record(uint8_t opcode, std::span<const std::byte> content,
+                              bool data_section) {
   std::vector<std::byte> r;
   append_record(r, opcode, content);
   return put(r, data_section);
@@ -85,11 +91,11 @@ Status McapWriter::add_schema(const McapSchema& s) {
 }
 
 Status McapWriter::add_channel(const McapChannel& c) {
-  TLV_ENSURE(!channels_.count(c.id), ErrorCode::kInvalidArgument, "MCAP recording %s: channel id %u is taken",
-             path_.c_str(), c.id);
+  TLV_ENSURE(!channels_.count(c.id), ErrorCode::kInvalidArgument,
+             "MCAP recording %s: channel id %u is taken", path_.c_str(), c.id);
   TLV_ENSURE(c.schema_id == 0 || schemas_.count(c.schema_id), ErrorCode::kInvalidArgument,
-             "MCAP recording %s: channel %s names schema %u, which was not added", path_.c_str(), c.topic.c_str(),
-             c.schema_id);
+             "MCAP recording %s: channel %s names schema %u, which was not added", path_.c_str(),
+             c.topic.c_str(), c.schema_id);
   channels_[c.id] = c;
   return put_record(internal::kChannel, channel_content(c), true);
 }
@@ -97,11 +103,12 @@ Status McapWriter::add_channel(const McapChannel& c) {
 Status McapWriter::write_message(uint16_t channel_id, uint64_t log_time, uint64_t publish_time,
                                  std::span<const std::byte> data) {
   if (failed_) return *failed_;
-  TLV_ENSURE(channels_.count(channel_id), ErrorCode::kInvalidArgument, "MCAP recording %s: no channel %u",
-             path_.c_str(), channel_id);
+  TLV_ENSURE(channels_.count(channel_id), ErrorCode::kInvalidArgument,
+             "MCAP recording %s: no channel %u", path_.c_str(), channel_id);
   // A chunk spans a bounded time: a recorder that is killed loses at most that much.
   if (!chunk_.empty() && (chunk_.size() >= options_.chunk_bytes ||
-                          std::max(log_time, chunk_end_) - std::min(log_time, chunk_start_) > options_.chunk_span_ns)) {
+                          std::max(log_time, chunk_end_) - std::min(log_time, chunk_start_) >
+                              options_.chunk_span_ns)) {
     TLV_TRY(close_chunk());
   }
   ByteWriter m;
@@ -150,7 +157,8 @@ Status McapWriter::close_chunk() {
 Status McapWriter::flush() {
   if (failed_) return *failed_;
   if (std::fflush(file_) != 0) {
-    failed_ = Error::make(ErrorCode::kIo, "writing MCAP recording %s: %s", path_.c_str(), write_error_text(errno));
+    failed_ = Error::make(ErrorCode::kIo, "writing MCAP recording %s: %s", path_.c_str(),
+                          write_error_text(errno));
     return *failed_;
   }
   return Status();
@@ -172,25 +180,37 @@ Status McapWriter::close() {
     groups.u8(internal::kSummaryOffset), groups.u64(17), groups.u8(opcode), groups.u64(start);
     groups.u64(summary_start + summary.size() - start);
   };
-  group(internal::kSchema, [&] { for (const auto& [id, s] : schemas_) append_record(summary, internal::kSchema, schema_content(s)); });
-  group(internal::kChannel, [&] { for (const auto& [id, c] : channels_) append_record(summary, internal::kChannel, channel_content(c)); });
+  group(internal::kSchema, [&] {
+    for (const auto& [id, s] : schemas_)
+      append_record(summary, internal::kSchema, schema_content(s));
+  });
+  group(internal::kChannel, [&] {
+    for (const auto& [id, c] : channels_)
+      append_record(summary, internal::kChannel, channel_content(c));
+  });
   group(internal::kStatistics, [&] {
     ByteWriter s;
-    s.u64(message_count_), s.u16(static_cast<uint16_t>(schemas_.size())), s.u32(static_cast<uint32_t>(channels_.size()));
-    s.u32(0), s.u32(0), s.u32(static_cast<uint32_t>(chunk_indexes_.size()));  // attachments, metadata, chunks
+    s.u64(message_count_), s.u16(static_cast<uint16_t>(schemas_.size())),
+        s.u32(static_cast<uint32_t>(channels_.size()));
+    s.u32(0), s.u32(0),
+        s.u32(static_cast<uint32_t>(chunk_indexes_.size()));  // attachments, metadata, chunks
     s.u64(message_count_ ? first_time_ : 0), s.u64(message_count_ ? last_time_ : 0);
     s.u32(static_cast<uint32_t>(channel_counts_.size() * 10));
     for (const auto& [id, n] : channel_counts_) s.u16(id), s.u64(n);
     append_record(summary, internal::kStatistics, s.bytes());
   });
   if (!chunk_indexes_.empty()) {
-    group(internal::kChunkIndex, [&] { for (const auto& ci : chunk_indexes_) append_record(summary, internal::kChunkIndex, ci); });
+    group(internal::kChunkIndex, [&] {
+      for (const auto& ci : chunk_indexes_) append_record(summary, internal::kChunkIndex, ci);
+    });
   }
   const uint64_t offsets_start = summary_start + summary.size();
   summary.insert(summary.end(), groups.bytes().begin(), groups.bytes().end());
-  // Footer: summary start u64, summary offset start u64, CRC-32 of the summary through these two fields.
+  // Footer: summary start u64, summary offset start u64, CRC-32 of the summary through these two
+  // fields.
   ByteWriter footer;
-  footer.u8(internal::kFooter), footer.u64(20), footer.u64(summary_start), footer.u64(offsets_start);
+  footer.u8(internal::kFooter), footer.u64(20), footer.u64(summary_start),
+      footer.u64(offsets_start);
   summary.insert(summary.end(), footer.bytes().begin(), footer.bytes().end());
   ByteWriter crc;
   crc.u32(crc32(summary));
@@ -200,7 +220,8 @@ Status McapWriter::close() {
   if (st.ok()) st = flush();
   closed_ = true;
   if (std::fclose(file_) != 0 && st.ok()) {
-    st = Error::make(ErrorCode::kIo, "writing MCAP recording %s: %s", path_.c_str(), write_error_text(errno));
+    st = Error::make(ErrorCode::kIo, "writing MCAP recording %s: %s", path_.c_str(),
+                     write_error_text(errno));
   }
   file_ = nullptr;
   return st;

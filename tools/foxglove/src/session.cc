@@ -5,14 +5,17 @@
 
 namespace tlvlink::foxglove {
 
-Result<int> run_session_with_outputs(listen::SessionOptions options, const SessionOutputs& outputs, std::FILE* out,
-                                     std::FILE* log, const std::atomic<bool>& stop) {
+Result<int> run_session_with_outputs(listen::SessionOptions options, const SessionOutputs& outputs,
+                                     std::FILE* out, std::FILE* log,
+                                     const std::atomic<bool>& stop) {
   if (!outputs.replay.empty()) {
     options.source = "replay:" + outputs.replay;
     if (is_mcap_path(outputs.replay)) {
       const std::string path = outputs.replay;
-      options.open_client = [path](const listen::ClientOptions& client) -> Result<std::unique_ptr<listen::Client>> {
-        TLV_ASSIGN_OR_RETURN(std::unique_ptr<McapRecordSource> records, McapRecordSource::open(path));
+      options.open_client =
+          [path](const listen::ClientOptions& client) -> Result<std::unique_ptr<listen::Client>> {
+        TLV_ASSIGN_OR_RETURN(std::unique_ptr<McapRecordSource> records,
+                             McapRecordSource::open(path));
         return listen::Client::open_replay(std::move(records), "replay:" + path, client);
       };
     }
@@ -24,7 +27,8 @@ Result<int> run_session_with_outputs(listen::SessionOptions options, const Sessi
     options.sinks.push_back(mcap.get());
   } else if (!outputs.record.empty()) {
     TLV_ENSURE(outputs.replay.empty(), ErrorCode::kInvalidArgument,
-               "--record %s with a replay: copy the file instead (or record to a .mcap)", outputs.record.c_str());
+               "--record %s with a replay: copy the file instead (or record to a .mcap)",
+               outputs.record.c_str());
     options.client.record = outputs.record;
     options.client.overwrite_record = outputs.overwrite;
   }
@@ -36,8 +40,10 @@ Result<int> run_session_with_outputs(listen::SessionOptions options, const Sessi
     TLV_ASSIGN_OR_RETURN(server, Server::start(so));
     std::fprintf(log, "foxglove: serving on %s\n", server->address().c_str());
     std::fflush(log);
-    if (outputs.foxglove_wait_ms > 0 && !server->wait_for_full_subscriber(outputs.foxglove_wait_ms, stop)) {
-      std::fprintf(log, "foxglove: no client subscribed to every channel within %d ms; going on\n", outputs.foxglove_wait_ms);
+    if (outputs.foxglove_wait_ms > 0 &&
+        !server->wait_for_full_subscriber(outputs.foxglove_wait_ms, stop)) {
+      std::fprintf(log, "foxglove: no client subscribed to every channel within %d ms; going on\n",
+                   outputs.foxglove_wait_ms);
     }
     options.sinks.push_back(server.get());
   }
@@ -47,9 +53,13 @@ Result<int> run_session_with_outputs(listen::SessionOptions options, const Sessi
   if (server) {
     server->shutdown();
     const ServerCounters c = server->counters();
-    std::fprintf(log, "foxglove: %llu clients, %llu messages sent, %llu dropped (slow clients), %llu bad requests\n",
-                 static_cast<unsigned long long>(c.clients), static_cast<unsigned long long>(c.messages_sent),
-                 static_cast<unsigned long long>(c.messages_dropped), static_cast<unsigned long long>(c.protocol_errors));
+    std::fprintf(log,
+                 "foxglove: %llu clients, %llu messages sent, %llu dropped (slow clients), %llu "
+                 "bad requests\n",
+                 static_cast<unsigned long long>(c.clients),
+                 static_cast<unsigned long long>(c.messages_sent),
+                 static_cast<unsigned long long>(c.messages_dropped),
+                 static_cast<unsigned long long>(c.protocol_errors));
   }
   if (mcap) {
     // The summary is written even after an error elsewhere: what was recorded stays readable.
@@ -57,11 +67,12 @@ Result<int> run_session_with_outputs(listen::SessionOptions options, const Sessi
     const bool reported = mcap->failed();
     if (Status st = mcap->close(); !st.ok()) {
       if (reported) return 1;
-      std::fprintf(log, "tlvlink: error [%s]: %s\n", error_code_name(st.error().code()), st.error().message());
+      std::fprintf(log, "tlvlink: error [%s]: %s\n", error_code_name(st.error().code()),
+                   st.error().message());
       return 1;
     }
-    std::fprintf(log, "# recorded %llu MCAP messages to %s\n", static_cast<unsigned long long>(mcap->message_count()),
-                 outputs.record.c_str());
+    std::fprintf(log, "# recorded %llu MCAP messages to %s\n",
+                 static_cast<unsigned long long>(mcap->message_count()), outputs.record.c_str());
   }
   return result;
 }

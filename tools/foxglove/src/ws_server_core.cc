@@ -76,12 +76,18 @@ struct WsServerCore::Impl {
   }
 
   void on_open(Hdl h) {
-    json info = {{"op", "serverInfo"}, {"name", name}, {"capabilities", json::array()},
-                 {"supportedEncodings", json::array()}, {"metadata", json::object()}};
+    json info = {{"op", "serverInfo"},
+                 {"name", name},
+                 {"capabilities", json::array()},
+                 {"supportedEncodings", json::array()},
+                 {"metadata", json::object()}};
     json advertise = {{"op", "advertise"}, {"channels", json::array()}};
     for (const WsChannel& c : channels) {
-      advertise["channels"].push_back({{"id", c.id}, {"topic", c.topic}, {"encoding", c.encoding},
-                                       {"schemaName", c.schema_name}, {"schema", c.schema},
+      advertise["channels"].push_back({{"id", c.id},
+                                       {"topic", c.topic},
+                                       {"encoding", c.encoding},
+                                       {"schemaName", c.schema_name},
+                                       {"schema", c.schema},
                                        {"schemaEncoding", c.schema_encoding}});
     }
     {
@@ -118,21 +124,24 @@ struct WsServerCore::Impl {
 
   std::string handle(Hdl h, const std::string& text) {
     const json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
-    if (!j.is_object() || !j.contains("op") || !j["op"].is_string()) return "a client message must be a JSON object with \"op\"";
+    if (!j.is_object() || !j.contains("op") || !j["op"].is_string())
+      return "a client message must be a JSON object with \"op\"";
     const std::string op = j["op"];
     std::lock_guard lock(mutex);
     auto client = clients.find(h);
     if (client == clients.end()) return "unknown connection";
     if (op == "subscribe") {
-      if (!j.contains("subscriptions") || !j["subscriptions"].is_array()) return "subscribe: no \"subscriptions\" array";
+      if (!j.contains("subscriptions") || !j["subscriptions"].is_array())
+        return "subscribe: no \"subscriptions\" array";
       for (const json& s : j["subscriptions"]) {
-        if (!s.is_object() || !s.contains("id") || !s["id"].is_number_unsigned() || !s.contains("channelId") ||
-            !s["channelId"].is_number_unsigned()) {
+        if (!s.is_object() || !s.contains("id") || !s["id"].is_number_unsigned() ||
+            !s.contains("channelId") || !s["channelId"].is_number_unsigned()) {
           return "subscribe: each subscription needs unsigned \"id\" and \"channelId\"";
         }
         const uint32_t id = s["id"], channel = s["channelId"];
         if (!has_channel(channel)) return "subscribe: no channel " + std::to_string(channel);
-        if (client->second.subscriptions.count(id)) return "subscribe: subscription id " + std::to_string(id) + " is in use";
+        if (client->second.subscriptions.count(id))
+          return "subscribe: subscription id " + std::to_string(id) + " is in use";
         client->second.subscriptions[id] = channel;
         if (auto l = last.find(channel); l != last.end()) {
           client->second.queue.push_back(message_data(id, l->second.first, l->second.second));
@@ -146,7 +155,8 @@ struct WsServerCore::Impl {
       return "";
     }
     if (op == "unsubscribe") {
-      if (!j.contains("subscriptionIds") || !j["subscriptionIds"].is_array()) return "unsubscribe: no \"subscriptionIds\" array";
+      if (!j.contains("subscriptionIds") || !j["subscriptionIds"].is_array())
+        return "unsubscribe: no \"subscriptionIds\" array";
       for (const json& id : j["subscriptionIds"]) {
         if (id.is_number_unsigned()) client->second.subscriptions.erase(id.get<uint32_t>());
       }
@@ -225,8 +235,10 @@ WsServerCore::WsServerCore(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) 
 
 WsServerCore::~WsServerCore() { shutdown(0); }
 
-std::unique_ptr<WsServerCore> WsServerCore::start(const std::string& host, uint16_t port, std::vector<WsChannel> channels,
-                                                  size_t queue_limit, const std::string& name, std::string* error) {
+std::unique_ptr<WsServerCore> WsServerCore::start(const std::string& host, uint16_t port,
+                                                  std::vector<WsChannel> channels,
+                                                  size_t queue_limit, const std::string& name,
+                                                  std::string* error) {
   auto impl = std::make_unique<Impl>();
   Impl& s = *impl;
   s.channels = std::move(channels);
@@ -248,7 +260,8 @@ std::unique_ptr<WsServerCore> WsServerCore::start(const std::string& host, uint1
         }
       }
       con->set_status(websocketpp::http::status_code::bad_request);
-      con->set_body(std::string("this server speaks the WebSocket subprotocol ") + kSubprotocol + "\n");
+      con->set_body(std::string("this server speaks the WebSocket subprotocol ") + kSubprotocol +
+                    "\n");
       return false;
     });
     s.server.set_open_handler([&s](Hdl h) { s.on_open(h); });
@@ -260,7 +273,8 @@ std::unique_ptr<WsServerCore> WsServerCore::start(const std::string& host, uint1
     const asio::ip::tcp::endpoint bound = s.server.get_local_endpoint(ec);
     if (ec) throw websocketpp::exception(ec.message());
     const std::string ip = bound.address().to_string();
-    s.address = (bound.address().is_v6() ? "[" + ip + "]" : ip) + ":" + std::to_string(bound.port());
+    s.address =
+        (bound.address().is_v6() ? "[" + ip + "]" : ip) + ":" + std::to_string(bound.port());
     s.server.start_accept();
   } catch (const std::exception& e) {
     *error = "cannot serve on " + host + ":" + std::to_string(port) + ": " + e.what();

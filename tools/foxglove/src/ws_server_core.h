@@ -36,8 +36,9 @@ struct WsCounters {
 class WsServerCore {
  public:
   // Binds HOST:PORT (port 0: any free port) and serves on a thread. nullptr and *error on failure.
-  static std::unique_ptr<WsServerCore> start(const std::string& host, uint16_t port, std::vector<WsChannel> channels,
-                                             size_t queue_limit, const std::string& name, std::string* error);
+  static std::unique_ptr<WsServerCore> start(const std::string& host, uint16_t port,
+                                             std::vector<WsChannel> channels, size_t queue_limit,
+                                             const std::string& name, std::string* error);
   ~WsServerCore();
   WsServerCore(const WsServerCore&) = delete;
   WsServerCore& operator=(const WsServerCore&) = delete;

@@ -23,23 +23,23 @@ void print_metadata(std::string& out, const Model& model) {
   const Metadata& m = model.metadata();
   const Provenance& p = m.provenance;
   appendf(out, "model        %.*s  (schema %u, %s)\n", static_cast<int>(m.name.size()),
-              m.name.data(), model.schema_version(), tools::human_bytes(model.bytes().size()).c_str());
+          m.name.data(), model.schema_version(), tools::human_bytes(model.bytes().size()).c_str());
   appendf(out, "producer     %.*s, created %.*s\n", static_cast<int>(p.producer.size()),
-              p.producer.data(), static_cast<int>(p.created_utc.size()), p.created_utc.data());
+          p.producer.data(), static_cast<int>(p.created_utc.size()), p.created_utc.data());
   const ModelIntegrity& integrity = model.integrity();
   char hash[65], key[17];
   to_hex(integrity.hash, hash, sizeof hash);
   to_hex(integrity.key_id, key, sizeof key);
   appendf(out, "integrity    BLAKE2b-256 %s, %s%s\n", hash,
-              integrity.is_signed ? "signed by key " : "unsigned", integrity.is_signed ? key : "");
+          integrity.is_signed ? "signed by key " : "unsigned", integrity.is_signed ? key : "");
   appendf(out, "training     %.*s\n", static_cast<int>(p.training.size()), p.training.data());
   appendf(out, "quantization %.*s\n", static_cast<int>(p.quantization.size()),
-              p.quantization.data());
+          p.quantization.data());
   const InputSpec& in = m.input;
   appendf(out, "input        %dx%dx%d %s, resize %s, mean %s, std %s", in.height, in.width,
-              in.channels, channel_order_name(in.channel_order).c_str(),
-              resize_filter_name(in.resize_filter), join_floats(in.mean).c_str(),
-              join_floats(in.std).c_str());
+          in.channels, channel_order_name(in.channel_order).c_str(),
+          resize_filter_name(in.resize_filter), join_floats(in.mean).c_str(),
+          join_floats(in.std).c_str());
   if (in.crop_w > 0) appendf(out, ", crop %d,%d %dx%d", in.crop_x, in.crop_y, in.crop_w, in.crop_h);
   appendf(out, "%s\n", in.background_subtraction ? ", background subtraction" : "");
   appendf(out, "embedding    %d (graph output %d)\n", m.embedding_dim, m.embedding_output);
@@ -66,7 +66,7 @@ void print_metadata(std::string& out, const Model& model) {
 
 void print_tensors(std::string& out, const Graph& g) {
   appendf(out, "\ntensors (%zu)\n  %4s  %-28s %-7s %-18s %-8s %s\n", g.tensors.size(), "#", "name",
-              "dtype", "shape", "kind", "quantization");
+          "dtype", "shape", "kind", "quantization");
   for (size_t i = 0; i < g.tensors.size(); ++i) {
     const Tensor& t = g.tensors[i];
     const auto idx = static_cast<int32_t>(i);
@@ -74,22 +74,22 @@ void print_tensors(std::string& out, const Graph& g) {
     const bool is_out = std::find(g.outputs.begin(), g.outputs.end(), idx) != g.outputs.end();
     const char* kind = t.is_constant() ? "const" : is_in ? "input" : is_out ? "output" : "act";
     appendf(out, "  %4zu  %-28.*s %-7s %-18s %-8s %s\n", i, static_cast<int>(t.name.size()),
-                t.name.data(), dtype_name(t.dtype), tools::shape_string(t.shape).c_str(), kind,
-                quant_summary(t).c_str());
+            t.name.data(), dtype_name(t.dtype), tools::shape_string(t.shape).c_str(), kind,
+            quant_summary(t).c_str());
   }
 }
 
 void print_operators(std::string& out, const Graph& g, const GraphStats& s) {
   appendf(out, "\noperators (%zu)\n  %4s  %-17s %-22s %-18s %-18s %10s %10s %10s\n",
-              g.operators.size(), "#", "type", "name", "input", "output", "MACs", "weights",
-              "act bytes");
+          g.operators.size(), "#", "type", "name", "input", "output", "MACs", "weights",
+          "act bytes");
   for (size_t i = 0; i < g.operators.size(); ++i) {
     const Operator& op = g.operators[i];
     appendf(out, "  %4zu  %-17s %-22.*s %-18s %-18s %10" PRIu64 " %10zu %10zu\n", i,
-                op_type_name(op.type), static_cast<int>(op.name.size()), op.name.data(),
-                tools::shape_string(g.tensor(op.inputs[0]).shape).c_str(),
-                tools::shape_string(g.tensor(op.output).shape).c_str(), s.ops[i].macs,
-                s.ops[i].weight_bytes, s.ops[i].activation_bytes);
+            op_type_name(op.type), static_cast<int>(op.name.size()), op.name.data(),
+            tools::shape_string(g.tensor(op.inputs[0]).shape).c_str(),
+            tools::shape_string(g.tensor(op.output).shape).c_str(), s.ops[i].macs,
+            s.ops[i].weight_bytes, s.ops[i].activation_bytes);
   }
 }
 

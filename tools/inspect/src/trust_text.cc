@@ -17,17 +17,19 @@ std::string trust_text(const HeadTrust& t, bool with_set) {
                 t.test_set.data());
   std::string text = buf;
   if (t.ci_low >= 0) {
-    std::snprintf(buf, sizeof buf, "; 95 %% CI [%.1f, %.1f] %%", 100.0 * static_cast<double>(t.ci_low),
-                  100.0 * static_cast<double>(t.ci_high));
+    std::snprintf(buf, sizeof buf, "; 95 %% CI [%.1f, %.1f] %%",
+                  100.0 * static_cast<double>(t.ci_low), 100.0 * static_cast<double>(t.ci_high));
     text += buf;
   }
   if (t.balanced_accuracy >= 0) {
-    std::snprintf(buf, sizeof buf, "; balanced %.1f %%", 100.0 * static_cast<double>(t.balanced_accuracy));
+    std::snprintf(buf, sizeof buf, "; balanced %.1f %%",
+                  100.0 * static_cast<double>(t.balanced_accuracy));
     text += buf;
   }
   if (t.groups > 0) text += "; " + std::to_string(t.groups) + " groups";
   if (t.baseline_accuracy >= 0) {
-    std::snprintf(buf, sizeof buf, "; baseline %.1f %% (%.*s)%s", 100.0 * static_cast<double>(t.baseline_accuracy),
+    std::snprintf(buf, sizeof buf, "; baseline %.1f %% (%.*s)%s",
+                  100.0 * static_cast<double>(t.baseline_accuracy),
                   static_cast<int>(t.baseline.size()), t.baseline.data(),
                   a.below_baseline ? ": the head does not beat it" : "");
     text += buf;

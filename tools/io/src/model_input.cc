@@ -33,8 +33,8 @@ Status image_input(const Image& image, const std::string& name, const Model& mod
   auto x = image::preprocess(image, model.metadata().input);
   if (!x.ok()) return x.error().with_context("%s", name.c_str());
   TLV_ENSURE(x->size() * sizeof(float) == dst.size(), ErrorCode::kShapeMismatch,
-             "%s: preprocessing gave %zu values, model input %s needs %zu", name.c_str(),
-             x->size(), shape_string(in.shape).c_str(), dst.size() / sizeof(float));
+             "%s: preprocessing gave %zu values, model input %s needs %zu", name.c_str(), x->size(),
+             shape_string(in.shape).c_str(), dst.size() / sizeof(float));
   std::memcpy(dst.data(), x->data(), dst.size());
   return {};
 }
@@ -91,8 +91,7 @@ Status model_input_from_bytes(std::span<const std::byte> bytes, const std::strin
                  shape_string(in.shape).c_str(),
                  in.dtype == DType::kFloat32 ? " (images: uint8 [H,W,C] or [1,H,W,C])" : "");
       TLV_ENSURE(a.data.size() == dst.size(), ErrorCode::kShapeMismatch,
-                 "%s: %zu data bytes for an input of %zu", name.c_str(), a.data.size(),
-                 dst.size());
+                 "%s: %zu data bytes for an input of %zu", name.c_str(), a.data.size(), dst.size());
       std::memcpy(dst.data(), a.data.data(), dst.size());
       return {};
     }

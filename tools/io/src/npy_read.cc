@@ -5,9 +5,9 @@
 #include <cstring>
 #include <string_view>
 
+#include "npy_header.h"
 #include "tlvlink/io/file.h"
 #include "tlvlink/io/npy.h"
-#include "npy_header.h"
 
 namespace tlvlink::tools {
 namespace {

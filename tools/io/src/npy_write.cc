@@ -3,9 +3,9 @@
 
 #include <limits>
 
+#include "npy_header.h"
 #include "tlvlink/io/file.h"
 #include "tlvlink/io/npy.h"
-#include "npy_header.h"
 
 namespace tlvlink::tools {
 namespace {

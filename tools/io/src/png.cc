@@ -15,7 +15,8 @@ Result<Image> decode_png(std::span<const std::byte> bytes, const std::string& na
   png_image png{};
   png.version = PNG_IMAGE_VERSION;
   if (png_image_begin_read_from_memory(&png, bytes.data(), bytes.size()) == 0) {
-    return Error::make(ErrorCode::kFormat, "%s: not a readable PNG (%s)", name.c_str(), png.message);
+    return Error::make(ErrorCode::kFormat, "%s: not a readable PNG (%s)", name.c_str(),
+                       png.message);
   }
   const bool gray = (png.format & PNG_FORMAT_FLAG_COLOR) == 0;
   if (png.width == 0 || png.height == 0 || png.width > kMaxPngSide || png.height > kMaxPngSide) {
@@ -24,9 +25,8 @@ Result<Image> decode_png(std::span<const std::byte> bytes, const std::string& na
                        png.width, png.height, kMaxPngSide);
   }
   // Before the pixel buffer is sized from the header (a 780 KB PNG can declare 800 MB).
-  const Status budget = image::check_decode_budget(png.width, png.height, gray ? 1 : 3,
-                                                   bytes.size(), image::kPngMaxRatio, "PNG",
-                                                   name.c_str());
+  const Status budget = image::check_decode_budget(
+      png.width, png.height, gray ? 1 : 3, bytes.size(), image::kPngMaxRatio, "PNG", name.c_str());
   if (!budget.ok()) {
     png_image_free(&png);
     return budget.error();

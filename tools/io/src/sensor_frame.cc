@@ -24,8 +24,8 @@ std::string sizes_of_sensors() {
   for (const capture::SensorModel& m : capture::sensor_models()) {
     char one[128];
     std::snprintf(one, sizeof(one), "%s%.*s: camera %dx%d, view %dx%d", s.empty() ? "" : "; ",
-                  static_cast<int>(m.name.size()), m.name.data(), m.width, m.height,
-                  m.view.width, m.view.height);
+                  static_cast<int>(m.name.size()), m.name.data(), m.width, m.height, m.view.width,
+                  m.view.height);
     s += one;
   }
   return s;
@@ -42,8 +42,8 @@ Result<SensorFrame> as_sensor(std::span<const std::byte> bytes, const std::strin
   if (sniff_input_file(bytes) == InputFileKind::kJpeg) {
     TLV_ASSIGN_OR_RETURN(f.view, capture::view_from_still_jpeg(as_u8(bytes), s, name));
   } else {
-    TLV_ASSIGN_OR_RETURN(const Image image, decoded ? Result<Image>(*decoded)
-                                                    : decode_image_file(bytes, name));
+    TLV_ASSIGN_OR_RETURN(const Image image,
+                         decoded ? Result<Image>(*decoded) : decode_image_file(bytes, name));
     TLV_ASSIGN_OR_RETURN(f.view, capture::view_from_still_rgb(image.view(), s, name));
   }
   return f;
@@ -70,7 +70,8 @@ Result<SensorFrame> sensor_frame_from_bytes(std::span<const std::byte> bytes,
     return f;
   }
   TLV_ASSIGN_OR_RETURN(Image image, decode_image_file(bytes, name));
-  const std::vector<const capture::SensorModel*> candidates = capture::sensors_of_size(image.width, image.height);
+  const std::vector<const capture::SensorModel*> candidates =
+      capture::sensors_of_size(image.width, image.height);
   // A camera frame of exactly one sensor is cut to that sensor's view; a frame at a view's size
   // (what SDKs hand users) is taken as it is, whichever sensor it came from.
   const capture::SensorModel* camera_of = nullptr;
@@ -89,7 +90,8 @@ Result<SensorFrame> sensor_frame_from_bytes(std::span<const std::byte> bytes,
   char note[256];
   if (!is_view && cameras == 1) {
     TLV_ASSIGN_OR_RETURN(f, as_sensor(bytes, name, *camera_of, &image));
-    std::snprintf(note, sizeof(note), "%s: a %dx%d %s camera frame, cut to its %dx%d view as tlvlinkd cuts it",
+    std::snprintf(note, sizeof(note),
+                  "%s: a %dx%d %s camera frame, cut to its %dx%d view as tlvlinkd cuts it",
                   name.c_str(), image.width, image.height, f.sensor.c_str(), f.view.width,
                   f.view.height);
     f.note = note;
@@ -108,8 +110,9 @@ Result<SensorFrame> sensor_frame_from_bytes(std::span<const std::byte> bytes,
              "sensor's view, or pass --sensor",
              name.c_str(), image.width, image.height, aspect, 100 * kAspectTolerance,
              sizes_of_sensors().c_str());
-  std::snprintf(note, sizeof(note), "%s: a %dx%d frame of no known sensor, taken as a processed view",
-                name.c_str(), image.width, image.height);
+  std::snprintf(note, sizeof(note),
+                "%s: a %dx%d frame of no known sensor, taken as a processed view", name.c_str(),
+                image.width, image.height);
   f.view = std::move(image);
   f.note = note;
   return f;

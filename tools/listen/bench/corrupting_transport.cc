@@ -5,11 +5,13 @@
 
 namespace tlvlink::testing {
 
-CorruptingTransport::CorruptingTransport(std::unique_ptr<transport::Transport> inner, ByteFaultRates rates)
+CorruptingTransport::CorruptingTransport(std::unique_ptr<transport::Transport> inner,
+                                         ByteFaultRates rates)
     : inner_(std::move(inner)), faults_(rates) {
   char text[96];
-  std::snprintf(text, sizeof(text), " (damaged: byte errors %g, drops %g, seed %llu)", rates.byte_error_rate,
-                rates.byte_drop_rate, static_cast<unsigned long long>(rates.seed));
+  std::snprintf(text, sizeof(text), " (damaged: byte errors %g, drops %g, seed %llu)",
+                rates.byte_error_rate, rates.byte_drop_rate,
+                static_cast<unsigned long long>(rates.seed));
   name_ = std::string(inner_->name()) + text;
 }
 
@@ -25,7 +27,8 @@ void CorruptingTransport::close() {
 
 Status CorruptingTransport::flush() {
   while (staged_pos_ < staged_len_) {
-    TLV_ASSIGN_OR_RETURN(size_t n, inner_->write(std::span(staged_ + staged_pos_, staged_len_ - staged_pos_)));
+    TLV_ASSIGN_OR_RETURN(
+        size_t n, inner_->write(std::span(staged_ + staged_pos_, staged_len_ - staged_pos_)));
     if (n == 0) break;
     staged_pos_ += n;
   }

@@ -15,8 +15,8 @@
 #include <mutex>
 #include <string>
 
-#include "tlvlink/transport/transport.h"
 #include "byte_faults.h"
+#include "tlvlink/transport/transport.h"
 
 namespace tlvlink::testing {
 

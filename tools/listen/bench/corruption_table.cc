@@ -12,12 +12,12 @@
 #include <string>
 #include <thread>
 
+#include "pty_cable.h"
+#include "stream_fixture.h"
 #include "tlvlink/listen/client.h"
 #include "tlvlink/transport/sender.h"
 #include "tlvlink/transport/serial.h"
 #include "tlvlink/transport/time.h"
-#include "pty_cable.h"
-#include "stream_fixture.h"
 
 namespace {
 
@@ -29,7 +29,8 @@ struct Case {
 };
 
 struct Outcome {
-  uint64_t sent = 0, intact = 0, corrupted = 0, duplicates = 0, bytes = 0, byte_errors = 0, byte_drops = 0;
+  uint64_t sent = 0, intact = 0, corrupted = 0, duplicates = 0, bytes = 0, byte_errors = 0,
+           byte_drops = 0;
   protocol::DeframerCounters rejected;
   uint64_t gaps = 0, missing = 0;
   double mean_wire_bytes = 0;
@@ -41,8 +42,12 @@ Outcome run_case(const Case& c, uint32_t frames, double rate, uint64_t seed) {
   const std::string dir = ::mkdtemp(dir_template);
   testing::PtyCable cable(dir, testing::PtyCable::Faults{c.error_rate, c.drop_rate, seed});
   if (!cable.plug().ok()) return o;
-  auto sender = transport::Sender::create(
-      transport::make_serial_transport({cable.board_path(), 0, transport::FlowControl::kNone}).value(), {}).value();
+  auto sender =
+      transport::Sender::create(
+          transport::make_serial_transport({cable.board_path(), 0, transport::FlowControl::kNone})
+              .value(),
+          {})
+          .value();
   (void)sender->set_hello(testing::fixture_hello());
   (void)sender->start();
   auto client = listen::Client::open("serial:" + cable.host_path()).value();
@@ -58,9 +63,12 @@ Outcome run_case(const Case& c, uint32_t frames, double rate, uint64_t seed) {
       if (!m.ok() || !m.value()) continue;
       auto f = m.value()->frame_prediction();
       if (!f.ok()) continue;
-      if (!testing::fixture_prediction_intact(f.value())) ++o.corrupted;
-      else if (!seen.insert(f.value().frame_sequence()).second) ++o.duplicates;
-      else ++o.intact;
+      if (!testing::fixture_prediction_intact(f.value()))
+        ++o.corrupted;
+      else if (!seen.insert(f.value().frame_sequence()).second)
+        ++o.duplicates;
+      else
+        ++o.intact;
     }
   };
   for (uint32_t n = 0; n < frames; ++n) {
@@ -77,7 +85,8 @@ Outcome run_case(const Case& c, uint32_t frames, double rate, uint64_t seed) {
   o.bytes = cc.bytes, o.byte_errors = cc.corrupted, o.byte_drops = cc.dropped;
   o.rejected = ls.frames;
   o.gaps = ls.sequence_gaps, o.missing = ls.frames_missing;
-  o.mean_wire_bytes = sc.frames_sent ? static_cast<double>(sc.bytes_sent) / static_cast<double>(sc.frames_sent) : 0;
+  o.mean_wire_bytes =
+      sc.frames_sent ? static_cast<double>(sc.bytes_sent) / static_cast<double>(sc.frames_sent) : 0;
   cable.unplug();
   ::rmdir(dir.c_str());
   return o;
@@ -91,17 +100,25 @@ int main(int argc, char** argv) {
   uint64_t seed = 1;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
-    if (k == "--frames") frames = static_cast<uint32_t>(std::strtoul(argv[i + 1], nullptr, 10));
-    else if (k == "--rate") rate = std::strtod(argv[i + 1], nullptr);
-    else if (k == "--seed") seed = std::strtoull(argv[i + 1], nullptr, 10);
+    if (k == "--frames")
+      frames = static_cast<uint32_t>(std::strtoul(argv[i + 1], nullptr, 10));
+    else if (k == "--rate")
+      rate = std::strtod(argv[i + 1], nullptr);
+    else if (k == "--seed")
+      seed = std::strtoull(argv[i + 1], nullptr, 10);
   }
-  const Case cases[] = {{0, 0},    {1e-5, 0}, {1e-4, 0}, {1e-3, 0}, {1e-2, 0},    {0, 1e-5},
+  const Case cases[] = {{0, 0},    {1e-5, 0}, {1e-4, 0}, {1e-3, 0},    {1e-2, 0},   {0, 1e-5},
                         {0, 1e-4}, {0, 1e-3}, {0, 1e-2}, {1e-3, 1e-3}, {1e-2, 1e-2}};
-  std::printf("tlvlink corruption table: %u predictions per row at %.0f/s through a pty cable, seed %llu\n", frames,
-              rate, static_cast<unsigned long long>(seed));
-  std::printf("(a quarter carry a 32-float embedding; errors replace a byte by a different random byte; drops delete it)\n\n");
-  std::printf("| byte error rate | byte drop rate | bytes damaged | frames sent | received intact | lost | expected lost | "
-              "corrupted accepted | rejected (crc / cobs / truncated / length / other) |\n");
+  std::printf(
+      "tlvlink corruption table: %u predictions per row at %.0f/s through a pty cable, seed %llu\n",
+      frames, rate, static_cast<unsigned long long>(seed));
+  std::printf(
+      "(a quarter carry a 32-float embedding; errors replace a byte by a different random byte; "
+      "drops delete it)\n\n");
+  std::printf(
+      "| byte error rate | byte drop rate | bytes damaged | frames sent | received intact | lost | "
+      "expected lost | "
+      "corrupted accepted | rejected (crc / cobs / truncated / length / other) |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|\n");
   bool ok = true;
   for (const Case& c : cases) {
@@ -111,15 +128,18 @@ int main(int argc, char** argv) {
     const double p = c.error_rate + c.drop_rate;
     const double expected = static_cast<double>(o.sent) * (1 - std::pow(1 - p, o.mean_wire_bytes));
     const protocol::DeframerCounters& r = o.rejected;
-    std::printf("| %g | %g | %llu + %llu of %llu | %llu | %llu | %llu (%.2f %%) | %.0f | **%llu** | %llu / %llu / %llu / %llu / %llu |\n",
-                c.error_rate, c.drop_rate, static_cast<unsigned long long>(o.byte_errors),
-                static_cast<unsigned long long>(o.byte_drops), static_cast<unsigned long long>(o.bytes),
-                static_cast<unsigned long long>(o.sent), static_cast<unsigned long long>(o.intact),
-                static_cast<unsigned long long>(lost), 100.0 * static_cast<double>(lost) / static_cast<double>(o.sent),
-                expected, static_cast<unsigned long long>(o.corrupted), static_cast<unsigned long long>(r.crc),
-                static_cast<unsigned long long>(r.cobs), static_cast<unsigned long long>(r.truncated),
-                static_cast<unsigned long long>(r.length),
-                static_cast<unsigned long long>(r.magic + r.version + r.flags + r.oversized));
+    std::printf(
+        "| %g | %g | %llu + %llu of %llu | %llu | %llu | %llu (%.2f %%) | %.0f | **%llu** | %llu / "
+        "%llu / %llu / %llu / %llu |\n",
+        c.error_rate, c.drop_rate, static_cast<unsigned long long>(o.byte_errors),
+        static_cast<unsigned long long>(o.byte_drops), static_cast<unsigned long long>(o.bytes),
+        static_cast<unsigned long long>(o.sent), static_cast<unsigned long long>(o.intact),
+        static_cast<unsigned long long>(lost),
+        100.0 * static_cast<double>(lost) / static_cast<double>(o.sent), expected,
+        static_cast<unsigned long long>(o.corrupted), static_cast<unsigned long long>(r.crc),
+        static_cast<unsigned long long>(r.cobs), static_cast<unsigned long long>(r.truncated),
+        static_cast<unsigned long long>(r.length),
+        static_cast<unsigned long long>(r.magic + r.version + r.flags + r.oversized));
     std::fflush(stdout);
     ok = ok && o.corrupted == 0;
   }

@@ -80,7 +80,8 @@ void PtyCable::relay() {
     std::vector<unsigned char> pending;
     size_t pos = 0;
   };
-  Direction dirs[2] = {{board_master_, host_master_, true, {}, 0}, {host_master_, board_master_, false, {}, 0}};
+  Direction dirs[2] = {{board_master_, host_master_, true, {}, 0},
+                       {host_master_, board_master_, false, {}, 0}};
   unsigned char buf[4096];
   while (running_) {
     pollfd fds[3] = {{board_master_, POLLIN, 0}, {host_master_, POLLIN, 0}, {stop_fd_, POLLIN, 0}};

@@ -11,8 +11,8 @@
 #include <string>
 #include <thread>
 
-#include "tlvlink/error.h"
 #include "byte_faults.h"
+#include "tlvlink/error.h"
 
 namespace tlvlink::testing {
 

@@ -25,6 +25,7 @@
 #include <thread>
 #include <vector>
 
+#include "stream_fixture.h"
 #include "tlvlink/listen/client.h"
 #include "tlvlink/protocol/deframer.h"
 #include "tlvlink/protocol/encode.h"
@@ -32,7 +33,6 @@
 #include "tlvlink/transport/pty.h"
 #include "tlvlink/transport/sender.h"
 #include "tlvlink/transport/time.h"
-#include "stream_fixture.h"
 
 namespace {
 
@@ -55,8 +55,8 @@ struct Realistic {
     for (size_t i = 0; i < material.size(); ++i) material[i] = 0.01f * static_cast<float>(i);
     a = {0.3f, 0.7f}, b = {0.6f, 0.4f}, c = {0.1f, 0.9f};
     for (size_t i = 0; i < embedding.size(); ++i) embedding[i] = 0.001f * static_cast<float>(i);
-    heads = {protocol::HeadOutput{0, material}, protocol::HeadOutput{1, a}, protocol::HeadOutput{2, b},
-             protocol::HeadOutput{3, c}};
+    heads = {protocol::HeadOutput{0, material}, protocol::HeadOutput{1, a},
+             protocol::HeadOutput{2, b}, protocol::HeadOutput{3, c}};
     protocol::FramePrediction f;
     f.sensor = 1;
     f.frame_sequence = 123456;
@@ -71,7 +71,8 @@ struct Realistic {
 
 template <typename M, typename Walk>
 void cost(const char* name, const M& m, Walk walk) {
-  constexpr int kBatch = 2000, kRounds = 15;  // fastest batch: the uncontended cost on a shared machine
+  constexpr int kBatch = 2000,
+                kRounds = 15;  // fastest batch: the uncontended cost on a shared machine
   protocol::FrameHeader h;
   size_t wire = 0;
   std::vector<double> enc, dec;
@@ -85,23 +86,28 @@ void cost(const char* name, const M& m, Walk walk) {
     enc.push_back(static_cast<double>(monotonic_ns() - t0) / kBatch);
     t0 = monotonic_ns();
     for (int i = 0; i < kBatch; ++i) {
-      deframer.feed(std::span<const std::byte>(g_wire, wire), [&](const protocol::ReceivedFrame& f) {
-        if (f.verdict == protocol::FrameVerdict::kOk) walk(f.payload);
-      });
+      deframer.feed(std::span<const std::byte>(g_wire, wire),
+                    [&](const protocol::ReceivedFrame& f) {
+                      if (f.verdict == protocol::FrameVerdict::kOk) walk(f.payload);
+                    });
     }
     dec.push_back(static_cast<double>(monotonic_ns() - t0) / kBatch);
   }
   std::sort(enc.begin(), enc.end());
   std::sort(dec.begin(), dec.end());
-  std::printf("| %-34s | %5zu | %6.2f / %6.2f | %6.2f / %6.2f |\n", name, wire, enc[0] / 1000, enc[kRounds / 2] / 1000,
-              dec[0] / 1000, dec[kRounds / 2] / 1000);
+  std::printf("| %-34s | %5zu | %6.2f / %6.2f | %6.2f / %6.2f |\n", name, wire, enc[0] / 1000,
+              enc[kRounds / 2] / 1000, dec[0] / 1000, dec[kRounds / 2] / 1000);
 }
 
 volatile double g_sink;
 
 void costs() {
-  std::printf("## Wire bytes and cost per message (15 batches of 2000: fastest batch / median; one core)\n\n");
-  std::printf("| message | wire bytes | encode us (min / median) | decode us (min / median) |\n|---|---|---|---|\n");
+  std::printf(
+      "## Wire bytes and cost per message (15 batches of 2000: fastest batch / median; one "
+      "core)\n\n");
+  std::printf(
+      "| message | wire bytes | encode us (min / median) | decode us (min / median) "
+      "|\n|---|---|---|---|\n");
   Realistic r;
   auto walk_frame = [](std::span<const std::byte> p) {
     auto v = protocol::decode_frame_prediction(p).value();
@@ -146,11 +152,14 @@ int board(const std::string& link, bool paced, double seconds, uint32_t burst, i
   config.queue_bytes = 1 << 20;
   config.flush_ms = 5000;
   config.realtime_priority = g_realtime;
-  auto sender = transport::Sender::create(std::make_unique<transport::PtyTransport>(transport::PtyConfig{link}), config).value();
+  auto sender = transport::Sender::create(
+                    std::make_unique<transport::PtyTransport>(transport::PtyConfig{link}), config)
+                    .value();
   (void)sender->set_hello(testing::fixture_hello());
   (void)sender->start();
   // Wait for the host to connect (the Hello is sent once it is there).
-  for (int i = 0; i < 500 && !sender->counters().link_up; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (int i = 0; i < 500 && !sender->counters().link_up; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // its clock-sync burst settles
   Realistic r;
   protocol::FramePrediction f = r.make(false);
@@ -171,7 +180,8 @@ int board(const std::string& link, bool paced, double seconds, uint32_t burst, i
         next_stats += 1'000'000'000;
       }
       next += period;
-      std::this_thread::sleep_until(std::chrono::steady_clock::time_point(std::chrono::nanoseconds(next)));
+      std::this_thread::sleep_until(
+          std::chrono::steady_clock::time_point(std::chrono::nanoseconds(next)));
     }
   } else {
     for (; n < burst; ++n) {
@@ -183,9 +193,10 @@ int board(const std::string& link, bool paced, double seconds, uint32_t burst, i
   sender->stop();
   const transport::SenderCounters c = sender->counters();
   char line[256];
-  const int len = std::snprintf(line, sizeof(line), "%u %llu %llu %llu\n", n, static_cast<unsigned long long>(c.frames_sent),
-                                static_cast<unsigned long long>(c.dropped_queue_full + c.dropped_link_down),
-                                static_cast<unsigned long long>(c.bytes_sent));
+  const int len = std::snprintf(
+      line, sizeof(line), "%u %llu %llu %llu\n", n, static_cast<unsigned long long>(c.frames_sent),
+      static_cast<unsigned long long>(c.dropped_queue_full + c.dropped_link_down),
+      static_cast<unsigned long long>(c.bytes_sent));
   (void)!::write(report_fd, line, static_cast<size_t>(len));
   return 0;
 }
@@ -204,7 +215,8 @@ HostResult host(const std::string& link, uint32_t expect, double timeout_s) {
   if (g_realtime > 0) {
     sched_param param{};
     param.sched_priority = g_realtime;
-    if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) != 0) std::printf("(host: SCHED_FIFO refused)\n");
+    if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) != 0)
+      std::printf("(host: SCHED_FIFO refused)\n");
   }
   auto client = listen::Client::open("serial:" + link).value();
   const int64_t end = monotonic_ns() + static_cast<int64_t>(timeout_s * 1e9);
@@ -228,7 +240,8 @@ HostResult host(const std::string& link, uint32_t expect, double timeout_s) {
 double pct(std::vector<int64_t> v, double p) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(std::ceil(p / 100 * static_cast<double>(v.size()))) - 1);
+  const size_t k = std::min(
+      v.size() - 1, static_cast<size_t>(std::ceil(p / 100 * static_cast<double>(v.size()))) - 1);
   return static_cast<double>(v[k]) / 1e6;
 }
 
@@ -255,28 +268,39 @@ void run(bool paced, double seconds, uint32_t burst) {
   std::sscanf(report, "%u %llu %llu %llu", &posted, &sent, &dropped, &bytes);
   const double span = static_cast<double>(h.last - h.first) / 1e9;
   if (paced) {
-    std::printf("## Added latency over a pty: 2 sensors x 60 fps + Stats 1/s for %.0f s\n\n", seconds);
-    std::printf("| predictions posted / decoded | board drops | p50 ms | p90 ms | p99 ms | p99.9 ms | max ms | messages/s |\n");
+    std::printf("## Added latency over a pty: 2 sensors x 60 fps + Stats 1/s for %.0f s\n\n",
+                seconds);
+    std::printf(
+        "| predictions posted / decoded | board drops | p50 ms | p90 ms | p99 ms | p99.9 ms | max "
+        "ms | messages/s |\n");
     std::printf("|---|---|---|---|---|---|---|---|\n");
     std::printf("| %u / %llu | %llu | %.3f | %.3f | %.3f | %.3f | %.3f | %.1f |\n\n", posted,
-                static_cast<unsigned long long>(h.predictions), dropped, pct(h.latency, 50), pct(h.latency, 90),
-                pct(h.latency, 99), pct(h.latency, 99.9), pct(h.latency, 100),
+                static_cast<unsigned long long>(h.predictions), dropped, pct(h.latency, 50),
+                pct(h.latency, 90), pct(h.latency, 99), pct(h.latency, 99.9), pct(h.latency, 100),
                 span > 0 ? static_cast<double>(h.predictions - 1) / span : 0.0);
     std::printf("| part | p50 ms | p99 ms | max ms |\n|---|---|---|---|\n");
-    std::printf("| board: post -> written (queue, link thread wake-up, encode) | %.3f | %.3f | %.3f |\n",
-                pct(h.board_part, 50), pct(h.board_part, 99), pct(h.board_part, 100));
-    std::printf("| link + host: written -> decoded (pty, read, deframe, decode) | %.3f | %.3f | %.3f |\n\n",
-                pct(h.link_part, 50), pct(h.link_part, 99), pct(h.link_part, 100));
-    std::printf("send -> receive (the client's own statistics, header send time to read): p50 %.3f ms, p99 %.3f ms; "
-                "clock offset estimate %+.3f ms +- %.3f ms (true offset 0)\n\n",
-                static_cast<double>(h.stats.link_latency.percentile(50)) / 1e6,
-                static_cast<double>(h.stats.link_latency.percentile(99)) / 1e6,
-                static_cast<double>(h.stats.clock.offset_ns) / 1e6, static_cast<double>(h.stats.clock.uncertainty_ns) / 1e6);
+    std::printf(
+        "| board: post -> written (queue, link thread wake-up, encode) | %.3f | %.3f | %.3f |\n",
+        pct(h.board_part, 50), pct(h.board_part, 99), pct(h.board_part, 100));
+    std::printf(
+        "| link + host: written -> decoded (pty, read, deframe, decode) | %.3f | %.3f | %.3f |\n\n",
+        pct(h.link_part, 50), pct(h.link_part, 99), pct(h.link_part, 100));
+    std::printf(
+        "send -> receive (the client's own statistics, header send time to read): p50 %.3f ms, p99 "
+        "%.3f ms; "
+        "clock offset estimate %+.3f ms +- %.3f ms (true offset 0)\n\n",
+        static_cast<double>(h.stats.link_latency.percentile(50)) / 1e6,
+        static_cast<double>(h.stats.link_latency.percentile(99)) / 1e6,
+        static_cast<double>(h.stats.clock.offset_ns) / 1e6,
+        static_cast<double>(h.stats.clock.uncertainty_ns) / 1e6);
   } else {
     std::printf("## Throughput over a pty: %u predictions posted as fast as possible\n\n", burst);
-    std::printf("| posted | decoded | board drops | decoded/s | wire MB/s | mean wire bytes |\n|---|---|---|---|---|---|\n");
-    std::printf("| %u | %llu | %llu | %.0f | %.2f | %.1f |\n\n", posted, static_cast<unsigned long long>(h.predictions),
-                dropped, span > 0 ? static_cast<double>(h.predictions - 1) / span : 0.0,
+    std::printf(
+        "| posted | decoded | board drops | decoded/s | wire MB/s | mean wire bytes "
+        "|\n|---|---|---|---|---|---|\n");
+    std::printf("| %u | %llu | %llu | %.0f | %.2f | %.1f |\n\n", posted,
+                static_cast<unsigned long long>(h.predictions), dropped,
+                span > 0 ? static_cast<double>(h.predictions - 1) / span : 0.0,
                 span > 0 ? static_cast<double>(h.stats.frames.bytes) / span / 1e6 : 0.0,
                 sent ? static_cast<double>(bytes) / static_cast<double>(sent) : 0.0);
   }
@@ -289,9 +313,12 @@ int main(int argc, char** argv) {
   uint32_t burst = 50000;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string k = argv[i];
-    if (k == "--seconds") seconds = std::strtod(argv[i + 1], nullptr);
-    else if (k == "--burst") burst = static_cast<uint32_t>(std::strtoul(argv[i + 1], nullptr, 10));
-    else if (k == "--realtime") g_realtime = std::atoi(argv[i + 1]);
+    if (k == "--seconds")
+      seconds = std::strtod(argv[i + 1], nullptr);
+    else if (k == "--burst")
+      burst = static_cast<uint32_t>(std::strtoul(argv[i + 1], nullptr, 10));
+    else if (k == "--realtime")
+      g_realtime = std::atoi(argv[i + 1]);
   }
   double load[3] = {};
   if (::getloadavg(load, 3) == 3) {

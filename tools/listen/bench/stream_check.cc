@@ -1,7 +1,9 @@
 // tlvlink_stream_check: the stream end to end over any link, in two processes (or two machines,
 // or the emulated board and its USB host side):
-//   tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] [--embedding] [--hold S] [--boot-id N]
-//                              [--byte-errors P] [--byte-drops Q] [--seed S] [--wait-host S] [--images K]
+//   tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] [--embedding] [--hold S]
+//   [--boot-id N]
+//                              [--byte-errors P] [--byte-drops Q] [--seed S] [--wait-host S]
+//                              [--images K]
 //       a board: the Sender on LINK (make_transport: serial:PATH, pty:LINK, usb[:FFS_DIR,...])
 //       posting N fixture predictions at HZ (sensor n % 2: 120 Hz = two sensors at 60 fps; 0 = as
 //       fast as the poster can; every 10th frame also a grasp), Stats every second, answering
@@ -18,11 +20,12 @@
 //       a host: the Client on SOURCE (serial:PATH, usb[:VID:PID][,serial=S]); sends ping, info,
 //       start, closed 1, set bad=1; by default expects every prediction 0..N-1 intact and in order
 //       and each command answered (the last refused); --clean also no rejected frame, no
-//       sequence gap and no reconnect on either side. --lossy (a damaged link, a reader restarted, an unplug): predictions may be
-//       missing and resent ones repeated, but none may be corrupted or go backwards, and the
-//       last one (N-1) must arrive unless --no-commands (the corruption runs) ends the check when
-//       no prediction came for --idle S. --start-any: a reader started mid-stream counts from the
-//       first prediction it gets. --expect-reconnects K: the client reconnected at least K times;
+//       sequence gap and no reconnect on either side. --lossy (a damaged link, a reader restarted,
+//       an unplug): predictions may be missing and resent ones repeated, but none may be corrupted
+//       or go backwards, and the last one (N-1) must arrive unless --no-commands (the corruption
+//       runs) ends the check when no prediction came for --idle S. --start-any: a reader started
+//       mid-stream counts from the first prediction it gets. --expect-reconnects K: the client
+//       reconnected at least K times;
 //       --expect-board-reconnects K: the board's Stats report at least K reconnects. Prints what
 //       it got, figures as "note:" lines (the emulated board's report keeps them) and one
 //       "check-summary" line of key=value; exit 0 when all is well.
@@ -31,12 +34,12 @@
 // In this repository it runs over a pty (tests/listen); in the emulated board over CDC-ACM and
 // the FunctionFS gadget through dummy_hcd (tools/rig).
 
+#include <algorithm>
+#include <array>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <algorithm>
-#include <array>
 #include <memory>
 #include <set>
 #include <string>
@@ -47,14 +50,14 @@
 #if defined(TLVLINK_STREAM_CHECK_IMAGES)
 #include "tlvlink/image/jpeg.h"
 #endif
+#include "corrupting_transport.h"
+#include "stream_fixture.h"
 #include "tlvlink/listen/client.h"
 #include "tlvlink/listen/command_text.h"
 #include "tlvlink/protocol/names.h"
 #include "tlvlink/transport/sender.h"
 #include "tlvlink/transport/time.h"
 #include "tlvlink/transport/transport_spec.h"
-#include "corrupting_transport.h"
-#include "stream_fixture.h"
 
 namespace {
 
@@ -71,7 +74,8 @@ struct Args {
   double byte_errors = 0, byte_drops = 0;
   uint64_t boot_id = 0x5EED, seed = 1;
   uint32_t images = 0;
-  bool embedding = false, cut = false, clean = false, lossy = false, start_any = false, commands = true;
+  bool embedding = false, cut = false, clean = false, lossy = false, start_any = false,
+       commands = true;
 };
 
 bool parse(int argc, char** argv, Args& a) {
@@ -80,30 +84,54 @@ bool parse(int argc, char** argv, Args& a) {
   for (int i = 2; i < argc; ++i) {
     const std::string k = argv[i];
     auto value = [&]() -> const char* { return i + 1 < argc ? argv[++i] : ""; };
-    if (k == "--link") a.link = value();
-    else if (k == "--source") a.source = value();
-    else if (k == "--frames") a.frames = static_cast<uint32_t>(std::strtoul(value(), nullptr, 10));
-    else if (k == "--rate") a.rate = std::strtod(value(), nullptr);
-    else if (k == "--hold") a.hold_s = std::strtod(value(), nullptr);
-    else if (k == "--wait-host") a.wait_host_s = std::strtod(value(), nullptr);
-    else if (k == "--timeout") a.timeout_s = std::strtod(value(), nullptr);
-    else if (k == "--embedding") a.embedding = true;
-    else if (k == "--boot-id") a.boot_id = std::strtoull(value(), nullptr, 0);
-    else if (k == "--cut") a.cut = true;
-    else if (k == "--byte-errors") a.byte_errors = std::strtod(value(), nullptr);
-    else if (k == "--byte-drops") a.byte_drops = std::strtod(value(), nullptr);
-    else if (k == "--seed") a.seed = std::strtoull(value(), nullptr, 0);
-    else if (k == "--clean") a.clean = true;
-    else if (k == "--lossy") a.lossy = true;
-    else if (k == "--start-any") a.start_any = true;
-    else if (k == "--no-commands") a.commands = false;
-    else if (k == "--expect-reconnects") a.expect_reconnects = static_cast<uint32_t>(std::strtoul(value(), nullptr, 10));
-    else if (k == "--expect-board-reconnects") a.expect_board_reconnects = static_cast<uint32_t>(std::strtoul(value(), nullptr, 10));
-    else if (k == "--idle") a.idle_s = std::strtod(value(), nullptr);
-    else if (k == "--label") a.label = value();
-    else if (k == "--images") a.images = static_cast<uint32_t>(std::strtoul(value(), nullptr, 10));
-    else if (a.mode == "record" && a.file.empty()) a.file = k;
-    else return false;
+    if (k == "--link")
+      a.link = value();
+    else if (k == "--source")
+      a.source = value();
+    else if (k == "--frames")
+      a.frames = static_cast<uint32_t>(std::strtoul(value(), nullptr, 10));
+    else if (k == "--rate")
+      a.rate = std::strtod(value(), nullptr);
+    else if (k == "--hold")
+      a.hold_s = std::strtod(value(), nullptr);
+    else if (k == "--wait-host")
+      a.wait_host_s = std::strtod(value(), nullptr);
+    else if (k == "--timeout")
+      a.timeout_s = std::strtod(value(), nullptr);
+    else if (k == "--embedding")
+      a.embedding = true;
+    else if (k == "--boot-id")
+      a.boot_id = std::strtoull(value(), nullptr, 0);
+    else if (k == "--cut")
+      a.cut = true;
+    else if (k == "--byte-errors")
+      a.byte_errors = std::strtod(value(), nullptr);
+    else if (k == "--byte-drops")
+      a.byte_drops = std::strtod(value(), nullptr);
+    else if (k == "--seed")
+      a.seed = std::strtoull(value(), nullptr, 0);
+    else if (k == "--clean")
+      a.clean = true;
+    else if (k == "--lossy")
+      a.lossy = true;
+    else if (k == "--start-any")
+      a.start_any = true;
+    else if (k == "--no-commands")
+      a.commands = false;
+    else if (k == "--expect-reconnects")
+      a.expect_reconnects = static_cast<uint32_t>(std::strtoul(value(), nullptr, 10));
+    else if (k == "--expect-board-reconnects")
+      a.expect_board_reconnects = static_cast<uint32_t>(std::strtoul(value(), nullptr, 10));
+    else if (k == "--idle")
+      a.idle_s = std::strtod(value(), nullptr);
+    else if (k == "--label")
+      a.label = value();
+    else if (k == "--images")
+      a.images = static_cast<uint32_t>(std::strtoul(value(), nullptr, 10));
+    else if (a.mode == "record" && a.file.empty())
+      a.file = k;
+    else
+      return false;
   }
   return true;
 }
@@ -119,7 +147,8 @@ bool make_fixture_jpeg(FixtureImage& out) {
   return false;  // built without tlvlink_image
 #else
   std::vector<uint8_t> rgb(64 * 48 * 3);
-  for (size_t i = 0; i < rgb.size(); ++i) rgb[i] = static_cast<uint8_t>(90 + (i / 3) % 64 + (i % 3) * 30);
+  for (size_t i = 0; i < rgb.size(); ++i)
+    rgb[i] = static_cast<uint8_t>(90 + (i / 3) % 64 + (i % 3) * 30);
   image::JpegEncoder encoder;
   auto j = encoder.encode({rgb.data(), 64, 48, 3, 0}, 70, image::JpegEncoder::Subsampling::k420);
   if (!j.ok()) return false;
@@ -127,7 +156,8 @@ bool make_fixture_jpeg(FixtureImage& out) {
   return true;
 #endif
 }
-protocol::FrameImage fixture_image(const protocol::FramePrediction& p, uint32_t k, FixtureImage& storage) {
+protocol::FrameImage fixture_image(const protocol::FramePrediction& p, uint32_t k,
+                                   FixtureImage& storage) {
   storage.mask.fill(0);
   const uint32_t cell = (k * 37) % (32 * 24);
   storage.mask[cell / 8] = static_cast<uint8_t>(1u << (cell % 8));
@@ -148,14 +178,15 @@ protocol::FrameImage fixture_image(const protocol::FramePrediction& p, uint32_t 
 
 int board(const Args& a) {
   FixtureImage image;
-  if (a.images > 0 && !make_fixture_jpeg(image)) return std::fprintf(stderr, "board: no fixture JPEG (built without tlvlink_image?)\n"), 2;
+  if (a.images > 0 && !make_fixture_jpeg(image))
+    return std::fprintf(stderr, "board: no fixture JPEG (built without tlvlink_image?)\n"), 2;
   Result<std::unique_ptr<transport::Transport>> link = transport::make_transport(a.link);
   if (!link.ok()) return std::fprintf(stderr, "board: %s\n", link.error().message()), 2;
   std::unique_ptr<transport::Transport> wire = std::move(link.value());
   testing::CorruptingTransport* damage = nullptr;
   if (a.byte_errors > 0 || a.byte_drops > 0) {
-    auto t = std::make_unique<testing::CorruptingTransport>(std::move(wire),
-                                                            testing::ByteFaultRates{a.byte_errors, a.byte_drops, a.seed});
+    auto t = std::make_unique<testing::CorruptingTransport>(
+        std::move(wire), testing::ByteFaultRates{a.byte_errors, a.byte_drops, a.seed});
     damage = t.get();
     wire = std::move(t);
   }
@@ -183,13 +214,16 @@ int board(const Args& a) {
   int64_t next = monotonic_ns(), next_stats = next + 1'000'000'000;
   testing::PredictionStorage st;
   for (uint32_t n = 0; n < a.frames && !g_stop; ++n) {
-    const protocol::FramePrediction prediction = testing::fixture_prediction(n, st, a.embedding, monotonic_ns());
+    const protocol::FramePrediction prediction =
+        testing::fixture_prediction(n, st, a.embedding, monotonic_ns());
     (void)sender.post(prediction);
-    if (a.images > 0 && n % a.images == a.images - 1) (void)sender.post(fixture_image(prediction, n / a.images, image));
+    if (a.images > 0 && n % a.images == a.images - 1)
+      (void)sender.post(fixture_image(prediction, n / a.images, image));
     if (n % 10 == 9) {
       protocol::GraspPrediction g;
       g.grasp_id = n / 10;
-      g.status = (n / 10) % 2 ? protocol::GraspStatus::kNotComputed : protocol::GraspStatus::kComputed;
+      g.status =
+          (n / 10) % 2 ? protocol::GraspStatus::kNotComputed : protocol::GraspStatus::kComputed;
       g.probability = 0.75f;
       g.reason = (n / 10) % 2 ? protocol::GraspReason::kLateFinger : protocol::GraspReason::kNone;
       g.infer_end_ns = monotonic_ns();
@@ -203,34 +237,45 @@ int board(const Args& a) {
     const int64_t wait = next - monotonic_ns();
     if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
   }
-  for (int64_t end = monotonic_ns() + static_cast<int64_t>(a.hold_s * 1e9); monotonic_ns() < end && !g_stop;) {
+  for (int64_t end = monotonic_ns() + static_cast<int64_t>(a.hold_s * 1e9);
+       monotonic_ns() < end && !g_stop;) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   (void)sender.post(protocol::Stats{});
   sender.stop();
   const transport::SenderCounters c = sender.counters();
-  std::printf("board: posted %llu, sent %llu frames (%llu bytes, %llu delayed), dropped %llu queue_full %llu link_down, "
-              "%u reconnects, %llu commands (%llu refused)\n",
-              static_cast<unsigned long long>(c.posted), static_cast<unsigned long long>(c.frames_sent),
-              static_cast<unsigned long long>(c.bytes_sent), static_cast<unsigned long long>(c.delayed_sent),
-              static_cast<unsigned long long>(c.dropped_queue_full), static_cast<unsigned long long>(c.dropped_link_down),
-              c.reconnects, static_cast<unsigned long long>(c.commands), static_cast<unsigned long long>(c.commands_refused));
-  std::printf("note: board: %.1f wire bytes per frame (%llu frames, %llu bytes)\n",
-              c.frames_sent ? static_cast<double>(c.bytes_sent) / static_cast<double>(c.frames_sent) : 0.0,
-              static_cast<unsigned long long>(c.frames_sent), static_cast<unsigned long long>(c.bytes_sent));
+  std::printf(
+      "board: posted %llu, sent %llu frames (%llu bytes, %llu delayed), dropped %llu queue_full "
+      "%llu link_down, "
+      "%u reconnects, %llu commands (%llu refused)\n",
+      static_cast<unsigned long long>(c.posted), static_cast<unsigned long long>(c.frames_sent),
+      static_cast<unsigned long long>(c.bytes_sent),
+      static_cast<unsigned long long>(c.delayed_sent),
+      static_cast<unsigned long long>(c.dropped_queue_full),
+      static_cast<unsigned long long>(c.dropped_link_down), c.reconnects,
+      static_cast<unsigned long long>(c.commands),
+      static_cast<unsigned long long>(c.commands_refused));
+  std::printf(
+      "note: board: %.1f wire bytes per frame (%llu frames, %llu bytes)\n",
+      c.frames_sent ? static_cast<double>(c.bytes_sent) / static_cast<double>(c.frames_sent) : 0.0,
+      static_cast<unsigned long long>(c.frames_sent),
+      static_cast<unsigned long long>(c.bytes_sent));
   if (damage) {
     const testing::ByteFaultCounts d = damage->counts();
     std::printf("board-damage bytes=%llu corrupted=%llu dropped=%llu queue_drops=%llu\n",
-                static_cast<unsigned long long>(d.bytes), static_cast<unsigned long long>(d.corrupted),
+                static_cast<unsigned long long>(d.bytes),
+                static_cast<unsigned long long>(d.corrupted),
                 static_cast<unsigned long long>(d.dropped),
-                static_cast<unsigned long long>(c.dropped_queue_full + c.dropped_link_down + c.dropped_stale));
+                static_cast<unsigned long long>(c.dropped_queue_full + c.dropped_link_down +
+                                                c.dropped_stale));
   }
   return 0;
 }
 
 double percentile_ms(std::vector<int64_t>& v, double p) {
   if (v.empty()) return 0;
-  const size_t i = std::min(v.size() - 1, static_cast<size_t>(p / 100.0 * static_cast<double>(v.size())));
+  const size_t i =
+      std::min(v.size() - 1, static_cast<size_t>(p / 100.0 * static_cast<double>(v.size())));
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(i), v.end());
   return static_cast<double>(v[i]) / 1e6;
 }
@@ -245,7 +290,8 @@ int check(const Args& a) {
   bool sent = !a.commands, refused_ok = !a.commands;
   // Every prediction seen (by frame number), in arrival order checks.
   std::vector<bool> seen(a.frames, false);
-  std::vector<int64_t> added;  // post on the board -> decoded here (one CLOCK_MONOTONIC in one machine)
+  std::vector<int64_t>
+      added;  // post on the board -> decoded here (one CLOCK_MONOTONIC in one machine)
   added.reserve(a.frames);
   uint32_t next_frame = 0, out_of_order = 0, corrupted = 0, grasps = 0, acks = 0, pongs = 0;
   uint32_t unique = 0, duplicates = 0, backward = 0, beyond = 0, board_reconnects = 0;
@@ -263,7 +309,8 @@ int check(const Args& a) {
     if (last_frame == static_cast<int64_t>(a.frames) - 1 && answered) return true;
     // Without commands (a damaged link) the last prediction may itself be lost: stop when the
     // stream went quiet.
-    return !a.commands && first != 0 && monotonic_ns() - last > static_cast<int64_t>(a.idle_s * 1e9);
+    return !a.commands && first != 0 &&
+           monotonic_ns() - last > static_cast<int64_t>(a.idle_s * 1e9);
   };
   while (!g_stop && monotonic_ns() < deadline && !done()) {
     Result<std::optional<listen::Message>> m = client.next(100);
@@ -278,7 +325,8 @@ int check(const Args& a) {
     if (msg.type() == protocol::MessageType::kHello && !sent) {
       for (const char* text : commands) {
         Result<uint32_t> seq = client.send(listen::parse_command(text).value());
-        if (!seq.ok()) return std::fprintf(stderr, "check: sending '%s': %s\n", text, seq.error().message()), 1;
+        if (!seq.ok())
+          return std::fprintf(stderr, "check: sending '%s': %s\n", text, seq.error().message()), 1;
         awaiting.insert(seq.value());
         if (std::strncmp(text, "set bad", 7) == 0) refused_seq = seq.value();
       }
@@ -297,28 +345,32 @@ int check(const Args& a) {
       } else if (seen[n]) {
         ++duplicates;  // resent after a disconnect
         if (duplicates <= 5) {
-          std::printf("check: prediction %u again (frame sequence %u%s)\n", n, msg.sequence(), msg.delayed() ? ", delayed" : "");
+          std::printf("check: prediction %u again (frame sequence %u%s)\n", n, msg.sequence(),
+                      msg.delayed() ? ", delayed" : "");
         }
       } else {
         seen[n] = true;
         ++unique;
         if (static_cast<int64_t>(n) < last_frame && ++backward <= 5) {
-          std::printf("check: prediction %u after %lld (frame sequence %u%s)\n", n, static_cast<long long>(last_frame),
-                      msg.sequence(), msg.delayed() ? ", delayed" : "");
+          std::printf("check: prediction %u after %lld (frame sequence %u%s)\n", n,
+                      static_cast<long long>(last_frame), msg.sequence(),
+                      msg.delayed() ? ", delayed" : "");
         }
         if (first_frame < 0) first_frame = n;
         last_frame = std::max<int64_t>(last_frame, n);
         // Steady state only: not the backlog of a (re)connect (flagged delayed, or in the first
         // second after the first prediction arrived).
         if (first_decoded == 0) first_decoded = decoded_ns;
-        if (!msg.delayed() && decoded_ns - first_decoded > 1'000'000'000 && added.size() < added.capacity()) {
+        if (!msg.delayed() && decoded_ns - first_decoded > 1'000'000'000 &&
+            added.size() < added.capacity()) {
           added.push_back(decoded_ns - f.value().timing().capture_ns);
         }
       }
       if (first == 0) first = msg.receive_ns();
       last = msg.receive_ns();
     }
-    if (auto st = msg.stats(); st.ok()) board_reconnects = std::max(board_reconnects, st.value().link().reconnects);
+    if (auto st = msg.stats(); st.ok())
+      board_reconnects = std::max(board_reconnects, st.value().link().reconnects);
     if (msg.grasp_prediction().ok()) ++grasps;
     if (auto p = msg.pong(); p.ok()) awaiting.erase(p.value().command_sequence), ++pongs;
     if (auto k = msg.ack(); k.ok()) awaiting.erase(k.value().command_sequence), ++acks;
@@ -329,35 +381,49 @@ int check(const Args& a) {
   }
   const listen::LinkStats s = client.stats();
   const uint64_t reconnects = s.connects > 0 ? s.connects - 1 : 0;
-  const uint32_t counted_from = a.start_any && first_frame > 0 ? static_cast<uint32_t>(first_frame) : 0;
+  const uint32_t counted_from =
+      a.start_any && first_frame > 0 ? static_cast<uint32_t>(first_frame) : 0;
   const uint32_t expected = a.frames - counted_from;
   const uint32_t lost = expected - std::min(expected, unique);
   const double seconds = static_cast<double>(last - first) / 1e9;
   const double rate = seconds > 0 && unique > 1 ? (unique - 1) / seconds : 0.0;
   const protocol::DeframerCounters& r = s.frames;
-  std::printf("check: %u/%u predictions (%u out of order, %u corrupted, %u repeated, %u lost), %u grasps, %u acks, "
-              "%u pongs, %zu commands unanswered\n",
-              unique, expected, out_of_order, corrupted, duplicates, lost, grasps, acks, pongs, awaiting.size());
-  std::printf("check: %.1f predictions/s; link: %llu frames, %llu rejected, %llu gaps (%llu missing), %llu reconnects; "
-              "board reports %u reconnects\n",
-              rate, static_cast<unsigned long long>(r.frames), static_cast<unsigned long long>(r.rejected()),
-              static_cast<unsigned long long>(s.sequence_gaps), static_cast<unsigned long long>(s.frames_missing),
-              static_cast<unsigned long long>(reconnects), board_reconnects);
+  std::printf(
+      "check: %u/%u predictions (%u out of order, %u corrupted, %u repeated, %u lost), %u grasps, "
+      "%u acks, "
+      "%u pongs, %zu commands unanswered\n",
+      unique, expected, out_of_order, corrupted, duplicates, lost, grasps, acks, pongs,
+      awaiting.size());
+  std::printf(
+      "check: %.1f predictions/s; link: %llu frames, %llu rejected, %llu gaps (%llu missing), %llu "
+      "reconnects; "
+      "board reports %u reconnects\n",
+      rate, static_cast<unsigned long long>(r.frames),
+      static_cast<unsigned long long>(r.rejected()),
+      static_cast<unsigned long long>(s.sequence_gaps),
+      static_cast<unsigned long long>(s.frames_missing),
+      static_cast<unsigned long long>(reconnects), board_reconnects);
   const size_t n_added = added.size();
   const double p50 = percentile_ms(added, 50), p99 = percentile_ms(added, 99);
-  std::printf("note: %s: %u predictions at %.1f/s; added latency post->decoded p50 %.3f ms p99 %.3f ms (%zu samples after the first second, none delayed); "
-              "clock %+.3f ms +- %.3f ms\n",
-              a.label.c_str(), unique, rate, p50, p99, n_added, s.clock.offset_ns / 1e6, s.clock.uncertainty_ns / 1e6);
-  std::printf("check-summary label=%s expected=%u received=%u lost=%u repeated=%u corrupted_accepted=%u "
-              "rejected=%llu crc=%llu cobs=%llu truncated=%llu length=%llu other=%llu gaps=%llu missing=%llu "
-              "reconnects=%llu board_reconnects=%u rate=%.1f p50_ms=%.3f p99_ms=%.3f\n",
-              a.label.c_str(), expected, unique, lost, duplicates, corrupted,
-              static_cast<unsigned long long>(r.rejected()), static_cast<unsigned long long>(r.crc),
-              static_cast<unsigned long long>(r.cobs), static_cast<unsigned long long>(r.truncated),
-              static_cast<unsigned long long>(r.length),
-              static_cast<unsigned long long>(r.magic + r.version + r.flags + r.oversized),
-              static_cast<unsigned long long>(s.sequence_gaps), static_cast<unsigned long long>(s.frames_missing),
-              static_cast<unsigned long long>(reconnects), board_reconnects, rate, p50, p99);
+  std::printf(
+      "note: %s: %u predictions at %.1f/s; added latency post->decoded p50 %.3f ms p99 %.3f ms "
+      "(%zu samples after the first second, none delayed); "
+      "clock %+.3f ms +- %.3f ms\n",
+      a.label.c_str(), unique, rate, p50, p99, n_added, s.clock.offset_ns / 1e6,
+      s.clock.uncertainty_ns / 1e6);
+  std::printf(
+      "check-summary label=%s expected=%u received=%u lost=%u repeated=%u corrupted_accepted=%u "
+      "rejected=%llu crc=%llu cobs=%llu truncated=%llu length=%llu other=%llu gaps=%llu "
+      "missing=%llu "
+      "reconnects=%llu board_reconnects=%u rate=%.1f p50_ms=%.3f p99_ms=%.3f\n",
+      a.label.c_str(), expected, unique, lost, duplicates, corrupted,
+      static_cast<unsigned long long>(r.rejected()), static_cast<unsigned long long>(r.crc),
+      static_cast<unsigned long long>(r.cobs), static_cast<unsigned long long>(r.truncated),
+      static_cast<unsigned long long>(r.length),
+      static_cast<unsigned long long>(r.magic + r.version + r.flags + r.oversized),
+      static_cast<unsigned long long>(s.sequence_gaps),
+      static_cast<unsigned long long>(s.frames_missing),
+      static_cast<unsigned long long>(reconnects), board_reconnects, rate, p50, p99);
   // What must hold.
   std::vector<std::string> why;
   if (corrupted != 0) why.push_back("corrupted predictions accepted");
@@ -367,22 +433,27 @@ int check(const Args& a) {
   } else {
     if (backward != 0) why.push_back("predictions went backwards");
     if (unique == 0) why.push_back("no prediction");
-    if (a.commands && last_frame != static_cast<int64_t>(a.frames) - 1) why.push_back("the last prediction never came");
+    if (a.commands && last_frame != static_cast<int64_t>(a.frames) - 1)
+      why.push_back("the last prediction never came");
   }
-  if (a.commands && (!awaiting.empty() || !refused_ok)) why.push_back("commands unanswered or not refused");
+  if (a.commands && (!awaiting.empty() || !refused_ok))
+    why.push_back("commands unanswered or not refused");
   if (rejected_at_join != 0) {
-    std::printf("check: %llu rejected before the first intact frame (joined the stream mid-frame)\n",
-                static_cast<unsigned long long>(rejected_at_join));
+    std::printf(
+        "check: %llu rejected before the first intact frame (joined the stream mid-frame)\n",
+        static_cast<unsigned long long>(rejected_at_join));
   }
   if (a.clean && (r.rejected() != rejected_at_join || s.sequence_gaps != 0 || reconnects != 0 ||
                   board_reconnects != 0)) {
     why.push_back("rejected frames, gaps or reconnects on a clean link");
   }
   if (reconnects < a.expect_reconnects) why.push_back("the client did not reconnect");
-  if (board_reconnects < a.expect_board_reconnects) why.push_back("the board did not report its reconnect");
+  if (board_reconnects < a.expect_board_reconnects)
+    why.push_back("the board did not report its reconnect");
   std::string text;
   for (const std::string& w : why) text += (text.empty() ? "" : "; ") + w;
-  std::printf("check: %s%s%s\n", why.empty() ? "PASS" : "FAIL", why.empty() ? "" : ": ", text.c_str());
+  std::printf("check: %s%s%s\n", why.empty() ? "PASS" : "FAIL", why.empty() ? "" : ": ",
+              text.c_str());
   return why.empty() ? 0 : 1;
 }
 
@@ -390,13 +461,17 @@ int check(const Args& a) {
 
 int main(int argc, char** argv) {
   Args a;
-  if (!parse(argc, argv, a) || (a.mode == "board" && a.link.empty()) || (a.mode == "check" && a.source.empty()) ||
-      (a.mode == "record" && a.file.empty())) {
+  if (!parse(argc, argv, a) || (a.mode == "board" && a.link.empty()) ||
+      (a.mode == "check" && a.source.empty()) || (a.mode == "record" && a.file.empty())) {
     std::fprintf(stderr,
-                 "usage: tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] [--embedding] [--hold S] [--boot-id N] [--wait-host S]\n"
-                 "                                  [--byte-errors P] [--byte-drops Q] [--seed S] [--images K]\n"
-                 "       tlvlink_stream_check check --source SOURCE [--frames N] [--timeout S] [--clean | --lossy] [--start-any]\n"
-                 "                                  [--no-commands] [--expect-reconnects K] [--expect-board-reconnects K]\n"
+                 "usage: tlvlink_stream_check board --link LINK [--frames N] [--rate HZ] "
+                 "[--embedding] [--hold S] [--boot-id N] [--wait-host S]\n"
+                 "                                  [--byte-errors P] [--byte-drops Q] [--seed S] "
+                 "[--images K]\n"
+                 "       tlvlink_stream_check check --source SOURCE [--frames N] [--timeout S] "
+                 "[--clean | --lossy] [--start-any]\n"
+                 "                                  [--no-commands] [--expect-reconnects K] "
+                 "[--expect-board-reconnects K]\n"
                  "                                  [--idle S] [--label NAME]\n"
                  "       tlvlink_stream_check record FILE [--cut]\n");
     return 2;

@@ -22,8 +22,8 @@ struct PredictionStorage {
   std::array<uint32_t, 5> stages{};
   std::array<float, 32> embedding{};
 };
-protocol::FramePrediction fixture_prediction(uint32_t n, PredictionStorage& storage, bool with_embedding = false,
-                                             int64_t capture_ns = 0);
+protocol::FramePrediction fixture_prediction(uint32_t n, PredictionStorage& storage,
+                                             bool with_embedding = false, int64_t capture_ns = 0);
 // True when every field of `v` is what fixture_prediction(v.frame_sequence()) has.
 bool fixture_prediction_intact(const protocol::FramePredictionView& v);
 

@@ -28,7 +28,8 @@ Client::~Client() {
   if (impl_->recorder) (void)impl_->recorder->flush();
 }
 
-Result<std::unique_ptr<Client>> Client::open(std::string_view source, const ClientOptions& options) {
+Result<std::unique_ptr<Client>> Client::open(std::string_view source,
+                                             const ClientOptions& options) {
   auto impl = std::make_unique<Impl>();
   impl->source = std::string(source);
   impl->options = options;
@@ -44,26 +45,34 @@ Result<std::unique_ptr<Client>> Client::open(std::string_view source, const Clie
     TLV_ASSIGN_OR_RETURN(const UsbSelector selector, parse_usb_selector(source.substr(skip)));
     TLV_ASSIGN_OR_RETURN(impl->link, make_usb_host_transport(selector));
   } else if (scheme == "replay") {
-    TLV_ENSURE(source.size() > 7, ErrorCode::kInvalidArgument, "replay: needs a file (replay:FILE)");
+    TLV_ENSURE(source.size() > 7, ErrorCode::kInvalidArgument,
+               "replay: needs a file (replay:FILE)");
     TLV_ASSIGN_OR_RETURN(impl->replay, RecordingReader::open(std::string(source.substr(7))));
     impl->sent_deframer = std::make_unique<protocol::Deframer>();
   } else {
-    return Error::make(ErrorCode::kInvalidArgument,
-                       "source '%.*s': expected serial:PATH[,baud=N][,flow=rtscts], usb[:VID:PID][,serial=S] or "
-                       "replay:FILE", static_cast<int>(source.size()), source.data());
+    return Error::make(
+        ErrorCode::kInvalidArgument,
+        "source '%.*s': expected serial:PATH[,baud=N][,flow=rtscts], usb[:VID:PID][,serial=S] or "
+        "replay:FILE",
+        static_cast<int>(source.size()), source.data());
   }
   if (!options.record.empty()) {
-    TLV_ENSURE(impl->replay == nullptr, ErrorCode::kInvalidArgument, "--record with a replay: copy the file instead");
-    TLV_ASSIGN_OR_RETURN(impl->recorder, RecordingWriter::create(options.record, options.overwrite_record));
+    TLV_ENSURE(impl->replay == nullptr, ErrorCode::kInvalidArgument,
+               "--record with a replay: copy the file instead");
+    TLV_ASSIGN_OR_RETURN(impl->recorder,
+                         RecordingWriter::create(options.record, options.overwrite_record));
   }
   impl->sink = options.record_sink;
   return std::unique_ptr<Client>(new Client(std::move(impl)));
 }
 
-Result<std::unique_ptr<Client>> Client::open_replay(std::unique_ptr<RecordSource> records, std::string name,
+Result<std::unique_ptr<Client>> Client::open_replay(std::unique_ptr<RecordSource> records,
+                                                    std::string name,
                                                     const ClientOptions& options) {
-  TLV_ENSURE(records != nullptr, ErrorCode::kInvalidArgument, "replay %s: no records", name.c_str());
-  TLV_ENSURE(options.record.empty(), ErrorCode::kInvalidArgument, "--record with a replay: copy the file instead");
+  TLV_ENSURE(records != nullptr, ErrorCode::kInvalidArgument, "replay %s: no records",
+             name.c_str());
+  TLV_ENSURE(options.record.empty(), ErrorCode::kInvalidArgument,
+             "--record with a replay: copy the file instead");
   auto impl = std::make_unique<Impl>();
   impl->source = std::move(name);
   impl->options = options;
@@ -92,7 +101,8 @@ Status Client::run(const Handlers& handlers, const std::atomic<bool>* stop, int6
   const int64_t end = duration_ms < 0 ? INT64_MAX : monotonic_ns() + duration_ms * 1'000'000;
   for (;;) {
     const int64_t now = monotonic_ns();
-    const int step_ms = static_cast<int>(std::min<int64_t>(100, std::max<int64_t>(0, (end - now) / 1'000'000)));
+    const int step_ms =
+        static_cast<int>(std::min<int64_t>(100, std::max<int64_t>(0, (end - now) / 1'000'000)));
     Result<std::optional<Message>> m = next(step_ms);
     for (const LinkEvent& e : take_events()) {
       if (handlers.on_event) handlers.on_event(e);
@@ -118,8 +128,8 @@ Result<uint32_t> Client::send(const protocol::Command& command) {
   static thread_local std::byte wire[protocol::kMaxWireFrameSize];
   {
     std::lock_guard lock(s.mutex);
-    TLV_ENSURE(s.stats.link_up, ErrorCode::kTransportUnavailable, "%s is not connected%s%s", s.source.c_str(),
-               s.down_reason.empty() ? "" : ": ", s.down_reason.c_str());
+    TLV_ENSURE(s.stats.link_up, ErrorCode::kTransportUnavailable, "%s is not connected%s%s",
+               s.source.c_str(), s.down_reason.empty() ? "" : ": ", s.down_reason.c_str());
     protocol::FrameHeader h;
     h.sequence = s.next_sequence++;
     h.send_ns = monotonic_ns();

@@ -14,12 +14,14 @@ void Client::Impl::event(LinkEvent::Kind kind, std::string text, int64_t time_ns
 }
 
 bool Client::Impl::is_internal(uint32_t sequence) const {
-  return std::find(internal_sequences.begin(), internal_sequences.end(), sequence) != internal_sequences.end();
+  return std::find(internal_sequences.begin(), internal_sequences.end(), sequence) !=
+         internal_sequences.end();
 }
 
 void Client::Impl::note_internal(uint32_t sequence) {
   constexpr size_t kRemembered = 64;  // replies come back within a few; older ones are forgotten
-  if (internal_sequences.size() == kRemembered) internal_sequences.erase(internal_sequences.begin());
+  if (internal_sequences.size() == kRemembered)
+    internal_sequences.erase(internal_sequences.begin());
   internal_sequences.push_back(sequence);
 }
 
@@ -73,9 +75,11 @@ void Client::Impl::on_frame(const protocol::ReceivedFrame& f, int64_t t) {
       version_reported = true;
       char text[200];
       std::snprintf(text, sizeof(text),
-                    "the board speaks stream protocol %u.%u; this client speaks %u.%u: its frames are refused "
+                    "the board speaks stream protocol %u.%u; this client speaks %u.%u: its frames "
+                    "are refused "
                     "(update the client or the board)",
-                    f.header.version_major, f.header.version_minor, protocol::kVersionMajor, protocol::kVersionMinor);
+                    f.header.version_major, f.header.version_minor, protocol::kVersionMajor,
+                    protocol::kVersionMinor);
       event(LinkEvent::Kind::kVersionMismatch, text, t);
     }
     return;
@@ -130,7 +134,8 @@ void Client::Impl::on_frame(const protocol::ReceivedFrame& f, int64_t t) {
   if (stats.clock.valid) {
     stats.link_latency.add(t - clock.board_to_host(f.header.send_ns));
     if (f.header.type == MessageType::kFramePrediction) {
-      stats.capture_latency.add(t - clock.board_to_host(m.frame_prediction().value().timing().capture_ns));
+      stats.capture_latency.add(
+          t - clock.board_to_host(m.frame_prediction().value().timing().capture_ns));
     }
   }
   if (deliver) ready.push_back(std::move(m));

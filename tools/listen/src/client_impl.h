@@ -23,11 +23,11 @@ namespace tlvlink::listen {
 struct Client::Impl {
   std::string source;
   ClientOptions options;
-  std::unique_ptr<transport::Transport> link;   // live sources
-  std::unique_ptr<RecordSource> replay;         // replay sources
-  std::unique_ptr<RecordingWriter> recorder;    // --record FILE (.tlvrec)
-  RecordSink* sink = nullptr;                   // options.record_sink (borrowed)
-  std::optional<Error> record_error;            // the write that failed; recording stopped
+  std::unique_ptr<transport::Transport> link;  // live sources
+  std::unique_ptr<RecordSource> replay;        // replay sources
+  std::unique_ptr<RecordingWriter> recorder;   // --record FILE (.tlvrec)
+  RecordSink* sink = nullptr;                  // options.record_sink (borrowed)
+  std::optional<Error> record_error;           // the write that failed; recording stopped
   std::unique_ptr<protocol::Deframer> deframer = std::make_unique<protocol::Deframer>();
   std::unique_ptr<protocol::Deframer> sent_deframer;  // replay: the client's own commands
   std::deque<Message> ready;
@@ -78,7 +78,7 @@ struct Client::Impl {
   void event(LinkEvent::Kind kind, std::string text, int64_t time_ns);
   bool is_internal(uint32_t sequence) const;
   void note_internal(uint32_t sequence);
-  void note_sent(uint32_t sequence, int64_t send_ns);      // with mutex held
+  void note_sent(uint32_t sequence, int64_t send_ns);         // with mutex held
   bool sent_by_us(uint32_t sequence, int64_t send_ns) const;  // with mutex held
   void record(RecordKind kind, int64_t time_ns, std::span<const std::byte> data);
 };

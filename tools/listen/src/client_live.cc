@@ -9,7 +9,7 @@
 
 namespace tlvlink::listen {
 namespace {
-constexpr int kBurstSyncs = 3;        // quick TimeSyncs after a connect: a good estimate at once
+constexpr int kBurstSyncs = 3;  // quick TimeSyncs after a connect: a good estimate at once
 constexpr int64_t kBurstGapNs = 50'000'000;
 constexpr int64_t kInfoAfterNs = 300'000'000;
 }  // namespace
@@ -87,7 +87,8 @@ Status Client::Impl::pump_live(int64_t deadline) {
     if (now >= deadline) return Status();
     if (!link->is_open()) {
       if (now < next_open_ns) {
-        std::this_thread::sleep_for(std::chrono::nanoseconds(std::min(deadline, next_open_ns) - now));
+        std::this_thread::sleep_for(
+            std::chrono::nanoseconds(std::min(deadline, next_open_ns) - now));
         continue;
       }
       Status opened = link->open();
@@ -115,10 +116,13 @@ Status Client::Impl::pump_live(int64_t deadline) {
       {
         std::lock_guard lock(mutex);
         const protocol::ClockEstimate e = clock.estimate(now);
-        if (e.valid) sync.clock_offset_ns = e.offset_ns, sync.clock_uncertainty_ns = std::max<int64_t>(1, e.uncertainty_ns);
+        if (e.valid)
+          sync.clock_offset_ns = e.offset_ns,
+          sync.clock_uncertainty_ns = std::max<int64_t>(1, e.uncertainty_ns);
       }
       (void)queue_own(sync);
-      next_sync_ns = now + (burst_syncs > 0 ? kBurstGapNs : int64_t{options.time_sync_ms} * 1'000'000);
+      next_sync_ns =
+          now + (burst_syncs > 0 ? kBurstGapNs : int64_t{options.time_sync_ms} * 1'000'000);
       if (burst_syncs > 0) --burst_syncs;
     }
     bool want_write;
@@ -129,7 +133,8 @@ Status Client::Impl::pump_live(int64_t deadline) {
     int64_t until = deadline;
     if (options.time_sync_ms > 0) until = std::min(until, next_sync_ns);
     if (info_due_ns != 0) until = std::min(until, info_due_ns);
-    const int wait_ms = static_cast<int>(std::clamp<int64_t>((until - now + 999'999) / 1'000'000, 0, 1000));
+    const int wait_ms =
+        static_cast<int>(std::clamp<int64_t>((until - now + 999'999) / 1'000'000, 0, 1000));
     Result<transport::Readiness> r = link->wait(want_write, wait_ms);
     if (!r.ok()) {
       if (!options.reconnect) return r.error();

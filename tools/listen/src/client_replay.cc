@@ -15,7 +15,8 @@ Status Client::Impl::pump_replay(int64_t deadline) {
       if (!more) {
         ended = true;
         event(LinkEvent::Kind::kEndOfRecording,
-              replay->truncated() ? "end of recording (its last record was cut short)" : "end of recording",
+              replay->truncated() ? "end of recording (its last record was cut short)"
+                                  : "end of recording",
               transport::monotonic_ns());
         return Status();
       }
@@ -42,7 +43,8 @@ Status Client::Impl::pump_replay(int64_t deadline) {
           ++stats.connects;
           stats.link_up = true;
         }
-        event(LinkEvent::Kind::kConnected, std::string(reinterpret_cast<const char*>(r.data.data()), r.data.size()), r.time_ns);
+        event(LinkEvent::Kind::kConnected,
+              std::string(reinterpret_cast<const char*>(r.data.data()), r.data.size()), r.time_ns);
         break;
       }
       case RecordKind::kLinkDown: {
@@ -51,7 +53,8 @@ Status Client::Impl::pump_replay(int64_t deadline) {
           ++stats.disconnects;
           stats.link_up = false;
         }
-        event(LinkEvent::Kind::kDisconnected, std::string(reinterpret_cast<const char*>(r.data.data()), r.data.size()), r.time_ns);
+        event(LinkEvent::Kind::kDisconnected,
+              std::string(reinterpret_cast<const char*>(r.data.data()), r.data.size()), r.time_ns);
         break;
       }
       case RecordKind::kSentAuto:

@@ -10,7 +10,9 @@ namespace {
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\n' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() &&
+         (s.back() == ' ' || s.back() == '\t' || s.back() == '\n' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 
@@ -18,9 +20,10 @@ template <typename T>
 Result<T> number(std::string_view text, std::string_view what, uint64_t max) {
   uint64_t v = 0;
   const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
-  TLV_ENSURE(r.ec == std::errc() && r.ptr == text.data() + text.size() && v <= max, ErrorCode::kInvalidArgument,
-             "command: %.*s '%.*s' is not a number up to %llu", static_cast<int>(what.size()), what.data(),
-             static_cast<int>(text.size()), text.data(), static_cast<unsigned long long>(max));
+  TLV_ENSURE(r.ec == std::errc() && r.ptr == text.data() + text.size() && v <= max,
+             ErrorCode::kInvalidArgument, "command: %.*s '%.*s' is not a number up to %llu",
+             static_cast<int>(what.size()), what.data(), static_cast<int>(text.size()), text.data(),
+             static_cast<unsigned long long>(max));
   return static_cast<T>(v);
 }
 
@@ -31,16 +34,20 @@ Result<protocol::Command> parse_command(std::string_view text) {
   text = trim(text);
   const size_t space = text.find(' ');
   std::string_view verb = text.substr(0, space);
-  const std::string_view arg = space == std::string_view::npos ? std::string_view() : trim(text.substr(space + 1));
+  const std::string_view arg =
+      space == std::string_view::npos ? std::string_view() : trim(text.substr(space + 1));
   protocol::Command c;
   if (verb == "closed") verb = "grasp_closed";
   if (verb == "lifting") verb = "grasp_lifting";
   if (verb == "set") verb = "set_config";
   if (verb == "sync" || verb == "timesync") verb = "time_sync";
   const std::string verb_text(verb);
-  TLV_ENSURE(!verb.empty() && protocol::command_kind_from_name(verb_text.c_str(), c.kind), ErrorCode::kInvalidArgument,
-             "unknown command '%.*s' (start [SENSOR], stop [SENSOR], closed ID, lifting ID, rezero [SENSOR], "
-             "set KEY=VALUE, info, ping, time_sync)", static_cast<int>(text.size()), text.data());
+  TLV_ENSURE(!verb.empty() && protocol::command_kind_from_name(verb_text.c_str(), c.kind),
+             ErrorCode::kInvalidArgument,
+             "unknown command '%.*s' (start [SENSOR], stop [SENSOR], closed ID, lifting ID, rezero "
+             "[SENSOR], "
+             "set KEY=VALUE, info, ping, time_sync)",
+             static_cast<int>(text.size()), text.data());
   switch (c.kind) {
     case CommandKind::kStart:
     case CommandKind::kStop:
@@ -60,7 +67,8 @@ Result<protocol::Command> parse_command(std::string_view text) {
     case CommandKind::kSetConfig: {
       const size_t eq = arg.find('=');
       TLV_ENSURE(eq != std::string_view::npos && eq > 0, ErrorCode::kInvalidArgument,
-                 "command 'set' needs KEY=VALUE, got '%.*s'", static_cast<int>(arg.size()), arg.data());
+                 "command 'set' needs KEY=VALUE, got '%.*s'", static_cast<int>(arg.size()),
+                 arg.data());
       c.key = trim(arg.substr(0, eq));
       c.value = trim(arg.substr(eq + 1));
       break;

@@ -13,7 +13,9 @@ namespace {
 
 using nlohmann::ordered_json;
 
-ordered_json number_or_null(float v) { return std::isnan(v) ? ordered_json(nullptr) : ordered_json(v); }
+ordered_json number_or_null(float v) {
+  return std::isnan(v) ? ordered_json(nullptr) : ordered_json(v);
+}
 
 std::string hex64(uint64_t v) {
   char buf[17];
@@ -50,8 +52,14 @@ void hello_json(const protocol::HelloView& h, ordered_json& j) {
   ordered_json sensors = ordered_json::array();
   for (size_t i = 0; i < h.sensor_count(); ++i) {
     const protocol::SensorInfo s = h.sensor(i);
-    sensors.push_back({{"index", s.index}, {"name", s.name}, {"model", s.model}, {"serial", s.serial},
-                       {"pixel_format", s.pixel_format}, {"width", s.width}, {"height", s.height}, {"fps", s.fps}});
+    sensors.push_back({{"index", s.index},
+                       {"name", s.name},
+                       {"model", s.model},
+                       {"serial", s.serial},
+                       {"pixel_format", s.pixel_format},
+                       {"width", s.width},
+                       {"height", s.height},
+                       {"fps", s.fps}});
   }
   j["sensors"] = sensors;
   ordered_json heads = ordered_json::array();
@@ -59,9 +67,13 @@ void hello_json(const protocol::HelloView& h, ordered_json& j) {
     const protocol::HeadInfoView v = h.head(i);
     ordered_json labels = ordered_json::array();
     for (size_t k = 0; k < v.label_count(); ++k) labels.push_back(v.label(k));
-    heads.push_back({{"name", v.name()}, {"kind", enum_json(v.kind(), protocol::head_kind_name)}, {"labels", labels},
-                     {"accuracy", number_or_null(v.accuracy())}, {"majority_rate", number_or_null(v.majority_rate())},
-                     {"accuracy_ci95", {number_or_null(v.accuracy_ci_low()), number_or_null(v.accuracy_ci_high())}},
+    heads.push_back({{"name", v.name()},
+                     {"kind", enum_json(v.kind(), protocol::head_kind_name)},
+                     {"labels", labels},
+                     {"accuracy", number_or_null(v.accuracy())},
+                     {"majority_rate", number_or_null(v.majority_rate())},
+                     {"accuracy_ci95",
+                      {number_or_null(v.accuracy_ci_low()), number_or_null(v.accuracy_ci_high())}},
                      {"balanced_accuracy", number_or_null(v.balanced_accuracy())},
                      {"baseline_accuracy", number_or_null(v.baseline_accuracy())},
                      {"groups", v.groups()}});
@@ -75,7 +87,8 @@ void hello_json(const protocol::HelloView& h, ordered_json& j) {
   j["max_frame_size"] = h.max_frame_size();
 }
 
-void frame_json(const Message& m, const protocol::FramePredictionView& f, const FormatContext& c, ordered_json& j) {
+void frame_json(const Message& m, const protocol::FramePredictionView& f, const FormatContext& c,
+                ordered_json& j) {
   j["sensor"] = f.sensor();
   const std::string_view name = sensor_name(c, f.sensor());
   if (!name.empty()) j["sensor_name"] = name;
@@ -87,7 +100,8 @@ void frame_json(const Message& m, const protocol::FramePredictionView& f, const 
   if (m.clock().valid) j["capture_host_ns"] = m.to_host_ns(t.capture_ns);
   j["stage_ns"] = std::vector<uint32_t>(f.stage_ns().begin(), f.stage_ns().end());
   j["contact"] = f.contact();
-  Result<protocol::HelloView> hello = c.hello ? c.hello->hello() : Result<protocol::HelloView>(Error(ErrorCode::kInvalidState, ""));
+  Result<protocol::HelloView> hello =
+      c.hello ? c.hello->hello() : Result<protocol::HelloView>(Error(ErrorCode::kInvalidState, ""));
   ordered_json heads = ordered_json::array();
   for (size_t i = 0; i < f.head_count(); ++i) {
     const protocol::HeadOutput h = f.head(i);
@@ -101,13 +115,15 @@ void frame_json(const Message& m, const protocol::FramePredictionView& f, const 
       for (size_t k = 1; k < h.probabilities.size(); ++k) {
         if (h.probabilities[k] > h.probabilities[top]) top = k;
       }
-      if (named && top < hello.value().head(h.head).label_count()) o["top_label"] = hello.value().head(h.head).label(top);
+      if (named && top < hello.value().head(h.head).label_count())
+        o["top_label"] = hello.value().head(h.head).label(top);
       o["top_probability"] = h.probabilities[top];
     }
     heads.push_back(o);
   }
   j["heads"] = heads;
-  if (!f.embedding().empty()) j["embedding"] = std::vector<float>(f.embedding().begin(), f.embedding().end());
+  if (!f.embedding().empty())
+    j["embedding"] = std::vector<float>(f.embedding().begin(), f.embedding().end());
 }
 
 void grasp_json(const protocol::GraspPredictionView& g, ordered_json& j) {
@@ -119,8 +135,10 @@ void grasp_json(const protocol::GraspPredictionView& g, ordered_json& j) {
   ordered_json frames = ordered_json::array();
   for (size_t i = 0; i < g.frame_count(); ++i) {
     const protocol::GraspFrame f = g.frame(i);
-    frames.push_back({{"sensor", f.sensor}, {"phase", enum_json(f.phase, protocol::grasp_phase_name)},
-                      {"frame_sequence", f.frame_sequence}, {"capture_ns", f.capture_ns}});
+    frames.push_back({{"sensor", f.sensor},
+                      {"phase", enum_json(f.phase, protocol::grasp_phase_name)},
+                      {"frame_sequence", f.frame_sequence},
+                      {"capture_ns", f.capture_ns}});
   }
   j["frames"] = frames;
   j["phase_source"] = enum_json(g.phase_source(), protocol::phase_source_name);
@@ -134,31 +152,44 @@ void stats_message_json(const protocol::StatsView& s, ordered_json& j) {
   ordered_json sensors = ordered_json::array();
   for (size_t i = 0; i < s.sensor_count(); ++i) {
     const protocol::SensorStats x = s.sensor(i);
-    sensors.push_back({{"sensor", x.sensor}, {"fps", x.fps}, {"frames", x.frames}, {"inferred", x.inferred}, {"gated", x.gated}});
+    sensors.push_back({{"sensor", x.sensor},
+                       {"fps", x.fps},
+                       {"frames", x.frames},
+                       {"inferred", x.inferred},
+                       {"gated", x.gated}});
   }
   j["sensors"] = sensors;
   ordered_json drops = ordered_json::array();
   for (size_t i = 0; i < s.drop_count(); ++i) {
     const protocol::DropCount d = s.drop(i);
-    drops.push_back({{"cause", enum_json(d.cause, protocol::drop_cause_name)}, {"count", d.count}, {"sensor", d.sensor}});
+    drops.push_back({{"cause", enum_json(d.cause, protocol::drop_cause_name)},
+                     {"count", d.count},
+                     {"sensor", d.sensor}});
   }
   j["drops"] = drops;
   j["cpu_percent"] = number_or_null(s.cpu_percent());
   j["cpu_cores"] = s.cpu_cores();
   j["rss_bytes"] = s.rss_bytes();
   const protocol::LinkStats l = s.link();
-  j["link"] = {{"link_up", l.link_up}, {"reconnects", l.reconnects}, {"frames_sent", l.frames_sent},
-               {"bytes_sent", l.bytes_sent}, {"frames_received", l.frames_received},
-               {"frames_rejected", l.frames_rejected}, {"queue_messages", l.queue_messages},
-               {"queue_bytes", l.queue_bytes}, {"queue_capacity_bytes", l.queue_capacity_bytes}};
+  j["link"] = {{"link_up", l.link_up},
+               {"reconnects", l.reconnects},
+               {"frames_sent", l.frames_sent},
+               {"bytes_sent", l.bytes_sent},
+               {"frames_received", l.frames_received},
+               {"frames_rejected", l.frames_rejected},
+               {"queue_messages", l.queue_messages},
+               {"queue_bytes", l.queue_bytes},
+               {"queue_capacity_bytes", l.queue_capacity_bytes}};
 }
 
 std::string base64(std::span<const uint8_t> bytes) {
-  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   out.reserve((bytes.size() + 2) / 3 * 4);
   for (size_t i = 0; i < bytes.size(); i += 3) {
-    const uint32_t n = (uint32_t{bytes[i]} << 16) | (i + 1 < bytes.size() ? uint32_t{bytes[i + 1]} << 8 : 0) |
+    const uint32_t n = (uint32_t{bytes[i]} << 16) |
+                       (i + 1 < bytes.size() ? uint32_t{bytes[i + 1]} << 8 : 0) |
                        (i + 2 < bytes.size() ? uint32_t{bytes[i + 2]} : 0);
     out += kAlphabet[(n >> 18) & 63];
     out += kAlphabet[(n >> 12) & 63];
@@ -170,7 +201,8 @@ std::string base64(std::span<const uint8_t> bytes) {
 
 // The mask as one string of '0'/'1' per row of cells: readable in a JSON line, and the same in
 // every language.
-void frame_image_json(const Message& m, const protocol::FrameImage& f, const FormatContext& c, ordered_json& j) {
+void frame_image_json(const Message& m, const protocol::FrameImage& f, const FormatContext& c,
+                      ordered_json& j) {
   j["sensor"] = f.sensor;
   const std::string_view name = sensor_name(c, f.sensor);
   if (!name.empty()) j["sensor_name"] = name;
@@ -222,7 +254,8 @@ std::string json_line(const Message& m, const FormatContext& c) {
       break;
     case protocol::MessageType::kError:
       if (auto e = m.error_report(); e.ok()) {
-        j["code"] = e.value().code, j["name"] = e.value().name, j["text"] = e.value().text, j["sensor"] = e.value().sensor;
+        j["code"] = e.value().code, j["name"] = e.value().name, j["text"] = e.value().text,
+        j["sensor"] = e.value().sensor;
       }
       break;
     case protocol::MessageType::kAck:
@@ -243,7 +276,8 @@ std::string json_line(const Message& m, const FormatContext& c) {
         j["command_sequence"] = p.value().command_sequence;
         j["host_send_ns"] = p.value().host_send_ns;
         j["board_receive_ns"] = p.value().board_receive_ns;
-        j["round_trip_ns"] = (m.receive_ns() - p.value().host_send_ns) - (m.send_ns() - p.value().board_receive_ns);
+        j["round_trip_ns"] =
+            (m.receive_ns() - p.value().host_send_ns) - (m.send_ns() - p.value().board_receive_ns);
       }
       break;
     case protocol::MessageType::kFrameImage:
@@ -261,8 +295,10 @@ std::string stats_json(const LinkStats& s) {
   ordered_json j;
   j["bytes"] = f.bytes;
   j["frames"] = f.frames;
-  j["rejected"] = {{"oversized", f.oversized}, {"cobs", f.cobs}, {"truncated", f.truncated}, {"crc", f.crc},
-                   {"magic", f.magic}, {"version", f.version}, {"length", f.length}, {"flags", f.flags}};
+  j["rejected"] = {{"oversized", f.oversized}, {"cobs", f.cobs},
+                   {"truncated", f.truncated}, {"crc", f.crc},
+                   {"magic", f.magic},         {"version", f.version},
+                   {"length", f.length},       {"flags", f.flags}};
   j["discarded_bytes"] = f.discarded_bytes;
   j["messages"] = s.messages;
   j["unknown_types"] = s.unknown_types;
@@ -276,12 +312,17 @@ std::string stats_json(const LinkStats& s) {
   j["disconnects"] = s.disconnects;
   j["link_up"] = s.link_up;
   auto latency = [](const LatencyWindow& w) {
-    return ordered_json{{"count", w.count()}, {"p50_ns", w.percentile(50)}, {"p99_ns", w.percentile(99)}, {"max_ns", w.max()}};
+    return ordered_json{{"count", w.count()},
+                        {"p50_ns", w.percentile(50)},
+                        {"p99_ns", w.percentile(99)},
+                        {"max_ns", w.max()}};
   };
   j["link_latency"] = latency(s.link_latency);
   j["capture_latency"] = latency(s.capture_latency);
   j["round_trip"] = latency(s.round_trip);
-  j["clock"] = {{"valid", s.clock.valid}, {"offset_ns", s.clock.offset_ns}, {"uncertainty_ns", s.clock.uncertainty_ns}};
+  j["clock"] = {{"valid", s.clock.valid},
+                {"offset_ns", s.clock.offset_ns},
+                {"uncertainty_ns", s.clock.uncertainty_ns}};
   return j.dump();
 }
 

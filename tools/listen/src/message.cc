@@ -6,8 +6,12 @@
 
 namespace tlvlink::listen {
 
-Message::Message(const protocol::FrameHeader& header, std::span<const std::byte> payload, int64_t receive_ns)
-    : header_(header), receive_ns_(receive_ns), storage_((payload.size() + 7) / 8), size_(payload.size()) {
+Message::Message(const protocol::FrameHeader& header, std::span<const std::byte> payload,
+                 int64_t receive_ns)
+    : header_(header),
+      receive_ns_(receive_ns),
+      storage_((payload.size() + 7) / 8),
+      size_(payload.size()) {
   if (size_ > 0) std::memcpy(storage_.data(), payload.data(), size_);
 }
 

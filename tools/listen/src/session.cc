@@ -17,10 +17,12 @@ namespace {
 
 using transport::monotonic_ns;
 
-// Commands typed on stdin, read by a helper thread (poll with a timeout so it ends with the session).
+// Commands typed on stdin, read by a helper thread (poll with a timeout so it ends with the
+// session).
 class StdinCommands {
  public:
-  StdinCommands(Client& client, std::FILE* log, const std::atomic<bool>& stop) : client_(client), log_(log), stop_(stop) {
+  StdinCommands(Client& client, std::FILE* log, const std::atomic<bool>& stop)
+      : client_(client), log_(log), stop_(stop) {
     thread_ = std::thread([this] { loop(); });
   }
   ~StdinCommands() {
@@ -43,8 +45,10 @@ class StdinCommands {
         if (text.find_first_not_of(" \t\r") == std::string::npos) continue;
         Result<protocol::Command> c = parse_command(text);
         Result<uint32_t> seq = c.ok() ? client_.send(c.value()) : Result<uint32_t>(c.error());
-        if (!seq.ok()) std::fprintf(log_, "# command '%s': %s\n", text.c_str(), seq.error().message());
-        else std::fprintf(log_, "# sent #%u %s\n", seq.value(), text.c_str());
+        if (!seq.ok())
+          std::fprintf(log_, "# command '%s': %s\n", text.c_str(), seq.error().message());
+        else
+          std::fprintf(log_, "# sent #%u %s\n", seq.value(), text.c_str());
       }
     }
   }
@@ -57,7 +61,8 @@ class StdinCommands {
 
 }  // namespace
 
-Result<int> run_session(const SessionOptions& o, std::FILE* out, std::FILE* log, const std::atomic<bool>& stop) {
+Result<int> run_session(const SessionOptions& o, std::FILE* out, std::FILE* log,
+                        const std::atomic<bool>& stop) {
   // Commands are checked before anything is opened: a typo is a usage error.
   std::vector<protocol::Command> commands;
   for (const std::string& text : o.commands) {
@@ -73,13 +78,15 @@ Result<int> run_session(const SessionOptions& o, std::FILE* out, std::FILE* log,
   bool sent = commands.empty(), refused = false;
   uint64_t predictions = 0;
   const int64_t start = monotonic_ns();
-  int64_t next_stats = o.stats_every_ms > 0 ? start + int64_t{o.stats_every_ms} * 1'000'000 : INT64_MAX;
+  int64_t next_stats =
+      o.stats_every_ms > 0 ? start + int64_t{o.stats_every_ms} * 1'000'000 : INT64_MAX;
   int64_t replies_deadline = INT64_MAX;
   std::optional<Message> hello;
 
   auto print_stats = [&] {
     const LinkStats s = client->stats();
-    if (o.json) std::fprintf(out, "{\"type\":\"link_stats\",\"stats\":%s}\n", stats_json(s).c_str());
+    if (o.json)
+      std::fprintf(out, "{\"type\":\"link_stats\",\"stats\":%s}\n", stats_json(s).c_str());
     std::fprintf(log, "%s", stats_text(s).c_str());
     std::fflush(out);
   };
@@ -98,7 +105,8 @@ Result<int> run_session(const SessionOptions& o, std::FILE* out, std::FILE* log,
       std::fprintf(log, "# %s: %s\n", link_event_name(e.kind), e.text.c_str());
     }
     if (!r.ok()) {
-      std::fprintf(log, "tlvlink listen: error [%s]: %s\n", error_code_name(r.error().code()), r.error().message());
+      std::fprintf(log, "tlvlink listen: error [%s]: %s\n", error_code_name(r.error().code()),
+                   r.error().message());
       print_stats();
       return 1;
     }
@@ -113,7 +121,8 @@ Result<int> run_session(const SessionOptions& o, std::FILE* out, std::FILE* log,
     std::fflush(out);
     for (MessageSink* sink : o.sinks) {
       if (Status st = sink->on_message(m, context); !st.ok()) {
-        std::fprintf(log, "tlvlink listen: error [%s]: %s\n", error_code_name(st.error().code()), st.error().message());
+        std::fprintf(log, "tlvlink listen: error [%s]: %s\n", error_code_name(st.error().code()),
+                     st.error().message());
         print_stats();
         return 1;
       }
@@ -122,10 +131,13 @@ Result<int> run_session(const SessionOptions& o, std::FILE* out, std::FILE* log,
     uint32_t answered = 0;
     bool have_answer = false, ok = true;
     if (auto a = m.ack(); a.ok()) answered = a.value().command_sequence, have_answer = true;
-    if (auto n = m.nack(); n.ok()) answered = n.value().command_sequence, have_answer = true, ok = false;
+    if (auto n = m.nack(); n.ok())
+      answered = n.value().command_sequence, have_answer = true, ok = false;
     if (auto p = m.pong(); p.ok()) answered = p.value().command_sequence, have_answer = true;
     if (have_answer && awaiting.erase(answered) > 0 && !ok) refused = true;
-    if (m.type() == protocol::MessageType::kFramePrediction && o.max_predictions > 0 && ++predictions >= o.max_predictions) break;
+    if (m.type() == protocol::MessageType::kFramePrediction && o.max_predictions > 0 &&
+        ++predictions >= o.max_predictions)
+      break;
     // Commands go once the board has greeted us (it is there and listening).
     if (!sent && hello) {
       for (size_t i = 0; i < commands.size(); ++i) {
@@ -144,8 +156,10 @@ Result<int> run_session(const SessionOptions& o, std::FILE* out, std::FILE* log,
     if (o.exit_after_replies && sent && awaiting.empty()) break;
     if (o.exit_after_replies && sent && monotonic_ns() >= replies_deadline) break;
   }
-  for (const auto& [seq, text] : awaiting) std::fprintf(log, "# no answer to #%u %s\n", seq, text.c_str());
-  if (o.exit_after_replies && !sent) std::fprintf(log, "# the board never said hello: commands not sent\n");
+  for (const auto& [seq, text] : awaiting)
+    std::fprintf(log, "# no answer to #%u %s\n", seq, text.c_str());
+  if (o.exit_after_replies && !sent)
+    std::fprintf(log, "# the board never said hello: commands not sent\n");
   print_stats();
   const bool failed = refused || (o.exit_after_replies && (!sent || !awaiting.empty()));
   return failed ? 1 : 0;

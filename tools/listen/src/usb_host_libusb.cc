@@ -32,7 +32,8 @@ StreamInterface find_stream_interface(libusb_device* dev) {
   for (int i = 0; i < config->bNumInterfaces && found.number < 0; ++i) {
     for (int a = 0; a < config->interface[i].num_altsetting; ++a) {
       const libusb_interface_descriptor& d = config->interface[i].altsetting[a];
-      if (d.bInterfaceClass != transport::kUsbInterfaceClass || d.bInterfaceSubClass != transport::kUsbInterfaceSubclass ||
+      if (d.bInterfaceClass != transport::kUsbInterfaceClass ||
+          d.bInterfaceSubClass != transport::kUsbInterfaceSubclass ||
           d.bInterfaceProtocol != transport::kUsbInterfaceProtocol) {
         continue;
       }
@@ -40,8 +41,10 @@ StreamInterface find_stream_interface(libusb_device* dev) {
       for (int e = 0; e < d.bNumEndpoints; ++e) {
         const libusb_endpoint_descriptor& ep = d.endpoint[e];
         if ((ep.bmAttributes & 0x3) != LIBUSB_TRANSFER_TYPE_BULK) continue;
-        if (ep.bEndpointAddress & LIBUSB_ENDPOINT_IN) s.in = ep.bEndpointAddress;
-        else s.out = ep.bEndpointAddress;
+        if (ep.bEndpointAddress & LIBUSB_ENDPOINT_IN)
+          s.in = ep.bEndpointAddress;
+        else
+          s.out = ep.bEndpointAddress;
       }
       if (s.in != 0 && s.out != 0) found = s;
     }
@@ -86,7 +89,8 @@ class UsbHostTransport final : public transport::Transport {
     if (init_rc_ != 0) return usb_error(ErrorCode::kTransportUnavailable, "init", init_rc_);
     libusb_device** list = nullptr;
     const ssize_t n = libusb_get_device_list(context_, &list);
-    if (n < 0) return usb_error(ErrorCode::kTransportUnavailable, "listing devices", static_cast<int>(n));
+    if (n < 0)
+      return usb_error(ErrorCode::kTransportUnavailable, "listing devices", static_cast<int>(n));
     std::vector<UsbCandidate> found;
     std::vector<libusb_device*> devices;
     for (ssize_t i = 0; i < n; ++i) {
@@ -146,7 +150,8 @@ class UsbHostTransport final : public transport::Transport {
   }
 
   Result<transport::Readiness> wait(bool want_write, int timeout_ms) override {
-    TLV_ENSURE(handle_ != nullptr, ErrorCode::kInvalidState, "%s: wait() on a closed link", name_.c_str());
+    TLV_ENSURE(handle_ != nullptr, ErrorCode::kInvalidState, "%s: wait() on a closed link",
+               name_.c_str());
     TLV_TRY(check());
     auto ready = [&] { return transport::Readiness{rx_pos_ < rx_len_, !tx_pending_}; };
     if (ready().readable || (want_write && ready().writable)) return ready();
@@ -155,7 +160,8 @@ class UsbHostTransport final : public transport::Transport {
     timeval tv{timeout_ms / 1000, static_cast<long>(timeout_ms % 1000) * 1000};
     const int rc = libusb_handle_events_timeout_completed(context_, &tv, &completed);
     completed_ = nullptr;
-    if (rc != 0 && rc != LIBUSB_ERROR_INTERRUPTED) return usb_error(ErrorCode::kTransport, "handling events", rc);
+    if (rc != 0 && rc != LIBUSB_ERROR_INTERRUPTED)
+      return usb_error(ErrorCode::kTransport, "handling events", rc);
     TLV_TRY(check());
     return ready();
   }
@@ -176,7 +182,8 @@ class UsbHostTransport final : public transport::Transport {
     std::memcpy(tx_, data.data(), n);
     int len = static_cast<int>(n);
     if (transport::usb_needs_pad(n)) tx_[len++] = 0;
-    libusb_fill_bulk_transfer(tx_transfer_, handle_, out_endpoint_, tx_, len, &UsbHostTransport::on_tx, this, 0);
+    libusb_fill_bulk_transfer(tx_transfer_, handle_, out_endpoint_, tx_, len,
+                              &UsbHostTransport::on_tx, this, 0);
     const int rc = libusb_submit_transfer(tx_transfer_);
     if (rc != 0) return usb_error(ErrorCode::kTransportDisconnected, "bulk OUT", rc);
     tx_pending_ = true;
@@ -196,7 +203,8 @@ class UsbHostTransport final : public transport::Transport {
     if (rc != 0) {
       libusb_close(handle_);
       handle_ = nullptr;
-      return usb_error(ErrorCode::kTransportUnavailable, "claiming the stream interface (another reader?)", rc);
+      return usb_error(ErrorCode::kTransportUnavailable,
+                       "claiming the stream interface (another reader?)", rc);
     }
     interface_ = s.number, in_endpoint_ = s.in, out_endpoint_ = s.out;
     failed_ = false;
@@ -205,15 +213,16 @@ class UsbHostTransport final : public transport::Transport {
     tx_transfer_ = libusb_alloc_transfer(0);
     if (!rx_transfer_ || !tx_transfer_) {
       close();
-      return Error::make(ErrorCode::kOutOfMemory, "%s: libusb could not allocate a transfer", name_.c_str());
+      return Error::make(ErrorCode::kOutOfMemory, "%s: libusb could not allocate a transfer",
+                         name_.c_str());
     }
     return submit_read();
   }
 
   Status submit_read() {
     rx_len_ = rx_pos_ = 0;
-    libusb_fill_bulk_transfer(rx_transfer_, handle_, in_endpoint_, rx_, static_cast<int>(kUsbMaxTransfer),
-                              &UsbHostTransport::on_rx, this, 0);
+    libusb_fill_bulk_transfer(rx_transfer_, handle_, in_endpoint_, rx_,
+                              static_cast<int>(kUsbMaxTransfer), &UsbHostTransport::on_rx, this, 0);
     const int rc = libusb_submit_transfer(rx_transfer_);
     if (rc != 0) return usb_error(ErrorCode::kTransportDisconnected, "bulk IN", rc);
     rx_pending_ = true;
@@ -246,7 +255,8 @@ class UsbHostTransport final : public transport::Transport {
     auto* self = static_cast<UsbHostTransport*>(t->user_data);
     self->tx_pending_ = false;
     if (self->completed_) *self->completed_ = 1;
-    if (t->status != LIBUSB_TRANSFER_COMPLETED && t->status != LIBUSB_TRANSFER_CANCELLED) self->fail("bulk OUT:", t->status);
+    if (t->status != LIBUSB_TRANSFER_COMPLETED && t->status != LIBUSB_TRANSFER_CANCELLED)
+      self->fail("bulk OUT:", t->status);
   }
 
   UsbSelector selector_;

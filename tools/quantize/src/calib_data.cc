@@ -9,10 +9,10 @@
 #include <unordered_set>
 
 #include "calib_sources.h"
+#include "tlvlink/datasets/split.h"
 #include "tlvlink/image/preprocess.h"
 #include "tlvlink/io/npy_image.h"
 #include "tlvlink/io/progress.h"
-#include "tlvlink/datasets/split.h"
 #include "tlvlink/sim/extreme.h"
 
 namespace tlvlink::quantize {
@@ -73,8 +73,10 @@ Selection select(const std::vector<Item>& items, const CalibDataOptions& o) {
       s.heldout_groups += to_heldout ? 1 : 0;
     }
   }
-  for (size_t i : take_ranked(items, calib_pool, o.calib_count, o.seed)) s.calibration.insert(items[i].id());
-  for (size_t i : take_ranked(items, heldout_pool, o.heldout_count, o.seed)) s.heldout.insert(items[i].id());
+  for (size_t i : take_ranked(items, calib_pool, o.calib_count, o.seed))
+    s.calibration.insert(items[i].id());
+  for (size_t i : take_ranked(items, heldout_pool, o.heldout_count, o.seed))
+    s.heldout.insert(items[i].id());
   return s;
 }
 

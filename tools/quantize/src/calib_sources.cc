@@ -8,14 +8,14 @@
 #include <filesystem>
 #include <memory>
 
-#include "tlvlink/image/jpeg.h"
-#include "tlvlink/io/image.h"
-#include "tlvlink/io/png.h"
-#include "tlvlink/io/pnm.h"
 #include "tlvlink/datasets/detect.h"
 #include "tlvlink/datasets/feel.h"
 #include "tlvlink/datasets/touch100k.h"
 #include "tlvlink/datasets/touch_and_go.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/io/png.h"
+#include "tlvlink/io/pnm.h"
 
 namespace tlvlink::quantize::calib_sources {
 namespace {
@@ -64,7 +64,8 @@ Result<std::vector<std::string>> image_files(const std::string& dir) {
   std::vector<std::string> files;
   std::error_code ec;
   fs::recursive_directory_iterator it(dir, ec), end;
-  TLV_ENSURE(!ec, ErrorCode::kIo, "cannot read directory '%s': %s", dir.c_str(), ec.message().c_str());
+  TLV_ENSURE(!ec, ErrorCode::kIo, "cannot read directory '%s': %s", dir.c_str(),
+             ec.message().c_str());
   for (; it != end; it.increment(ec)) {
     TLV_ENSURE(!ec, ErrorCode::kIo, "reading '%s': %s", dir.c_str(), ec.message().c_str());
     // A FIFO or a device named like an image is listed too: reading it fails at once
@@ -125,7 +126,8 @@ Result<std::vector<Item>> list_all(CalibFormat format, const std::string& path,
         TLV_ASSIGN_OR_RETURN(const bool more, loader->next(e));
         if (!more) break;
         for (int32_t f = 0; f < heads::kFingers * heads::kMoments; ++f)
-          items.push_back({loader->key(), e.object_name.empty() ? loader->key() : e.object_name, f});
+          items.push_back(
+              {loader->key(), e.object_name.empty() ? loader->key() : e.object_name, f});
       }
       return items;
     }
@@ -168,9 +170,9 @@ Result<std::vector<Item>> list_items(CalibFormat format, const std::string& path
   // TAG and Feel loaders read the split they record themselves; Touch100k's is per item (the
   // sidecar), checked below.
   const bool recorded_in_loader = !hash && format != CalibFormat::kTouch100k;
-  TLV_ASSIGN_OR_RETURN(std::vector<Item> items,
-                       list_all(format, path, recorded_in_loader ? split : datasets::Split::kAll,
-                                problems));
+  TLV_ASSIGN_OR_RETURN(
+      std::vector<Item> items,
+      list_all(format, path, recorded_in_loader ? split : datasets::Split::kAll, problems));
   if (split == datasets::Split::kAll || recorded_in_loader) return items;
   std::vector<Item> kept;
   for (Item& item : items) {

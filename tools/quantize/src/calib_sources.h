@@ -11,10 +11,10 @@
 #include <unordered_set>
 #include <vector>
 
-#include "tlvlink/quantize/calib_data.h"
-#include "tlvlink/io/image.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/error.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/quantize/calib_data.h"
 
 namespace tlvlink::quantize::calib_sources {
 

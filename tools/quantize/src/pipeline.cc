@@ -3,20 +3,20 @@
 #include "tlvlink/quantize/pipeline.h"
 
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <memory>
-#include <cstdio>
 #include <optional>
 
 #include <nlohmann/json.hpp>
 
+#include "tlvlink/executor.h"
 #include "tlvlink/io/file.h"
 #include "tlvlink/io/model_file.h"
 #include "tlvlink/io/progress.h"
 #include "tlvlink/quantize/bias_correction.h"
 #include "tlvlink/quantize/calibrate.h"
 #include "tlvlink/quantize/layer_error.h"
-#include "tlvlink/executor.h"
 #include "tlvlink/verify/compare.h"
 
 namespace tlvlink::quantize {
@@ -85,10 +85,11 @@ std::string quantization_json(const QuantizeOptions& o, const CalibData& data,
   nlohmann::ordered_json j = {
       {"kind", "post-training"},
       {"tool", "tlvlink quantize"},
-      {"source", {{"model", o.model_path},
-                  {"producer", std::string(source.producer)},
-                  {"created_utc", std::string(source.created_utc)},
-                  {"content_checksum", source.content_checksum}}},
+      {"source",
+       {{"model", o.model_path},
+        {"producer", std::string(source.producer)},
+        {"created_utc", std::string(source.created_utc)},
+        {"content_checksum", source.content_checksum}}},
       {"method", calibration_method_name(o.calibration.method)},
       {"percentile", o.calibration.percentile},
       {"calibration", calib_formats_name(data.formats)},

@@ -40,9 +40,11 @@ const char* colour(size_t i) { return kColours[i % (sizeof(kColours) / sizeof(kC
 // A marker of shape `shape` centred at (x, y).
 std::string marker(size_t shape, double x, double y, const char* fill, const char* stroke) {
   const double r = 6;
-  const std::string style = std::string(" fill=\"") + fill + "\" stroke=\"" + stroke + "\" stroke-width=\"1.8\"/>";
+  const std::string style =
+      std::string(" fill=\"") + fill + "\" stroke=\"" + stroke + "\" stroke-width=\"1.8\"/>";
   switch (shape % 5) {
-    case 0: return "<circle cx=\"" + num(x) + "\" cy=\"" + num(y) + "\" r=\"" + num(r) + "\"" + style;
+    case 0:
+      return "<circle cx=\"" + num(x) + "\" cy=\"" + num(y) + "\" r=\"" + num(r) + "\"" + style;
     case 1:
       return "<rect x=\"" + num(x - r) + "\" y=\"" + num(y - r) + "\" width=\"" + num(2 * r) +
              "\" height=\"" + num(2 * r) + "\"" + style;
@@ -50,12 +52,13 @@ std::string marker(size_t shape, double x, double y, const char* fill, const cha
       return "<polygon points=\"" + num(x) + "," + num(y - r * 1.2) + " " + num(x - r * 1.1) + "," +
              num(y + r * 0.8) + " " + num(x + r * 1.1) + "," + num(y + r * 0.8) + "\"" + style;
     case 3:
-      return "<polygon points=\"" + num(x) + "," + num(y - r * 1.3) + " " + num(x + r) + "," + num(y) +
-             " " + num(x) + "," + num(y + r * 1.3) + " " + num(x - r) + "," + num(y) + "\"" + style;
+      return "<polygon points=\"" + num(x) + "," + num(y - r * 1.3) + " " + num(x + r) + "," +
+             num(y) + " " + num(x) + "," + num(y + r * 1.3) + " " + num(x - r) + "," + num(y) +
+             "\"" + style;
     default:
-      return "<polygon points=\"" + num(x - r) + "," + num(y - r) + " " + num(x + r) + "," + num(y + r) +
-             " " + num(x) + "," + num(y) + " " + num(x + r) + "," + num(y - r) + " " + num(x - r) + "," +
-             num(y + r) + " " + num(x) + "," + num(y) + "\"" + style;
+      return "<polygon points=\"" + num(x - r) + "," + num(y - r) + " " + num(x + r) + "," +
+             num(y + r) + " " + num(x) + "," + num(y) + " " + num(x + r) + "," + num(y - r) + " " +
+             num(x - r) + "," + num(y + r) + " " + num(x) + "," + num(y) + "\"" + style;
   }
 }
 
@@ -97,10 +100,12 @@ std::string error_latency_svg(const std::vector<PlotPoint>& points, const PlotSp
   const double xhi = log_x ? std::pow(10.0, std::ceil(std::log10(xmax)))
                            : std::max(xstep, std::ceil(xmax * 1.05 / xstep) * xstep);
   const double xlo = log_x ? std::pow(10.0, std::floor(std::log10(xmin))) : 0.0;
-  int dlo = static_cast<int>(std::floor(std::log10(ymin))), dhi = static_cast<int>(std::ceil(std::log10(ymax)));
+  int dlo = static_cast<int>(std::floor(std::log10(ymin))),
+      dhi = static_cast<int>(std::ceil(std::log10(ymax)));
   if (dhi <= dlo) dhi = dlo + 1;
   auto sx = [&](double x) {
-    if (log_x) return kLeft + pw * (std::log10(x) - std::log10(xlo)) / (std::log10(xhi) - std::log10(xlo));
+    if (log_x)
+      return kLeft + pw * (std::log10(x) - std::log10(xlo)) / (std::log10(xhi) - std::log10(xlo));
     return kLeft + pw * x / xhi;
   };
   auto sy = [&](double y) {
@@ -116,38 +121,46 @@ std::string error_latency_svg(const std::vector<PlotPoint>& points, const PlotSp
     for (double x = 0; x <= xhi + xstep / 2; x += xstep) xticks.push_back(x);
   }
 
-  std::string s = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" +
-                  num(kWidth) + "\" height=\"" + num(kHeight) + "\" viewBox=\"0 0 " + num(kWidth) + " " +
-                  num(kHeight) + "\" font-family=\"DejaVu Sans, Arial, sans-serif\" font-size=\"13\">\n";
+  std::string s =
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" "
+      "width=\"" +
+      num(kWidth) + "\" height=\"" + num(kHeight) + "\" viewBox=\"0 0 " + num(kWidth) + " " +
+      num(kHeight) + "\" font-family=\"DejaVu Sans, Arial, sans-serif\" font-size=\"13\">\n";
   s += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  s += text(kWidth / 2 - kRight / 2 + kLeft / 2, 30, spec.title, " text-anchor=\"middle\" font-size=\"17\" font-weight=\"bold\"");
+  s += text(kWidth / 2 - kRight / 2 + kLeft / 2, 30, spec.title,
+            " text-anchor=\"middle\" font-size=\"17\" font-weight=\"bold\"");
   // Grid and ticks.
   for (double x : xticks) {
-    s += "<line x1=\"" + num(sx(x)) + "\" y1=\"" + num(kTop) + "\" x2=\"" + num(sx(x)) + "\" y2=\"" + num(kTop + ph) +
-         "\" stroke=\"#dddddd\"/>\n";
+    s += "<line x1=\"" + num(sx(x)) + "\" y1=\"" + num(kTop) + "\" x2=\"" + num(sx(x)) +
+         "\" y2=\"" + num(kTop + ph) + "\" stroke=\"#dddddd\"/>\n";
     char label[32];
     std::snprintf(label, sizeof(label), "%g", x);
     s += text(sx(x), kTop + ph + 20, label, " text-anchor=\"middle\"");
   }
   for (int d = dlo; d <= dhi; ++d) {
     const double y = sy(std::pow(10.0, d));
-    s += "<line x1=\"" + num(kLeft) + "\" y1=\"" + num(y) + "\" x2=\"" + num(kLeft + pw) + "\" y2=\"" + num(y) +
-         "\" stroke=\"#dddddd\"/>\n";
+    s += "<line x1=\"" + num(kLeft) + "\" y1=\"" + num(y) + "\" x2=\"" + num(kLeft + pw) +
+         "\" y2=\"" + num(y) + "\" stroke=\"#dddddd\"/>\n";
     s += text(kLeft - 8, y + 4, decade_label(d), " text-anchor=\"end\"");
   }
-  s += "<rect x=\"" + num(kLeft) + "\" y=\"" + num(kTop) + "\" width=\"" + num(pw) + "\" height=\"" + num(ph) +
-       "\" fill=\"none\" stroke=\"black\"/>\n";
+  s += "<rect x=\"" + num(kLeft) + "\" y=\"" + num(kTop) + "\" width=\"" + num(pw) +
+       "\" height=\"" + num(ph) + "\" fill=\"none\" stroke=\"black\"/>\n";
   s += text(kLeft + pw / 2, kHeight - 22, spec.x_label + (log_x ? " (log scale)" : ""),
             " text-anchor=\"middle\"");
-  s += "<text x=\"22\" y=\"" + num(kTop + ph / 2) + "\" text-anchor=\"middle\" transform=\"rotate(-90 22 " +
-       num(kTop + ph / 2) + ")\">" + escape(spec.y_label) + "</text>\n";
+  s += "<text x=\"22\" y=\"" + num(kTop + ph / 2) +
+       "\" text-anchor=\"middle\" transform=\"rotate(-90 22 " + num(kTop + ph / 2) + ")\">" +
+       escape(spec.y_label) + "</text>\n";
   if (ymin <= spec.y_floor)
-    s += text(kLeft + 6, sy(spec.y_floor) - 6, "(at the floor: error " + decade_label(dlo) + " or below)", " font-size=\"11\" fill=\"#555555\"");
+    s += text(kLeft + 6, sy(spec.y_floor) - 6,
+              "(at the floor: error " + decade_label(dlo) + " or below)",
+              " font-size=\"11\" fill=\"#555555\"");
   // Points (hollow ones last so they stay visible on top of filled ones).
   for (int pass = 0; pass < 2; ++pass) {
     for (const PlotPoint& p : points) {
       if ((p.fill == 0) != (pass == 0)) continue;
-      s += marker(p.shape, sx(p.x), sy(p.y), p.fill == 0 ? colour(p.series) : "white", colour(p.series)) + "\n";
+      s += marker(p.shape, sx(p.x), sy(p.y), p.fill == 0 ? colour(p.series) : "white",
+                  colour(p.series)) +
+           "\n";
     }
   }
   // Legend.
@@ -168,7 +181,8 @@ std::string error_latency_svg(const std::vector<PlotPoint>& points, const PlotSp
   s += text(lx, ly, "threads (fill)", " font-weight=\"bold\"");
   for (size_t i = 0; i < spec.fills.size(); ++i) {
     ly += 20;
-    s += marker(0, lx + 7, ly - 4, i == 0 ? "#777777" : "white", "#777777") + "\n" + text(lx + 20, ly, spec.fills[i]);
+    s += marker(0, lx + 7, ly - 4, i == 0 ? "#777777" : "white", "#777777") + "\n" +
+         text(lx + 20, ly, spec.fills[i]);
   }
   s += "</svg>\n";
   return s;

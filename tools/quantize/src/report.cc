@@ -75,11 +75,13 @@ std::string format_summary(const QuantizeRun& run) {
   };
   s += "tlvlink quantize: " + run.input_path + " -> " + run.output_path + "\n";
   add("data", run.data_summary);
-  add("method", method_text(run) + "; weights int8 " + quantize::weight_granularity_name(run.weights) +
+  add("method", method_text(run) + "; weights int8 " +
+                    quantize::weight_granularity_name(run.weights) +
                     " symmetric [-127,127]; activations int8 per-tensor asymmetric; bias int32");
-  std::snprintf(line, sizeof(line),
-                "%zu int8, %zu fp32, %zu fused into the op before; %zu Quantize/Dequantize inserted",
-                q.int8_ops, q.float_ops, q.fused_ops, q.conversions);
+  std::snprintf(
+      line, sizeof(line),
+      "%zu int8, %zu fp32, %zu fused into the op before; %zu Quantize/Dequantize inserted",
+      q.int8_ops, q.float_ops, q.fused_ops, q.conversions);
   add("operators", line);
   bool first = true;
   for (const quantize::LayerDecision& d : q.layers) {
@@ -153,7 +155,8 @@ std::string format_summary(const QuantizeRun& run) {
                 run.output_path.c_str(), run.output_bytes, run.golden_pairs,
                 run.golden_skipped > 0
                     ? (", " + std::to_string(run.golden_skipped) +
-                       " skipped: the executors round a half-way case apart on them").c_str()
+                       " skipped: the executors round a half-way case apart on them")
+                          .c_str()
                     : "");
   add("wrote", line);
   return s;
@@ -181,7 +184,8 @@ nlohmann::json report_json(const QuantizeRun& run) {
       l["cosine"] = json_number(t.error.cosine());
       l["max_abs"] = t.error.max_abs;
       l["rmse"] = t.error.rmse();
-      l["rmse_over_scale"] = t.scale > 0 ? json_number(t.rmse_over_scale()) : nlohmann::json(nullptr);
+      l["rmse_over_scale"] =
+          t.scale > 0 ? json_number(t.rmse_over_scale()) : nlohmann::json(nullptr);
     }
     layers.push_back(l);
   }
@@ -211,7 +215,9 @@ nlohmann::json report_json(const QuantizeRun& run) {
     j["bias_correction"] = nullptr;
   }
   j["keep_float"] = run.keep_float;
-  j["operators"] = {{"int8", q.int8_ops}, {"fp32", q.float_ops}, {"fused", q.fused_ops},
+  j["operators"] = {{"int8", q.int8_ops},
+                    {"fp32", q.float_ops},
+                    {"fused", q.fused_ops},
                     {"conversions_inserted", q.conversions}};
   if (run.error) {
     const quantize::ModelError& e = *run.error;
@@ -239,13 +245,15 @@ Status write_report(const std::string& dir, const QuantizeRun& run) {
              ec.message().c_str());
   const std::filesystem::path out_dir(dir);
   auto write = [&](const char* name, const std::string& text) {
-    return tools::write_file((out_dir / name).string(),
-                             std::span<const std::byte>(reinterpret_cast<const std::byte*>(text.data()), text.size()));
+    return tools::write_file(
+        (out_dir / name).string(),
+        std::span<const std::byte>(reinterpret_cast<const std::byte*>(text.data()), text.size()));
   };
   TLV_TRY(write("report.json", report_json(run).dump(2) + "\n"));
   TLV_TRY(write("summary.txt", format_summary(run)));
   std::string csv =
-      "op,type,precision,dtype,sqnr_db,cosine,max_abs,rmse_over_scale,weight_sqnr_db,reason,adjustments\n";
+      "op,type,precision,dtype,sqnr_db,cosine,max_abs,rmse_over_scale,weight_sqnr_db,reason,"
+      "adjustments\n";
   const auto errors = errors_by_op(run);
   for (const quantize::LayerDecision& d : run.quantized.layers) {
     const auto it = errors.find(d.op);
@@ -256,8 +264,9 @@ Status write_report(const std::string& dir, const QuantizeRun& run) {
            (t ? dtype_name(t->dtype) : "") + "," + (t ? fmt(t->error.sqnr_db(), 3) : "") + "," +
            (t ? fmt(t->error.cosine(), 6) : "") + "," + (t ? fmt(t->error.max_abs, 6, true) : "") +
            "," + (t && t->scale > 0 ? fmt(t->rmse_over_scale(), 4) : "") + "," +
-           fmt(d.weight_sqnr_db, 3) + "," + csv_cell(d.fused_into.empty() ? d.reason : "fused into " + d.fused_into) +
-           "," + csv_cell(adjustments) + "\n";
+           fmt(d.weight_sqnr_db, 3) + "," +
+           csv_cell(d.fused_into.empty() ? d.reason : "fused into " + d.fused_into) + "," +
+           csv_cell(adjustments) + "\n";
   }
   return write("layers.csv", csv);
 }

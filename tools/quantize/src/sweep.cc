@@ -69,8 +69,8 @@ Status sweep_model(const SweepOptions& o, size_t index, const std::vector<SweepV
   const InputSpec& spec = fp32.metadata().input;
   std::string note;
   if (o.on_note)
-    o.on_note(tools::appendf(note, "quantize-sweep: %s (%dx%d)", path.c_str(), spec.height,
-                             spec.width));
+    o.on_note(
+        tools::appendf(note, "quantize-sweep: %s (%dx%d)", path.c_str(), spec.height, spec.width));
   CalibDataOptions data_options = o.data;
   data_options.progress = o.progress;
   auto data = load_calib_data(data_options, spec);
@@ -78,8 +78,8 @@ Status sweep_model(const SweepOptions& o, size_t index, const std::vector<SweepV
   TLV_ENSURE(!data->heldout.empty(), ErrorCode::kInvalidArgument,
              "the sweep needs held-out frames (--heldout-count > 0 and data with more than the "
              "calibration frames)");
-  TLV_ASSIGN_OR_RETURN(auto stats, calibrate_frames(fp32, data->calibration,
-                                                    o.averaging_constant, o.progress));
+  TLV_ASSIGN_OR_RETURN(auto stats,
+                       calibrate_frames(fp32, data->calibration, o.averaging_constant, o.progress));
   TLV_ASSIGN_OR_RETURN(auto reference, embeddings(fp32, data->heldout));
   const double mmac = static_cast<double>(inspect::graph_stats(fp32.graph()).macs) / 1e6;
   // Quantize every variant and measure its error first; then time them all together.
@@ -164,20 +164,30 @@ std::vector<SweepVariant> sweep_variants(const std::vector<CalibrationMethod>& m
   if (bias_correction) {
     v.push_back({std::string("int8 per-channel ") + calibration_method_name(main) +
                      " without bias correction",
-                 false, WeightGranularity::kPerChannel, main, {}, false});
+                 false,
+                 WeightGranularity::kPerChannel,
+                 main,
+                 {},
+                 false});
   }
-  v.push_back({std::string("int8 per-tensor ") + calibration_method_name(methods.front()), false,
-               WeightGranularity::kPerTensor, methods.front(), {}});
+  v.push_back({std::string("int8 per-tensor ") + calibration_method_name(methods.front()),
+               false,
+               WeightGranularity::kPerTensor,
+               methods.front(),
+               {}});
   for (CalibrationMethod m : methods)
-    v.push_back({std::string("int8 per-channel ") + calibration_method_name(m), false,
-                 WeightGranularity::kPerChannel, m, {}});
+    v.push_back({std::string("int8 per-channel ") + calibration_method_name(m),
+                 false,
+                 WeightGranularity::kPerChannel,
+                 m,
+                 {}});
   if (!keep_float.empty()) {
     std::string list;
     for (const std::string& k : keep_float) list += (list.empty() ? "" : ",") + k;
     // Percentile (quantize's default) when swept, else the first method.
-    v.push_back({std::string("int8 per-channel ") + calibration_method_name(main) + " + fp32 " +
-                     list,
-                 false, WeightGranularity::kPerChannel, main, keep_float});
+    v.push_back(
+        {std::string("int8 per-channel ") + calibration_method_name(main) + " + fp32 " + list,
+         false, WeightGranularity::kPerChannel, main, keep_float});
   }
   for (SweepVariant& x : v) x.bias_correction = x.bias_correction && bias_correction && !x.fp32;
   return v;

@@ -1,10 +1,10 @@
 #include "tlvlink/record/record.h"
 
+#include <sys/stat.h>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <sys/stat.h>
 
 #include <filesystem>
 #include <functional>
@@ -44,22 +44,26 @@ struct Frame {
 // Yields the input's frames one at a time; false at the end.
 using FrameReader = std::function<Result<bool>(Frame&)>;
 
-Result<FrameReader> images_in(const std::string& dir, bool& as_is, std::vector<std::string>& skipped) {
+Result<FrameReader> images_in(const std::string& dir, bool& as_is,
+                              std::vector<std::string>& skipped) {
   std::error_code ec;
-  TLV_ENSURE(fs::is_directory(dir, ec), ErrorCode::kIo, "record: %s is not a directory", dir.c_str());
+  TLV_ENSURE(fs::is_directory(dir, ec), ErrorCode::kIo, "record: %s is not a directory",
+             dir.c_str());
   auto files = std::make_shared<std::vector<fs::path>>();
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string ext = lower_extension(e.path());
-    const bool image = ext == ".jpg" || ext == ".jpeg" || ext == ".png" || ext == ".ppm" || ext == ".pnm";
+    const bool image =
+        ext == ".jpg" || ext == ".jpeg" || ext == ".png" || ext == ".ppm" || ext == ".pnm";
     struct stat st {};
     const bool stat_ok = ::stat(e.path().c_str(), &st) == 0;  // never opens: a FIFO cannot block it
     if (stat_ok && S_ISREG(st.st_mode)) {
       if (image) files->push_back(e.path());
     } else if (image || (stat_ok && S_ISDIR(st.st_mode))) {
       // A FIFO or device named like a frame, or a subfolder (not descended into): named.
-      skipped.push_back(e.path().string() + ": " +
-                        (stat_ok ? std::string("not a regular file (") + file_type_name(st.st_mode) + ")"
-                                 : std::string("cannot stat")));
+      skipped.push_back(
+          e.path().string() + ": " +
+          (stat_ok ? std::string("not a regular file (") + file_type_name(st.st_mode) + ")"
+                   : std::string("cannot stat")));
     }
   }
   std::sort(skipped.begin(), skipped.end());
@@ -78,7 +82,8 @@ Result<FrameReader> images_in(const std::string& dir, bool& as_is, std::vector<s
     f.name = p.string();
     const std::string ext = lower_extension(p);
     if (ext == ".jpg" || ext == ".jpeg") {
-      TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, tools::read_file(f.name, kMaxImageFileBytes));
+      TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes,
+                           tools::read_file(f.name, kMaxImageFileBytes));
       f.jpeg.assign(reinterpret_cast<const uint8_t*>(bytes.data()),
                     reinterpret_cast<const uint8_t*>(bytes.data()) + bytes.size());
       if (!as_is) {
@@ -115,7 +120,8 @@ Result<FrameReader> touch_frames(std::unique_ptr<datasets::TouchSampleLoader> lo
   });
 }
 
-Result<FrameReader> feel_frames(std::unique_ptr<datasets::GraspEpisodeLoader> loader, int32_t finger) {
+Result<FrameReader> feel_frames(std::unique_ptr<datasets::GraspEpisodeLoader> loader,
+                                int32_t finger) {
   auto l = std::shared_ptr<datasets::GraspEpisodeLoader>(std::move(loader));
   auto episode = std::make_shared<datasets::GraspEpisode>();
   auto moment = std::make_shared<int32_t>(datasets::kMoments);
@@ -135,10 +141,13 @@ Result<FrameReader> feel_frames(std::unique_ptr<datasets::GraspEpisodeLoader> lo
 // A dataset item that does not load is skipped by the loader; the report names it.
 template <typename Loader>
 void name_problems(Loader& l, std::vector<std::string>& skipped) {
-  l.report().on_problem = [&skipped](const datasets::LoadProblem& p) { skipped.push_back(p.to_string()); };
+  l.report().on_problem = [&skipped](const datasets::LoadProblem& p) {
+    skipped.push_back(p.to_string());
+  };
 }
 
-Result<FrameReader> open_input(const RecordOptions& o, bool& as_is, std::vector<std::string>& skipped) {
+Result<FrameReader> open_input(const RecordOptions& o, bool& as_is,
+                               std::vector<std::string>& skipped) {
   as_is = false;
   switch (o.source) {
     case RecordSource::kImages: return images_in(o.input, as_is, skipped);
@@ -170,7 +179,8 @@ Result<FrameReader> open_input(const RecordOptions& o, bool& as_is, std::vector<
           h5 = h5 || lower_extension(e.path()) == ".h5";
       }
       const bool repacked = !h5;
-      auto l = repacked ? datasets::open_feel_repacked(o.input, lo) : datasets::open_feel(o.input, lo);
+      auto l =
+          repacked ? datasets::open_feel_repacked(o.input, lo) : datasets::open_feel(o.input, lo);
       if (!l.ok()) return l.error();
       name_problems(**l, skipped);
       return feel_frames(std::move(l).value(), o.finger);

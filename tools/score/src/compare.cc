@@ -36,7 +36,8 @@ Result<Predictions> read_predictions(const std::string& path, const Truth& truth
       const auto seq = j.value("seq", int64_t{-1});
       if (finger < 0 || seq < 0) return {};
       auto& labels = p.frames[{finger, seq % truth.frames}];
-      for (const auto& [head, pred] : j["heads"].items()) labels[head] = internal::lower(pred.value("label", ""));
+      for (const auto& [head, pred] : j["heads"].items())
+        labels[head] = internal::lower(pred.value("label", ""));
     } else if (type == "grasp" && j.value("computed", false)) {
       const int32_t event = internal::grasp_event(j, truth);
       if (event >= 0) p.grasps[event] = j.value("prediction", "") == "success";
@@ -134,7 +135,8 @@ void merge_scores(ScoreReport& a, const ScoreReport& b) {
     int64_t top = 0;
     for (const auto& [label, n] : h.event_labels) it->event_labels[label] += n;
     for (const auto& [label, n] : it->event_labels) top = std::max(top, n);
-    it->majority = it->events.total > 0 ? static_cast<double>(top) / static_cast<double>(it->events.total) : 0;
+    it->majority =
+        it->events.total > 0 ? static_cast<double>(top) / static_cast<double>(it->events.total) : 0;
   }
   a.truth_grasps += b.truth_grasps;
   a.truth_grasp_successes += b.truth_grasp_successes;
@@ -173,8 +175,10 @@ Result<LiveOfflineReport> compare_live_offline(const std::vector<RunFiles>& runs
     TLV_ASSIGN_OR_RETURN(const Truth truth, internal::read_truth(run.truth));
     TLV_ASSIGN_OR_RETURN(const Predictions live, read_predictions(run.live, truth, fingers));
     TLV_ASSIGN_OR_RETURN(const Predictions offline, read_predictions(run.offline, truth, fingers));
-    TLV_ASSIGN_OR_RETURN(const ScoreReport live_score, score_live_run(run.truth, run.live, fingers));
-    TLV_ASSIGN_OR_RETURN(const ScoreReport offline_score, score_live_run(run.truth, run.offline, fingers));
+    TLV_ASSIGN_OR_RETURN(const ScoreReport live_score,
+                         score_live_run(run.truth, run.live, fingers));
+    TLV_ASSIGN_OR_RETURN(const ScoreReport offline_score,
+                         score_live_run(run.truth, run.offline, fingers));
     merge_scores(rep.live, live_score);
     merge_scores(rep.offline, offline_score);
     ++rep.runs;
@@ -182,7 +186,9 @@ Result<LiveOfflineReport> compare_live_offline(const std::vector<RunFiles>& runs
     // Per head and event: frames both sides labelled while the renderer shows contact, and the
     // last such label of each finger (the daemon's smoothed answer).
     std::map<std::string, std::map<int32_t, Cluster>> frames_of, events_of;
-    std::map<std::string, std::map<std::pair<int32_t, int32_t>, std::pair<std::string, std::string>>> last;
+    std::map<std::string,
+             std::map<std::pair<int32_t, int32_t>, std::pair<std::string, std::string>>>
+        last;
     for (int32_t f = 0; f < 2; ++f) {
       for (int64_t k = 0; k < truth.frames; ++k) {
         const internal::TruthFrame& tf = truth.fingers[f][static_cast<size_t>(k)];
@@ -227,7 +233,8 @@ Result<LiveOfflineReport> compare_live_offline(const std::vector<RunFiles>& runs
       rep.live_grasps_missing += l == live.grasps.end() ? 1 : 0;
       rep.offline_grasps_missing += o == offline.grasps.end() ? 1 : 0;
       if (l == live.grasps.end() || o == offline.grasps.end()) continue;
-      grasp_clusters.push_back({l->second == ev.success ? 1 : 0, o->second == ev.success ? 1 : 0, 1});
+      grasp_clusters.push_back(
+          {l->second == ev.success ? 1 : 0, o->second == ev.success ? 1 : 0, 1});
     }
   }
   uint64_t stream = seed;
@@ -255,7 +262,8 @@ std::string format_live_offline(const LiveOfflineReport& r) {
                 r.runs, static_cast<long long>(r.events), r.bootstrap_samples,
                 100 * kMaxFrameHeadGap, 100 * kMaxGraspGap);
   out += line;
-  const auto row = [&](const char* what, const std::string& name, const PairedRate& p, double target) {
+  const auto row = [&](const char* what, const std::string& name, const PairedRate& p,
+                       double target) {
     std::snprintf(line, sizeof(line),
                   "%-13s %-9s live %5.1f %% [%5.1f, %5.1f]  offline %5.1f %% [%5.1f, %5.1f]  "
                   "live - offline %+5.1f [%+5.1f, %+5.1f]  n %lld (%lld clusters)%s\n",
@@ -263,7 +271,9 @@ std::string format_live_offline(const LiveOfflineReport& r) {
                   pct(p.offline.rate()), pct(p.offline_ci.low), pct(p.offline_ci.high),
                   pct(p.difference()), pct(p.difference_low), pct(p.difference_high),
                   static_cast<long long>(p.live.total), static_cast<long long>(p.clusters),
-                  target <= 0 ? "" : std::abs(p.difference()) <= target ? "  ok" : "  OVER TARGET");
+                  target <= 0                          ? ""
+                  : std::abs(p.difference()) <= target ? "  ok"
+                                                       : "  OVER TARGET");
     out += line;
   };
   for (const HeadComparison& h : r.heads) {
@@ -278,15 +288,18 @@ std::string format_live_offline(const LiveOfflineReport& r) {
   out += line;
   const ScoreReport& s = r.live;
   const int64_t open = s.frames - s.truth_contact - s.invisible_contact;
-  std::snprintf(line, sizeof(line),
-                "live contact gate: %lld of %lld events seen (%lld missed); frames in contact "
-                "missed %lld of %lld (%.2f %%); false contacts %lld of %lld open-gel frames (%.2f %%)\n",
-                static_cast<long long>(s.contact_events.hits), static_cast<long long>(s.contact_events.total),
-                static_cast<long long>(s.contact_events.total - s.contact_events.hits),
-                static_cast<long long>(s.missed_contact), static_cast<long long>(s.truth_contact),
-                s.truth_contact > 0 ? pct(static_cast<double>(s.missed_contact) / static_cast<double>(s.truth_contact)) : 0.0,
-                static_cast<long long>(s.false_contact), static_cast<long long>(open),
-                open > 0 ? pct(static_cast<double>(s.false_contact) / static_cast<double>(open)) : 0.0);
+  std::snprintf(
+      line, sizeof(line),
+      "live contact gate: %lld of %lld events seen (%lld missed); frames in contact "
+      "missed %lld of %lld (%.2f %%); false contacts %lld of %lld open-gel frames (%.2f %%)\n",
+      static_cast<long long>(s.contact_events.hits), static_cast<long long>(s.contact_events.total),
+      static_cast<long long>(s.contact_events.total - s.contact_events.hits),
+      static_cast<long long>(s.missed_contact), static_cast<long long>(s.truth_contact),
+      s.truth_contact > 0
+          ? pct(static_cast<double>(s.missed_contact) / static_cast<double>(s.truth_contact))
+          : 0.0,
+      static_cast<long long>(s.false_contact), static_cast<long long>(open),
+      open > 0 ? pct(static_cast<double>(s.false_contact) / static_cast<double>(open)) : 0.0);
   out += line;
   if (s.invisible_events > 0 || s.invisible_contact > 0) {
     std::snprintf(line, sizeof(line),
@@ -302,8 +315,11 @@ std::string format_live_offline(const LiveOfflineReport& r) {
 
 std::string format_live_offline_json(const LiveOfflineReport& r) {
   const auto paired_json = [](const PairedRate& p) {
-    return json{{"live_hits", p.live.hits}, {"offline_hits", p.offline.hits}, {"n", p.live.total},
-                {"clusters", p.clusters}, {"live_ci95", {p.live_ci.low, p.live_ci.high}},
+    return json{{"live_hits", p.live.hits},
+                {"offline_hits", p.offline.hits},
+                {"n", p.live.total},
+                {"clusters", p.clusters},
+                {"live_ci95", {p.live_ci.low, p.live_ci.high}},
                 {"offline_ci95", {p.offline_ci.low, p.offline_ci.high}},
                 {"difference", p.difference()},
                 {"difference_ci95", {p.difference_low, p.difference_high}}};

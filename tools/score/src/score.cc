@@ -32,7 +32,8 @@ Interval wilson95(const Ratio& r) {
   return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
 }
 
-Result<ScoreReport> score_live_run(const std::string& truth_path, const std::string& predictions_path,
+Result<ScoreReport> score_live_run(const std::string& truth_path,
+                                   const std::string& predictions_path,
                                    const std::vector<std::string>& fingers) {
   TLV_ENSURE(fingers.size() == 2, ErrorCode::kInvalidArgument,
              "score: two sensor names (finger A, finger B) are needed, %zu given", fingers.size());
@@ -91,7 +92,8 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
       for (const auto& [head, pred] : j["heads"].items()) {
         auto want = ev.labels.find(head);
         if (want == ev.labels.end() || want->second.empty()) continue;
-        if (!tf.contact) {  // nothing on the gel: a label of the gate's false contact, not of the object
+        if (!tf.contact) {  // nothing on the gel: a label of the gate's false contact, not of the
+                            // object
           ++head_no_contact[head];
           continue;
         }
@@ -105,7 +107,8 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
       ++r.grasp_records;
       int64_t seq = -1;
       for (const json& f : j.value("frames", json::array())) {
-        if (f.value("finger", "") == "A" && f.value("moment", "") == "during") seq = f.value("seq", int64_t{-1});
+        if (f.value("finger", "") == "A" && f.value("moment", "") == "during")
+          seq = f.value("seq", int64_t{-1});
       }
       const bool computed = j.value("computed", false);
       if (!computed) {
@@ -122,7 +125,8 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
       ++r.grasps_computed;
       const bool predicted = j.value("prediction", "") == "success";
       ++r.grasp_accuracy.total;
-      r.grasp_accuracy.hits += predicted == truth.events[static_cast<size_t>(event)].success ? 1 : 0;
+      r.grasp_accuracy.hits +=
+          predicted == truth.events[static_cast<size_t>(event)].success ? 1 : 0;
     }
     return {};
   }));
@@ -142,9 +146,10 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
     }
   }
   r.truth_grasp_successes = successes;
-  r.grasp_majority = r.truth_grasps > 0 ? static_cast<double>(std::max(successes, r.truth_grasps - successes)) /
-                                              r.truth_grasps
-                                        : 0.0;
+  r.grasp_majority =
+      r.truth_grasps > 0
+          ? static_cast<double>(std::max(successes, r.truth_grasps - successes)) / r.truth_grasps
+          : 0.0;
   for (const auto& [head, n] : head_no_contact) head_frames.try_emplace(head);
   for (const auto& [head, frames] : head_frames) {
     HeadScore h;
@@ -161,7 +166,8 @@ Result<ScoreReport> score_live_run(const std::string& truth_path, const std::str
     int64_t top = 0;
     for (const auto& [label, n] : counts) top = std::max(top, n);
     h.event_labels = counts;
-    h.majority = h.events.total > 0 ? static_cast<double>(top) / static_cast<double>(h.events.total) : 0.0;
+    h.majority =
+        h.events.total > 0 ? static_cast<double>(top) / static_cast<double>(h.events.total) : 0.0;
     r.heads.push_back(std::move(h));
   }
   return r;
@@ -171,30 +177,38 @@ std::string format_score(const ScoreReport& r) {
   std::string out;
   char line[512];
   const auto pct = [](const Ratio& x) { return 100.0 * x.rate(); };
-  std::snprintf(line, sizeof(line),
-                "frames scored: %lld (scenario: %lld per finger; %lld more while the gate calibrated)\n"
-                "contact gating: %lld frames in contact, %lld missed (%.2f %%; %lld of them under "
-                "1 N), %lld false contacts; encoder ran on %lld of %lld frames (%.1f %% saved); "
-                "events touched and seen: %lld/%lld\n",
-                static_cast<long long>(r.frames), static_cast<long long>(r.truth_frames),
-                static_cast<long long>(r.calibrating), static_cast<long long>(r.truth_contact), static_cast<long long>(r.missed_contact),
-                r.truth_contact > 0 ? 100.0 * static_cast<double>(r.missed_contact) / static_cast<double>(r.truth_contact) : 0.0,
-                static_cast<long long>(r.missed_light), static_cast<long long>(r.false_contact),
-                static_cast<long long>(r.encoded), static_cast<long long>(r.frames),
-                r.frames > 0 ? 100.0 * (1.0 - static_cast<double>(r.encoded) / static_cast<double>(r.frames)) : 0.0,
-                static_cast<long long>(r.contact_events.hits), static_cast<long long>(r.contact_events.total));
+  std::snprintf(
+      line, sizeof(line),
+      "frames scored: %lld (scenario: %lld per finger; %lld more while the gate calibrated)\n"
+      "contact gating: %lld frames in contact, %lld missed (%.2f %%; %lld of them under "
+      "1 N), %lld false contacts; encoder ran on %lld of %lld frames (%.1f %% saved); "
+      "events touched and seen: %lld/%lld\n",
+      static_cast<long long>(r.frames), static_cast<long long>(r.truth_frames),
+      static_cast<long long>(r.calibrating), static_cast<long long>(r.truth_contact),
+      static_cast<long long>(r.missed_contact),
+      r.truth_contact > 0
+          ? 100.0 * static_cast<double>(r.missed_contact) / static_cast<double>(r.truth_contact)
+          : 0.0,
+      static_cast<long long>(r.missed_light), static_cast<long long>(r.false_contact),
+      static_cast<long long>(r.encoded), static_cast<long long>(r.frames),
+      r.frames > 0 ? 100.0 * (1.0 - static_cast<double>(r.encoded) / static_cast<double>(r.frames))
+                   : 0.0,
+      static_cast<long long>(r.contact_events.hits),
+      static_cast<long long>(r.contact_events.total));
   out += line;
   if (r.invisible_contact > 0) {
     std::snprintf(line, sizeof(line),
                   "  contacts the optics cannot show (signal < %.1f DN: smooth flat faces filling "
                   "the gel): %lld frames (%lld gated as contact), %lld events; not counted above\n",
                   kInvisibleSignalDn, static_cast<long long>(r.invisible_contact),
-                  static_cast<long long>(r.invisible_seen), static_cast<long long>(r.invisible_events));
+                  static_cast<long long>(r.invisible_seen),
+                  static_cast<long long>(r.invisible_events));
     out += line;
   }
   for (const auto& [kind, m] : r.missed_by_kind) {
-    std::snprintf(line, sizeof(line), "  missed in %s scenes: %lld of %lld frames in contact (%.2f %%)\n",
-                  kind.c_str(), static_cast<long long>(m.hits), static_cast<long long>(m.total), pct(m));
+    std::snprintf(line, sizeof(line),
+                  "  missed in %s scenes: %lld of %lld frames in contact (%.2f %%)\n", kind.c_str(),
+                  static_cast<long long>(m.hits), static_cast<long long>(m.total), pct(m));
     out += line;
   }
   for (const HeadScore& h : r.heads) {
@@ -208,8 +222,7 @@ std::string format_score(const ScoreReport& r) {
                   100.0 * ci.low, 100.0 * ci.high, 100.0 * h.majority);
     out += line;
     if (h.without_contact > 0) {
-      std::snprintf(line, sizeof(line),
-                    "  %s: %lld labelled frames without contact not scored\n",
+      std::snprintf(line, sizeof(line), "  %s: %lld labelled frames without contact not scored\n",
                     h.head.c_str(), static_cast<long long>(h.without_contact));
       out += line;
     }
@@ -237,24 +250,34 @@ std::string format_score_json(const ScoreReport& r) {
   j["frames"] = r.frames;
   j["calibrating"] = r.calibrating;
   j["truth_frames"] = r.truth_frames;
-  j["contact"] = {{"truth_contact", r.truth_contact}, {"missed", r.missed_contact},
-                  {"missed_under_1n", r.missed_light}, {"false_contact", r.false_contact},
+  j["contact"] = {{"truth_contact", r.truth_contact},
+                  {"missed", r.missed_contact},
+                  {"missed_under_1n", r.missed_light},
+                  {"false_contact", r.false_contact},
                   {"encoded", r.encoded},
-                  {"invisible_frames", r.invisible_contact}, {"invisible_seen", r.invisible_seen},
+                  {"invisible_frames", r.invisible_contact},
+                  {"invisible_seen", r.invisible_seen},
                   {"invisible_events", r.invisible_events},
-                  {"events_seen", r.contact_events.hits}, {"events", r.contact_events.total}};
+                  {"events_seen", r.contact_events.hits},
+                  {"events", r.contact_events.total}};
   for (const auto& [kind, m] : r.missed_by_kind)
     j["contact"]["missed_by_kind"][kind] = {{"missed", m.hits}, {"frames", m.total}};
   for (const HeadScore& h : r.heads) {
     const Interval ci = wilson95(h.events);
-    j["heads"][h.head] = {{"frame_hits", h.frames.hits}, {"frames", h.frames.total},
+    j["heads"][h.head] = {{"frame_hits", h.frames.hits},
+                          {"frames", h.frames.total},
                           {"without_contact", h.without_contact},
-                          {"event_hits", h.events.hits}, {"events", h.events.total},
-                          {"event_ci95", {ci.low, ci.high}}, {"majority", h.majority}};
+                          {"event_hits", h.events.hits},
+                          {"events", h.events.total},
+                          {"event_ci95", {ci.low, ci.high}},
+                          {"majority", h.majority}};
   }
-  j["grasps"] = {{"scripted", r.truth_grasps}, {"records", r.grasp_records},
-                 {"computed", r.grasps_computed}, {"unmatched", r.grasps_unmatched},
-                 {"not_computed", r.grasps_not_computed}, {"hits", r.grasp_accuracy.hits},
+  j["grasps"] = {{"scripted", r.truth_grasps},
+                 {"records", r.grasp_records},
+                 {"computed", r.grasps_computed},
+                 {"unmatched", r.grasps_unmatched},
+                 {"not_computed", r.grasps_not_computed},
+                 {"hits", r.grasp_accuracy.hits},
                  {"scored", r.grasp_accuracy.total},
                  {"ci95", {wilson95(r.grasp_accuracy).low, wilson95(r.grasp_accuracy).high}},
                  {"majority", r.grasp_majority},

@@ -30,7 +30,8 @@ Result<Truth> read_truth(const std::string& path) {
         e.success = j["success"].get<bool>();
       }
       for (const char* head : {"material", "hard_soft", "rough_smooth"}) {
-        e.labels[head] = j.contains(head) && j[head].is_string() ? lower(j[head].get<std::string>()) : "";
+        e.labels[head] =
+            j.contains(head) && j[head].is_string() ? lower(j[head].get<std::string>()) : "";
       }
       const auto id = j.value("id", int64_t{-1});
       TLV_ENSURE(id == static_cast<int64_t>(t.events.size()), ErrorCode::kFormat,
@@ -40,8 +41,8 @@ Result<Truth> read_truth(const std::string& path) {
       TLV_ENSURE(header, ErrorCode::kFormat, "frame line before the scenario line");
       const std::string finger = j.value("finger", "");
       const auto seq = j.value("seq", int64_t{-1});
-      TLV_ENSURE((finger == "A" || finger == "B") && seq >= 0 && seq < t.frames,
-                 ErrorCode::kFormat, "frame line with finger '%s' seq %lld", finger.c_str(),
+      TLV_ENSURE((finger == "A" || finger == "B") && seq >= 0 && seq < t.frames, ErrorCode::kFormat,
+                 "frame line with finger '%s' seq %lld", finger.c_str(),
                  static_cast<long long>(seq));
       TruthFrame& f = t.fingers[finger == "A" ? 0 : 1][static_cast<size_t>(seq)];
       f.contact = j.value("contact", false);
@@ -58,7 +59,8 @@ Result<Truth> read_truth(const std::string& path) {
 int32_t grasp_event(const json& j, const Truth& truth) {
   int64_t seq = -1;
   for (const json& f : j.value("frames", json::array())) {
-    if (f.value("finger", "") == "A" && f.value("moment", "") == "during") seq = f.value("seq", int64_t{-1});
+    if (f.value("finger", "") == "A" && f.value("moment", "") == "during")
+      seq = f.value("seq", int64_t{-1});
   }
   if (seq < 0 || truth.frames <= 0) return -1;
   const int32_t event = truth.fingers[0][static_cast<size_t>(seq % truth.frames)].event;

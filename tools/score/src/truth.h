@@ -54,10 +54,11 @@ Status read_lines(const std::string& path, Each each) {
                path.c_str(), static_cast<long long>(n), tools::kMaxLineBytes);
     if (line.empty()) continue;
     json j = json::parse(line, nullptr, false);
-    TLV_ENSURE(!j.is_discarded() && j.is_object(), ErrorCode::kFormat,
-               "%s:%lld: not a JSON object", path.c_str(), static_cast<long long>(n));
+    TLV_ENSURE(!j.is_discarded() && j.is_object(), ErrorCode::kFormat, "%s:%lld: not a JSON object",
+               path.c_str(), static_cast<long long>(n));
     Status st = each(j);
-    if (!st.ok()) return st.error().with_context("%s:%lld", path.c_str(), static_cast<long long>(n));
+    if (!st.ok())
+      return st.error().with_context("%s:%lld", path.c_str(), static_cast<long long>(n));
   }
   return in.error();
 }

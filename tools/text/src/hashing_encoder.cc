@@ -4,13 +4,13 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <string_view>
-#include <map>
 #include <vector>
 
-#include "vector_math.h"
 #include "tlvlink/text/text_encoder.h"
+#include "vector_math.h"
 
 namespace tlvlink::text {
 namespace {

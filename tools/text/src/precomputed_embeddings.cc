@@ -8,8 +8,8 @@
 
 #include "tlvlink/io/line_reader.h"
 #include "tlvlink/io/npy.h"
-#include "vector_math.h"
 #include "tlvlink/text/text_encoder.h"
+#include "vector_math.h"
 
 namespace tlvlink::text {
 namespace {
@@ -80,8 +80,12 @@ class PrecomputedTextEmbeddings final : public TextEncoder {
   PrecomputedTextEmbeddings(std::string dir, Table sentence, Table phrase, Table prompts,
                             std::unordered_map<std::string, int64_t> keys,
                             std::unordered_map<std::string, int64_t> prompt_rows)
-      : dir_(std::move(dir)), sentence_(std::move(sentence)), phrase_(std::move(phrase)),
-        prompts_(std::move(prompts)), keys_(std::move(keys)), prompt_rows_(std::move(prompt_rows)) {}
+      : dir_(std::move(dir)),
+        sentence_(std::move(sentence)),
+        phrase_(std::move(phrase)),
+        prompts_(std::move(prompts)),
+        keys_(std::move(keys)),
+        prompt_rows_(std::move(prompt_rows)) {}
 
   int32_t dim() const override { return static_cast<int32_t>(sentence_.dim); }
   std::string description() const override { return "precomputed(" + dir_ + ")"; }
@@ -135,8 +139,8 @@ Result<std::unique_ptr<TextEncoder>> open_precomputed_text_embeddings(const std:
   TLV_ASSIGN_OR_RETURN(auto prompt_rows,
                        index_lines(dir + "/prompts.txt", prompts.rows, prompts.path));
   return std::unique_ptr<TextEncoder>(
-      new PrecomputedTextEmbeddings(dir, std::move(sentence), std::move(phrase),
-                                    std::move(prompts), std::move(keys), std::move(prompt_rows)));
+      new PrecomputedTextEmbeddings(dir, std::move(sentence), std::move(phrase), std::move(prompts),
+                                    std::move(keys), std::move(prompt_rows)));
 }
 
 }  // namespace tlvlink::text

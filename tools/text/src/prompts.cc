@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "tlvlink/touch/materials.h"
 #include "tlvlink/text/text_encoder.h"
+#include "tlvlink/touch/materials.h"
 
 namespace tlvlink::text {
 namespace {
@@ -48,7 +48,8 @@ PromptSet hardness_prompts() {
   p.task = "hard";
   p.class_names = {"soft", "hard"};
   // The paper's template, its spacing included.
-  p.templates = {"the object being touched feels {c} , the surface show sort of {c}ness when touched."};
+  p.templates = {
+      "the object being touched feels {c} , the surface show sort of {c}ness when touched."};
   return p;
 }
 

@@ -3,8 +3,8 @@
 #include <string>
 #include <vector>
 
-#include "vector_math.h"
 #include "tlvlink/text/text_encoder.h"
+#include "vector_math.h"
 
 namespace tlvlink::text {
 

@@ -42,9 +42,7 @@ constexpr MaterialClass kClasses[kMaterialClassCount] = {
 
 }  // namespace
 
-std::span<const MaterialClass> material_classes() {
-  return kClasses;
-}
+std::span<const MaterialClass> material_classes() { return kClasses; }
 
 Result<const MaterialClass*> material_class(int32_t id) {
   TLV_ENSURE(id >= 0 && id < kMaterialClassCount, ErrorCode::kInvalidArgument,

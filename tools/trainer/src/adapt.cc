@@ -29,8 +29,8 @@ Result<torch::Tensor> model_inputs(const Model& model, const eval::LabelledFrame
                                    const std::string& sensor) {
   const InputSpec& spec = model.metadata().input;
   const int64_t per_frame = static_cast<int64_t>(spec.height) * spec.width * 3;
-  torch::Tensor x = torch::empty({static_cast<int64_t>(frames.frames.size()), spec.height,
-                                  spec.width, 3}, torch::kFloat32);
+  torch::Tensor x = torch::empty(
+      {static_cast<int64_t>(frames.frames.size()), spec.height, spec.width, 3}, torch::kFloat32);
   float* dst = x.data_ptr<float>();
   for (size_t i = 0; i < frames.frames.size(); ++i) {
     const eval::LabelledFrame& lf = frames.frames[i];
@@ -89,9 +89,9 @@ Result<std::vector<int32_t>> adapted_fold(const AdaptOptions& o, const torch::Te
                                           const std::vector<int32_t>& labels,
                                           const std::vector<std::string>& groups,
                                           const std::vector<std::string>& class_names,
-                                          const std::vector<int64_t>& train_rows,
-                                          int32_t classes, int64_t& trained_params,
-                                          double& loss_start, double& loss_end) {
+                                          const std::vector<int64_t>& train_rows, int32_t classes,
+                                          int64_t& trained_params, double& loss_start,
+                                          double& loss_end) {
   TLV_ASSIGN_OR_RETURN(TrainState state, load_checkpoint(o.checkpoint));
   EncoderNet net = state.student;
   const torch::Tensor index = torch::tensor(train_rows, torch::kInt64);
@@ -105,9 +105,13 @@ Result<std::vector<int32_t>> adapted_fold(const AdaptOptions& o, const torch::Te
     g[i] = groups[static_cast<size_t>(train_rows[i])];
   }
   const auto dim = static_cast<int32_t>(e0.size(1));
-  const eval::GroupedRows rows{std::span<const float>(e0.data_ptr<float>(),
-                                                      static_cast<size_t>(e0.numel())),
-                               dim, y, classes, g, class_names};
+  const eval::GroupedRows rows{
+      std::span<const float>(e0.data_ptr<float>(), static_cast<size_t>(e0.numel())),
+      dim,
+      y,
+      classes,
+      g,
+      class_names};
   eval::CvOptions cv;
   cv.folds = o.folds;
   cv.seed = o.seed;
@@ -156,8 +160,7 @@ HeadScore score(const std::vector<int32_t>& predicted, const std::vector<int32_t
 
 }  // namespace
 
-Result<AdaptComparison> compare_adapted_head(const Model& model,
-                                             const eval::LabelledFrames& frames,
+Result<AdaptComparison> compare_adapted_head(const Model& model, const eval::LabelledFrames& frames,
                                              const std::string& sensor, const AdaptOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   TLV_ENSURE(o.steps >= 0 && o.steps <= 100000 && o.lr > 0 && std::isfinite(o.lr) &&
@@ -181,7 +184,8 @@ Result<AdaptComparison> compare_adapted_head(const Model& model,
   // The checkpoint must be the encoder the model runs: compared on these very frames.
   eval::EmbedderOptions reference;
   reference.executor = ExecutorKind::kReference;
-  TLV_ASSIGN_OR_RETURN(eval::FrameFeatures f, eval::frame_features(model, frames, sensor, reference));
+  TLV_ASSIGN_OR_RETURN(eval::FrameFeatures f,
+                       eval::frame_features(model, frames, sensor, reference));
   const torch::Tensor e = embed(net, x).contiguous();
   TLV_ENSURE(e.size(1) == f.dim, ErrorCode::kShapeMismatch,
              "adapt: %s embeds into %lld values, the model into %d: not the model's checkpoint",
@@ -213,8 +217,8 @@ Result<AdaptComparison> compare_adapted_head(const Model& model,
       if (linear.fold[i] != k) train_rows.push_back(static_cast<int64_t>(i));
     double start = 0, end = 0;
     TLV_ASSIGN_OR_RETURN(std::vector<int32_t> p,
-                         adapted_fold(o, x, f.labels, f.groups, frames.classes, train_rows,
-                                      classes, trained_params, start, end));
+                         adapted_fold(o, x, f.labels, f.groups, frames.classes, train_rows, classes,
+                                      trained_params, start, end));
     c.fit_loss_start += start / linear.folds;
     c.fit_loss_end += end / linear.folds;
     for (size_t i = 0; i < linear.fold.size(); ++i)
@@ -230,8 +234,9 @@ Result<AdaptComparison> compare_adapted_head(const Model& model,
   int64_t total = 0;
   for (const torch::Tensor& p : net->parameters()) total += p.numel();
   char what[160];
-  std::snprintf(what, sizeof what, "the last %d conv layer(s) + FC: %lld of %lld encoder parameters",
-                o.layers, static_cast<long long>(trained_params), static_cast<long long>(total));
+  std::snprintf(what, sizeof what,
+                "the last %d conv layer(s) + FC: %lld of %lld encoder parameters", o.layers,
+                static_cast<long long>(trained_params), static_cast<long long>(total));
   c.trained = what;
   c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return c;
@@ -251,12 +256,11 @@ std::string format_adapt_comparison(const AdaptComparison& c, const std::string&
       "  fitting rows' cross-entropy %.3f -> %.3f over %d steps (mean over folds)\n"
       "verdict: %s (fp32; %.1f s)\n",
       head.c_str(), static_cast<long long>(c.n), static_cast<long long>(c.groups), c.classes,
-      c.folds, 100 * c.majority, c.encoder_cosine, 100 * c.linear.accuracy,
-      100 * c.linear.ci_low, 100 * c.linear.ci_high, 100 * c.linear.balanced_accuracy,
-      c.trained.c_str(), 100 * c.adapted.accuracy, 100 * c.adapted.ci_low,
-      100 * c.adapted.ci_high, 100 * c.adapted.balanced_accuracy,
-      static_cast<long long>(c.adapted_only_right), static_cast<long long>(c.linear_only_right),
-      c.fit_loss_start, c.fit_loss_end, c.steps,
+      c.folds, 100 * c.majority, c.encoder_cosine, 100 * c.linear.accuracy, 100 * c.linear.ci_low,
+      100 * c.linear.ci_high, 100 * c.linear.balanced_accuracy, c.trained.c_str(),
+      100 * c.adapted.accuracy, 100 * c.adapted.ci_low, 100 * c.adapted.ci_high,
+      100 * c.adapted.balanced_accuracy, static_cast<long long>(c.adapted_only_right),
+      static_cast<long long>(c.linear_only_right), c.fit_loss_start, c.fit_loss_end, c.steps,
       pays ? "adapting pays on these frames (its interval lies above the linear head's "
              "accuracy); this version does not write the adapted model, and int8 is unchecked"
            : "adapting does not pay here: keep the linear head (`heads fit --images`)",

@@ -9,7 +9,7 @@ namespace {
 
 struct Family {
   const char* name;
-  int32_t stages;        // stride-2 stages (5, or 6 for full-resolution input)
+  int32_t stages;  // stride-2 stages (5, or 6 for full-resolution input)
   int32_t channels[6];
   int32_t head;
 };
@@ -20,10 +20,8 @@ struct Family {
 // frame at full resolution (240x320: no resize, so a texture finer than the 96x128 grid's
 // 0.16 mm pixels still reaches the network) through a sixth, narrow stride-2 stage.
 constexpr Family kFamilies[] = {
-    {"large", 5, {32, 64, 128, 256, 512, 0}, 1024},
-    {"small", 5, {16, 32, 64, 128, 256, 0}, 512},
-    {"tiny", 5, {16, 24, 32, 64, 128, 0}, 256},
-    {"tiny-hr", 6, {8, 16, 24, 32, 64, 128}, 256},
+    {"large", 5, {32, 64, 128, 256, 512, 0}, 1024},   {"small", 5, {16, 32, 64, 128, 256, 0}, 512},
+    {"tiny", 5, {16, 24, 32, 64, 128, 0}, 256},       {"tiny-hr", 6, {8, 16, 24, 32, 64, 128}, 256},
     {"large-hr", 6, {16, 32, 64, 96, 192, 384}, 768},
 };
 constexpr int32_t kFirstResidualStage = 2;  // 0-based
@@ -78,7 +76,7 @@ ArchStats arch_stats(const ArchSpec& spec) {
     const auto weights =
         static_cast<uint64_t>(l.out_channels) * static_cast<uint64_t>(l.kernel * l.kernel * c);
     s.macs += weights * static_cast<uint64_t>(h) * static_cast<uint64_t>(w);
-    s.params += weights + 2 * static_cast<uint64_t>(l.out_channels);  // + BN gamma, beta
+    s.params += weights + 2 * static_cast<uint64_t>(l.out_channels);       // + BN gamma, beta
     s.deployed_params += weights + static_cast<uint64_t>(l.out_channels);  // + folded bias
     c = l.out_channels;
   }
@@ -95,8 +93,9 @@ ArchStats arch_stats(const ArchSpec& spec) {
 std::string describe_arch(const ArchSpec& spec) {
   const ArchStats s = arch_stats(spec);
   char text[160];
-  std::snprintf(text, sizeof(text), "%s %dx%d -> %d: %.1f MMAC, %.2f M parameters (%.2f M deployed)",
-                spec.name.c_str(), spec.input_height, spec.input_width, spec.embedding_dim,
+  std::snprintf(text, sizeof(text),
+                "%s %dx%d -> %d: %.1f MMAC, %.2f M parameters (%.2f M deployed)", spec.name.c_str(),
+                spec.input_height, spec.input_width, spec.embedding_dim,
                 static_cast<double>(s.macs) / 1e6, static_cast<double>(s.params) / 1e6,
                 static_cast<double>(s.deployed_params) / 1e6);
   return text;

@@ -5,9 +5,9 @@
 #include <torch/serialize/input-archive.h>
 #include <torch/serialize/output-archive.h>
 
+#include <sys/stat.h>
 #include <cstdio>
 #include <sstream>
-#include <sys/stat.h>
 
 #include "tlvlink/atomic_file.h"
 
@@ -105,7 +105,8 @@ Result<TrainState> load_checkpoint(const std::string& path) {
       // before it existed have none).
       const bool contact = state.meta.contains("settings") &&
                            state.meta.at("settings").value("contact_weight", 0.0) > 0;
-      state.heads = SupervisedHeads(state.meta.at("arch").at("embedding_dim").get<int64_t>(), contact);
+      state.heads =
+          SupervisedHeads(state.meta.at("arch").at("embedding_dim").get<int64_t>(), contact);
       state.heads->load(heads);
     }
   } catch (const nlohmann::json::exception& e) {

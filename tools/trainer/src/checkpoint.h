@@ -19,9 +19,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "tlvlink/error.h"
 #include "net.h"
 #include "supervised.h"
+#include "tlvlink/error.h"
 
 namespace tlvlink::trainer {
 

@@ -11,14 +11,14 @@
 #include <mutex>
 #include <thread>
 
-#include "tlvlink/image/jpeg.h"
-#include "tlvlink/io/image.h"
-#include "tlvlink/image/preprocess.h"
-#include "tlvlink/io/npy_image.h"
-#include "tlvlink/io/progress.h"
 #include "tlvlink/datasets/detect.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/datasets/touch100k.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/io/npy_image.h"
+#include "tlvlink/io/progress.h"
 
 namespace tlvlink::trainer {
 namespace {
@@ -38,15 +38,16 @@ std::string join_phrases(const std::vector<std::string>& phrases) {
 Status load_resized(const std::string& path, int32_t height, int32_t width, ResizeFilter filter,
                     uint8_t* dst, bool keep_turned = false, uint8_t* turned = nullptr) {
   TLV_ASSIGN_OR_RETURN(tools::Image image, tools::read_jpeg(path));
-  TLV_ENSURE(image.channels == 3, ErrorCode::kFormat, "%s: %d channels, expected RGB",
-             path.c_str(), image.channels);
+  TLV_ENSURE(image.channels == 3, ErrorCode::kFormat, "%s: %d channels, expected RGB", path.c_str(),
+             image.channels);
   const bool is_turned = keep_turned && image.height == width && image.width == height;
   if (turned != nullptr) *turned = is_turned ? 1 : 0;
   if ((image.height == height && image.width == width) || is_turned) {
     std::copy(image.pixels.begin(), image.pixels.end(), dst);
     return {};
   }
-  TLV_ASSIGN_OR_RETURN(const tools::Image sized, image::resize(image.view(), height, width, filter));
+  TLV_ASSIGN_OR_RETURN(const tools::Image sized,
+                       image::resize(image.view(), height, width, filter));
   std::copy(sized.pixels.begin(), sized.pixels.end(), dst);
   return {};
 }
@@ -97,7 +98,8 @@ Result<DataCache> load_cache(const CacheOptions& o) {
                        datasets::probe_dataset_format(o.dir));
   TLV_ENSURE(format == datasets::DatasetFormat::kTouch100k, ErrorCode::kFormat,
              "%s: no %s (not a Touch100k-format directory; `tlvlink sim touch100k -o DIR` makes "
-             "one)", o.dir.c_str(), datasets::kTouch100kIndex);
+             "one)",
+             o.dir.c_str(), datasets::kTouch100kIndex);
   const std::optional<datasets::HashSplit> hash = datasets::split_to_apply(
       o.dir, *format, std::nullopt, datasets::HashSplit{o.test_fraction, 0});
   DataCache cache;
@@ -123,8 +125,8 @@ Result<DataCache> load_cache(const CacheOptions& o) {
     if (!hash) {
       const datasets::Split recorded = loader->recorded_split();
       TLV_ENSURE(recorded != datasets::Split::kAll, ErrorCode::kFormat,
-                 "%s: sample '%s' has no train/test split in %s (%s)", o.dir.c_str(),
-                 key.c_str(), datasets::kTouch100kSidecar, loader->report().summary().c_str());
+                 "%s: sample '%s' has no train/test split in %s (%s)", o.dir.c_str(), key.c_str(),
+                 datasets::kTouch100kSidecar, loader->report().summary().c_str());
       is_test = recorded == datasets::Split::kTest;
     } else {
       is_test = datasets::hash_split_is_test(s.session, *hash);
@@ -143,8 +145,7 @@ Result<DataCache> load_cache(const CacheOptions& o) {
       cache.sensors.push_back(s.sensor);
     }
     pending.push_back({key, s.sentence_desc, join_phrases(s.phrases), s.material.class_id,
-                       labelled ? (s.material.hard ? 1 : 0) : -1,
-                       labelled ? s.material.rough : -1,
+                       labelled ? (s.material.hard ? 1 : 0) : -1, labelled ? s.material.rough : -1,
                        touching ? static_cast<float>(std::log(s.contact.force_n)) : kNoTarget,
                        touching ? static_cast<float>(s.material.friction) : kNoTarget});
   }
@@ -162,8 +163,8 @@ Result<DataCache> load_cache(const CacheOptions& o) {
   const size_t need = per_sample * pending.size();
   TLV_ENSURE(o.max_cache_bytes == 0 || need <= o.max_cache_bytes, ErrorCode::kOutOfMemory,
              "%s: %zu %s samples need %.1f MB of image cache (%zu bytes each), over the limit of "
-             "%.1f MB; raise --max-cache-mb or pass --max-samples", o.dir.c_str(), pending.size(),
-             split_name, static_cast<double>(need) / 1e6, per_sample,
+             "%.1f MB; raise --max-cache-mb or pass --max-samples",
+             o.dir.c_str(), pending.size(), split_name, static_cast<double>(need) / 1e6, per_sample,
              static_cast<double>(o.max_cache_bytes) / 1e6);
 
   // Pass 2: decode + resize in parallel; a missing or corrupt image drops its sample (counted).
@@ -176,9 +177,9 @@ Result<DataCache> load_cache(const CacheOptions& o) {
   std::atomic<size_t> next{0}, done{0};
   auto work = [&] {
     for (size_t i = next++; i < n; i = next++) {
-      Status st = load_resized(o.dir + "/touch/" + pending[i].key, cache.height, cache.width,
-                               o.resize, cache.touch.data() + i * cache.touch_stride(),
-                               o.keep_turned, &turned[i]);
+      Status st =
+          load_resized(o.dir + "/touch/" + pending[i].key, cache.height, cache.width, o.resize,
+                       cache.touch.data() + i * cache.touch_stride(), o.keep_turned, &turned[i]);
       if (st.ok() && o.load_vision) {
         st = load_resized(o.dir + "/vision/" + pending[i].key, cache.vision_height,
                           cache.vision_width, ResizeFilter::kBilinear,
@@ -216,9 +217,10 @@ Result<DataCache> load_cache(const CacheOptions& o) {
                   cache.touch_stride(),
                   cache.touch.begin() + static_cast<std::ptrdiff_t>(kept * cache.touch_stride()));
       if (o.load_vision) {
-        std::copy_n(cache.vision.begin() + static_cast<std::ptrdiff_t>(i * cache.vision_stride()),
-                    cache.vision_stride(),
-                    cache.vision.begin() + static_cast<std::ptrdiff_t>(kept * cache.vision_stride()));
+        std::copy_n(
+            cache.vision.begin() + static_cast<std::ptrdiff_t>(i * cache.vision_stride()),
+            cache.vision_stride(),
+            cache.vision.begin() + static_cast<std::ptrdiff_t>(kept * cache.vision_stride()));
       }
     }
     cache.turned.push_back(turned[i]);
@@ -242,9 +244,10 @@ Result<DataCache> load_cache(const CacheOptions& o) {
     cache.load_summary += "; " + std::to_string(problems.size()) +
                           " samples dropped for unreadable images (first: " + problems[0] + ")";
   }
-  TLV_ENSURE(kept > 0, ErrorCode::kInvalidArgument, "%s: none of the %zu %s samples has readable "
-             "images (first problem: %s)", o.dir.c_str(), n, split_name,
-             problems.empty() ? "-" : problems[0].c_str());
+  TLV_ENSURE(kept > 0, ErrorCode::kInvalidArgument,
+             "%s: none of the %zu %s samples has readable "
+             "images (first problem: %s)",
+             o.dir.c_str(), n, split_name, problems.empty() ? "-" : problems[0].c_str());
   return cache;
 }
 

@@ -8,17 +8,17 @@
 #include <cstring>
 #include <fstream>
 
-#include "tlvlink/io/file.h"
-#include "tlvlink/image/jpeg.h"
-#include "tlvlink/io/image.h"
-#include "tlvlink/image/preprocess.h"
-#include "tlvlink/io/npy_image.h"
+#include "checkpoint.h"
 #include "data_cache.h"
+#include "export_graph.h"
+#include "tlvlink/image/jpeg.h"
+#include "tlvlink/image/preprocess.h"
+#include "tlvlink/io/file.h"
+#include "tlvlink/io/image.h"
+#include "tlvlink/io/npy_image.h"
 #include "tlvlink/model.h"
 #include "tlvlink/text/text_encoder.h"
 #include "tlvlink/trainer/trainer.h"
-#include "checkpoint.h"
-#include "export_graph.h"
 
 namespace tlvlink::trainer {
 namespace {
@@ -61,8 +61,8 @@ Result<quantize::ZeroShotHeadSpec> zero_shot_head(text::TextEncoder& encoder,
   quantize::ZeroShotHeadSpec h;
   h.name = prompts.task;
   h.class_names = prompts.class_names;
-  h.prompt_template =
-      prompts.templates.empty() ? join(prompts.fixed_prompts, " | ") : join(prompts.templates, " | ");
+  h.prompt_template = prompts.templates.empty() ? join(prompts.fixed_prompts, " | ")
+                                                : join(prompts.templates, " | ");
   auto m = text::zero_shot_matrix(encoder, prompts);
   if (!m.ok()) return m.error().with_context("zero-shot head '%s'", prompts.task.c_str());
   h.prompt_matrix = std::move(m).value();
@@ -78,9 +78,9 @@ Result<std::unique_ptr<text::TextEncoder>> encoder_for(const nlohmann::ordered_j
         override_dir.empty() ? t.at("embeddings_dir").get<std::string>() : override_dir;
     std::unique_ptr<text::TextEncoder> enc;
     if (dir.empty()) {
-      TLV_ASSIGN_OR_RETURN(enc, text::make_hashing_text_encoder(
-                                    {.dim = t.at("dim").get<int32_t>(),
-                                     .seed = t.at("seed").get<uint64_t>()}));
+      TLV_ASSIGN_OR_RETURN(
+          enc, text::make_hashing_text_encoder(
+                   {.dim = t.at("dim").get<int32_t>(), .seed = t.at("seed").get<uint64_t>()}));
       // The same settings must give the same encoder; a changed implementation would make the
       // prompt matrix disagree with the space the student was trained in.
       const std::string recorded = t.at("description").get<std::string>();
@@ -111,8 +111,11 @@ Status add_golden(const ExportOptions& o, const nlohmann::ordered_json& meta, En
     dir = meta.at("dataset").at("dir").get<std::string>();
     struct stat st {};
     if (::stat((dir + "/data_list.json").c_str(), &st) != 0) {
-      summary.note += (summary.note.empty() ? "" : "; ") + std::string("no golden pairs: the "
-                      "training set ") + dir + " is gone (pass --golden-data DIR)";
+      summary.note += (summary.note.empty() ? "" : "; ") +
+                      std::string(
+                          "no golden pairs: the "
+                          "training set ") +
+                      dir + " is gone (pass --golden-data DIR)";
       return {};
     }
   }
@@ -296,17 +299,17 @@ Result<std::vector<float>> libtorch_embeddings(const std::string& checkpoint,
                                                std::span<const float> nhwc, int64_t n) {
   TLV_ASSIGN_OR_RETURN(TrainState state, load_checkpoint(checkpoint));
   const ArchSpec& a = state.student->spec();
-  const size_t per_frame = static_cast<size_t>(a.input_height) * static_cast<size_t>(a.input_width) * 3;
+  const size_t per_frame =
+      static_cast<size_t>(a.input_height) * static_cast<size_t>(a.input_width) * 3;
   TLV_ENSURE(n >= 1 && nhwc.size() == per_frame * static_cast<size_t>(n), ErrorCode::kShapeMismatch,
              "%zu input values for %lld frames of %dx%dx3", nhwc.size(), static_cast<long long>(n),
              a.input_height, a.input_width);
   state.student->eval();
   torch::NoGradGuard no_grad;
-  const torch::Tensor x =
-      torch::from_blob(const_cast<float*>(nhwc.data()), {n, a.input_height, a.input_width, 3},
-                       torch::kFloat32)
-          .permute({0, 3, 1, 2})
-          .contiguous();
+  const torch::Tensor x = torch::from_blob(const_cast<float*>(nhwc.data()),
+                                           {n, a.input_height, a.input_width, 3}, torch::kFloat32)
+                              .permute({0, 3, 1, 2})
+                              .contiguous();
   return to_vector(state.student->forward(x));
 }
 

@@ -29,8 +29,8 @@ Result<uint64_t> add_student_graph(const PlainNet& net, quantize::ModelBuilder& 
     const int32_t oh = conv_output_size(h, l.kernel, l.stride);
     const int32_t ow = conv_output_size(w, l.kernel, l.stride);
     const bool residual = l.kind == LayerKind::kResidualBnRelu6;
-    const int32_t wt = b.add_constant<float>(name + ".weight", {l.out_channels, l.kernel, l.kernel, c},
-                                             folded->weight_ohwi);
+    const int32_t wt = b.add_constant<float>(
+        name + ".weight", {l.out_channels, l.kernel, l.kernel, c}, folded->weight_ohwi);
     const int32_t bt = b.add_constant<float>(name + ".bias", {l.out_channels}, folded->bias);
     const int32_t y = b.add_activation(name + (residual ? ".conv" : ".out"), DType::kFloat32,
                                        {1, oh, ow, l.out_channels});
@@ -42,7 +42,8 @@ Result<uint64_t> add_student_graph(const PlainNet& net, quantize::ModelBuilder& 
     b.add_op(OpType::kConv2D, name, {x, wt, bt}, y, cp);
     macs += p.shape.weights() * static_cast<uint64_t>(oh) * static_cast<uint64_t>(ow);
     if (residual) {
-      const int32_t sum = b.add_activation(name + ".out", DType::kFloat32, {1, oh, ow, l.out_channels});
+      const int32_t sum =
+          b.add_activation(name + ".out", DType::kFloat32, {1, oh, ow, l.out_channels});
       b.add_op(OpType::kAdd, name + ".add", {x, y}, sum, BinaryParams{Activation::kRelu6});
       x = sum;
     } else {

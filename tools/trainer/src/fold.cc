@@ -39,11 +39,12 @@ Result<FoldedConv> fold_batchnorm(std::span<const float> weight_oihw, const Conv
     TLV_ENSURE(bn.running_var[c] >= 0, ErrorCode::kInvalidArgument,
                "BatchNorm channel %zu has negative running variance %g", c,
                static_cast<double>(bn.running_var[c]));
-    const double s = static_cast<double>(bn.gamma[c]) /
-                     std::sqrt(static_cast<double>(bn.running_var[c]) + static_cast<double>(bn.eps));
+    const double s =
+        static_cast<double>(bn.gamma[c]) /
+        std::sqrt(static_cast<double>(bn.running_var[c]) + static_cast<double>(bn.eps));
     const double b = conv_bias.empty() ? 0.0 : static_cast<double>(conv_bias[c]);
-    const double folded_bias = s * (b - static_cast<double>(bn.running_mean[c])) +
-                               static_cast<double>(bn.beta[c]);
+    const double folded_bias =
+        s * (b - static_cast<double>(bn.running_mean[c])) + static_cast<double>(bn.beta[c]);
     TLV_ENSURE(std::isfinite(s) && std::isfinite(folded_bias), ErrorCode::kInvalidArgument,
                "BatchNorm channel %zu folds to a non-finite scale/bias (var %g, eps %g)", c,
                static_cast<double>(bn.running_var[c]), static_cast<double>(bn.eps));

@@ -58,7 +58,8 @@ torch::Tensor image_batch(const std::vector<uint8_t>& pixels, int32_t height, in
   return ((raw.to(torch::kFloat32) / 255.0f - m) / s).permute({0, 3, 1, 2}).contiguous();
 }
 
-torch::Tensor clip_loss(const torch::Tensor& x, const torch::Tensor& y, const torch::Tensor& scale) {
+torch::Tensor clip_loss(const torch::Tensor& x, const torch::Tensor& y,
+                        const torch::Tensor& scale) {
   namespace F = torch::nn::functional;
   const torch::Tensor xn = F::normalize(x, F::NormalizeFuncOptions().dim(1));
   const torch::Tensor yn = F::normalize(y, F::NormalizeFuncOptions().dim(1));

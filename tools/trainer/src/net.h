@@ -11,6 +11,8 @@
 #include <torch/nn/modules/conv.h>
 #include <torch/nn/modules/linear.h>
 #include <torch/nn/pimpl.h>
+
+// After the modules: libtorch 1.13's functional headers are not self-contained (c10 types).
 #include <torch/nn/functional/normalization.h>
 
 #include <cstdint>

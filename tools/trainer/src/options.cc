@@ -13,7 +13,6 @@ namespace {
 // The default split of a set without a recorded one is the datasets' (one rule, one place).
 static_assert(kDefaultTestFraction == datasets::kDefaultSplit.test_fraction);
 
-
 }  // namespace
 
 const char* objective_name(Objective o) {
@@ -38,17 +37,17 @@ Status validate(const TrainOptions& o) {
   // Nearest would alias every camera's noise and codec grain into the model (issue 29): the
   // trainer offers the two filters that average.
   TLV_ENSURE(o.resize == ResizeFilter::kBilinear || o.resize == ResizeFilter::kArea,
-             ErrorCode::kInvalidArgument, "resize filter %s: the trainer resizes with bilinear or area",
+             ErrorCode::kInvalidArgument,
+             "resize filter %s: the trainer resizes with bilinear or area",
              resize_filter_name(o.resize));
   TLV_TRY(validate(o.beta));
   TLV_ENSURE(o.objective != Objective::kSupervised || o.beta.schedule == BetaSchedule::kNone,
              ErrorCode::kInvalidArgument,
              "objective supervised has no text loss for a curriculum to act on: use it with "
              "--no-curriculum");
-  TLV_ENSURE(std::isfinite(o.supervised_weight) && o.supervised_weight > 0 &&
-                 o.supervised_weight <= 100,
-             ErrorCode::kInvalidArgument, "supervised weight %g outside (0, 100]",
-             o.supervised_weight);
+  TLV_ENSURE(
+      std::isfinite(o.supervised_weight) && o.supervised_weight > 0 && o.supervised_weight <= 100,
+      ErrorCode::kInvalidArgument, "supervised weight %g outside (0, 100]", o.supervised_weight);
   TLV_ENSURE(std::isfinite(o.contact_weight) && o.contact_weight >= 0 && o.contact_weight <= 100,
              ErrorCode::kInvalidArgument, "contact weight %g outside [0, 100]", o.contact_weight);
   const AugmentOptions& a = o.augment;
@@ -56,7 +55,8 @@ Status validate(const TrainOptions& o) {
                  a.exposure_sigma <= 1 && a.noise_dn >= 0 && a.noise_dn <= 50,
              ErrorCode::kInvalidArgument,
              "augmentation gain sigma %g, exposure sigma %g (each in [0, 1]) or noise %g DN "
-             "(in [0, 50]) out of range", a.gain_sigma, a.exposure_sigma, a.noise_dn);
+             "(in [0, 50]) out of range",
+             a.gain_sigma, a.exposure_sigma, a.noise_dn);
   const ViewAugmentOptions& v = o.view;
   TLV_ENSURE((v.components & ~static_cast<uint32_t>(kViewAll)) == 0, ErrorCode::kInvalidArgument,
              "view augmentation components 0x%x: unknown bits", v.components);
@@ -64,19 +64,20 @@ Status validate(const TrainOptions& o) {
                  v.consistency_weight <= 100,
              ErrorCode::kInvalidArgument, "consistency weight %g outside [0, 100]",
              v.consistency_weight);
-  TLV_ENSURE(std::isfinite(v.prediction_weight) && v.prediction_weight >= 0 &&
-                 v.prediction_weight <= 100,
-             ErrorCode::kInvalidArgument, "prediction consistency weight %g outside [0, 100]",
-             v.prediction_weight);
-  TLV_ENSURE(v.prediction_weight == 0 ||
-                 (v.consistency_weight > 0 && o.objective != Objective::kTlvLink),
-             ErrorCode::kInvalidArgument,
-             "a prediction consistency weight (%g) needs two views (--consistency-weight) and "
-             "the supervised heads (objective supervised or tlv-link+supervised)",
-             v.prediction_weight);
+  TLV_ENSURE(
+      std::isfinite(v.prediction_weight) && v.prediction_weight >= 0 && v.prediction_weight <= 100,
+      ErrorCode::kInvalidArgument, "prediction consistency weight %g outside [0, 100]",
+      v.prediction_weight);
+  TLV_ENSURE(
+      v.prediction_weight == 0 || (v.consistency_weight > 0 && o.objective != Objective::kTlvLink),
+      ErrorCode::kInvalidArgument,
+      "a prediction consistency weight (%g) needs two views (--consistency-weight) and "
+      "the supervised heads (objective supervised or tlv-link+supervised)",
+      v.prediction_weight);
   TLV_ENSURE(v.consistency_weight == 0 || v.enabled(), ErrorCode::kInvalidArgument,
              "a consistency weight (%g) needs the view augmentation (--augment-view): two views "
-             "without it are the same frame", v.consistency_weight);
+             "without it are the same frame",
+             v.consistency_weight);
   TLV_ENSURE(!v.enabled() || (v.frame_height >= o.input_height && v.frame_width >= o.input_width &&
                               v.frame_height <= 4096 && v.frame_width <= 4096 &&
                               v.frame_width % 2 == 0 && v.frame_height % 2 == 0),
@@ -139,32 +140,41 @@ nlohmann::ordered_json options_to_json(const TrainOptions& o) {
   if (o.beta.schedule == BetaSchedule::kNone) {
     teacher = {{"kind", "none (no curriculum: beta = 0, the teacher is never used)"}};
   } else if (o.teacher.torchscript.empty()) {
-    teacher = {{"kind", "builtin"}, {"arch", o.teacher.builtin_arch},
-               {"epochs", o.teacher.epochs}, {"lr", o.teacher.lr}};
+    teacher = {{"kind", "builtin"},
+               {"arch", o.teacher.builtin_arch},
+               {"epochs", o.teacher.epochs},
+               {"lr", o.teacher.lr}};
   } else {
-    teacher = {{"kind", "torchscript"}, {"file", o.teacher.torchscript},
+    teacher = {{"kind", "torchscript"},
+               {"file", o.teacher.torchscript},
                {"input", {o.teacher.input_height, o.teacher.input_width}},
-               {"mean", o.teacher.mean}, {"std", o.teacher.std}};
+               {"mean", o.teacher.mean},
+               {"std", o.teacher.std}};
   }
   return {
       {"arch", o.arch},
       {"input", {o.input_height, o.input_width}},
       {"resize", resize_filter_name(o.resize)},
-      {"text", {{"embeddings_dir", o.text.embeddings_dir}, {"dim", o.text.dim},
-                {"seed", o.text.seed}}},
+      {"text",
+       {{"embeddings_dir", o.text.embeddings_dir}, {"dim", o.text.dim}, {"seed", o.text.seed}}},
       {"teacher", teacher},
-      {"beta", {{"schedule", beta_schedule_name(o.beta.schedule)}, {"beta1", o.beta.beta1},
-                {"span", o.beta.span}, {"beta_min", o.beta.beta_min}}},
+      {"beta",
+       {{"schedule", beta_schedule_name(o.beta.schedule)},
+        {"beta1", o.beta.beta1},
+        {"span", o.beta.span},
+        {"beta_min", o.beta.beta_min}}},
       {"objective", objective_name(o.objective)},
       {"supervised_weight", o.supervised_weight},
       {"contact_weight", o.contact_weight},
-      {"augment", {{"gain_sigma", o.augment.gain_sigma},
-                   {"exposure_sigma", o.augment.exposure_sigma},
-                   {"noise_dn", o.augment.noise_dn}}},
-      {"view", {{"components", view_components_name(o.view.components)},
-                {"consistency_weight", o.view.consistency_weight},
-                {"prediction_weight", o.view.prediction_weight},
-                {"frame", {o.view.frame_height, o.view.frame_width}}}},
+      {"augment",
+       {{"gain_sigma", o.augment.gain_sigma},
+        {"exposure_sigma", o.augment.exposure_sigma},
+        {"noise_dn", o.augment.noise_dn}}},
+      {"view",
+       {{"components", view_components_name(o.view.components)},
+        {"consistency_weight", o.view.consistency_weight},
+        {"prediction_weight", o.view.prediction_weight},
+        {"frame", {o.view.frame_height, o.view.frame_width}}}},
       {"lr", o.lr.lr},
       {"warmup_steps", o.lr.warmup_steps},
       {"min_lr", o.lr.min_lr},

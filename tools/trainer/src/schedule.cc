@@ -29,8 +29,8 @@ Result<BetaSchedule> parse_beta_schedule(std::string_view name) {
 }
 
 Status validate(const BetaOptions& o) {
-  TLV_ENSURE(o.beta1 >= 0 && o.beta1 <= 1, ErrorCode::kInvalidArgument,
-             "beta1 %g outside [0, 1]", o.beta1);
+  TLV_ENSURE(o.beta1 >= 0 && o.beta1 <= 1, ErrorCode::kInvalidArgument, "beta1 %g outside [0, 1]",
+             o.beta1);
   TLV_ENSURE(o.span > 0 && o.span <= 1, ErrorCode::kInvalidArgument,
              "beta span %g outside (0, 1] (a fraction of all steps)", o.span);
   TLV_ENSURE(o.beta_min >= 0 && o.beta_min <= o.beta1, ErrorCode::kInvalidArgument,
@@ -42,12 +42,14 @@ double beta_at(const BetaOptions& o, int64_t step, int64_t total_steps) {
   if (o.schedule == BetaSchedule::kNone) return 0.0;
   const auto span_steps = std::max<int64_t>(
       1, std::llround(o.span * static_cast<double>(std::max<int64_t>(total_steps, 1))));
-  const double t = static_cast<double>(std::max<int64_t>(step, 0)) / static_cast<double>(span_steps);
+  const double t =
+      static_cast<double>(std::max<int64_t>(step, 0)) / static_cast<double>(span_steps);
   if (t >= 1.0) return o.beta_min;
   const double range = o.beta1 - o.beta_min;
   switch (o.schedule) {
     case BetaSchedule::kLinear: return o.beta1 - range * t;
-    case BetaSchedule::kCosine: return o.beta_min + range * 0.5 * (1.0 + std::cos(std::numbers::pi * t));
+    case BetaSchedule::kCosine:
+      return o.beta_min + range * 0.5 * (1.0 + std::cos(std::numbers::pi * t));
     case BetaSchedule::kExponential: {
       const double k = kExponentialBetaRate;
       return o.beta_min + range * (std::exp(-k * t) - std::exp(-k)) / (1.0 - std::exp(-k));

@@ -25,10 +25,12 @@ SupervisedHeadsImpl::SupervisedHeadsImpl(int64_t dim, bool with_contact) {
   if (with_contact) contact = register_module("contact", torch::nn::Linear(dim, 2));
 }
 
-torch::Tensor SupervisedHeadsImpl::contact_loss(const torch::Tensor& e, const torch::Tensor& log_force,
+torch::Tensor SupervisedHeadsImpl::contact_loss(const torch::Tensor& e,
+                                                const torch::Tensor& log_force,
                                                 const torch::Tensor& friction) {
-  const torch::Tensor target = torch::stack({(log_force - kLogForceMean) / kLogForceScale,
-                                             (friction - kFrictionMean) / kFrictionScale}, 1);
+  const torch::Tensor target = torch::stack(
+      {(log_force - kLogForceMean) / kLogForceScale, (friction - kFrictionMean) / kFrictionScale},
+      1);
   const torch::Tensor known = torch::isfinite(target);
   const int64_t n = known.sum().item<int64_t>();
   if (n == 0) return torch::zeros({}, e.options());
@@ -43,7 +45,8 @@ torch::Tensor SupervisedHeadsImpl::loss(const torch::Tensor& e, const torch::Ten
          masked_ce(rough->forward(e), r);
 }
 
-torch::Tensor SupervisedHeadsImpl::agreement_loss(const torch::Tensor& e1, const torch::Tensor& e2) {
+torch::Tensor SupervisedHeadsImpl::agreement_loss(const torch::Tensor& e1,
+                                                  const torch::Tensor& e2) {
   namespace F = torch::nn::functional;
   const auto symmetric_kl = [](const torch::Tensor& a, const torch::Tensor& b) {
     const torch::Tensor la = F::log_softmax(a, F::LogSoftmaxFuncOptions(1));

@@ -22,8 +22,9 @@ constexpr uint64_t kTeacherSeedStream = 0x7ea7c4e7ull;
 Result<TeacherOutput> pretrain_builtin_teacher(const DataCache& cache, const torch::Tensor& text,
                                                const TrainOptions& o, std::FILE* log) {
   const auto start = std::chrono::steady_clock::now();
-  TLV_ASSIGN_OR_RETURN(ArchSpec arch, make_arch(o.teacher.builtin_arch, cache.vision_height,
-                                                cache.vision_width, static_cast<int32_t>(text.size(1))));
+  TLV_ASSIGN_OR_RETURN(ArchSpec arch,
+                       make_arch(o.teacher.builtin_arch, cache.vision_height, cache.vision_width,
+                                 static_cast<int32_t>(text.size(1))));
   const int64_t n = cache.size();
   const int64_t batch = std::min<int64_t>(o.batch, n);
   TLV_ENSURE(batch >= 2, ErrorCode::kInvalidArgument,
@@ -41,9 +42,8 @@ Result<TeacherOutput> pretrain_builtin_teacher(const DataCache& cache, const tor
   for (const auto& p : net->named_parameters()) {
     (decays(p.key(), p.value()) ? decay : no_decay).push_back(p.value());
   }
-  auto options = torch::optim::AdamWOptions(o.teacher.lr)
-                     .betas({o.adam_beta1, o.adam_beta2})
-                     .eps(o.adam_eps);
+  auto options =
+      torch::optim::AdamWOptions(o.teacher.lr).betas({o.adam_beta1, o.adam_beta2}).eps(o.adam_eps);
   std::vector<torch::optim::OptimizerParamGroup> groups;
   groups.emplace_back(decay, std::make_unique<torch::optim::AdamWOptions>(
                                  torch::optim::AdamWOptions(options).weight_decay(o.weight_decay)));
@@ -67,8 +67,8 @@ Result<TeacherOutput> pretrain_builtin_teacher(const DataCache& cache, const tor
       for (auto& g : optimizer.param_groups()) {
         static_cast<torch::optim::AdamWOptions&>(g.options()).lr(rate);
       }
-      const torch::Tensor x = image_batch(cache.vision, cache.vision_height, cache.vision_width,
-                                          idx, mean, std);
+      const torch::Tensor x =
+          image_batch(cache.vision, cache.vision_height, cache.vision_width, idx, mean, std);
       const torch::Tensor y = text.index_select(0, torch::tensor(idx, torch::kLong));
       torch::Tensor loss = clip_loss(net->forward(x), y, logit_scale.exp());
       optimizer.zero_grad();
@@ -91,7 +91,8 @@ Result<TeacherOutput> pretrain_builtin_teacher(const DataCache& cache, const tor
   monitor.finish();
 
   TeacherOutput out;
-  out.embeddings = embed_all(net, cache.vision, cache.vision_height, cache.vision_width, n, mean, std);
+  out.embeddings =
+      embed_all(net, cache.vision, cache.vision_height, cache.vision_width, n, mean, std);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.provenance = {{"kind", "builtin"},
@@ -136,14 +137,13 @@ Result<TeacherOutput> run_torchscript_teacher(const DataCache& cache, const Trai
                  r.tagKind().c_str());
       y = r.toTensor().to(torch::kFloat32);
     } catch (const std::exception& e) {
-      return Error::make(ErrorCode::kFormat,
-                         "teacher %s failed on input [%lld, 3, %d, %d]: %s", path.c_str(),
-                         static_cast<long long>(idx.size()), cache.vision_height,
+      return Error::make(ErrorCode::kFormat, "teacher %s failed on input [%lld, 3, %d, %d]: %s",
+                         path.c_str(), static_cast<long long>(idx.size()), cache.vision_height,
                          cache.vision_width, first_line(e.what()).c_str());
     }
     TLV_ENSURE(y.dim() == 2 && y.size(0) == static_cast<int64_t>(idx.size()) && y.size(1) >= 1,
-               ErrorCode::kFormat, "teacher %s returned shape %s, expected [%zu, D]",
-               path.c_str(), c10::str(y.sizes()).c_str(), idx.size());
+               ErrorCode::kFormat, "teacher %s returned shape %s, expected [%zu, D]", path.c_str(),
+               c10::str(y.sizes()).c_str(), idx.size());
     TLV_ENSURE(torch::isfinite(y).all().item<bool>(), ErrorCode::kNonFiniteValue,
                "teacher %s returned NaN/Inf for samples %lld..%lld", path.c_str(),
                static_cast<long long>(begin), static_cast<long long>(begin + y.size(0) - 1));

@@ -8,17 +8,17 @@
 //    against the same text features (CLIP loss, learnable temperature), then frozen.
 //  - TorchScript: a user's vision encoder loaded with torch::jit::load, run in eval mode.
 
-#include <nlohmann/json.hpp>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
-#include "tlvlink/trainer/trainer.h"
 #include "data_cache.h"
 #include "net.h"
+#include "tlvlink/trainer/trainer.h"
 
 namespace tlvlink::trainer {
 
 struct TeacherOutput {
-  torch::Tensor embeddings;      // [n, D_t] float, no grad
+  torch::Tensor embeddings;           // [n, D_t] float, no grad
   nlohmann::ordered_json provenance;  // kind, arch / file, epochs, losses, seconds
 };
 

@@ -13,13 +13,13 @@
 #include <memory>
 #include <optional>
 
-#include "tlvlink/log.h"
-#include "tlvlink/text/text_encoder.h"
 #include "augment.h"
 #include "checkpoint.h"
 #include "data_cache.h"
 #include "options_json.h"
 #include "teacher.h"
+#include "tlvlink/log.h"
+#include "tlvlink/text/text_encoder.h"
 #include "train_monitor.h"
 #include "view_batches.h"
 
@@ -81,7 +81,8 @@ std::unique_ptr<torch::optim::AdamW> make_optimizer(TrainState& s, const TrainOp
       (p.value().dim() >= 2 ? decay : no_decay).push_back(p.value());
     }
   }
-  auto base = torch::optim::AdamWOptions(o.lr.lr).betas({o.adam_beta1, o.adam_beta2}).eps(o.adam_eps);
+  auto base =
+      torch::optim::AdamWOptions(o.lr.lr).betas({o.adam_beta1, o.adam_beta2}).eps(o.adam_eps);
   std::vector<torch::optim::OptimizerParamGroup> groups;
   groups.emplace_back(decay, std::make_unique<torch::optim::AdamWOptions>(
                                  torch::optim::AdamWOptions(base).weight_decay(o.weight_decay)));
@@ -131,9 +132,8 @@ torch::Tensor touch_batch(const std::vector<uint8_t>& pixels, int32_t height, in
   scratch.resize(idx.size() * stride);
   std::vector<int64_t> rows(idx.size());
   for (size_t i = 0; i < idx.size(); ++i) {
-    augment_frame(pixels.data() + static_cast<size_t>(idx[i]) * stride,
-                  scratch.data() + i * stride, height, width, o.augment,
-                  augment_seed(o.seed, step, keys[i]));
+    augment_frame(pixels.data() + static_cast<size_t>(idx[i]) * stride, scratch.data() + i * stride,
+                  height, width, o.augment, augment_seed(o.seed, step, keys[i]));
     rows[i] = static_cast<int64_t>(i);
   }
   return image_batch(scratch, height, width, rows, mean, std);
@@ -164,7 +164,7 @@ Result<TrainSummary> train(const TrainOptions& requested) {
   if (!o.checkpoint_dir.empty()) TLV_TRY(make_dirs(o.checkpoint_dir));
   summary.log_path = o.log_path.empty() ? o.output + ".log.jsonl" : o.log_path;
   TLV_TRY(make_parent_dirs(summary.log_path));
-  TLV_ASSIGN_OR_RETURN(std::FILE* log_file, open_log(summary.log_path, resumed.has_value()));
+  TLV_ASSIGN_OR_RETURN(std::FILE * log_file, open_log(summary.log_path, resumed.has_value()));
   const std::unique_ptr<std::FILE, LogCloser> log(log_file);
   torch::set_num_threads(o.threads);
   torch::manual_seed(o.seed);
@@ -200,8 +200,8 @@ Result<TrainSummary> train(const TrainOptions& requested) {
   const int64_t n = cache.size();
   summary.train_samples = n;
   TLV_LOG(kLogTrain, kInfo, "data: %lld training samples from %s (%s; split from %s)",
-               static_cast<long long>(n), o.data_dir.c_str(), cache.load_summary.c_str(),
-               cache.split_source.c_str());
+          static_cast<long long>(n), o.data_dir.c_str(), cache.load_summary.c_str(),
+          cache.split_source.c_str());
   TLV_ENSURE(n >= o.batch, ErrorCode::kInvalidArgument,
              "%s: %lld training samples, fewer than one batch of %d; lower --batch",
              o.data_dir.c_str(), static_cast<long long>(n), o.batch);
@@ -209,12 +209,12 @@ Result<TrainSummary> train(const TrainOptions& requested) {
     const std::string fp = std::to_string(cache.fingerprint());
     TLV_ENSURE(resumed->meta.value("data_fingerprint", "") == fp, ErrorCode::kInvalidArgument,
                "%s: the training samples differ from those the checkpoint %s was trained on "
-               "(%lld samples now)", o.data_dir.c_str(), o.resume.c_str(),
-               static_cast<long long>(n));
+               "(%lld samples now)",
+               o.data_dir.c_str(), o.resume.c_str(), static_cast<long long>(n));
   }
   if (supervised) {
-    const bool labelled = std::any_of(cache.material.begin(), cache.material.end(),
-                                      [](int32_t m) { return m >= 0; });
+    const bool labelled =
+        std::any_of(cache.material.begin(), cache.material.end(), [](int32_t m) { return m >= 0; });
     TLV_ENSURE(labelled, ErrorCode::kInvalidArgument,
                "%s: objective %s needs labels, and no training sample has any (only a simulated "
                "set's sidecar records material, hard/soft and rough/smooth)",
@@ -225,8 +225,10 @@ Result<TrainSummary> train(const TrainOptions& requested) {
       TLV_ENSURE(with_contact > 0, ErrorCode::kInvalidArgument,
                  "%s: the contact regression (--contact-weight %g) needs the frames' force and "
                  "friction, and no training sample's sidecar records a contact; pass "
-                 "--contact-weight 0", o.data_dir.c_str(), o.contact_weight);
-      TLV_LOG(kLogTrain, kInfo, "contact regression: %lld of %lld samples record force and friction",
+                 "--contact-weight 0",
+                 o.data_dir.c_str(), o.contact_weight);
+      TLV_LOG(kLogTrain, kInfo,
+              "contact regression: %lld of %lld samples record force and friction",
               static_cast<long long>(with_contact), static_cast<long long>(n));
     }
   }
@@ -261,7 +263,7 @@ Result<TrainSummary> train(const TrainOptions& requested) {
         state.projection = torch::nn::Linear(teacher_dim, o.text.dim);
         TLV_LOG(kLogTrain, kInfo,
                 "teacher output dim %lld != text dim %d: learning a linear projection",
-                     static_cast<long long>(teacher_dim), o.text.dim);
+                static_cast<long long>(teacher_dim), o.text.dim);
       }
       summary.teacher_seconds = seconds_since(tt);
     }
@@ -296,11 +298,10 @@ Result<TrainSummary> train(const TrainOptions& requested) {
       mean = state.meta.at("input").at("mean").get<std::vector<float>>();
       std = state.meta.at("input").at("std").get<std::vector<float>>();
     } catch (const nlohmann::json::exception& e) {
-      return Error::make(ErrorCode::kFormat, "%s: progress record: %s", o.resume.c_str(),
-                         e.what());
+      return Error::make(ErrorCode::kFormat, "%s: progress record: %s", o.resume.c_str(), e.what());
     }
     TLV_LOG(kLogTrain, kInfo, "resuming %s at step %lld of %lld", o.resume.c_str(),
-                 static_cast<long long>(start), static_cast<long long>(total));
+            static_cast<long long>(start), static_cast<long long>(total));
   }
   summary.start_step = start;
 
@@ -314,15 +315,21 @@ Result<TrainSummary> train(const TrainOptions& requested) {
                  {"input", {arch.input_height, arch.input_width}},
                  {"embedding_dim", arch.embedding_dim},
                  {"description", describe_arch(arch)}};
-    m["input"] = {{"height", o.input_height}, {"width", o.input_width}, {"channel_order", "RGB"},
-                  {"resize", resize_filter_name(o.resize)}, {"mean", mean}, {"std", std}};
+    m["input"] = {{"height", o.input_height},
+                  {"width", o.input_width},
+                  {"channel_order", "RGB"},
+                  {"resize", resize_filter_name(o.resize)},
+                  {"mean", mean},
+                  {"std", std}};
     m["text_encoder"] = {{"description", encoder->description()},
                          {"embeddings_dir", o.text.embeddings_dir},
                          {"dim", o.text.dim},
                          {"seed", o.text.seed}};
     m["teacher"] = teacher_provenance;
     m["teacher_dim"] = teacher_dim;
-    m["dataset"] = {{"dir", o.data_dir}, {"train_samples", n}, {"sensors", cache.sensors},
+    m["dataset"] = {{"dir", o.data_dir},
+                    {"train_samples", n},
+                    {"sensors", cache.sensors},
                     {"split_source", cache.split_source},
                     {"load_summary", cache.load_summary}};
     m["data_fingerprint"] = std::to_string(cache.fingerprint());
@@ -409,33 +416,38 @@ Result<TrainSummary> train(const TrainOptions& requested) {
       if (text_loss && curriculum && beta > 0) {
         torch::Tensor vision =
             state.projection
-                ? F::normalize(state.projection->forward(state.teacher_embeddings.index_select(0, rows)),
-                               F::NormalizeFuncOptions().dim(1))
+                ? F::normalize(
+                      state.projection->forward(state.teacher_embeddings.index_select(0, rows)),
+                      F::NormalizeFuncOptions().dim(1))
                 : teacher_unit.index_select(0, rows);
-        mixed = beta * vision + (1.0 - beta) * F::normalize(touch, F::NormalizeFuncOptions().dim(1));
+        mixed =
+            beta * vision + (1.0 - beta) * F::normalize(touch, F::NormalizeFuncOptions().dim(1));
       }
       torch::Tensor view_loss = torch::zeros({});
-      if (text_loss) view_loss = clip_loss(mixed, text.index_select(0, rows), state.logit_scale.exp());
+      if (text_loss)
+        view_loss = clip_loss(mixed, text.index_select(0, rows), state.logit_scale.exp());
       if (supervised) {
         const double w = text_loss ? o.supervised_weight : 1.0;
         view_loss = view_loss + w * state.heads->loss(touch, label_batch(cache.material, idx),
                                                       label_batch(cache.hard, idx),
                                                       label_batch(cache.rough, idx));
         if (state.heads->has_contact()) {
-          view_loss = view_loss + w * o.contact_weight *
-                                      state.heads->contact_loss(touch, target_batch(cache.log_force, idx),
-                                                                target_batch(cache.friction, idx));
+          view_loss =
+              view_loss + w * o.contact_weight *
+                              state.heads->contact_loss(touch, target_batch(cache.log_force, idx),
+                                                        target_batch(cache.friction, idx));
         }
       }
       loss = loss + view_loss / static_cast<double>(view_count);
     }
     if (view_count == 2) {
       // Two views of one touch should embed alike: the codec, optics and mounting are not touch.
-      const torch::Tensor agree = F::cosine_similarity(
-          per_view[0], per_view[1], F::CosineSimilarityFuncOptions().dim(1));
+      const torch::Tensor agree =
+          F::cosine_similarity(per_view[0], per_view[1], F::CosineSimilarityFuncOptions().dim(1));
       loss = loss + o.view.consistency_weight * (1.0 - agree).mean();
       if (o.view.prediction_weight > 0 && supervised) {
-        loss = loss + o.view.prediction_weight * state.heads->agreement_loss(per_view[0], per_view[1]);
+        loss =
+            loss + o.view.prediction_weight * state.heads->agreement_loss(per_view[0], per_view[1]);
       }
     }
     optimizer->zero_grad();

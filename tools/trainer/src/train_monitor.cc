@@ -36,8 +36,8 @@ void TrainMonitor::step(int64_t step, int64_t epoch, double loss, double beta, d
     std::fprintf(log_,
                  "{\"phase\":\"%s\",\"step\":%lld,\"epoch\":%lld,\"loss\":%.6g,\"beta\":%.6g,"
                  "\"temperature\":%.6g,\"lr\":%.6g,\"samples_per_s\":%.4g}\n",
-                 phase_.c_str(), static_cast<long long>(step), static_cast<long long>(epoch),
-                 loss, beta, temperature, lr, samples_per_s());
+                 phase_.c_str(), static_cast<long long>(step), static_cast<long long>(epoch), loss,
+                 beta, temperature, lr, samples_per_s());
   }
   const double t = now();
   if (interactive_ && (last_draw_ < 0 || t - last_draw_ >= 1.0 / tools::kProgressRedrawHz)) {
@@ -64,9 +64,8 @@ void TrainMonitor::epoch_end(int64_t epoch, int64_t epochs, double mean_loss) {
   if (interactive_) std::fputs("\r\x1b[K", stderr);  // the epoch line replaces the progress line
   const double t = now();
   const int64_t remaining = total_steps_ - start_step_ - steps_seen_;
-  const double eta = steps_seen_ > 0 ? t * static_cast<double>(remaining) /
-                                           static_cast<double>(steps_seen_)
-                                     : -1;
+  const double eta =
+      steps_seen_ > 0 ? t * static_cast<double>(remaining) / static_cast<double>(steps_seen_) : -1;
   std::fprintf(stderr,
                "%s epoch %lld/%lld: mean loss %.4f, beta %.3f, T %.4f, %.1f samples/s, "
                "elapsed %s, ETA %s\n",

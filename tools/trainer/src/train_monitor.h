@@ -3,7 +3,8 @@
 #error "train_monitor.h is internal to tools/trainer: include its public headers instead"
 #endif
 // Progress and the JSON-lines log of a training phase. On a terminal the line
-//   student  step 1200/4800 25%  loss 2.314  beta 0.63  T 0.052  lr 1.9e-04  41.3 samples/s  ETA 6m12s
+//   student  step 1200/4800 25%  loss 2.314  beta 0.63  T 0.052  lr 1.9e-04  41.3 samples/s  ETA
+//   6m12s
 // is redrawn in place (at most kProgressRedrawHz; tools/io/progress.h decides whether stderr is
 // interactive); in both modes one line per epoch is printed, so CI logs stay short. Every step
 // goes to the log:

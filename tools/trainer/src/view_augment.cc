@@ -80,15 +80,16 @@ uint64_t view_seed(uint64_t run_seed, int64_t step, int64_t index, int32_t view)
 
 Result<ViewAugmenter> ViewAugmenter::create(int32_t frame_width, int32_t frame_height,
                                             const InputSpec& spec, image::Orientation camera) {
-  TLV_ENSURE(frame_width >= 16 && frame_height >= 16 && frame_width % 2 == 0 &&
-                 frame_height % 2 == 0,
-             ErrorCode::kInvalidArgument,
-             "view augmentation frame %dx%d: sides >= 16 and even (YUYV pairs)", frame_width,
-             frame_height);
+  TLV_ENSURE(
+      frame_width >= 16 && frame_height >= 16 && frame_width % 2 == 0 && frame_height % 2 == 0,
+      ErrorCode::kInvalidArgument,
+      "view augmentation frame %dx%d: sides >= 16 and even (YUYV pairs)", frame_width,
+      frame_height);
   TLV_ENSURE(spec.crop_w == 0, ErrorCode::kInvalidArgument,
              "view augmentation: the model input crops; the views are made of the whole frame");
   ViewAugmenter a;
-  TLV_ASSIGN_OR_RETURN(a.resize_, image::PreprocessPlan::create(spec, frame_width, frame_height, 3));
+  TLV_ASSIGN_OR_RETURN(a.resize_,
+                       image::PreprocessPlan::create(spec, frame_width, frame_height, 3));
   a.width_ = frame_width;
   a.height_ = frame_height;
   a.camera_ = camera;
@@ -128,8 +129,8 @@ Status ViewAugmenter::codec(uint64_t& state, ViewDraw& draw) {
     const int32_t k = draw.dct_scale;
     (k == 2 ? up2_ : up4_).run(frame8_.data(), big8_.data());
     const image::ImageView big{big8_.data(), width_ * k, height_ * k, 3, 0};
-    TLV_ASSIGN_OR_RETURN(auto bytes,
-                         encoder_->encode(big, draw.quality, image::JpegEncoder::Subsampling::k422));
+    TLV_ASSIGN_OR_RETURN(
+        auto bytes, encoder_->encode(big, draw.quality, image::JpegEncoder::Subsampling::k422));
     return decoder_->decode_rgb(bytes, k, codec8_.data(), codec8_.size(), 0, "view augmentation");
   }
   // A UVC camera's YUYV (DIGIT): BT.601 limited range, chroma shared by each pixel pair of the

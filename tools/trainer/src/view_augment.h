@@ -26,10 +26,10 @@ namespace tlvlink::trainer {
 
 // What one view drew: the components applied and their main parameter (tests, the log).
 struct ViewDraw {
-  uint32_t applied = 0;       // ViewComponent bits
+  uint32_t applied = 0;  // ViewComponent bits
   enum class Codec : uint8_t { kNone, kJpeg, kMjpegScaled, kYuyv } codec = Codec::kNone;
-  int32_t quality = 0;        // kJpeg, kMjpegScaled
-  int32_t dct_scale = 1;      // kMjpegScaled: 2 or 4
+  int32_t quality = 0;    // kJpeg, kMjpegScaled
+  int32_t dct_scale = 1;  // kMjpegScaled: 2 or 4
   double blur_sigma = 0, noise_dn = 0;
 };
 
@@ -59,11 +59,11 @@ class ViewAugmenter {
   int32_t width_ = 0, height_ = 0;
   image::Orientation camera_ = image::Orientation::kUpright;
   image::PreprocessPlan resize_;
-  std::vector<float> work_, tmp_;        // float frame and the blur's intermediate
+  std::vector<float> work_, tmp_;  // float frame and the blur's intermediate
   std::vector<uint8_t> frame8_, codec8_, big8_;
   std::unique_ptr<image::JpegEncoder> encoder_;  // not movable themselves
   std::unique_ptr<image::JpegDecoder> decoder_;
-  image::Resampler up2_, up4_;           // the MJPEG emulation's camera-field enlargement
+  image::Resampler up2_, up4_;  // the MJPEG emulation's camera-field enlargement
 };
 
 // The seed of view `view` (0 or 1) of sample `index` at step `step`.

@@ -20,8 +20,8 @@ Result<std::unique_ptr<ViewBatches>> ViewBatches::create(const DataCache& cache,
   b.seed_ = o.seed;
   b.components_ = o.view.components;
   b.views_ = o.view.consistency_weight > 0 ? 2 : 1;
-  b.model_bytes_ = static_cast<size_t>(model_input.height) *
-                   static_cast<size_t>(model_input.width) * 3;
+  b.model_bytes_ =
+      static_cast<size_t>(model_input.height) * static_cast<size_t>(model_input.width) * 3;
   TLV_ASSIGN_OR_RETURN(ViewAugmenter a,
                        ViewAugmenter::create(cache.width, cache.height, model_input));
   b.augmenter_ = std::make_unique<ViewAugmenter>(std::move(a));
@@ -45,8 +45,9 @@ Status ViewBatches::make(int64_t step, const std::vector<int64_t>& idx, std::vec
       const std::span<const uint8_t> frame(cache_->touch.data() + sample * stride, stride);
       const size_t slot = static_cast<size_t>(v) * idx.size() + i;
       const bool turned = sample < cache_->turned.size() && cache_->turned[sample] != 0;
-      TLV_TRY((turned ? turned_ : augmenter_)->make(frame, components_, view_seed(seed_, step, idx[i], v),
-                               std::span<uint8_t>(out.data() + slot * model_bytes_, model_bytes_)));
+      TLV_TRY((turned ? turned_ : augmenter_)
+                  ->make(frame, components_, view_seed(seed_, step, idx[i], v),
+                         std::span<uint8_t>(out.data() + slot * model_bytes_, model_bytes_)));
     }
   }
   return {};
@@ -56,9 +57,8 @@ void ViewBatches::request(int64_t step, std::vector<int64_t> idx) {
   if (pending_.valid()) pending_.wait();
   filling_ ^= 1;
   std::vector<uint8_t>& out = buffers_[filling_];
-  pending_ = std::async(std::launch::async, [this, step, idx = std::move(idx), &out] {
-    return make(step, idx, out);
-  });
+  pending_ = std::async(std::launch::async,
+                        [this, step, idx = std::move(idx), &out] { return make(step, idx, out); });
 }
 
 Result<const std::vector<uint8_t>*> ViewBatches::take() {

@@ -19,7 +19,8 @@ inline float sample(const float* src, int32_t width, int32_t height, double x, d
   const auto fx = static_cast<float>(x - x0), fy = static_cast<float>(y - y0);
   const auto at = [&](int32_t yy, int32_t xx) {
     return src[(static_cast<size_t>(yy) * static_cast<size_t>(width) + static_cast<size_t>(xx)) *
-                   3 + static_cast<size_t>(c)];
+                   3 +
+               static_cast<size_t>(c)];
   };
   const float top = at(y0, x0) + fx * (at(y0, x1) - at(y0, x0));
   const float bot = at(y1, x0) + fx * (at(y1, x1) - at(y1, x0));
@@ -37,7 +38,8 @@ void warp(const float* src, float* dst, int32_t width, int32_t height, const Aff
       // The inverse map: where in the unmounted frame this camera pixel's centre looks.
       const double X = x + 0.5 - cx - a.shift_x, Y = y + 0.5 - cy - a.shift_y;
       const double u = cx + c * X + s * Y - 0.5, v = cy - s * X + c * Y - 0.5;
-      for (int32_t k = 0; k < 3; ++k) dst[i + static_cast<size_t>(k)] = sample(src, width, height, u, v, k);
+      for (int32_t k = 0; k < 3; ++k)
+        dst[i + static_cast<size_t>(k)] = sample(src, width, height, u, v, k);
     }
   }
 }
@@ -54,7 +56,8 @@ void shade(float* f, int32_t width, int32_t height, const Shading& s) {
       const double px = x + 0.5, py = y + 0.5;
       const double r2 = ((px - vx) * (px - vx) + (py - vy) * (py - vy)) / half_diag2;
       const auto v = static_cast<float>(1.0 - s.vignette * r2);
-      const auto t = static_cast<float>(((px - width / 2.0) * dx + (py - height / 2.0) * dy) / reach);
+      const auto t =
+          static_cast<float>(((px - width / 2.0) * dx + (py - height / 2.0) * dy) / reach);
       for (size_t c = 0; c < 3; ++c) {
         f[i + c] = f[i + c] * s.gain[c] * v * (1.0f + s.drift[c] * t) + s.offset[c];
       }
@@ -73,7 +76,8 @@ void darken(float* f, int32_t width, int32_t height, const Speck& d) {
       const double ex = x + 0.5 - d.x, ey = y + 0.5 - d.y;
       const auto k = static_cast<float>(
           1.0 - d.darkness * std::exp(-(ex * ex + ey * ey) / (2 * d.radius * d.radius)));
-      float* p = f + (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * 3;
+      float* p =
+          f + (static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * 3;
       p[0] *= k;
       p[1] *= k;
       p[2] *= k;
@@ -140,8 +144,8 @@ void add_noise(float* f, size_t values, double sigma, uint64_t seed) {
   const auto s = static_cast<float>(sigma);
   for (size_t i = 0; i < values; ++i) {
     const uint64_t z = rng::splitmix(state);
-    const auto sum = static_cast<float>((z & 0xffff) + ((z >> 16) & 0xffff) + ((z >> 32) & 0xffff) +
-                                        (z >> 48));
+    const auto sum =
+        static_cast<float>((z & 0xffff) + ((z >> 16) & 0xffff) + ((z >> 32) & 0xffff) + (z >> 48));
     f[i] += s * (sum - 2.0f * 65535.0f) * kScale;
   }
 }

@@ -36,15 +36,15 @@ struct BiasCorrectionOptions {
 
 struct BiasCorrectionLayer {
   std::string op;
-  bool int8 = false;            // the layer's output is int8 (else fp32)
-  double step = 0;              // its int8 step (0 for fp32)
-  double mean_abs_shift = 0;    // mean over channels of |mean(q - f)| before this correction
-  double max_abs_shift = 0;     // largest |mean(q - f)| of a channel
+  bool int8 = false;          // the layer's output is int8 (else fp32)
+  double step = 0;            // its int8 step (0 for fp32)
+  double mean_abs_shift = 0;  // mean over channels of |mean(q - f)| before this correction
+  double max_abs_shift = 0;   // largest |mean(q - f)| of a channel
   size_t channels = 0, channels_measured = 0;  // channels with at least one in-range value
 };
 
 struct CorrectedModel {
-  QuantizedModel model;            // quantize_model(fp32, ranges, options + offsets)
+  QuantizedModel model;  // quantize_model(fp32, ranges, options + offsets)
   std::vector<BiasOffset> offsets;
   std::vector<BiasCorrectionLayer> layers;
   size_t frames = 0;

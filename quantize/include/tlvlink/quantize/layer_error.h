@@ -32,24 +32,26 @@ struct ErrorStats {
   uint64_t count = 0;
 
   void add(std::span<const float> ref, std::span<const float> approx);
-  double sqnr_db() const;   // +inf when err_energy == 0
-  double cosine() const;    // 1 when both are all zero
+  double sqnr_db() const;  // +inf when err_energy == 0
+  double cosine() const;   // 1 when both are all zero
   double rmse() const;
 };
 
 struct TensorError {
-  std::string tensor;           // float-model tensor name
-  std::string op;               // operator producing it
+  std::string tensor;  // float-model tensor name
+  std::string op;      // operator producing it
   OpType type = OpType::kConv2D;
   DType dtype = DType::kFloat32;  // its dtype in the quantized model
-  float scale = 0;              // int8 step (0 for an fp32 tensor)
+  float scale = 0;                // int8 step (0 for an fp32 tensor)
   ErrorStats error;
-  double rmse_over_scale() const { return scale > 0 ? error.rmse() / static_cast<double>(scale) : 0; }
+  double rmse_over_scale() const {
+    return scale > 0 ? error.rmse() / static_cast<double>(scale) : 0;
+  }
 };
 
 struct ModelError {
-  std::vector<TensorError> layers;  // float-model operator order
-  ErrorStats embedding;             // graph output metadata.embedding_output (else output 0)
+  std::vector<TensorError> layers;   // float-model operator order
+  ErrorStats embedding;              // graph output metadata.embedding_output (else output 0)
   std::vector<double> frame_cosine;  // embedding cosine per frame
   uint64_t frames = 0;
   double mean_cosine() const;

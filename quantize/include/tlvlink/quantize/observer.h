@@ -63,7 +63,7 @@ struct TensorObserver {
   float max = -std::numeric_limits<float>::infinity();
   double ema_min = 0, ema_max = 0;  // valid once frames > 0
   uint64_t frames = 0;
-  uint64_t zeros = 0;               // values exactly 0 (ReLU outputs), exactly representable
+  uint64_t zeros = 0;  // values exactly 0 (ReLU outputs), exactly representable
   Histogram histogram;
 
   bool observed() const { return frames > 0; }

@@ -41,8 +41,8 @@ struct OnnxImportOptions {
 };
 
 struct OnnxImportSummary {
-  int64_t opset = 0;                  // default-domain opset of the ONNX model
-  std::string onnx_producer;          // e.g. "pytorch 1.13.1"
+  int64_t opset = 0;          // default-domain opset of the ONNX model
+  std::string onnx_producer;  // e.g. "pytorch 1.13.1"
   size_t onnx_nodes = 0;
   size_t operators = 0;               // operators in the written model
   size_t fused = 0;                   // nodes folded or fused away (BN, ReLU, Pad, bias Add ...)

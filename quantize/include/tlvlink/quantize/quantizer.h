@@ -131,7 +131,7 @@ struct QuantizedModel {
   ModelBuilder builder;
   std::vector<LayerDecision> layers;  // one per float-model operator, in graph order
   size_t int8_ops = 0, float_ops = 0, fused_ops = 0;
-  size_t conversions = 0;             // Quantize/Dequantize operators inserted
+  size_t conversions = 0;  // Quantize/Dequantize operators inserted
 };
 
 // The int8 / mixed form of a float model. Metadata is copied from the float model, minus its

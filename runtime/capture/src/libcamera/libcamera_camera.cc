@@ -261,8 +261,6 @@ Result<std::vector<LibcameraCameraInfo>> list_libcamera_cameras() {
   return out;
 }
 
-std::string libcamera_version() {
-  return libcamera::CameraManager::version();
-}
+std::string libcamera_version() { return libcamera::CameraManager::version(); }
 
 }  // namespace tlvlink::capture

@@ -95,9 +95,7 @@ Result<std::unique_ptr<LibcameraSource>> make_libcamera_source_for_test(
 }
 
 LibcameraSource::LibcameraSource(std::unique_ptr<State> state) : state_(std::move(state)) {}
-LibcameraSource::~LibcameraSource() {
-  stop();
-}
+LibcameraSource::~LibcameraSource() { stop(); }
 
 Status LibcameraSource::start() {
   State& s = *state_;
@@ -132,19 +130,14 @@ void LibcameraSource::release() {
   s.held = -1;
 }
 
-void LibcameraSource::inject(const LibcameraCompletion& c) {
-  state_->completions.push(c);
-}
-uint64_t LibcameraSource::requeued() const {
-  return state_->requeued.load();
-}
+void LibcameraSource::inject(const LibcameraCompletion& c) { state_->completions.push(c); }
+uint64_t LibcameraSource::requeued() const { return state_->requeued.load(); }
 
 Result<CapturedFrame> LibcameraSource::next(int32_t timeout_ms) {
   State& s = *state_;
   if (!s.started) return Error::make(ErrorCode::kInvalidState, "%s: next() before start()", s.name);
   release();
-  const int64_t deadline =
-      board_clock_ns() + (timeout_ms > 0 ? timeout_ms : 0) * kNsPerMs;
+  const int64_t deadline = board_clock_ns() + (timeout_ms > 0 ? timeout_ms : 0) * kNsPerMs;
   if (!s.test_mode) {
     if (s.session && s.session->disconnected()) return begin_outage(s);
     if (!s.session) TLV_TRY(reconnect(s, deadline));
@@ -189,19 +182,12 @@ Result<CapturedFrame> LibcameraSource::next(int32_t timeout_ms) {
       return Error::make(ErrorCode::kCaptureTimeout, "%s: no frame within %d ms", s.name,
                          timeout_ms);
     }
-    s.completions.wait(
-        static_cast<int>((deadline - now + kNsPerMs - 1) / kNsPerMs));
+    s.completions.wait(static_cast<int>((deadline - now + kNsPerMs - 1) / kNsPerMs));
   }
 }
 
-const image::FrameFormat& LibcameraSource::format() const {
-  return state_->format;
-}
-const SourceStats& LibcameraSource::stats() const {
-  return state_->stats;
-}
-const char* LibcameraSource::name() const {
-  return state_->name;
-}
+const image::FrameFormat& LibcameraSource::format() const { return state_->format; }
+const SourceStats& LibcameraSource::stats() const { return state_->stats; }
+const char* LibcameraSource::name() const { return state_->name; }
 
 }  // namespace tlvlink::capture

@@ -15,42 +15,42 @@ namespace tlvlink {
 enum class ErrorCode : uint16_t {
   kOk = 0,
   // Model file (untrusted input): 100s.
-  kModelMalformed = 100,   // not a flatbuffer / verifier failed / wrong identifier
-  kModelVersion,           // schema version this runtime does not read
-  kModelInvalidTensor,     // a tensor's shape, dtype, quantization or data is inconsistent
-  kModelInvalidOperator,   // an operator's inputs, outputs or options are inconsistent
-  kModelInvalidMetadata,   // input spec, heads or provenance inconsistent
-  kModelChecksum,          // the file's bytes do not match its recorded hash (or it has none)
-  kModelUnsupported,       // valid model using something this build cannot execute
-  kModelSignature,         // a signature is required and is absent, by another key, or wrong
+  kModelMalformed = 100,  // not a flatbuffer / verifier failed / wrong identifier
+  kModelVersion,          // schema version this runtime does not read
+  kModelInvalidTensor,    // a tensor's shape, dtype, quantization or data is inconsistent
+  kModelInvalidOperator,  // an operator's inputs, outputs or options are inconsistent
+  kModelInvalidMetadata,  // input spec, heads or provenance inconsistent
+  kModelChecksum,         // the file's bytes do not match its recorded hash (or it has none)
+  kModelUnsupported,      // valid model using something this build cannot execute
+  kModelSignature,        // a signature is required and is absent, by another key, or wrong
   // Runtime / executors: 200s.
-  kBackend = 200,          // XNNPACK (or another backend) refused or failed
-  kNonFiniteValue,         // NaN/Inf in a float input or output
-  kShapeMismatch,          // caller passed a tensor of the wrong size/shape
+  kBackend = 200,   // XNNPACK (or another backend) refused or failed
+  kNonFiniteValue,  // NaN/Inf in a float input or output
+  kShapeMismatch,   // caller passed a tensor of the wrong size/shape
   kOutOfMemory,
-  kInvalidState,           // call order violated (e.g. invoke before inputs set)
+  kInvalidState,  // call order violated (e.g. invoke before inputs set)
   // Host I/O and arguments: 300s.
   kInvalidArgument = 300,
-  kIo,                     // file could not be opened/read/written
-  kFormat,                 // a data file (npy, image) is malformed
+  kIo,      // file could not be opened/read/written
+  kFormat,  // a data file (npy, image) is malformed
   // Capture (frame sources, runtime/capture): 400s.
-  kCapture = 400,          // a failed device call not covered below (ioctl/mmap errno)
-  kCaptureNoDevice,        // no device matches the selector (absent, unplugged, other serial)
-  kCaptureNotCamera,       // the node is not a video capture device (metadata/output node, not V4L2)
-  kCaptureDisconnected,    // the device went away (ENODEV, POLLHUP, watchdog); reconnecting
-  kCaptureTimeout,         // no frame within the caller's timeout
-  kCaptureFormatRefused,   // pixel format, size, interval or buffer count not what was asked
-  kCaptureBadFrame,        // flagged, empty or short frame, MJPEG without SOI/EOI
-  kCaptureControl,         // a camera control is unknown, out of range or refused
-  kCaptureEndOfStream,     // a replayed source played its last frame (no loop): no more frames
+  kCapture = 400,         // a failed device call not covered below (ioctl/mmap errno)
+  kCaptureNoDevice,       // no device matches the selector (absent, unplugged, other serial)
+  kCaptureNotCamera,      // the node is not a video capture device (metadata/output node, not V4L2)
+  kCaptureDisconnected,   // the device went away (ENODEV, POLLHUP, watchdog); reconnecting
+  kCaptureTimeout,        // no frame within the caller's timeout
+  kCaptureFormatRefused,  // pixel format, size, interval or buffer count not what was asked
+  kCaptureBadFrame,       // flagged, empty or short frame, MJPEG without SOI/EOI
+  kCaptureControl,        // a camera control is unknown, out of range or refused
+  kCaptureEndOfStream,    // a replayed source played its last frame (no loop): no more frames
   // Stream link: transports (runtime/transport) 500-509, protocol (runtime/protocol) 510-519.
-  kTransport = 500,           // I/O on the link failed
-  kTransportUnavailable,      // device, path or USB host absent now: retry later
-  kTransportDisconnected,     // the link went away while in use (hangup, unbind, unplug)
-  kProtocolMalformed = 510,   // a frame or payload that does not decode (framing, CRC, schema)
-  kProtocolVersion,           // the peer speaks an incompatible major protocol version
-  kProtocolTooLarge,          // a message larger than the frame or buffer it must fit
-  kProtocolUnsupported,       // a command or message this side does not implement
+  kTransport = 500,          // I/O on the link failed
+  kTransportUnavailable,     // device, path or USB host absent now: retry later
+  kTransportDisconnected,    // the link went away while in use (hangup, unbind, unplug)
+  kProtocolMalformed = 510,  // a frame or payload that does not decode (framing, CRC, schema)
+  kProtocolVersion,          // the peer speaks an incompatible major protocol version
+  kProtocolTooLarge,         // a message larger than the frame or buffer it must fit
+  kProtocolUnsupported,      // a command or message this side does not implement
 };
 
 // Short stable name of a code, e.g. "model.invalid_tensor".
@@ -80,7 +80,7 @@ class Error {
 // Outcome of an operation with no value.
 class [[nodiscard]] Status {
  public:
-  Status() = default;  // ok
+  Status() = default;                     // ok
   Status(Error error) : error_(error) {}  // NOLINT: implicit so `return Error::make(...)` works
   static Status ok_status() { return Status(); }
 
@@ -97,11 +97,13 @@ template <typename T>
 class [[nodiscard]] Result {
  public:
   Result(T value) : has_value_(true) { new (&storage_.value) T(std::move(value)); }  // NOLINT
-  Result(Error error) : has_value_(false) { new (&storage_.error) Error(error); }     // NOLINT
+  Result(Error error) : has_value_(false) { new (&storage_.error) Error(error); }    // NOLINT
   Result(Status status) : Result(status.error()) {}                                  // NOLINT
   Result(Result&& other) noexcept : has_value_(other.has_value_) {
-    if (has_value_) new (&storage_.value) T(std::move(other.storage_.value));
-    else new (&storage_.error) Error(other.storage_.error);
+    if (has_value_)
+      new (&storage_.value) T(std::move(other.storage_.value));
+    else
+      new (&storage_.error) Error(other.storage_.error);
   }
   Result(const Result&) = delete;
   Result& operator=(const Result&) = delete;
@@ -139,9 +141,9 @@ class [[nodiscard]] Result {
 #define TLV_CONCAT(a, b) TLV_CONCAT_INNER(a, b)
 
 // Returns the error of a Status/Result expression from the enclosing function.
-#define TLV_TRY(expr)                                   \
-  do {                                                  \
-    auto&& tlv_try_result_ = (expr);                    \
+#define TLV_TRY(expr)                                          \
+  do {                                                         \
+    auto&& tlv_try_result_ = (expr);                           \
     if (!tlv_try_result_.ok()) return tlv_try_result_.error(); \
   } while (0)
 
@@ -154,7 +156,7 @@ class [[nodiscard]] Result {
   lhs = std::move(tmp).value()
 
 // Returns an Error built from a printf format when cond is false.
-#define TLV_ENSURE(cond, code, ...)                              \
-  do {                                                           \
+#define TLV_ENSURE(cond, code, ...)                                  \
+  do {                                                               \
     if (!(cond)) return ::tlvlink::Error::make((code), __VA_ARGS__); \
   } while (0)

@@ -53,7 +53,7 @@ inline constexpr size_t kMaxLogLine = 512;
 struct LogRecord {
   const LogCategory* category;
   LogLevel level;
-  double monotonic_s;  // CLOCK_MONOTONIC seconds
+  double monotonic_s;   // CLOCK_MONOTONIC seconds
   const char* message;  // without the trailing newline
 };
 // Where lines go. `sink` nullptr restores stderr. The sink is called on the logging thread.
@@ -65,12 +65,13 @@ void set_log_sink(LogSink sink, void* context);
 
 }  // namespace tlvlink
 
-#define TLV_LOG_CATEGORY(var, name) ::tlvlink::LogCategory var{name}
+#define TLV_LOG_CATEGORY(var, name) \
+  ::tlvlink::LogCategory var { name }
 
-#define TLV_LOG(category, level, ...)                                                   \
-  do {                                                                                  \
-    if constexpr (::tlvlink::log_compiled_in(::tlvlink::LogLevel::level)) {             \
-      if ((category).enabled(::tlvlink::LogLevel::level))                               \
-        ::tlvlink::log_write((category), ::tlvlink::LogLevel::level, __VA_ARGS__);      \
-    }                                                                                   \
+#define TLV_LOG(category, level, ...)                                              \
+  do {                                                                             \
+    if constexpr (::tlvlink::log_compiled_in(::tlvlink::LogLevel::level)) {        \
+      if ((category).enabled(::tlvlink::LogLevel::level))                          \
+        ::tlvlink::log_write((category), ::tlvlink::LogLevel::level, __VA_ARGS__); \
+    }                                                                              \
   } while (0)

@@ -27,10 +27,10 @@ const char* executor_kind_name(ExecutorKind kind);
 Result<ExecutorKind> parse_executor_kind(std::string_view name);
 
 struct ExecutorOptions {
-  int threads = 1;                 // XNNPACK thread pool size (1 = no pool); reference ignores it
-  bool expose_all_tensors = false; // make every activation readable via tensor() (calibration,
-                                   // per-layer error reports); costs memory, not speed
-  bool check_outputs = true;       // after invoke, reject NaN/Inf in float outputs
+  int threads = 1;                  // XNNPACK thread pool size (1 = no pool); reference ignores it
+  bool expose_all_tensors = false;  // make every activation readable via tensor() (calibration,
+                                    // per-layer error reports); costs memory, not speed
+  bool check_outputs = true;        // after invoke, reject NaN/Inf in float outputs
 };
 
 class Executor {

@@ -37,7 +37,8 @@ Status check_finite(std::span<const float> values, std::string_view what) {
   constexpr uint32_t kExponent = 0x7f800000u;
   uint32_t bad = 0;
   const auto* bits = reinterpret_cast<const uint32_t*>(values.data());
-  for (size_t i = 0; i < values.size(); ++i) bad |= static_cast<uint32_t>((bits[i] & kExponent) == kExponent);
+  for (size_t i = 0; i < values.size(); ++i)
+    bad |= static_cast<uint32_t>((bits[i] & kExponent) == kExponent);
   if (bad == 0) return Status();
   for (size_t i = 0; i < values.size(); ++i) {
     if (!std::isfinite(values[i])) {

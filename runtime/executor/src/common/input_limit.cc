@@ -58,7 +58,8 @@ Linear linear_of(const Graph& g, const Operator& op) {
     }
     l.gain = std::max(l.gain, sum);
   }
-  if (op.input_count > 2 && op.inputs[2] != kNoTensor) l.offset = constant_bound(g.tensor(op.inputs[2]));
+  if (op.input_count > 2 && op.inputs[2] != kNoTensor)
+    l.offset = constant_bound(g.tensor(op.inputs[2]));
   return l;
 }
 
@@ -83,15 +84,17 @@ double worst_bound(const Graph& g, const std::vector<Linear>& linear, double inp
   double worst = 0;
   for (size_t t = 0; t < g.tensors.size(); ++t) {
     const Tensor& tensor = g.tensors[t];
-    bound[t] = tensor.is_constant() ? constant_bound(tensor)
-               : tensor.dtype == DType::kFloat32 ? input : int8_bound(tensor);
+    bound[t] = tensor.is_constant()              ? constant_bound(tensor)
+               : tensor.dtype == DType::kFloat32 ? input
+                                                 : int8_bound(tensor);
   }
   for (size_t i = 0; i < g.operators.size(); ++i) {
     const Operator& op = g.operators[i];
     const Tensor& out = g.tensor(op.output);
     const double a = bound[static_cast<size_t>(op.inputs[0])];
     const double b = op.input_count > 1 && op.inputs[1] != kNoTensor
-                         ? bound[static_cast<size_t>(op.inputs[1])] : 0;
+                         ? bound[static_cast<size_t>(op.inputs[1])]
+                         : 0;
     double y = a;
     switch (op.type) {
       case OpType::kConv2D:
@@ -105,7 +108,9 @@ double worst_bound(const Graph& g, const std::vector<Linear>& linear, double inp
         break;
       }
       case OpType::kSigmoid: y = 1; break;
-      case OpType::kPad: y = std::max(a, std::fabs(static_cast<double>(std::get<PadParams>(op.params).value))); break;
+      case OpType::kPad:
+        y = std::max(a, std::fabs(static_cast<double>(std::get<PadParams>(op.params).value)));
+        break;
       default: break;  // pooling, reshape, resize, (de)quantize: no larger than their input
     }
     // Only arithmetic creates larger values, and it does so before a fused activation: a float
@@ -117,7 +122,8 @@ double worst_bound(const Graph& g, const std::vector<Linear>& linear, double inp
       if (arithmetic) worst = std::max(worst, y);
       if (op.type == OpType::kGlobalAveragePool) {
         const Shape& in = g.tensor(op.inputs[0]).shape;
-        worst = std::max(worst, a * static_cast<double>(in.elements() / static_cast<size_t>(in[0] * in[3])));
+        worst = std::max(
+            worst, a * static_cast<double>(in.elements() / static_cast<size_t>(in[0] * in[3])));
       }
     }
     if (first_unsafe != nullptr && *first_unsafe < 0 && !(worst <= kSafe)) {

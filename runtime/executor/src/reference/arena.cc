@@ -6,9 +6,7 @@
 
 namespace tlvlink::reference {
 
-void Arena::Free::operator()(std::byte* p) const {
-  std::free(p);
-}
+void Arena::Free::operator()(std::byte* p) const { std::free(p); }
 
 Result<Arena> Arena::create(const Graph& graph) {
   constexpr size_t kMax = std::numeric_limits<size_t>::max() - kArenaAlignment;

@@ -84,9 +84,7 @@ void clamp_qs8(const OpArgs& a) {
   for (size_t i = 0; i < n; ++i) y[i] = saturate_int8(x[i], lo, hi);
 }
 
-float sigmoid(float x) {
-  return 1.0f / (1.0f + std::exp(-x));
-}
+float sigmoid(float x) { return 1.0f / (1.0f + std::exp(-x)); }
 
 void sigmoid_f32(const OpArgs& a) {
   const float* x = a.input<float>(0);

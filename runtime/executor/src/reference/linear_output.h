@@ -1,6 +1,7 @@
 #pragma once
 #ifndef TLVLINK_EXECUTOR_PRIVATE
-#error "linear_output.h is internal to runtime/executor: include the public tlvlink/... headers instead"
+#error \
+    "linear_output.h is internal to runtime/executor: include the public tlvlink/... headers instead"
 #endif
 // Output stages of the dot-product ops (Conv2D, FullyConnected), applied to one accumulator of
 // output channel c. fp32 clamps to the fused activation. int8 is XNNPACK's fp32

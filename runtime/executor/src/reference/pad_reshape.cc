@@ -47,9 +47,7 @@ void pad(const OpArgs& a, T value) {
   }
 }
 
-void pad_f32(const OpArgs& a) {
-  pad<float>(a, a.op->get<PadParams>().value);
-}
+void pad_f32(const OpArgs& a) { pad<float>(a, a.op->get<PadParams>().value); }
 
 void pad_qs8(const OpArgs& a) {
   const Tensor& t = *a.out;
@@ -57,9 +55,7 @@ void pad_qs8(const OpArgs& a) {
       a, quantize_value(a.op->get<PadParams>().value, t.quant.scale[0], t.quant.zero_point[0]));
 }
 
-void reshape(const OpArgs& a) {
-  std::memcpy(a.out_data, a.in_data[0], a.out->bytes());
-}
+void reshape(const OpArgs& a) { std::memcpy(a.out_data, a.in_data[0], a.out->bytes()); }
 
 }  // namespace
 

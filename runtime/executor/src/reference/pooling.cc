@@ -17,9 +17,7 @@ namespace {
 struct PlaneDims {
   int32_t n, h, w, c;
 };
-PlaneDims dims_of(const Shape& s) {
-  return {s[0], s[1], s[2], s[3]};
-}
+PlaneDims dims_of(const Shape& s) { return {s[0], s[1], s[2], s[3]}; }
 
 void global_average_pool_f32(const OpArgs& a) {
   const PlaneDims d = dims_of(a.in[0]->shape);

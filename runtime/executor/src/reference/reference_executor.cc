@@ -70,7 +70,7 @@ class ReferenceExecutor final : public Executor {
   Arena arena_;
   bool check_outputs_ = true;
   FloatInputLimit input_limit_;  // float_input_limit(graph_)
-  std::vector<OpArgs> args_;  // per operator, in execution order
+  std::vector<OpArgs> args_;     // per operator, in execution order
   std::vector<Kernel> kernels_;
   std::vector<int32_t> float_inputs_, float_outputs_;  // checked for NaN/Inf
 };
@@ -136,8 +136,8 @@ Status ReferenceExecutor::check_floats(const std::vector<int32_t>& tensors,
 
 Status ReferenceExecutor::invoke() {
   for (int32_t t : float_inputs_) {
-    const Status s = check_float_input(as_floats(arena_.slot(t)), input_limit_, graph_,
-                                       graph_.tensor(t).name);
+    const Status s =
+        check_float_input(as_floats(arena_.slot(t)), input_limit_, graph_, graph_.tensor(t).name);
     if (!s.ok()) return s.error().with_context("graph input tensor %d", t);
   }
   return invoke_trusted_inputs();

@@ -1,6 +1,7 @@
 #pragma once
 #ifndef TLVLINK_EXECUTOR_PRIVATE
-#error "requantize.h is internal to runtime/executor: include the public tlvlink/... headers instead"
+#error \
+    "requantize.h is internal to runtime/executor: include the public tlvlink/... headers instead"
 #endif
 // int8 output stages shared by the quantized kernels. They follow XNNPACK's fp32
 // requantization: scale the integer result in float, clamp to the (activation) bounds relative
@@ -40,8 +41,6 @@ struct Int8Params {
   float scale;
   int32_t zero_point;
 };
-inline Int8Params int8_params(const Tensor& t) {
-  return {t.quant.scale[0], t.quant.zero_point[0]};
-}
+inline Int8Params int8_params(const Tensor& t) { return {t.quant.scale[0], t.quant.zero_point[0]}; }
 
 }  // namespace tlvlink::reference

@@ -35,16 +35,10 @@ Tap source_tap(int32_t dst, int32_t in_size, int32_t out_size, bool align_corner
   return {lo, std::min(lo + 1, in_size - 1), src - static_cast<float>(lo)};
 }
 
-float lerp(float a, float b, float t) {
-  return a + (b - a) * t;
-}
+float lerp(float a, float b, float t) { return a + (b - a) * t; }
 
-float to_output(float v, float) {
-  return v;
-}
-int8_t to_output(float v, int8_t) {
-  return static_cast<int8_t>(round_half_even(v));
-}
+float to_output(float v, float) { return v; }
+int8_t to_output(float v, int8_t) { return static_cast<int8_t>(round_half_even(v)); }
 
 template <typename T>
 void resize_bilinear(const OpArgs& a) {

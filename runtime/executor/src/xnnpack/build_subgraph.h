@@ -1,6 +1,7 @@
 #pragma once
 #ifndef TLVLINK_EXECUTOR_PRIVATE
-#error "build_subgraph.h is internal to runtime/executor: include the public tlvlink/... headers instead"
+#error \
+    "build_subgraph.h is internal to runtime/executor: include the public tlvlink/... headers instead"
 #endif
 // Builds an XNNPACK subgraph from (part of) a model graph, and explains a runtime-creation
 // failure by the operator that causes it.

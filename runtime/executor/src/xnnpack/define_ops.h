@@ -1,6 +1,7 @@
 #pragma once
 #ifndef TLVLINK_EXECUTOR_PRIVATE
-#error "define_ops.h is internal to runtime/executor: include the public tlvlink/... headers instead"
+#error \
+    "define_ops.h is internal to runtime/executor: include the public tlvlink/... headers instead"
 #endif
 // Defines one model operator as XNNPACK node(s). The loader has validated shapes, dtypes and
 // quantization, so these functions only translate; anything XNNPACK itself refuses comes back

@@ -1,6 +1,7 @@
 #pragma once
 #ifndef TLVLINK_EXECUTOR_PRIVATE
-#error "define_tensors.h is internal to runtime/executor: include the public tlvlink/... headers instead"
+#error \
+    "define_tensors.h is internal to runtime/executor: include the public tlvlink/... headers instead"
 #endif
 // Maps the model's tensors to XNNPACK values. Activations are defined on first use with the
 // model's dims and per-tensor quantization (fp32 or qint8); graph inputs/outputs (and, with

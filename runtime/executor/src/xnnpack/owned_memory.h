@@ -1,6 +1,7 @@
 #pragma once
 #ifndef TLVLINK_EXECUTOR_PRIVATE
-#error "owned_memory.h is internal to runtime/executor: include the public tlvlink/... headers instead"
+#error \
+    "owned_memory.h is internal to runtime/executor: include the public tlvlink/... headers instead"
 #endif
 // Memory the XNNPACK executor owns for as long as its runtime lives: external input/output
 // buffers, transposed depthwise weights, per-channel scale arrays, padded copies of constants.

@@ -43,9 +43,7 @@ Status initialize() {
 
 // ---- Subgraph ----
 
-void Subgraph::Deleter::operator()(xnn_subgraph* s) const {
-  xnn_delete_subgraph(s);
-}
+void Subgraph::Deleter::operator()(xnn_subgraph* s) const { xnn_delete_subgraph(s); }
 
 Result<Subgraph> Subgraph::create(uint32_t external_value_ids) {
   xnn_subgraph_t subgraph = nullptr;
@@ -164,9 +162,7 @@ Status Subgraph::define_max_pooling_2d(const MaxPool2DSpec& s, const NodeRef& wh
 
 // ---- ThreadPool ----
 
-void ThreadPool::Deleter::operator()(pthreadpool* p) const {
-  pthreadpool_destroy(p);
-}
+void ThreadPool::Deleter::operator()(pthreadpool* p) const { pthreadpool_destroy(p); }
 
 Result<ThreadPool> ThreadPool::create(int threads) {
   TLV_ENSURE(threads >= 1, ErrorCode::kInvalidArgument, "executor threads must be >= 1 (got %d)",
@@ -179,9 +175,7 @@ Result<ThreadPool> ThreadPool::create(int threads) {
 
 // ---- Runtime ----
 
-void Runtime::Deleter::operator()(xnn_runtime* r) const {
-  xnn_delete_runtime(r);
-}
+void Runtime::Deleter::operator()(xnn_runtime* r) const { xnn_delete_runtime(r); }
 
 Result<Runtime> Runtime::create(const Subgraph& subgraph, const ThreadPool& pool,
                                 const NodeRef& who) {

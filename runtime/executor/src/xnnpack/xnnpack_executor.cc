@@ -50,7 +50,7 @@ class XnnpackExecutor final : public Executor {
   std::vector<std::span<const std::byte>> readable_;   // per tensor; empty: not kept
   std::vector<std::span<std::byte>> inputs_;           // per graph input
   std::vector<int32_t> float_inputs_, float_outputs_;  // tensors checked for NaN/Inf
-  FloatInputLimit input_limit_;                              // float_input_limit(graph_)
+  FloatInputLimit input_limit_;                        // float_input_limit(graph_)
   std::optional<xnn::ThreadPool> pool_;
   std::optional<xnn::Runtime> runtime_;
 };
@@ -109,9 +109,8 @@ Status XnnpackExecutor::build() {
 
 Status XnnpackExecutor::invoke() {
   for (int32_t t : float_inputs_) {
-    const Status s = check_float_input(as_floats(readable_[static_cast<size_t>(t)]),
-                                       input_limit_, graph_,
-                                       graph_.tensor(t).name);
+    const Status s = check_float_input(as_floats(readable_[static_cast<size_t>(t)]), input_limit_,
+                                       graph_, graph_.tensor(t).name);
     if (!s.ok()) return s.error().with_context("graph input tensor %d", t);
   }
   return invoke_trusted_inputs();
@@ -121,7 +120,8 @@ Status XnnpackExecutor::invoke_trusted_inputs() {
   TLV_TRY(runtime_->invoke());
   if (options_.check_outputs) {
     for (int32_t t : float_outputs_) {
-      const Status s = check_finite(as_floats(readable_[static_cast<size_t>(t)]), graph_.tensor(t).name);
+      const Status s =
+          check_finite(as_floats(readable_[static_cast<size_t>(t)]), graph_.tensor(t).name);
       if (!s.ok()) return s.error().with_context("graph output tensor %d", t);
     }
   }

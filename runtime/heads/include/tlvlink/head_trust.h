@@ -33,8 +33,8 @@ enum class HeadTrustLevel : uint8_t {
 
 struct TrustAssessment {
   HeadTrustLevel level = HeadTrustLevel::kUnmeasured;
-  double margin = 0;    // accuracy - majority (0 when unmeasured)
-  double required = 0;  // the margin the rule asks for on this record's n
+  double margin = 0;            // accuracy - majority (0 when unmeasured)
+  double required = 0;          // the margin the rule asks for on this record's n
   bool below_baseline = false;  // the record's baseline did at least as well as the head
 };
 

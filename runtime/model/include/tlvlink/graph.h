@@ -30,9 +30,9 @@ struct Shape {
 };
 
 struct QuantParams {
-  std::span<const float> scale;        // empty: not quantized
-  std::span<const int32_t> zero_point; // same length as scale (validated)
-  int32_t axis = -1;                   // -1 per-tensor
+  std::span<const float> scale;         // empty: not quantized
+  std::span<const int32_t> zero_point;  // same length as scale (validated)
+  int32_t axis = -1;                    // -1 per-tensor
 
   bool quantized() const { return !scale.empty(); }
   bool per_channel() const { return axis >= 0; }
@@ -43,15 +43,26 @@ struct Tensor {
   DType dtype = DType::kFloat32;
   Shape shape;
   QuantParams quant;
-  std::span<const std::byte> data;     // empty for activations; 16-byte aligned constants
+  std::span<const std::byte> data;  // empty for activations; 16-byte aligned constants
 
   bool is_constant() const { return !data.empty(); }
   size_t bytes() const { return shape.elements() * dtype_size(dtype); }
 };
 
 enum class OpType : uint8_t {
-  kConv2D = 0, kFullyConnected, kAdd, kMul, kClamp, kSigmoid, kGlobalAveragePool,
-  kMaxPool2D, kPad, kReshape, kResizeBilinear, kQuantize, kDequantize,
+  kConv2D = 0,
+  kFullyConnected,
+  kAdd,
+  kMul,
+  kClamp,
+  kSigmoid,
+  kGlobalAveragePool,
+  kMaxPool2D,
+  kPad,
+  kReshape,
+  kResizeBilinear,
+  kQuantize,
+  kDequantize,
 };
 const char* op_type_name(OpType type);
 
@@ -68,9 +79,15 @@ struct Conv2DParams {
   int32_t groups = 1;
   Activation activation = Activation::kNone;
 };
-struct FullyConnectedParams { Activation activation = Activation::kNone; };
-struct BinaryParams { Activation activation = Activation::kNone; };
-struct ClampParams { float min = 0, max = 0; };
+struct FullyConnectedParams {
+  Activation activation = Activation::kNone;
+};
+struct BinaryParams {
+  Activation activation = Activation::kNone;
+};
+struct ClampParams {
+  float min = 0, max = 0;
+};
 struct Pool2DParams {
   int32_t pool_h = 1, pool_w = 1;
   int32_t stride_h = 1, stride_w = 1;
@@ -81,7 +98,9 @@ struct PadParams {
   std::array<int32_t, Shape::kMaxRank> after{};
   float value = 0;
 };
-struct ResizeBilinearParams { bool align_corners = false; };
+struct ResizeBilinearParams {
+  bool align_corners = false;
+};
 struct NoParams {};
 
 using OpParams = std::variant<NoParams, Conv2DParams, FullyConnectedParams, BinaryParams,
@@ -98,7 +117,10 @@ struct Operator {
   int32_t output = kNoTensor;  // every op has exactly one output
   OpParams params;
 
-  template <typename P> const P& get() const { return std::get<P>(params); }
+  template <typename P>
+  const P& get() const {
+    return std::get<P>(params);
+  }
 };
 
 // Invariants after loading: operators are topologically ordered; every activation is written by

@@ -30,7 +30,7 @@ struct InputSpec {
 // always answering that set's commonest class. head_trust.h turns it into a decision.
 // The loader guarantees: accuracy and majority finite in [0, 1], n >= 1 when present.
 struct HeadTrust {
-  bool present = false;    // false: the file records no measurement for this head
+  bool present = false;  // false: the file records no measurement for this head
   float accuracy = 0;
   float majority = 0;
   int64_t n = 0;
@@ -39,7 +39,7 @@ struct HeadTrust {
   float balanced_accuracy = -1;
   float ci_low = -1, ci_high = -1;  // 95 % interval of `accuracy`
   int64_t groups = 0;
-  float baseline_accuracy = -1;     // a baseline on the same folds: the head must beat it
+  float baseline_accuracy = -1;  // a baseline on the same folds: the head must beat it
   std::string_view baseline;
 };
 

@@ -31,7 +31,8 @@ struct LoadOptions {
   // Off only for fuzzing and tests: the trailer is then stripped if present, and a file without
   // one is read whole.
   bool verify_checksum = true;
-  // When set, the file must be signed by this key (kModelSignature otherwise). Borrowed for the call.
+  // When set, the file must be signed by this key (kModelSignature otherwise). Borrowed for the
+  // call.
   const PublicKey* public_key = nullptr;
   // Accept a file written before the integrity trailer if its legacy FNV-1a checksum of the
   // constant buffers matches: only for `tlvlink upgrade`, which rewrites it with a trailer.
@@ -67,7 +68,9 @@ class Model {
   static Result<std::unique_ptr<Model>> with_buffer(size_t size);
   static Result<std::unique_ptr<Model>> parse(std::unique_ptr<Model> model,
                                               const LoadOptions& options);
-  struct AlignedFree { void operator()(std::byte* p) const; };
+  struct AlignedFree {
+    void operator()(std::byte* p) const;
+  };
   std::unique_ptr<std::byte[], AlignedFree> data_;
   size_t size_ = 0;
   uint32_t schema_version_ = 0;

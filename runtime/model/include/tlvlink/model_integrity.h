@@ -20,9 +20,9 @@ inline constexpr uint16_t kTrailerVersion = 1;
 inline constexpr char kTrailerMagic[4] = {'T', 'L', 'V', 'H'};
 inline constexpr uint16_t kTrailerSigned = 1;  // flags bit 0; the other 15 bits must be 0
 
-using ModelHash = std::array<uint8_t, 32>;    // BLAKE2b-256
-using KeyId = std::array<uint8_t, 8>;         // first 8 bytes of BLAKE2b-256(public key)
-using Signature = std::array<uint8_t, 64>;    // ed25519, detached
+using ModelHash = std::array<uint8_t, 32>;  // BLAKE2b-256
+using KeyId = std::array<uint8_t, 8>;       // first 8 bytes of BLAKE2b-256(public key)
+using Signature = std::array<uint8_t, 64>;  // ed25519, detached
 struct PublicKey {
   std::array<uint8_t, 32> bytes{};
 };
@@ -34,7 +34,7 @@ struct SecretKey {  // libsodium's form: 32-byte seed then the 32-byte public ke
 struct ModelIntegrity {
   size_t body_size = 0;
   bool is_signed = false;
-  KeyId key_id{};        // zero when unsigned
+  KeyId key_id{};  // zero when unsigned
   ModelHash hash{};
   Signature signature{};  // zero when unsigned
 };

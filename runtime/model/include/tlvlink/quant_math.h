@@ -41,13 +41,13 @@ inline float dequantize_value(int32_t q, float scale, int32_t zero_point) {
 // Quantized bounds of a real-valued clamp range [lo, hi] on an int8 tensor.
 inline int32_t quantized_min(float lo, float scale, int32_t zero_point) {
   if (!(lo > -std::numeric_limits<float>::infinity())) return kInt8Min;
-  return std::clamp(round_half_even(std::clamp(lo / scale, -1.0e6f, 1.0e6f)) + zero_point,
-                    kInt8Min, kInt8Max);
+  return std::clamp(round_half_even(std::clamp(lo / scale, -1.0e6f, 1.0e6f)) + zero_point, kInt8Min,
+                    kInt8Max);
 }
 inline int32_t quantized_max(float hi, float scale, int32_t zero_point) {
   if (!(hi < std::numeric_limits<float>::infinity())) return kInt8Max;
-  return std::clamp(round_half_even(std::clamp(hi / scale, -1.0e6f, 1.0e6f)) + zero_point,
-                    kInt8Min, kInt8Max);
+  return std::clamp(round_half_even(std::clamp(hi / scale, -1.0e6f, 1.0e6f)) + zero_point, kInt8Min,
+                    kInt8Max);
 }
 
 }  // namespace tlvlink

@@ -34,9 +34,7 @@ bool in(int32_t class_id, std::initializer_list<std::string_view> names) {
   return std::find(names.begin(), names.end(), c.value()->name) != names.end();
 }
 
-bool yielding(const TactileTraits& t) {
-  return in(t.class_id, {"rubber", "sand", "soil"});
-}
+bool yielding(const TactileTraits& t) { return in(t.class_id, {"rubber", "sand", "soil"}); }
 
 std::string_view object_noun(const TactileTraits& t, Rng& rng) {
   using A = std::array<std::string_view, 3>;

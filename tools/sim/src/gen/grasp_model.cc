@@ -23,9 +23,7 @@ constexpr double kFlatLocalRadiusMm = 30.0;  // L_o of a flat face in the compli
 
 std::span<const int32_t> graspable_classes() { return kGraspableClasses; }
 
-double sample_mass(Rng& rng) {
-  return rng.log_uniform(kMassMinKg, kMassMaxKg);
-}
+double sample_mass(Rng& rng) { return rng.log_uniform(kMassMinKg, kMassMaxKg); }
 
 void sample_lift(Rng& rng, double& com_offset_mm, double& lift_accel_mps2) {
   com_offset_mm = rng.uniform(0, kComOffsetMaxMm);

@@ -62,8 +62,7 @@ double success_probability_class_friction(const GraspVariables& v, Range range,
   return success_probability_over_friction(v, values, hidden);
 }
 
-double success_probability_over_friction(const GraspVariables& v,
-                                         std::span<const double> frictions,
+double success_probability_over_friction(const GraspVariables& v, std::span<const double> frictions,
                                          const HiddenDraws& hidden) {
   const size_t n = hidden.mass_kg.size();
   if (n == 0 || frictions.empty()) return 0;
@@ -100,10 +99,13 @@ GraspOracleReport oracle_report(const GelContactModel& gel, uint64_t seed, int64
     successes += label ? 1 : 0;
     const Range mu = material_class(object.material.class_id).value()->friction;
     class_correct += (success_probability_class_friction(v, mu, hidden) > 0.5) == label ? 1 : 0;
-    prior_correct += (success_probability_over_friction(v, prior_mu, hidden) > 0.5) == label ? 1 : 0;
+    prior_correct +=
+        (success_probability_over_friction(v, prior_mu, hidden) > 0.5) == label ? 1 : 0;
   }
-  report.class_friction_accuracy = static_cast<double>(class_correct) / static_cast<double>(samples);
-  report.prior_friction_accuracy = static_cast<double>(prior_correct) / static_cast<double>(samples);
+  report.class_friction_accuracy =
+      static_cast<double>(class_correct) / static_cast<double>(samples);
+  report.prior_friction_accuracy =
+      static_cast<double>(prior_correct) / static_cast<double>(samples);
   const auto n = static_cast<double>(samples);
   report.samples = samples;
   report.accuracy = static_cast<double>(correct) / n;

@@ -30,8 +30,7 @@ double success_probability(const GraspVariables& v, const HiddenDraws& hidden);
 // The same with v.friction replaced by each of `frictions` in turn, value j with every k-th
 // hidden draw from draw j mod n on (k = frictions.size(), n = the draws; when k <= n every draw
 // is used once), i.e. mu marginalised over those values with equal weights.
-double success_probability_over_friction(const GraspVariables& v,
-                                         std::span<const double> frictions,
+double success_probability_over_friction(const GraspVariables& v, std::span<const double> frictions,
                                          const HiddenDraws& hidden);
 // mu known only through the material class: kOracleFrictionDraws values spread over `range`
 // (mid-points of equal slices of the class's uniform range).

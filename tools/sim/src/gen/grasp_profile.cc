@@ -92,7 +92,8 @@ Result<std::vector<double>> grasp_success_given_class_weights(
       const double w = class_weights[i][static_cast<size_t>(c)];
       if (w <= 0) continue;
       TLV_ASSIGN_OR_RETURN(const MaterialClass* cls, material_class(c));
-      out[i] += w * internal::success_probability_class_friction(episodes[i], cls->friction, hidden);
+      out[i] +=
+          w * internal::success_probability_class_friction(episodes[i], cls->friction, hidden);
     }
   }
   return out;

@@ -49,9 +49,7 @@ enum class Stream : uint64_t {
   kMarkers,         // whether a session's / object's gel has markers (markers_fraction; appended)
   kLivePath,        // whether an object's frames take the live path (live_path_fraction; appended)
 };
-inline constexpr uint64_t tag(Stream s) {
-  return static_cast<uint64_t>(s);
-}
+inline constexpr uint64_t tag(Stream s) { return static_cast<uint64_t>(s); }
 
 class Rng {
  public:

@@ -26,9 +26,7 @@ ShapeFeel shape_feel(Shape shape) {
 
 }  // namespace
 
-std::span<const std::string_view> phrase_facet_names() {
-  return kFacetNames;
-}
+std::span<const std::string_view> phrase_facet_names() { return kFacetNames; }
 
 uint32_t TactileTraits::value(TraitKey key) const {
   switch (key) {

@@ -19,9 +19,7 @@ inline double lattice_value(int64_t x, int64_t y, uint64_t seed) {
   return static_cast<double>(h >> 11) * 0x1.0p-53;
 }
 
-inline double smooth01(double t) {
-  return t * t * (3.0 - 2.0 * t);
-}
+inline double smooth01(double t) { return t * t * (3.0 - 2.0 * t); }
 
 // Smooth value noise in [0, 1), one lattice cell per unit.
 inline double value_noise(double x, double y, uint64_t seed) {

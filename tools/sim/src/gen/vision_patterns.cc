@@ -28,9 +28,7 @@ constexpr Named kNames[] = {
     {"veins", Pattern::kVeins},   {"patches", Pattern::kPatches},
 };
 
-double frac(double x) {
-  return x - std::floor(x);
-}
+double frac(double x) { return x - std::floor(x); }
 
 Texel speckle(double u, double v, uint64_t s) {
   const double base = fbm(u * 6, v * 6, s, 3);

@@ -150,10 +150,9 @@ Status RawCameraImpl::encode(const uint8_t* upright, RawFrame& out) {
     TLV_TRY(image::upright_rgb_to_camera(upright_rgb, oriented, orientation(layout_), oriented_));
     rgb = oriented_.data();
   }
-  TLV_ASSIGN_OR_RETURN(
-      std::span<const uint8_t> jpeg,
-      jpeg_.encode({rgb, layout_.width, layout_.height, 3, 0}, jpeg_quality_,
-                   image::JpegEncoder::Subsampling::k422));
+  TLV_ASSIGN_OR_RETURN(std::span<const uint8_t> jpeg,
+                       jpeg_.encode({rgb, layout_.width, layout_.height, 3, 0}, jpeg_quality_,
+                                    image::JpegEncoder::Subsampling::k422));
   // Reserve the worst case once (address space; pages are touched as bytes are written): a
   // later, larger frame never reallocates.
   if (out.bytes.capacity() < jpeg_max_bytes_) out.bytes.reserve(jpeg_max_bytes_);

@@ -12,10 +12,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "tlvlink/io/image.h"
 #include "render/sensor_tables.h"
 #include "render/spreading.h"
 #include "tlvlink/error.h"
+#include "tlvlink/io/image.h"
 
 namespace tlvlink::sim::internal {
 

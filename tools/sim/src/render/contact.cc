@@ -8,9 +8,7 @@
 namespace tlvlink::sim::internal {
 namespace {
 
-inline double dbl(float v) {
-  return static_cast<double>(v);
-}
+inline double dbl(float v) { return static_cast<double>(v); }
 
 }  // namespace
 

@@ -2,9 +2,9 @@
 // rest of the renderer so a board build can swap or drop it.
 #include <cstring>
 
+#include "render/camera.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/io/image.h"
-#include "render/camera.h"
 
 namespace tlvlink::sim::internal {
 

@@ -29,7 +29,8 @@ SensorProfile gelsight_mini() {
 }
 
 // DIGIT: the camera's 320x240 (W x H) frames are stored transposed (and flipped top to bottom),
-// portrait 240 wide x 320 high, as the DIGIT interface returns them. Thinner, slightly domed elastomer; TACTO's light layout.
+// portrait 240 wide x 320 high, as the DIGIT interface returns them. Thinner, slightly domed
+// elastomer; TACTO's light layout.
 SensorProfile digit(int32_t scale) {
   SensorProfile p;
   p.name = scale == 1 ? "digit" : "digit-640x480";
@@ -88,9 +89,7 @@ SensorProfile gelsight_r15() {
 
 }  // namespace
 
-std::span<const std::string_view> sensor_profile_names() {
-  return kNames;
-}
+std::span<const std::string_view> sensor_profile_names() { return kNames; }
 
 Result<SensorProfile> sensor_profile(std::string_view name) {
   if (name == "gelsight-mini") return gelsight_mini();

@@ -7,7 +7,6 @@
 #include <numbers>
 #include <string>
 
-#include "tlvlink/io/image.h"
 #include "render/blur.h"
 #include "render/camera.h"
 #include "render/contact.h"
@@ -20,6 +19,7 @@
 #include "render/shear.h"
 #include "render/spreading.h"
 #include "render/texture.h"
+#include "tlvlink/io/image.h"
 
 namespace tlvlink::sim {
 namespace {

@@ -68,7 +68,7 @@ struct SensorTables {
   // Row-major grid from the gel centre; with a periphery, extended by whole pitches on each
   // side to fill it (the profile's grid stays where it is).
   std::vector<std::array<double, 2>> marker_rest_mm;
-  std::vector<uint8_t> background_u8;                 // interleaved RGB
+  std::vector<uint8_t> background_u8;  // interleaved RGB
 };
 
 // `blur` provides scratch for the camera blur of the background (sized for the padded grid).

@@ -10,9 +10,7 @@
 namespace tlvlink::sim::internal {
 namespace {
 
-inline float smooth(float f) {
-  return f * f * (3.0f - 2.0f * f);
-}
+inline float smooth(float f) { return f * f * (3.0f - 2.0f * f); }
 
 }  // namespace
 

@@ -4,10 +4,10 @@
 
 #include <sys/stat.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <unistd.h>
 
 #include <cstdio>
 #include <map>
@@ -28,8 +28,8 @@ constexpr int32_t kA = 0, kB = 1;
 constexpr const char* kFingerNames[kFingers] = {"A", "B"};
 
 // Lengths of the scripted stretches, in seconds (a Feel-like grasp: close, hold, lift, release).
-constexpr double kLeadIn = 2.0, kIdle = 1.0, kClose = 0.24, kHold = 1.2, kLift = 0.2,
-                 kAfter = 0.8, kRelease = 0.24, kPressRamp = 0.4, kPressHold = 0.8;
+constexpr double kLeadIn = 2.0, kIdle = 1.0, kClose = 0.24, kHold = 1.2, kLift = 0.2, kAfter = 0.8,
+                 kRelease = 0.24, kPressRamp = 0.4, kPressHold = 0.8;
 
 uint64_t mix(uint64_t h, uint64_t v) {
   h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
@@ -68,7 +68,7 @@ bool open_gel(const ContactScene& s) { return s.geometry.shape == Shape::kNone; 
 struct Event {
   const char* kind = "grasp";
   int64_t start = 0, closed = -1, lifting = -1, end = 0;  // frame indices
-  GraspEpisode episode;  // labels (frames unused)
+  GraspEpisode episode;                                   // labels (frames unused)
 };
 
 class Timeline {
@@ -89,7 +89,8 @@ class Timeline {
   template <typename SceneAt>
   void ramp(int32_t f, int64_t n, SceneAt scene_at, int32_t event) {
     for (int64_t k = 0; k < n; ++k)
-      shots_[f].push_back({scene_at(static_cast<double>(k + 1) / static_cast<double>(n)), 0, event});
+      shots_[f].push_back(
+          {scene_at(static_cast<double>(k + 1) / static_cast<double>(n)), 0, event});
   }
   const std::vector<Shot>& shots(int32_t f) const { return shots_[f]; }
 
@@ -114,7 +115,8 @@ void block_means(const Frame& frame, std::vector<float>& out) {
     for (int32_t x = 0; x < frame.width; ++x) {
       const auto b = static_cast<size_t>(by * kGw + x * kGw / frame.width);
       const uint8_t* p = &frame.rgb[(static_cast<size_t>(y) * static_cast<size_t>(frame.width) +
-                                     static_cast<size_t>(x)) * 3];
+                                     static_cast<size_t>(x)) *
+                                    3];
       for (size_t c = 0; c < 3; ++c) out[b * 3 + c] += p[c];
       ++counts[b];
     }
@@ -146,8 +148,9 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
              o.presses);
   TLV_ENSURE(o.static_variants >= 1 && o.static_variants <= 100, ErrorCode::kInvalidArgument,
              "scenario: static_variants = %d is outside 1..100", o.static_variants);
-  TLV_ENSURE(o.offline_jpeg_quality >= 1 && o.offline_jpeg_quality <= 100, ErrorCode::kInvalidArgument,
-             "scenario: offline JPEG quality %d outside 1..100", o.offline_jpeg_quality);
+  TLV_ENSURE(o.offline_jpeg_quality >= 1 && o.offline_jpeg_quality <= 100,
+             ErrorCode::kInvalidArgument, "scenario: offline JPEG quality %d outside 1..100",
+             o.offline_jpeg_quality);
   TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(o.sensor));
   const capture::SensorModel* model = capture::find_sensor_model(profile.name);
   TLV_ENSURE(model != nullptr, ErrorCode::kInvalidArgument,
@@ -158,8 +161,8 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
   // Two physical sensors, the same all session long.
   std::unique_ptr<RawCamera> cameras[kFingers];
   for (int32_t f = 0; f < kFingers; ++f) {
-    TLV_ASSIGN_OR_RETURN(cameras[f], RawCamera::create(profile, sensor_instance_seed(o.seed, f + 1),
-                                                       raw_options));
+    TLV_ASSIGN_OR_RETURN(
+        cameras[f], RawCamera::create(profile, sensor_instance_seed(o.seed, f + 1), raw_options));
     const RawLayout& l = cameras[f]->layout();
     TLV_ENSURE(l.width == model->width && l.height == model->height, ErrorCode::kInvalidArgument,
                "scenario: the simulated '%s' camera renders %dx%d, the camera model streams %dx%d",
@@ -195,9 +198,11 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
       ev.kind = "press";
       const ContactScene& s = sc.during[kA];
       const int64_t n = tl.frames(kPressRamp), h = tl.frames(kPressHold);
-      tl.ramp(kA, n, [&](double t) { return scaled(s, t); }, e);
+      tl.ramp(
+          kA, n, [&](double t) { return scaled(s, t); }, e);
       tl.hold(kA, s, h, mix(key, 1), e);
-      tl.ramp(kA, n, [&](double t) { return scaled(s, 1 - t + 1e-9); }, e);
+      tl.ramp(
+          kA, n, [&](double t) { return scaled(s, 1 - t + 1e-9); }, e);
       tl.hold(kB, open, 2 * n + h, idle_key, -1);
     } else {
       const int64_t close = tl.frames(kClose), hold = tl.frames(kHold), lift = tl.frames(kLift),
@@ -208,17 +213,21 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
         const ContactScene& d = sc.during[f];
         const ContactScene& a = sc.after[f];
         const uint64_t fk = mix(key, 10 + static_cast<uint64_t>(f));
-        tl.ramp(f, close, [&](double t) { return open_gel(d) ? open : scaled(d, t); }, e);
+        tl.ramp(
+            f, close, [&](double t) { return open_gel(d) ? open : scaled(d, t); }, e);
         tl.hold(f, open_gel(d) ? open : d, hold, open_gel(d) ? idle_key : mix(fk, 2), e);
         if (open_gel(d)) {
           tl.hold(f, open, lift + after + release, idle_key, e);
         } else if (open_gel(a)) {  // the object is gone: the imprint fades as it drops
-          tl.ramp(f, lift, [&](double t) { return scaled(d, 1 - t + 1e-9); }, e);
+          tl.ramp(
+              f, lift, [&](double t) { return scaled(d, 1 - t + 1e-9); }, e);
           tl.hold(f, open, after + release, idle_key, e);
         } else {
-          tl.ramp(f, lift, [&](double t) { return between(d, a, t); }, e);
+          tl.ramp(
+              f, lift, [&](double t) { return between(d, a, t); }, e);
           tl.hold(f, a, after, mix(fk, 3), e);
-          tl.ramp(f, release, [&](double t) { return scaled(a, 1 - t + 1e-9); }, e);
+          tl.ramp(
+              f, release, [&](double t) { return scaled(a, 1 - t + 1e-9); }, e);
         }
       }
     }
@@ -229,7 +238,7 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
 
   // Render and record.
   ::mkdir(dir.c_str(), 0755);
-  struct stat st{};
+  struct stat st {};
   TLV_ENSURE(::stat(dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode), ErrorCode::kIo,
              "scenario: cannot create the directory %s", dir.c_str());
   std::vector<Staged> files = {{dir + "/A.tlvraw", dir + "/.A.tlvraw.partial"},
@@ -241,9 +250,10 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
     files.push_back({dir + "/B.offline.tlvraw", dir + "/.B.offline.tlvraw.partial"});
   }
   for (const Staged& f : files) {
-    struct stat existing{};
-    TLV_ENSURE(o.overwrite || ::lstat(f.final_path.c_str(), &existing) != 0, ErrorCode::kInvalidArgument,
-               "scenario: %s exists (--overwrite replaces it)", f.final_path.c_str());
+    struct stat existing {};
+    TLV_ENSURE(o.overwrite || ::lstat(f.final_path.c_str(), &existing) != 0,
+               ErrorCode::kInvalidArgument, "scenario: %s exists (--overwrite replaces it)",
+               f.final_path.c_str());
   }
   capture::RecordingFormat format;
   format.format = {model->format, model->width, model->height,
@@ -251,31 +261,35 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
   format.fps_numerator = static_cast<uint32_t>(std::lround(model->fps));
   const int64_t period = static_cast<int64_t>(std::llround(1e9 / model->fps));
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> truth(std::fopen(files[2].temp_path.c_str(), "w"),
-                                                         &std::fclose);
-  TLV_ENSURE(truth != nullptr, ErrorCode::kIo, "scenario: cannot write %s", files[2].temp_path.c_str());
-  std::fprintf(truth.get(),
-               "{\"type\":\"scenario\",\"sensor\":\"%s\",\"fps\":%g,\"seed\":%llu,\"grasps\":%d,"
-               "\"presses\":%d,\"frames\":%lld,\"fingers\":[\"A\",\"B\"],\"finger_b_phase_ms\":%g}\n",
-               model->name.data(), model->fps, static_cast<unsigned long long>(o.seed), o.grasps,
-               o.presses, static_cast<long long>(tl.size()),
-               static_cast<double>(o.finger_b_phase_ns) * 1e-6);
+                                                        &std::fclose);
+  TLV_ENSURE(truth != nullptr, ErrorCode::kIo, "scenario: cannot write %s",
+             files[2].temp_path.c_str());
+  std::fprintf(
+      truth.get(),
+      "{\"type\":\"scenario\",\"sensor\":\"%s\",\"fps\":%g,\"seed\":%llu,\"grasps\":%d,"
+      "\"presses\":%d,\"frames\":%lld,\"fingers\":[\"A\",\"B\"],\"finger_b_phase_ms\":%g}\n",
+      model->name.data(), model->fps, static_cast<unsigned long long>(o.seed), o.grasps, o.presses,
+      static_cast<long long>(tl.size()), static_cast<double>(o.finger_b_phase_ns) * 1e-6);
   ScenarioReport report;
   for (size_t e = 0; e < events.size(); ++e) {
     const Event& ev = events[e];
     const MaterialSample& m = ev.episode.material;
-    const auto ms = [&](int64_t frame) { return frame < 0 ? -1.0 : static_cast<double>(frame * period) * 1e-6; };
+    const auto ms = [&](int64_t frame) {
+      return frame < 0 ? -1.0 : static_cast<double>(frame * period) * 1e-6;
+    };
     const bool grasp = std::string_view(ev.kind) == "grasp";
     report.grasps_succeeding += grasp && ev.episode.is_gripping ? 1 : 0;
-    std::fprintf(truth.get(),
-                 "{\"type\":\"event\",\"id\":%zu,\"kind\":\"%s\",\"start_ms\":%.1f,\"closed_ms\":%.1f,"
-                 "\"lifting_ms\":%.1f,\"end_ms\":%.1f,\"first_seq\":%lld,\"last_seq\":%lld,"
-                 "\"success\":%s,\"material\":\"%s\",\"hard_soft\":\"%s\",\"rough_smooth\":%s,"
-                 "\"object\":\"%s\"}\n",
-                 e, ev.kind, ms(ev.start), ms(ev.closed), ms(ev.lifting), ms(ev.end),
-                 static_cast<long long>(ev.start), static_cast<long long>(ev.end - 1),
-                 grasp ? (ev.episode.is_gripping ? "true" : "false") : "null",
-                 material_classes()[static_cast<size_t>(m.class_id)].name.data(), hard_label_name(m),
-                 rough_label_name(m), ev.episode.object_name.c_str());
+    std::fprintf(
+        truth.get(),
+        "{\"type\":\"event\",\"id\":%zu,\"kind\":\"%s\",\"start_ms\":%.1f,\"closed_ms\":%.1f,"
+        "\"lifting_ms\":%.1f,\"end_ms\":%.1f,\"first_seq\":%lld,\"last_seq\":%lld,"
+        "\"success\":%s,\"material\":\"%s\",\"hard_soft\":\"%s\",\"rough_smooth\":%s,"
+        "\"object\":\"%s\"}\n",
+        e, ev.kind, ms(ev.start), ms(ev.closed), ms(ev.lifting), ms(ev.end),
+        static_cast<long long>(ev.start), static_cast<long long>(ev.end - 1),
+        grasp ? (ev.episode.is_gripping ? "true" : "false") : "null",
+        material_classes()[static_cast<size_t>(m.class_id)].name.data(), hard_label_name(m),
+        rough_label_name(m), ev.episode.object_name.c_str());
   }
   // The controller's marks, as a robot would log them: tlvlinkd's command_script.
   {
@@ -302,11 +316,13 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
     capture::WriterOptions wo;
     wo.origin_ns = 0;  // shared: B's phase survives
     wo.overwrite = true;
-    TLV_ASSIGN_OR_RETURN(auto w, capture::RecordingWriter::create(files[static_cast<size_t>(f)].temp_path, format, wo));
+    TLV_ASSIGN_OR_RETURN(auto w, capture::RecordingWriter::create(
+                                     files[static_cast<size_t>(f)].temp_path, format, wo));
     writers.push_back(std::move(w));
     if (o.offline) {
-      TLV_ASSIGN_OR_RETURN(auto ow, capture::RecordingWriter::create(
-                                        files[4 + static_cast<size_t>(f)].temp_path, offline_format, wo));
+      TLV_ASSIGN_OR_RETURN(
+          auto ow, capture::RecordingWriter::create(files[4 + static_cast<size_t>(f)].temp_path,
+                                                    offline_format, wo));
       offline.push_back(std::move(ow));
     }
   }
@@ -334,20 +350,24 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
       auto hit = shot.static_key != 0 ? stored[f].find(shot.static_key) : stored[f].end();
       if (hit != stored[f].end()) {
         TLV_TRY(writers[static_cast<size_t>(f)].append_repeat(hit->second.bytes, t, seq));
-        if (o.offline) TLV_TRY(offline[static_cast<size_t>(f)].append_repeat(hit->second.offline, t, seq));
+        if (o.offline)
+          TLV_TRY(offline[static_cast<size_t>(f)].append_repeat(hit->second.offline, t, seq));
         state = hit->second.state;
         signal_dn = hit->second.signal_dn;
       } else {
-        const uint64_t noise = mix(mix(o.seed, 7 + static_cast<uint64_t>(f)),
-                                   shot.static_key != 0 ? shot.static_key : static_cast<uint64_t>(k) << 1);
+        const uint64_t noise =
+            mix(mix(o.seed, 7 + static_cast<uint64_t>(f)),
+                shot.static_key != 0 ? shot.static_key : static_cast<uint64_t>(k) << 1);
         Status r = cameras[f]->render(shot.scene, render_options, noise, raw);
-        if (!r.ok()) return r.error().with_context("scenario frame %lld finger %s",
-                                                   static_cast<long long>(k), kFingerNames[f]);
+        if (!r.ok())
+          return r.error().with_context("scenario frame %lld finger %s", static_cast<long long>(k),
+                                        kFingerNames[f]);
         TLV_ASSIGN_OR_RETURN(const capture::RecordedBytes b,
                              writers[static_cast<size_t>(f)].append(raw.bytes, t, seq));
         capture::RecordedBytes ob;
         if (o.offline) {
-          const image::Image processed{raw.processed.width, raw.processed.height, 3, raw.processed.rgb};
+          const image::Image processed{raw.processed.width, raw.processed.height, 3,
+                                       raw.processed.rgb};
           TLV_ASSIGN_OR_RETURN(const std::vector<uint8_t> jpeg,
                                image::encode_jpeg(processed, o.offline_jpeg_quality));
           TLV_ASSIGN_OR_RETURN(ob, offline[static_cast<size_t>(f)].append(jpeg, t, seq));

@@ -55,8 +55,8 @@ Result<ExtremeSetSummary> write_extreme_set(const std::string& dir, uint64_t see
     ++out.rendered;
   }
   const std::string index = (std::filesystem::path(dir) / "extreme.jsonl").string();
-  TLV_TRY(tools::write_file(index,
-                            std::as_bytes(std::span<const char>(lines.data(), lines.size()))));
+  TLV_TRY(
+      tools::write_file(index, std::as_bytes(std::span<const char>(lines.data(), lines.size()))));
   for (const InvalidCase& c : invalid_parameter_cases()) {
     ++out.invalid_total;
     const Status s = validate_all(c.sensor, c.scene, c.options);

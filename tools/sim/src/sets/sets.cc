@@ -67,8 +67,10 @@ Result<GraspSetSummary> write_grasp_set(const GraspSetJob& job) {
                                         ? datasets::create_feel_repacked_writer(job.dir, wo)
                                         : datasets::create_feel_writer(job.dir, wo));
   GraspSetSummary out;
-  TLV_TRY((run<GraspEpisode>(generators, *writer, job.progress_label,
-                             [&out](const GraspEpisode& e) { out.gripping += e.is_gripping ? 1 : 0; })));
+  TLV_TRY(
+      (run<GraspEpisode>(generators, *writer, job.progress_label, [&out](const GraspEpisode& e) {
+        out.gripping += e.is_gripping ? 1 : 0;
+      })));
   out.written = writer->summary();
   return out;
 }

@@ -20,8 +20,8 @@ namespace tlvlink::daemon {
 struct ModelCheck {
   std::string model_name;
   size_t golden_pairs = 0;
-  bool golden_pass = false;  // every pair and the stored head outputs within tolerance
-                             // (false when there are no pairs)
+  bool golden_pass = false;             // every pair and the stored head outputs within tolerance
+                                        // (false when there are no pairs)
   double max_error = 0, tolerance = 0;  // of the worst pair
   std::vector<std::string> reported_heads;  // per-frame heads the daemon would report
   std::string grasp_head;                   // empty: no grasp prediction
@@ -32,9 +32,9 @@ struct ModelCheck {
 // both load through here.
 Result<std::unique_ptr<Model>> load_config_model(const DaemonConfig& config);
 
-// Errors: the model does not load (or its signature does not verify), the executor cannot be made, a golden pair cannot run,
-// a head or a sensor does not fit (the context names the configuration). A golden mismatch
-// is not an error: golden_pass is false.
+// Errors: the model does not load (or its signature does not verify), the executor cannot be made,
+// a golden pair cannot run, a head or a sensor does not fit (the context names the configuration).
+// A golden mismatch is not an error: golden_pass is false.
 Result<ModelCheck> check_model(const DaemonConfig& config);
 
 }  // namespace tlvlink::daemon

@@ -14,21 +14,22 @@
 namespace tlvlink::daemon {
 
 struct SceneSensor {
-  std::string name;          // "left"
-  std::string sensor_model;  // gelsight-mini, digit, ... (capture/sensor_models.h)
+  std::string name;             // "left"
+  std::string sensor_model;     // gelsight-mini, digit, ... (capture/sensor_models.h)
   std::string finger = "none";  // A, B or none
   std::string source = "v4l2";  // v4l2 or libcamera (a scene describes live cameras)
-  std::string device;        // usb:VID:PID[:SERIAL] (v4l2) or the libcamera camera id
+  std::string device;           // usb:VID:PID[:SERIAL] (v4l2) or the libcamera camera id
 };
 
 struct Scene {
-  std::string path, name;    // name: the file name without .toml
+  std::string path, name;  // name: the file name without .toml
   std::string description;
-  std::vector<std::string> heads;   // per-frame heads kept and reported ("material", "zero-shot:grasp")
-  std::string grasp = "off";        // detected, commanded or off: off drops the grasp head
+  std::vector<std::string>
+      heads;                  // per-frame heads kept and reported ("material", "zero-shot:grasp")
+  std::string grasp = "off";  // detected, commanded or off: off drops the grasp head
   std::vector<std::string> outputs = {"jsonl:-"};  // tlvlinkd `output` values
   bool contact_gating = true;
-  int32_t golden_pairs = 2;         // golden pairs kept in the model (>= 1: verified at install)
+  int32_t golden_pairs = 2;  // golden pairs kept in the model (>= 1: verified at install)
   std::vector<SceneSensor> sensors;
 };
 

@@ -28,11 +28,13 @@ struct GoldenHeadOutputs;
 namespace tlvlink::quantize {
 
 struct QuantSpec {
-  std::vector<float> scale;        // empty: not quantized
+  std::vector<float> scale;  // empty: not quantized
   std::vector<int32_t> zero_point;
   int32_t axis = -1;
 
-  static QuantSpec per_tensor(float scale, int32_t zero_point) { return {{scale}, {zero_point}, -1}; }
+  static QuantSpec per_tensor(float scale, int32_t zero_point) {
+    return {{scale}, {zero_point}, -1};
+  }
   static QuantSpec per_channel(std::vector<float> scales, int32_t axis);  // zero points all 0
 };
 
@@ -85,7 +87,7 @@ struct MetadataSpec {
   bool has_grasp_head = false;
   GraspHeadSpec grasp_head;
   std::string producer = "tlvlink";
-  std::string created_utc;          // empty: filled with the current time at finish()
+  std::string created_utc;  // empty: filled with the current time at finish()
   std::string training_json, quantization_json;
   // Golden I/O pairs: raw bytes shaped like graph input 0 / output 0.
   std::vector<std::pair<std::vector<std::byte>, std::vector<std::byte>>> golden;
@@ -111,7 +113,10 @@ class ModelBuilder {
 
   // Test hooks for crafting bad files.
   void set_schema_version(uint32_t v) { schema_version_ = v; }
-  void set_checksum_override(uint64_t c) { checksum_override_ = c; has_checksum_override_ = true; }
+  void set_checksum_override(uint64_t c) {
+    checksum_override_ = c;
+    has_checksum_override_ = true;
+  }
 
   size_t tensor_count() const { return tensors_.size(); }
 
@@ -151,8 +156,8 @@ int32_t ModelBuilder::add_constant(std::string name, std::vector<int32_t> shape,
                                    std::span<const T> data, QuantSpec quant) {
   static_assert(std::is_same_v<T, float> || std::is_same_v<T, int8_t> ||
                 std::is_same_v<T, int32_t> || std::is_same_v<T, uint8_t>);
-  constexpr DType dtype = std::is_same_v<T, float>    ? DType::kFloat32
-                          : std::is_same_v<T, int8_t> ? DType::kInt8
+  constexpr DType dtype = std::is_same_v<T, float>     ? DType::kFloat32
+                          : std::is_same_v<T, int8_t>  ? DType::kInt8
                           : std::is_same_v<T, int32_t> ? DType::kInt32
                                                        : DType::kUInt8;
   return add_constant_bytes(std::move(name), dtype, std::move(shape), std::as_bytes(data),

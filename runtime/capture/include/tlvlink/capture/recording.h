@@ -43,8 +43,8 @@ inline constexpr uint32_t kRecordKnownFlags = kRecordErrorFlag | kRecordRepeat;
 
 // What the camera streamed, stored once in the file header.
 struct RecordingFormat {
-  image::FrameFormat format;     // pixel format, size, stride
-  uint32_t fps_numerator = 0;    // nominal frame rate = numerator / denominator; 0/1 = unknown
+  image::FrameFormat format;   // pixel format, size, stride
+  uint32_t fps_numerator = 0;  // nominal frame rate = numerator / denominator; 0/1 = unknown
   uint32_t fps_denominator = 1;
   int64_t origin_realtime_ns = 0;  // CLOCK_REALTIME at the origin (informative; 0 unknown)
 
@@ -134,12 +134,12 @@ struct RecordInfo {
 struct RecordingSummary {
   RecordingFormat format;
   uint16_t version = 0;
-  uint64_t frames = 0;            // complete records
-  uint64_t repeats = 0;           // of which repeat earlier bytes
-  uint32_t max_frame_bytes = 0;   // sizes a replay's buffers
+  uint64_t frames = 0;           // complete records
+  uint64_t repeats = 0;          // of which repeat earlier bytes
+  uint32_t max_frame_bytes = 0;  // sizes a replay's buffers
   int64_t first_offset_ns = 0, last_offset_ns = 0;
   uint32_t first_sequence = 0, last_sequence = 0;
-  uint64_t data_end = 0;          // end of the last complete record
+  uint64_t data_end = 0;  // end of the last complete record
   uint64_t file_bytes = 0;
   uint64_t truncated_records = 0;  // 0 or 1: an incomplete final record, ignored
   uint64_t truncated_bytes = 0;    // its bytes

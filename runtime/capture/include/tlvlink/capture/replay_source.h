@@ -23,11 +23,11 @@
 namespace tlvlink::capture {
 
 struct ReplayConfig {
-  std::string label;     // for logs and errors; empty: the path
-  std::string path;      // the recording
-  bool realtime = true;  // pace frames by their recorded capture times
-  bool loop = false;     // start over after the last frame
-  bool verify = true;    // check each frame's CRC-32 (a mismatch is counted as a bad frame)
+  std::string label;           // for logs and errors; empty: the path
+  std::string path;            // the recording
+  bool realtime = true;        // pace frames by their recorded capture times
+  bool loop = false;           // start over after the last frame
+  bool verify = true;          // check each frame's CRC-32 (a mismatch is counted as a bad frame)
   uint32_t warmup_frames = 0;  // discarded once after start, as a camera's would be
 };
 

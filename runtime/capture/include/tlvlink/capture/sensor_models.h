@@ -19,8 +19,8 @@ struct SensorModel {
   image::PixelFormat format = image::PixelFormat::kMjpeg;
   int32_t width = 0, height = 0;  // what the camera streams
   double fps = 0;
-  image::SensorView view;         // the processed frame and how it is cut from the camera's
-  uint32_t warmup_frames = 0;     // frames to discard after each open
+  image::SensorView view;      // the processed frame and how it is cut from the camera's
+  uint32_t warmup_frames = 0;  // frames to discard after each open
   std::string_view notes;
 };
 

@@ -66,7 +66,7 @@ class HeadEvaluator {
   const Metadata* metadata_ = nullptr;
   int32_t dim_ = 0;
   std::vector<HeadResult> results_;
-  std::vector<float> scratch_;  // logits then probabilities of every head, back to back
+  std::vector<float> scratch_;   // logits then probabilities of every head, back to back
   std::vector<size_t> offsets_;  // where each head's logits start in scratch_
   std::vector<GraspFeature> grasp_layout_;
 };

@@ -34,8 +34,7 @@ Size upright_size(int32_t camera_width, int32_t camera_height, Orientation orien
 // packed, upright_size(...) pixels. `frame` must hold frame_bytes(format) (kFormat otherwise,
 // naming `what`), `upright` exactly width * height * 3 bytes. No allocation.
 Status camera_to_upright_rgb(std::span<const uint8_t> frame, const FrameFormat& format,
-                             Orientation orientation, std::span<uint8_t> upright,
-                             const char* what);
+                             Orientation orientation, std::span<uint8_t> upright, const char* what);
 
 // The inverse, for simulated cameras: upright RGB -> the camera's RGB24 or YUYV in its own
 // orientation (format.width even for YUYV), packed.

@@ -67,7 +67,7 @@ class FrameDecoder {
   bool resize_ = false;
   JpegDecoder jpeg_;
   std::unique_ptr<internal::JpegRegionDecoder> region_;  // MJPEG with a crop, upright
-  int32_t planned_region_x_ = -1;  // the region's first column the resampler was planned for
+  int32_t planned_region_x_ = -1;     // the region's first column the resampler was planned for
   std::vector<uint8_t> decoded_rgb_;  // MJPEG at scale, camera orientation
   std::vector<uint8_t> upright_;
   Resampler resampler_;

@@ -16,13 +16,11 @@ struct ImageView {
   size_t stride = 0;
 
   size_t row_bytes() const {
-    return stride != 0 ? stride
-                       : static_cast<size_t>(width) * static_cast<size_t>(channels);
+    return stride != 0 ? stride : static_cast<size_t>(width) * static_cast<size_t>(channels);
   }
   const uint8_t* row(int32_t y) const { return pixels + static_cast<size_t>(y) * row_bytes(); }
   uint8_t at(int32_t y, int32_t x, int32_t c) const {
-    return row(y)[static_cast<size_t>(x) * static_cast<size_t>(channels) +
-                  static_cast<size_t>(c)];
+    return row(y)[static_cast<size_t>(x) * static_cast<size_t>(channels) + static_cast<size_t>(c)];
   }
 };
 

@@ -21,13 +21,13 @@
 namespace tlvlink::pipeline {
 
 struct ContactGateOptions {
-  int32_t reference_frames = 20;   // frames averaged into the reference, [1, 1000]
+  int32_t reference_frames = 20;              // frames averaged into the reference, [1, 1000]
   int32_t grid_width = 32, grid_height = 24;  // blocks the frame is reduced to, [1, 256]
-  float noise_multiple = 8.0f;     // contact when the score exceeds this many noise sigmas...
-  float min_threshold_dn = 4.0f;   // ...and at least this many DN (a noiseless reference)
-  float release_fraction = 0.6f;   // contact ends below release_fraction x the threshold...
-  int32_t release_frames = 2;      // ...for this many consecutive frames (hysteresis)
-  float drift_rate = 0.02f;        // per idle frame, weight of the frame in the reference
+  float noise_multiple = 8.0f;    // contact when the score exceeds this many noise sigmas...
+  float min_threshold_dn = 4.0f;  // ...and at least this many DN (a noiseless reference)
+  float release_fraction = 0.6f;  // contact ends below release_fraction x the threshold...
+  int32_t release_frames = 2;     // ...for this many consecutive frames (hysteresis)
+  float drift_rate = 0.02f;       // per idle frame, weight of the frame in the reference
 };
 Status validate(const ContactGateOptions& options);
 

@@ -40,7 +40,7 @@ struct SensorSetup {
 struct ProcessorOptions {
   bool contact_gating = true;  // false: every frame is encoded
   ContactGateOptions contact;
-  bool grasp = true;           // track grasps when the model has a grasp head and fingers A, B
+  bool grasp = true;  // track grasps when the model has a grasp head and fingers A, B
   GraspOptions grasp_options;
   int64_t smoothing_tau_ns = 150'000'000;
   // The per-frame heads reported, by name; empty = every probe head except those the model's
@@ -84,9 +84,13 @@ class FrameProcessor {
   const heads::HeadEvaluator& heads() const { return heads_; }
   bool tracks_grasps() const { return tracker_ != nullptr; }
   const ProcessorCounters& counters() const { return counters_; }
-  const ContactGate& gate(int32_t sensor) const { return sensors_[static_cast<size_t>(sensor)].gate; }
+  const ContactGate& gate(int32_t sensor) const {
+    return sensors_[static_cast<size_t>(sensor)].gate;
+  }
   // The sensor's crop and resize to the model's input (resize(): the input as uint8 pixels).
-  const image::PreprocessPlan& plan(int32_t sensor) const { return sensors_[static_cast<size_t>(sensor)].plan; }
+  const image::PreprocessPlan& plan(int32_t sensor) const {
+    return sensors_[static_cast<size_t>(sensor)].plan;
+  }
 
  private:
   struct Sensor {
@@ -110,7 +114,7 @@ class FrameProcessor {
   std::vector<int16_t> reported_;
   std::vector<float> embedding_;
   std::vector<float> difference_image_;  // a finger's frame for the tracker (difference_plan)
-  int32_t int8_tensor_ = -1;  // report_embedding: the int8 tensor reported (-1: none)
+  int32_t int8_tensor_ = -1;             // report_embedding: the int8 tensor reported (-1: none)
   std::unique_ptr<GraspTracker> tracker_;
   ProcessorCounters counters_;
 };

@@ -47,10 +47,10 @@ namespace tlvlink::pipeline {
 struct GraspOptions {
   enum class Mode : uint8_t { kDetected = 0, kCommanded = 1 };
   Mode mode = Mode::kDetected;
-  int64_t onset_window_ns = 500'000'000;   // detected: both onsets within this make a grasp
-  int64_t settle_ns = 300'000'000;         // start -> "during" (the grip has settled)
-  int64_t after_delay_ns = 600'000'000;    // "during" (detected) or "lifting" (commanded) -> "after"
-  int64_t idle_refresh_ns = 500'000'000;   // while idle, encode one open-gel frame this often
+  int64_t onset_window_ns = 500'000'000;  // detected: both onsets within this make a grasp
+  int64_t settle_ns = 300'000'000;        // start -> "during" (the grip has settled)
+  int64_t after_delay_ns = 600'000'000;   // "during" (detected) or "lifting" (commanded) -> "after"
+  int64_t idle_refresh_ns = 500'000'000;  // while idle, encode one open-gel frame this often
   int64_t before_max_age_ns = 10'000'000'000;  // an older open-gel frame cannot stand for "before"
   // The fingers' frames of one moment must lie this close. Each finger takes its first frame at
   // or after the moment, so two unsynchronised cameras are up to one frame period apart: the

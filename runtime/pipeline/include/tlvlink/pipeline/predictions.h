@@ -9,12 +9,12 @@
 namespace tlvlink::pipeline {
 
 inline constexpr int32_t kMaxSensors = 4;
-inline constexpr int32_t kMaxHeads = 8;          // per-frame heads reported
-inline constexpr int32_t kMaxLabels = 32;        // labels of one head
-inline constexpr int32_t kMaxGraspFrames = 6;    // frames a grasp head reads (2 fingers x 3)
+inline constexpr int32_t kMaxHeads = 8;        // per-frame heads reported
+inline constexpr int32_t kMaxLabels = 32;      // labels of one head
+inline constexpr int32_t kMaxGraspFrames = 6;  // frames a grasp head reads (2 fingers x 3)
 // Features a grasp head reads: an embedding per frame and a difference per finger.
 inline constexpr int32_t kMaxGraspFeatures = kMaxGraspFrames + 2;
-inline constexpr int32_t kMaxReason = 256;       // "not computed" explanations (an Error fits)
+inline constexpr int32_t kMaxReason = 256;  // "not computed" explanations (an Error fits)
 // ProcessorOptions::report_embedding: the embedding and the int8 tensor it comes from, copied
 // into each encoded frame's record (a model with more is refused at start, naming the limit).
 inline constexpr int32_t kMaxReportedEmbedding = 256;
@@ -33,15 +33,15 @@ struct FrameTimes {
 };
 
 struct HeadProbabilities {
-  int16_t head = 0;        // index into the model's per-frame heads (HeadEvaluator::results)
+  int16_t head = 0;  // index into the model's per-frame heads (HeadEvaluator::results)
   int16_t labels = 0;
-  int16_t top = 0;         // argmax of the smoothed probabilities
+  int16_t top = 0;                              // argmax of the smoothed probabilities
   std::array<float, kMaxLabels> probability{};  // smoothed (see FrameProcessor) probabilities
 };
 
 struct FramePrediction {
-  int32_t sensor = 0;       // index in the daemon's sensor list (= finger for grasp heads)
-  uint64_t sequence = 0;    // the source's normalised frame sequence
+  int32_t sensor = 0;     // index in the daemon's sensor list (= finger for grasp heads)
+  uint64_t sequence = 0;  // the source's normalised frame sequence
   FrameTimes times;
   uint8_t contact_state = 0;  // ContactState
   bool encoder_ran = false;   // false: gated (no contact), no head results in this record
@@ -59,7 +59,7 @@ struct FramePrediction {
 
 struct GraspFrameRef {
   int32_t finger = 0;
-  uint8_t moment = 0;      // heads::Moment
+  uint8_t moment = 0;  // heads::Moment
   uint64_t sequence = 0;
   int64_t capture_ns = 0;
 };
@@ -67,9 +67,9 @@ struct GraspFrameRef {
 struct GraspPrediction {
   uint64_t grasp_id = 0;
   bool computed = false;
-  float probability = 0;   // p(success) when computed
-  int64_t started_ns = 0;  // contact onset (detected) or the "closed" mark (commanded)
-  int64_t decided_ns = 0;  // when the prediction (or the failure) was made
+  float probability = 0;      // p(success) when computed
+  int64_t started_ns = 0;     // contact onset (detected) or the "closed" mark (commanded)
+  int64_t decided_ns = 0;     // when the prediction (or the failure) was made
   int32_t frame_count = 0;    // the frames the head read, each once, in layout order
   int32_t feature_count = 0;  // the features it read (its layout's entries)
   std::array<GraspFrameRef, kMaxGraspFrames> frames{};

@@ -21,10 +21,11 @@ struct ClockSample {
 
 struct ClockEstimate {
   bool valid = false;
-  int64_t offset_ns = 0;       // board clock - host clock
-  int64_t uncertainty_ns = 0;  // |true offset - offset_ns| <= uncertainty_ns (drift allowance included)
-  int64_t delay_ns = 0;        // round-trip delay of the sample used
-  size_t samples = 0;          // exchanges in the window
+  int64_t offset_ns = 0;  // board clock - host clock
+  int64_t uncertainty_ns =
+      0;                 // |true offset - offset_ns| <= uncertainty_ns (drift allowance included)
+  int64_t delay_ns = 0;  // round-trip delay of the sample used
+  size_t samples = 0;    // exchanges in the window
 };
 
 class ClockSync {

@@ -14,8 +14,8 @@
 namespace tlvlink::protocol {
 
 struct DeframerCounters {
-  uint64_t bytes = 0;            // bytes fed
-  uint64_t frames = 0;           // good frames
+  uint64_t bytes = 0;   // bytes fed
+  uint64_t frames = 0;  // good frames
   uint64_t oversized = 0, cobs = 0, truncated = 0, crc = 0, magic = 0, version = 0, length = 0,
            flags = 0;            // rejected segments by verdict
   uint64_t discarded_bytes = 0;  // bytes of rejected segments
@@ -28,7 +28,8 @@ struct ReceivedFrame {
   FrameVerdict verdict = FrameVerdict::kOk;
   FrameHeader header;                  // see check_frame() for when it is set
   std::span<const std::byte> payload;  // kOk only: 8-byte aligned, valid until the next feed()
-  std::span<const std::byte> wire;     // the segment as received, without delimiter; empty when oversized
+  std::span<const std::byte>
+      wire;  // the segment as received, without delimiter; empty when oversized
 };
 
 class Deframer {

@@ -26,10 +26,13 @@ inline constexpr size_t kMaxListLength = 256;
 // Each returns the payload: a subspan at the end of `buffer` (which must be 8-byte aligned).
 // kProtocolTooLarge when the message may not fit `buffer` or is larger than kMaxPayloadSize.
 Result<std::span<const std::byte>> encode_payload(const Hello& m, std::span<std::byte> buffer);
-Result<std::span<const std::byte>> encode_payload(const FramePrediction& m, std::span<std::byte> buffer);
-Result<std::span<const std::byte>> encode_payload(const GraspPrediction& m, std::span<std::byte> buffer);
+Result<std::span<const std::byte>> encode_payload(const FramePrediction& m,
+                                                  std::span<std::byte> buffer);
+Result<std::span<const std::byte>> encode_payload(const GraspPrediction& m,
+                                                  std::span<std::byte> buffer);
 Result<std::span<const std::byte>> encode_payload(const Stats& m, std::span<std::byte> buffer);
-Result<std::span<const std::byte>> encode_payload(const ErrorReport& m, std::span<std::byte> buffer);
+Result<std::span<const std::byte>> encode_payload(const ErrorReport& m,
+                                                  std::span<std::byte> buffer);
 Result<std::span<const std::byte>> encode_payload(const Ack& m, std::span<std::byte> buffer);
 Result<std::span<const std::byte>> encode_payload(const Nack& m, std::span<std::byte> buffer);
 Result<std::span<const std::byte>> encode_payload(const Pong& m, std::span<std::byte> buffer);

@@ -21,16 +21,38 @@ inline constexpr float kNotRecorded = std::numeric_limits<float>::quiet_NaN();
 enum class HeadKind : uint8_t { kLinear = 0, kZeroShot = 1, kGrasp = 2 };
 enum class GraspStatus : uint8_t { kComputed = 0, kNotComputed = 1 };
 enum class GraspReason : uint8_t {
-  kNone = 0, kMissingFinger = 1, kLateFinger = 2, kNoContact = 3, kNoGraspHead = 4,
-  kPhaseTimeout = 5, kAborted = 6, kOther = 7 };
+  kNone = 0,
+  kMissingFinger = 1,
+  kLateFinger = 2,
+  kNoContact = 3,
+  kNoGraspHead = 4,
+  kPhaseTimeout = 5,
+  kAborted = 6,
+  kOther = 7
+};
 enum class GraspPhase : uint8_t { kBefore = 0, kDuring = 1 };
 enum class PhaseSource : uint8_t { kCommand = 0, kDetected = 1 };
 enum class DropCause : uint8_t {
-  kCaptureGap = 0, kCaptureError = 1, kInferenceBusy = 2, kQueueFull = 3, kLinkDown = 4,
-  kStale = 5, kImageBusy = 6 };
+  kCaptureGap = 0,
+  kCaptureError = 1,
+  kInferenceBusy = 2,
+  kQueueFull = 3,
+  kLinkDown = 4,
+  kStale = 5,
+  kImageBusy = 6
+};
 enum class CommandKind : uint8_t {
-  kNone = 0, kStart = 1, kStop = 2, kGraspClosed = 3, kGraspLifting = 4, kRezero = 5,
-  kSetConfig = 6, kInfo = 7, kPing = 8, kTimeSync = 9 };
+  kNone = 0,
+  kStart = 1,
+  kStop = 2,
+  kGraspClosed = 3,
+  kGraspLifting = 4,
+  kRezero = 5,
+  kSetConfig = 6,
+  kInfo = 7,
+  kPing = 8,
+  kTimeSync = 9
+};
 
 struct SensorInfo {
   uint8_t index = 0;
@@ -43,7 +65,7 @@ struct HeadInfo {
   std::string_view name;
   HeadKind kind = HeadKind::kLinear;
   std::span<const std::string_view> labels;
-  float accuracy = kNotRecorded;       // from the model file, when it records it
+  float accuracy = kNotRecorded;  // from the model file, when it records it
   float majority_rate = kNotRecorded;
   // Cross-validated records (minor 1): NaN / 0 when the model records none.
   float accuracy_ci_low = kNotRecorded, accuracy_ci_high = kNotRecorded;
@@ -189,16 +211,47 @@ struct Command {
 };
 
 // The header message type of each message struct.
-template <typename M> struct MessageTypeOf;
-template <> struct MessageTypeOf<Hello> { static constexpr MessageType value = MessageType::kHello; };
-template <> struct MessageTypeOf<FramePrediction> { static constexpr MessageType value = MessageType::kFramePrediction; };
-template <> struct MessageTypeOf<GraspPrediction> { static constexpr MessageType value = MessageType::kGraspPrediction; };
-template <> struct MessageTypeOf<Stats> { static constexpr MessageType value = MessageType::kStats; };
-template <> struct MessageTypeOf<ErrorReport> { static constexpr MessageType value = MessageType::kError; };
-template <> struct MessageTypeOf<Ack> { static constexpr MessageType value = MessageType::kAck; };
-template <> struct MessageTypeOf<Nack> { static constexpr MessageType value = MessageType::kNack; };
-template <> struct MessageTypeOf<Pong> { static constexpr MessageType value = MessageType::kPong; };
-template <> struct MessageTypeOf<FrameImage> { static constexpr MessageType value = MessageType::kFrameImage; };
-template <> struct MessageTypeOf<Command> { static constexpr MessageType value = MessageType::kCommand; };
+template <typename M>
+struct MessageTypeOf;
+template <>
+struct MessageTypeOf<Hello> {
+  static constexpr MessageType value = MessageType::kHello;
+};
+template <>
+struct MessageTypeOf<FramePrediction> {
+  static constexpr MessageType value = MessageType::kFramePrediction;
+};
+template <>
+struct MessageTypeOf<GraspPrediction> {
+  static constexpr MessageType value = MessageType::kGraspPrediction;
+};
+template <>
+struct MessageTypeOf<Stats> {
+  static constexpr MessageType value = MessageType::kStats;
+};
+template <>
+struct MessageTypeOf<ErrorReport> {
+  static constexpr MessageType value = MessageType::kError;
+};
+template <>
+struct MessageTypeOf<Ack> {
+  static constexpr MessageType value = MessageType::kAck;
+};
+template <>
+struct MessageTypeOf<Nack> {
+  static constexpr MessageType value = MessageType::kNack;
+};
+template <>
+struct MessageTypeOf<Pong> {
+  static constexpr MessageType value = MessageType::kPong;
+};
+template <>
+struct MessageTypeOf<FrameImage> {
+  static constexpr MessageType value = MessageType::kFrameImage;
+};
+template <>
+struct MessageTypeOf<Command> {
+  static constexpr MessageType value = MessageType::kCommand;
+};
 
 }  // namespace tlvlink::protocol

@@ -50,9 +50,9 @@ struct FrameHeader {
   uint8_t version_minor = kVersionMinor;
   MessageType type = MessageType::kHello;
   uint16_t flags = 0;
-  uint32_t sequence = 0;        // per sender and direction, +1 per frame sent, wraps at 2^32
+  uint32_t sequence = 0;  // per sender and direction, +1 per frame sent, wraps at 2^32
   uint32_t payload_length = 0;
-  int64_t send_ns = 0;          // sender's clock when the frame was written to the link
+  int64_t send_ns = 0;  // sender's clock when the frame was written to the link
 };
 
 // Header <-> bytes (exactly kHeaderSize). read_header does no validation.

@@ -18,15 +18,15 @@ namespace tlvlink::stream {
 
 // Who is speaking: the board program says (host name, board, firmware version, boot id).
 struct BoardIdentity {
-  std::string device;            // the host name
-  std::string board;             // the board build's name (TLVLINK_BOARD)
+  std::string device;  // the host name
+  std::string board;   // the board build's name (TLVLINK_BOARD)
   std::string firmware_version;
-  uint64_t boot_id = 0;          // changes at every start of the program (e.g. its pid)
+  uint64_t boot_id = 0;  // changes at every start of the program (e.g. its pid)
 };
 
 struct SensorDescription {
-  std::string name, model;       // "left", "gelsight-mini"
-  std::string pixel_format;      // image::pixel_format_name of the camera's format
+  std::string name, model;   // "left", "gelsight-mini"
+  std::string pixel_format;  // image::pixel_format_name of the camera's format
   int32_t width = 0, height = 0;
   double fps = 0;
 };

@@ -1,7 +1,7 @@
 #pragma once
 // Pipeline records -> stream protocol messages (runtime/protocol): FramePrediction (with the
-// per-stage latencies named by kStageNames), GraspPrediction, ErrorReport, Stats and FrameImage. The
-// messages returned point into this object's scratch and into the record given: use them (post,
+// per-stage latencies named by kStageNames), GraspPrediction, ErrorReport, Stats and FrameImage.
+// The messages returned point into this object's scratch and into the record given: use them (post,
 // encode) before the next call. No allocation.
 
 #include <array>
@@ -37,7 +37,7 @@ struct FrameImageRecord {
   int32_t sensor = 0;
   uint64_t sequence = 0;
   int64_t capture_ns = 0;
-  bool input = false;         // the model's input; false: the decoded camera view
+  bool input = false;  // the model's input; false: the decoded camera view
   int32_t width = 0, height = 0;
   bool contact = false;
   int32_t mask_width = 0, mask_height = 0;  // the contact gate's grid (cells)

@@ -7,7 +7,7 @@
 
 namespace tlvlink::stream {
 
-inline constexpr std::array<const char*, 6> kStageNames = {"dequeue", "decode", "queue",
+inline constexpr std::array<const char*, 6> kStageNames = {"dequeue",    "decode",  "queue",
                                                            "preprocess", "encoder", "heads"};
 
 }  // namespace tlvlink::stream

@@ -21,7 +21,7 @@ namespace tlvlink::transport {
 
 struct FfsConfig {
   std::string dir = "/dev/ffs-tlvlink";  // where functionfs is mounted
-  std::string udc;     // e.g. "dummy_udc.0"; empty: bound by usb_gadget.sh
+  std::string udc;                       // e.g. "dummy_udc.0"; empty: bound by usb_gadget.sh
   std::string gadget;  // configfs gadget dir, e.g. /sys/kernel/config/usb_gadget/tlvlink
 };
 

@@ -40,7 +40,9 @@ class SendQueue {
   size_t bytes() const { return bytes_; }  // in records, headers included
   size_t capacity() const { return capacity_; }
   // Bytes a record with this payload occupies.
-  static size_t record_size(size_t payload_size) { return kRecordHeader + ((payload_size + 15) & ~size_t{15}); }
+  static size_t record_size(size_t payload_size) {
+    return kRecordHeader + ((payload_size + 15) & ~size_t{15});
+  }
 
  private:
   bool is_marker(size_t offset) const;

@@ -16,8 +16,8 @@
 //   TLV_ASSIGN_OR_RETURN(auto link, transport::make_transport("serial:/dev/ttyGS0"));
 //   TLV_ASSIGN_OR_RETURN(auto sender, transport::Sender::create(std::move(link), {}));
 //   TLV_TRY(sender->set_hello(hello));
-//   TLV_TRY(sender->set_command_handler([&](const protocol::Command& c) { return pipeline.command(c); }));
-//   TLV_TRY(sender->start());
+//   TLV_TRY(sender->set_command_handler([&](const protocol::Command& c) { return
+//   pipeline.command(c); })); TLV_TRY(sender->start());
 //   ... per frame:  (void)sender->post(prediction);   // protocol::FramePrediction
 //   ... per second: (void)sender->post(stats);        // link counters and link drops filled in
 //   sender->stop();                                   // flushes for up to flush_ms
@@ -46,10 +46,10 @@ struct SenderConfig {
   // Bound on queued messages. With two sensors at 60 fps and ~200-byte predictions, 256 KiB
   // keeps about 9 s of predictions while the link is down (SendQueue::record_size per message).
   size_t queue_bytes = 256 * 1024;
-  int64_t max_age_ms = 0;       // drop queued messages older than this when they could go (0: keep)
-  int reconnect_min_ms = 50;    // backoff between reopen attempts: doubles up to the max
+  int64_t max_age_ms = 0;     // drop queued messages older than this when they could go (0: keep)
+  int reconnect_min_ms = 50;  // backoff between reopen attempts: doubles up to the max
   int reconnect_max_ms = 1000;
-  int stall_ms = 1000;          // no byte accepted for this long while data waits: the link is down
+  int stall_ms = 1000;  // no byte accepted for this long while data waits: the link is down
   // stop(): time allowed to send what is still queued (and for the host to take the last USB
   // transfer). 500 ms lost the last prediction on an emulated Cortex-A72 at 160 % CPU (HIL,
   // 2026-11-25): a busy board needs longer; a reader that takes nothing costs this much at stop.
@@ -63,17 +63,17 @@ struct SenderConfig {
 
 struct SenderCounters {
   bool link_up = false;
-  uint32_t reconnects = 0;           // link came up again after being down
-  uint64_t posted = 0;               // messages given to post()
+  uint32_t reconnects = 0;  // link came up again after being down
+  uint64_t posted = 0;      // messages given to post()
   uint64_t frames_sent = 0, bytes_sent = 0, delayed_sent = 0;
-  uint64_t dropped_queue_full = 0;   // link up but slower than the predictions
-  uint64_t dropped_link_down = 0;    // link down longer than the queue holds
-  uint64_t dropped_stale = 0;        // older than max_age_ms
+  uint64_t dropped_queue_full = 0;  // link up but slower than the predictions
+  uint64_t dropped_link_down = 0;   // link down longer than the queue holds
+  uint64_t dropped_stale = 0;       // older than max_age_ms
   uint64_t frames_received = 0, frames_rejected = 0;
   uint64_t commands = 0, commands_refused = 0;
   uint32_t queue_messages = 0, queue_bytes = 0, queue_capacity_bytes = 0;
-  bool realtime = false;             // the link thread got its SCHED_FIFO priority
-  Error link_error;                  // why the link was last down (code kOk if never)
+  bool realtime = false;  // the link thread got its SCHED_FIFO priority
+  Error link_error;       // why the link was last down (code kOk if never)
 };
 
 class Sender {
@@ -125,7 +125,7 @@ class Sender {
   std::thread thread_;
   std::atomic<bool> stopping_{false}, started_{false};
 
-  mutable std::mutex mutex_;  // guards everything below
+  mutable std::mutex mutex_;      // guards everything below
   std::condition_variable wake_;  // reconnect backoff sleeps on it; stop() wakes it
   SendQueue queue_;
   alignas(8) std::byte scratch_[protocol::kEncodeBufferSize];

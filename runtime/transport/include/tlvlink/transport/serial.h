@@ -15,8 +15,8 @@ namespace tlvlink::transport {
 enum class FlowControl : uint8_t { kNone = 0, kRtsCts = 1 };
 
 struct SerialConfig {
-  std::string path;               // e.g. /dev/ttyGS0, or a udev /dev/serial/by-id/... link
-  int baud = 0;                   // 0: leave as is (CDC-ACM and ptys ignore it)
+  std::string path;  // e.g. /dev/ttyGS0, or a udev /dev/serial/by-id/... link
+  int baud = 0;      // 0: leave as is (CDC-ACM and ptys ignore it)
   FlowControl flow = FlowControl::kNone;
 };
 

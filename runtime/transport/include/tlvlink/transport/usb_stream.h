@@ -26,7 +26,8 @@ inline constexpr size_t kUsbMaxTransfer = 16384;
 inline constexpr size_t kUsbPadMultiple = 64;
 inline constexpr uint16_t kUsbFullSpeedPacket = 64;
 inline constexpr uint16_t kUsbHighSpeedPacket = 512;
-// Development default ids (Linux Foundation, "Multifunction Composite Gadget"): a product sets its own.
+// Development default ids (Linux Foundation, "Multifunction Composite Gadget"): a product sets its
+// own.
 inline constexpr uint16_t kUsbDefaultVendor = 0x1d6b;
 inline constexpr uint16_t kUsbDefaultProduct = 0x0104;
 

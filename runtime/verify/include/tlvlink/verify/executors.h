@@ -16,7 +16,6 @@ struct ExecutorComparison {
 };
 
 // `got` and `want` were created for `model` and have both been invoked on the same inputs.
-ExecutorComparison compare_executors(const Model& model, const Executor& got,
-                                     const Executor& want);
+ExecutorComparison compare_executors(const Model& model, const Executor& got, const Executor& want);
 
 }  // namespace tlvlink::verify

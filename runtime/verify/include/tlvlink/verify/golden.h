@@ -25,9 +25,10 @@ struct GoldenReport {
 };
 
 // Runs every golden pair through `executor` (created for `model`), then checks the stored head
-// outputs (golden_heads.h: on the stored embeddings, so independent of the executor). Errors: no golden pairs
-// (kInvalidState), a pair whose sizes differ from the graph's (kModelInvalidMetadata), a failed
-// invoke (with "golden pair N" as context). A mismatch is not an error: report.pass is false.
+// outputs (golden_heads.h: on the stored embeddings, so independent of the executor). Errors: no
+// golden pairs (kInvalidState), a pair whose sizes differ from the graph's (kModelInvalidMetadata),
+// a failed invoke (with "golden pair N" as context). A mismatch is not an error: report.pass is
+// false.
 Result<GoldenReport> verify_golden(const Model& model, Executor& executor);
 
 }  // namespace tlvlink::verify

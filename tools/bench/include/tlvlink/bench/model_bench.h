@@ -21,8 +21,8 @@ namespace tlvlink::bench {
 struct BenchOptions {
   ExecutorKind executor = ExecutorKind::kXnnpack;
   int threads = 1;
-  int runs = 50;    // >= 1
-  int warmup = 5;   // >= 0
+  int runs = 50;   // >= 1
+  int warmup = 5;  // >= 0
 };
 
 struct BenchResult {

@@ -14,11 +14,11 @@
 namespace tlvlink::boards {
 
 struct Board {
-  std::string name;          // "rpi5-a76": the preset `name`, file boards/<name>.json
+  std::string name;  // "rpi5-a76": the preset `name`, file boards/<name>.json
   std::string display_name, description;
   std::map<std::string, std::string> cache;  // cacheVariables, inherited ones included
-  bool cross = false;        // a toolchain file (aarch64) is set
-  std::string cpu, arch;     // "4x Cortex-A76 @ 2.4 GHz", Debian architecture ("arm64")
+  bool cross = false;                        // a toolchain file (aarch64) is set
+  std::string cpu, arch;  // "4x Cortex-A76 @ 2.4 GHz", Debian architecture ("arm64")
   std::vector<std::string> cpu_features;  // /proc/cpuinfo "Features" the build needs
                                           // (cache variable TLVLINK_TARGET_FEATURES)
   std::string xnnpack_kernels;

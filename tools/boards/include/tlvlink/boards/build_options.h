@@ -16,9 +16,9 @@ struct BuildOption {
 };
 
 struct BuildPlan {
-  std::vector<BuildOption> options;    // on top of the board preset
-  std::vector<std::string> left_out;   // components not built, with the reason
-  std::vector<std::string> built_in;   // scene-relevant parts that stay (not gated by an option)
+  std::vector<BuildOption> options;   // on top of the board preset
+  std::vector<std::string> left_out;  // components not built, with the reason
+  std::vector<std::string> built_in;  // scene-relevant parts that stay (not gated by an option)
 };
 
 // Always off for a package: tests, host tools, benchmarks, trainer, fuzzers. Then per scene:

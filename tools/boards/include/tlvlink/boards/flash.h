@@ -17,14 +17,14 @@ namespace tlvlink::boards {
 struct FlashOptions {
   std::string board;
   std::string scene = "grasp-two-mini";
-  std::string source_dir = ".";     // the repository: boards/, firmware/, runtime/
-  std::string model;                // "" = the shipped model (source_dir/firmware/models/...)
+  std::string source_dir = ".";         // the repository: boards/, firmware/, runtime/
+  std::string model;                    // "" = the shipped model (source_dir/firmware/models/...)
   std::string out_dir = "build/flash";  // DIR/<board>-<scene>/ gets the model, root and .deb
-  std::string install_to;           // non-empty: write the files into this root instead
-  std::string build_dir;            // the build tree (configured there with the board's preset
-                                    // and the scene's options, built incrementally; one for
-                                    // another -mcpu is refused); "" = DIR/<mcpu>-build
-  std::string sign_key;             // a secret key file (`tlvlink keygen`): signs the stripped model
+  std::string install_to;               // non-empty: write the files into this root instead
+  std::string build_dir;                // the build tree (configured there with the board's preset
+                                        // and the scene's options, built incrementally; one for
+                                        // another -mcpu is refused); "" = DIR/<mcpu>-build
+  std::string sign_key;  // a secret key file (`tlvlink keygen`): signs the stripped model
   int jobs = 2;
 };
 
@@ -33,9 +33,9 @@ struct FlashReport {
   daemon::Scene scene;
   BuildPlan plan;
   StripReport strip;
-  std::string artefact;             // the .deb, or the root filesystem written
-  std::string build_dir;            // the tree tlvlinkd was built in
-  std::string image_dir;            // emulated board: vmlinuz, initramfs.cpio, boot.sh
+  std::string artefact;   // the .deb, or the root filesystem written
+  std::string build_dir;  // the tree tlvlinkd was built in
+  std::string image_dir;  // emulated board: vmlinuz, initramfs.cpio, boot.sh
   uint64_t artefact_bytes = 0, daemon_bytes = 0;
   std::vector<StagedFile> files;
 };

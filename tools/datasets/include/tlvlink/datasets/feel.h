@@ -39,7 +39,7 @@ struct FeelWriterOptions : WriterOptions {
   // > 0: JPEG round trip at this quality before storing the HDF5 arrays (the rig's MJPEG
   // camera); the repacked writer then compresses a second time at jpeg_quality (Feel-like
   // double compression with both at ~95).
-  int32_t camera_jpeg_quality = 0;     // 0 or [1, 100]
+  int32_t camera_jpeg_quality = 0;  // 0 or [1, 100]
   // The GelSight frames already went through their camera's raw output and the board's decoder
   // (sim::GraspSetOptions::live_path): camera_jpeg_quality then applies to the vision frames only.
   bool gelsight_live_path = false;

@@ -8,10 +8,10 @@
 #include <memory>
 #include <string>
 
+#include "tlvlink/datasets/records.h"
 #include "tlvlink/datasets/report.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/error.h"
-#include "tlvlink/datasets/records.h"
 
 namespace tlvlink::datasets {
 

@@ -82,8 +82,8 @@ class ProblemEcho {
   std::string prefix_;
   std::FILE* out_;
   size_t shown_;
-  std::string log_path_;              // --problems FILE, or our own file once past shown_
-  std::vector<std::string> first_;    // the lines shown, until a file is opened for them
+  std::string log_path_;            // --problems FILE, or our own file once past shown_
+  std::vector<std::string> first_;  // the lines shown, until a file is opened for them
   std::optional<AtomicFile> log_;
   Status log_status_;
   size_t seen_ = 0;

@@ -10,8 +10,8 @@
 #include <memory>
 #include <string>
 
-#include "tlvlink/error.h"
 #include "tlvlink/datasets/records.h"
+#include "tlvlink/error.h"
 
 namespace tlvlink::datasets {
 

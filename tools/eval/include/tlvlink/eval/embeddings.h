@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "tlvlink/datasets/detect.h"
-#include "tlvlink/datasets/split.h"
 #include "tlvlink/datasets/report.h"
+#include "tlvlink/datasets/split.h"
 #include "tlvlink/error.h"
 #include "tlvlink/eval/tasks.h"
 #include "tlvlink/executor.h"
@@ -40,13 +40,14 @@ enum class GraspFormat : uint8_t { kAuto = 0, kFeelHdf5, kFeelRepacked };
 // frame, so train and test never share one.
 struct EvalData {
   std::string touch_dir;
-  TouchFormat touch_format = TouchFormat::kAuto;  // auto: data_list.json -> Touch100k, train.txt -> TAG
-  std::string grasp_dir;                          // a dir, or one calandra_corl2017_*.h5 file
+  TouchFormat touch_format =
+      TouchFormat::kAuto;  // auto: data_list.json -> Touch100k, train.txt -> TAG
+  std::string grasp_dir;   // a dir, or one calandra_corl2017_*.h5 file
   GraspFormat grasp_format = GraspFormat::kAuto;  // auto: *.h5 -> HDF5, train_info.json -> repacked
   std::optional<datasets::HashSplit> resplit;     // force a hash split
   datasets::HashSplit default_split = datasets::kDefaultSplit;  // when the data records none
-  int32_t scale_denominator = 1;                  // JPEG decode at 1/1, 1/2, 1/4, 1/8
-  int32_t gelsight_quarter_turns = 0;             // Feel HDF5: undo the stored rotation (0..3)
+  int32_t scale_denominator = 1;                                // JPEG decode at 1/1, 1/2, 1/4, 1/8
+  int32_t gelsight_quarter_turns = 0;  // Feel HDF5: undo the stored rotation (0..3)
   // Touch TRAIN samples are also embedded after a JPEG re-encoding at each of these qualities
   // (extra train rows: same labels, same session), so probes fitted on them are fitted across
   // the codec paths a board's frames take (`--train-jpeg`). Test rows are never re-encoded.
@@ -97,20 +98,20 @@ struct SplitInfo {
 // any task on a dataset without that label).
 struct TouchEmbeddings {
   int32_t dim = 0;
-  std::vector<float> values;         // [size(), dim]
-  std::vector<int32_t> material;     // 0..19 or -1
-  std::vector<int32_t> hard;         // 1 hard, 0 soft, or -1
-  std::vector<int32_t> rough;        // 0 smooth, 1 rough, or -1
-  std::vector<std::string> group;    // session
+  std::vector<float> values;       // [size(), dim]
+  std::vector<int32_t> material;   // 0..19 or -1
+  std::vector<int32_t> hard;       // 1 hard, 0 soft, or -1
+  std::vector<int32_t> rough;      // 0 smooth, 1 rough, or -1
+  std::vector<std::string> group;  // session
   std::vector<uint8_t> is_test;
-  std::vector<std::string> keys;     // the loader's key of each sample
+  std::vector<std::string> keys;  // the loader's key of each sample
   // What the simulator recorded about each sample (its sidecar): the material's hidden
   // parameters and the contact. class_id -1 when the set records none (oracle.h needs them).
   std::vector<sim::MaterialSample> hidden_material;
   std::vector<sim::ContactState> hidden_contact;
   SplitInfo split;
-  std::string format;                // "touch100k" / "touch_and_go"
-  std::string load_summary;          // datasets::LoadReport::summary() of the loaders
+  std::string format;        // "touch100k" / "touch_and_go"
+  std::string load_summary;  // datasets::LoadReport::summary() of the loaders
 
   size_t size() const { return is_test.size(); }
   std::span<const float> row(size_t i) const {
@@ -127,15 +128,15 @@ struct TouchEmbeddings {
 inline constexpr int32_t kGraspFrames = heads::kFingers * heads::kMoments;
 struct GraspEmbeddings {
   int32_t dim = 0;
-  std::vector<float> values;         // [size(), kGraspFrames, dim], frame = finger * 3 + moment
+  std::vector<float> values;  // [size(), kGraspFrames, dim], frame = finger * 3 + moment
   // Each finger's before-to-during difference features (heads/grasp_difference.h):
   // [size(), kFingers, kDifferenceFeatures]; empty when the model's input is not 3-channel.
   std::vector<float> difference;
-  std::vector<int32_t> label;        // 1 gripping, 0 not
+  std::vector<int32_t> label;  // 1 gripping, 0 not
   // 1 where the episode's frames took the sensor's live path (sim feel --live-path[-fraction],
   // from its sidecar); 0 for the dataset's JPEG path and for sets that do not record it.
   std::vector<uint8_t> live_path;
-  std::vector<std::string> group;    // object name
+  std::vector<std::string> group;  // object name
   std::vector<uint8_t> is_test;
   std::vector<std::string> keys;
   // What the simulator recorded about each episode (its sidecar): the grasp variables, the
@@ -145,7 +146,7 @@ struct GraspEmbeddings {
   std::vector<sim::MaterialSample> hidden_material;
   std::vector<std::array<sim::ContactState, heads::kFingers>> hidden_during;
   SplitInfo split;
-  std::string format;                // "feel_hdf5" / "feel_repacked"
+  std::string format;  // "feel_hdf5" / "feel_repacked"
   std::string load_summary;
   // Generator options recorded in the dataset's tlvlink_sim.json (for the oracle), if any.
   std::optional<std::string> generator_json;
@@ -155,14 +156,15 @@ struct GraspEmbeddings {
   std::span<const float> difference_of(size_t episode, int32_t finger) const;
   // The feature a grasp layout names (an embedding or a difference); empty when the set has no
   // differences.
-  std::span<const float> feature(size_t episode, const heads::GraspFeature& f, int32_t finger_xor = 0) const;
+  std::span<const float> feature(size_t episode, const heads::GraspFeature& f,
+                                 int32_t finger_xor = 0) const;
 };
 
 struct EmbeddingSet {
   std::optional<TouchEmbeddings> touch;
   std::optional<GraspEmbeddings> grasp;
-  double seconds = 0;       // wall time of the extraction (loading + preprocessing + invoke)
-  int64_t frames = 0;       // frames run through the model
+  double seconds = 0;  // wall time of the extraction (loading + preprocessing + invoke)
+  int64_t frames = 0;  // frames run through the model
 };
 
 // Streams the datasets of `data` through `model`. Errors: a missing or unreadable dir, a format

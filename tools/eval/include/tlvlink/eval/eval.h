@@ -14,7 +14,8 @@
 //   std::puts(format_table({&*fp32, &*int8}).c_str());
 //
 // Or extract once and evaluate the embeddings (e.g. to also compare them directly):
-//   auto set = extract_embeddings(model, data, {});  evaluate_embeddings(model.metadata(), *set, {});
+//   auto set = extract_embeddings(model, data, {});  evaluate_embeddings(model.metadata(), *set,
+//   {});
 
 #include <cstdint>
 #include <optional>
@@ -46,34 +47,35 @@ enum class ZeroShotSource : uint8_t {
 
 struct EvalOptions {
   EmbedderOptions embedder;
-  HeadFitOptions heads;                // probe fitting and grasp feature choice
+  HeadFitOptions heads;  // probe fitting and grasp feature choice
   ZeroShotSource zero_shot = ZeroShotSource::kAuto;
   TextOptions text;
-  bool fit_probes = true;              // fit and score linear probes (the "linear probe" row)
-  bool model_heads = true;             // also score the heads stored in the model
+  bool fit_probes = true;   // fit and score linear probes (the "linear probe" row)
+  bool model_heads = true;  // also score the heads stored in the model
   // Grasp oracle Monte Carlo episodes (~3 s); 0 skips it and the grasp frames estimate.
   int64_t oracle_samples = 10000;
-  bool touch_oracles = true;           // oracle.h rows when the touch set records hidden variables
+  bool touch_oracles = true;  // oracle.h rows when the touch set records hidden variables
 };
 
 // One cell of the table.
 struct TaskResult {
   Task task = Task::kMaterial;
   Method method = Method::kProbe;
-  bool available = false;   // false: not evaluated, `note` says why
-  double accuracy = 0;      // correct / n on the test split, in [0, 1]
-  int64_t n = 0;            // test items scored
+  bool available = false;  // false: not evaluated, `note` says why
+  double accuracy = 0;     // correct / n on the test split, in [0, 1]
+  int64_t n = 0;           // test items scored
   int64_t correct = 0;
   std::vector<uint8_t> item_correct;  // 1 where labelled test item i (split order) was right
-  int64_t unlabelled = 0;   // test items without a label for this task (not scored)
-  double chance = 0;        // 1 / classes (the paper's chance row)
-  double majority = 0;      // accuracy of always predicting the test split's commonest class
-  std::string source;       // e.g. "fit l2=0.01 (val 0.82)", "model head 'material'", "text hashing-v1(...)"
+  int64_t unlabelled = 0;             // test items without a label for this task (not scored)
+  double chance = 0;                  // 1 / classes (the paper's chance row)
+  double majority = 0;  // accuracy of always predicting the test split's commonest class
+  std::string
+      source;  // e.g. "fit l2=0.01 (val 0.82)", "model head 'material'", "text hashing-v1(...)"
   std::string note;
 };
 
 struct GraspOracle {
-  double accuracy = 0;      // Bayes-optimal on visible variables (tlvlink/sim/generate.h)
+  double accuracy = 0;  // Bayes-optimal on visible variables (tlvlink/sim/generate.h)
   double class_friction_accuracy = 0;  // the same with mu known only through the class
   double prior_friction_accuracy = 0;  // the same with mu not known at all (the grasp prior's)
   double success_rate = 0;
@@ -85,7 +87,7 @@ struct GraspOracle {
 // e.g. the supervised upper bounds. Scored like the evaluated model's own heads when it has
 // heads (fit both on the same heads' set), else by linear probes fitted on this data.
 struct BoundRow {
-  std::string label;            // "supervised tiny (same size)"
+  std::string label;  // "supervised tiny (same size)"
   std::string model_path, model_name;
   std::vector<TaskResult> results;  // Method::kModelHeads or kProbe, one per task
 
@@ -93,24 +95,25 @@ struct BoundRow {
 };
 
 struct EvalReport {
-  std::string model_name;   // metadata name
-  std::string model_path;   // set by the CLI
+  std::string model_name;  // metadata name
+  std::string model_path;  // set by the CLI
   std::string executor;
   std::vector<TaskResult> results;  // for each Method, each Task (kAllTasks order)
   std::optional<SplitInfo> touch_split, grasp_split;
-  std::string touch_format, grasp_format;  // "touch100k" / "touch_and_go"; "feel_hdf5" / "feel_repacked"
-  std::string touch_dir, grasp_dir;        // the data evaluated on (evaluate() fills them)
+  std::string touch_format,
+      grasp_format;                  // "touch100k" / "touch_and_go"; "feel_hdf5" / "feel_repacked"
+  std::string touch_dir, grasp_dir;  // the data evaluated on (evaluate() fills them)
   std::string touch_load_summary, grasp_load_summary;
   std::optional<GraspOracle> oracle;  // generated grasp sets only
   // Generated grasp sets with recorded variables only (oracle.h): on this test split.
   std::optional<GraspFramesOracle> grasp_frames_oracle;
   std::vector<TouchOracle> touch_oracles;  // generated touch sets with hidden variables only
-  std::vector<BoundRow> bounds;       // reference models' probe rows (the CLI fills them)
+  std::vector<BoundRow> bounds;            // reference models' probe rows (the CLI fills them)
   GraspFeatures grasp_features = GraspFeatures::kBeforeDuringDifference;
   double extract_seconds = 0, fit_seconds = 0;
   int64_t frames = 0;
   std::vector<std::pair<Task, FittedProbe>> probes;  // diagnostics of each fitted probe
-  std::vector<std::string> notes;   // e.g. "the model is the random reference encoder ..."
+  std::vector<std::string> notes;  // e.g. "the model is the random reference encoder ..."
 
   const TaskResult* find(Task task, Method method) const;
 };

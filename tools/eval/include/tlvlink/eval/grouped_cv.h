@@ -25,7 +25,7 @@ struct GroupedRows {
   int32_t dim = 0;
   std::span<const int32_t> labels;  // in [0, classes)
   int32_t classes = 0;
-  std::span<const std::string> groups;  // one per row
+  std::span<const std::string> groups;            // one per row
   std::span<const std::string> class_names = {};  // optional, for messages
 };
 

@@ -86,12 +86,12 @@ struct FittedHeads {
 Result<FittedHeads> fit_heads(const EmbeddingSet& set, const HeadFitOptions& options);
 
 struct WriteHeadsOptions {
-  bool replace_linear = true;      // fitted heads replace the model's heads of the same name
+  bool replace_linear = true;  // fitted heads replace the model's heads of the same name
   bool replace_grasp = true;
   // Zero-shot heads for tasks the model has none for (from `text`); existing ones are kept.
   bool add_missing_zero_shot = true;
   TextOptions text;
-  std::string provenance_note;     // appended to provenance.training as {"heads": ...} context
+  std::string provenance_note;  // appended to provenance.training as {"heads": ...} context
 };
 // The bytes of a copy of `model` with the heads in its metadata: same graph, constants,
 // quantization and golden pairs (quantize/model_copy.h), so outputs are bit-identical.

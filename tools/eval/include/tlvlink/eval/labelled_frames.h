@@ -52,7 +52,7 @@ struct LabelledFrames {
   std::vector<std::string> classes;
   std::vector<LabelledFrame> frames;  // sorted by class, then path
   Grouping grouping = Grouping::kNone;
-  std::vector<std::string> skipped;   // files that are not frames, each "path: why"
+  std::vector<std::string> skipped;  // files that are not frames, each "path: why"
   int64_t group_count() const;
 };
 

@@ -41,8 +41,8 @@ struct TouchOracle {
   bool available = false;
   double hidden_accuracy = 0;  // on the labelled test items
   double frame_accuracy = 0;
-  int64_t n = 0;               // labelled test items scored
-  std::string note;            // why not available
+  int64_t n = 0;     // labelled test items scored
+  std::string note;  // why not available
 };
 
 // One oracle per touch task (kMaterial, kHard, kRough) on `touch`'s test split. Items without
@@ -68,8 +68,7 @@ std::vector<int32_t> knn_predict(std::span<const double> train, std::span<const 
 // object, is never a neighbour). classes[i] in 0..kMaterialClassCount-1.
 std::vector<std::array<double, sim::kMaterialClassCount>> knn_class_weights_other_groups(
     std::span<const double> rows, std::span<const int32_t> classes,
-    std::span<const std::string> groups, std::span<const size_t> queries, int32_t dims,
-    int32_t k);
+    std::span<const std::string> groups, std::span<const size_t> queries, int32_t dims, int32_t k);
 
 // The grasp task's counterpart of the touch tasks' one-frame estimate: how much of the grasp
 // oracle the frames a grasp head receives (both fingers' "during" frames) can carry. The grasp

@@ -29,10 +29,10 @@ struct ProbeData {
 };
 
 struct LogisticOptions {
-  double l2 = 1e-3;              // penalty l2/2 * |W|^2 on standardised weights (bias free)
-  int32_t max_iterations = 300;  // L-BFGS iterations
+  double l2 = 1e-3;                  // penalty l2/2 * |W|^2 on standardised weights (bias free)
+  int32_t max_iterations = 300;      // L-BFGS iterations
   double gradient_tolerance = 1e-5;  // stop when max |gradient| falls below
-  int32_t history = 10;          // L-BFGS memory
+  int32_t history = 10;              // L-BFGS memory
 };
 
 // L2 strength used when no validation split can be made (fewer than 2 groups).
@@ -55,14 +55,14 @@ struct FittedProbe {
   std::vector<float> weight;  // [classes, dim]
   std::vector<float> bias;    // [classes]
   int32_t classes = 0, dim = 0;
-  double l2 = 0;                         // chosen strength
+  double l2 = 0;                            // chosen strength
   std::vector<double> validation_accuracy;  // per l2_grid entry ([] when no validation split)
   int64_t train_rows = 0, validation_rows = 0;
   int64_t train_groups = 0, validation_groups = 0;
-  double train_accuracy = 0;             // final fit (all training rows), raw-form head
-  int32_t iterations = 0;                // of the final fit
-  bool converged = true;                 // final fit met the tolerance (else `note` says so)
-  std::string note;                      // e.g. "no validation split: 1 group"
+  double train_accuracy = 0;  // final fit (all training rows), raw-form head
+  int32_t iterations = 0;     // of the final fit
+  bool converged = true;      // final fit met the tolerance (else `note` says so)
+  std::string note;           // e.g. "no validation split: 1 group"
 };
 
 // Errors: empty data, shape mismatch, label outside [0, classes), non-finite features, bad

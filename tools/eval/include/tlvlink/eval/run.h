@@ -36,15 +36,15 @@ Result<BoundRow> evaluate_bound(const std::string& spec, const EvalData& data,
 
 struct EvalJob {
   std::string model_path;
-  std::string compare_path;           // optional: a second model side by side
-  std::vector<std::string> bounds;    // "LABEL=MODEL": reference rows (evaluate_bound)
-  std::string record_path;            // optional: write a copy of the model with trust records
+  std::string compare_path;         // optional: a second model side by side
+  std::vector<std::string> bounds;  // "LABEL=MODEL": reference rows (evaluate_bound)
+  std::string record_path;          // optional: write a copy of the model with trust records
   bool keep_untrusted_zero_shot = false;
   EvalData data;
   EvalOptions options;
 };
 struct EvalRun {
-  std::vector<EvalReport> reports;    // the model (with its bound rows), then the compared one
+  std::vector<EvalReport> reports;       // the model (with its bound rows), then the compared one
   std::vector<std::string> trust_lines;  // one per head when record_path was written
 };
 // `tlvlink eval`: evaluate_files for the model (+ compare), the bound rows on the first report,
@@ -61,9 +61,9 @@ struct HeadsFitJob {
   std::function<void(const std::string& note)> on_note;
 };
 struct HeadsFitResult {
-  size_t bytes = 0;      // of the written model
+  size_t bytes = 0;  // of the written model
   FittedHeads heads;
-  EvalReport score;      // the written model's heads on the test split (as the device applies them)
+  EvalReport score;  // the written model's heads on the test split (as the device applies them)
   std::vector<std::string> trust_lines;  // the trust record of each head, as written
 };
 // Fits linear probes and the grasp head on the runtime's embeddings of the train split, scores

@@ -30,28 +30,28 @@ inline constexpr double kStabilityMinCosine = 0.97;
 inline constexpr double kStabilityMinAgreement = 0.95;
 
 struct StabilityOptions {
-  int32_t scenes = 200;                     // simulated scenes (one press each)
-  uint64_t seed = 29;                       // not a training or heads seed (1, 3, 2027)
+  int32_t scenes = 200;  // simulated scenes (one press each)
+  uint64_t seed = 29;    // not a training or heads seed (1, 3, 2027)
   std::string sensors = "gelsight-mini,digit";
-  int32_t sensor_instances = 16;            // drawn from this seed's instances: unseen ones
+  int32_t sensor_instances = 16;  // drawn from this seed's instances: unseen ones
   double markers_fraction = 0.5;
-  std::string real_frames_dir;              // empty: no real frames
+  std::string real_frames_dir;  // empty: no real frames
   EmbedderOptions embedder;
 };
 
 struct HeadAgreement {
   std::string head;
-  bool trusted = false;   // reported by default (heads::reported_by_default)
+  bool trusted = false;  // reported by default (heads::reported_by_default)
   int64_t same = 0, n = 0;
   double rate() const { return n > 0 ? static_cast<double>(same) / static_cast<double>(n) : 0; }
 };
 
 struct PathStability {
-  std::string source;   // "simulated" or "real"
-  std::string path;     // "jpeg-q90", "live gelsight-mini", "+3 DN", ...
+  std::string source;  // "simulated" or "real"
+  std::string path;    // "jpeg-q90", "live gelsight-mini", "+3 DN", ...
   int64_t n = 0;
   double cos_min = 1, cos_p05 = 1, cos_median = 1;
-  std::string worst;    // the item of cos_min ("scene 17 (digit, instance 3)", a file name)
+  std::string worst;  // the item of cos_min ("scene 17 (digit, instance 3)", a file name)
   std::vector<HeadAgreement> heads;
   // cos_min >= kStabilityMinCosine and every trusted head agrees on >= kStabilityMinAgreement.
   bool meets_target() const;

@@ -24,10 +24,10 @@
 namespace tlvlink::foxglove {
 
 struct ChannelSpec {
-  uint16_t id;                  // MCAP channel and schema id, Foxglove channel id
-  std::string_view topic;       // "/tlvlink/frame_prediction"
-  std::string_view schema_name; // "tlvlink.FramePrediction"
-  std::string_view schema;      // JSON Schema text (schema encoding "jsonschema")
+  uint16_t id;                   // MCAP channel and schema id, Foxglove channel id
+  std::string_view topic;        // "/tlvlink/frame_prediction"
+  std::string_view schema_name;  // "tlvlink.FramePrediction"
+  std::string_view schema;       // JSON Schema text (schema encoding "jsonschema")
 };
 inline constexpr std::string_view kMessageEncoding = "json";
 inline constexpr std::string_view kSchemaEncoding = "jsonschema";
@@ -42,6 +42,7 @@ struct ChannelMessage {
 };
 
 // nullopt for a message type no channel carries (a Command echoed by a peer).
-std::optional<ChannelMessage> to_channel_message(const listen::Message& message, const listen::FormatContext& context);
+std::optional<ChannelMessage> to_channel_message(const listen::Message& message,
+                                                 const listen::FormatContext& context);
 
 }  // namespace tlvlink::foxglove

@@ -27,12 +27,13 @@ struct McapStatistics {
 };
 
 struct McapFile {
-  std::string profile, library;      // the Header's
-  std::vector<McapSchema> schemas;   // in file order, each id once
+  std::string profile, library;     // the Header's
+  std::vector<McapSchema> schemas;  // in file order, each id once
   std::vector<McapChannel> channels;
   std::vector<McapMessage> messages;  // in file order
   std::optional<McapStatistics> statistics;
-  bool summary_crc_checked = false, data_crc_checked = false;  // the CRCs were present (non-zero) and matched
+  bool summary_crc_checked = false,
+       data_crc_checked = false;  // the CRCs were present (non-zero) and matched
 
   const McapChannel* channel(uint16_t id) const;
   const McapSchema* schema(uint16_t id) const;

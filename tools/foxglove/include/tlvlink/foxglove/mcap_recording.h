@@ -25,7 +25,8 @@ inline constexpr std::string_view kRecordTopic = "/tlvlink/records";
 inline constexpr std::string_view kRecordEncoding = "tlvlink.record";
 inline constexpr uint16_t kRecordChannelId = 100;  // after the channel table's ids
 
-// True for a path whose extension is .mcap (case-insensitive): the recording format is chosen by it.
+// True for a path whose extension is .mcap (case-insensitive): the recording format is chosen by
+// it.
 bool is_mcap_path(std::string_view path);
 
 // Both a RecordSink (the client's raw records) and a MessageSink (the session's messages).

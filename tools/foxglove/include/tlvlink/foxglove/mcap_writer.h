@@ -16,8 +16,8 @@
 
 #include <cstdio>
 #include <map>
-#include <optional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -28,10 +28,11 @@
 namespace tlvlink::foxglove {
 
 struct McapWriterOptions {
-  std::string profile;                  // the Header's profile ("" : none of the well-known ones)
-  std::string library = "tlvlink";      // the Header's library
-  size_t chunk_bytes = 256 * 1024;      // close a chunk at this many bytes of records...
-  uint64_t chunk_span_ns = 1'000'000'000;  // ...or when its messages span this long (bounds what a crash loses)
+  std::string profile;              // the Header's profile ("" : none of the well-known ones)
+  std::string library = "tlvlink";  // the Header's library
+  size_t chunk_bytes = 256 * 1024;  // close a chunk at this many bytes of records...
+  uint64_t chunk_span_ns =
+      1'000'000'000;  // ...or when its messages span this long (bounds what a crash loses)
 };
 
 class McapWriter {
@@ -49,7 +50,8 @@ class McapWriter {
   Status add_schema(const McapSchema& schema);
   Status add_channel(const McapChannel& channel);
   // Log and publish times in ns. The channel must have been added.
-  Status write_message(uint16_t channel_id, uint64_t log_time, uint64_t publish_time, std::span<const std::byte> data);
+  Status write_message(uint16_t channel_id, uint64_t log_time, uint64_t publish_time,
+                       std::span<const std::byte> data);
   // Writes what is buffered to the file (a closed chunk); the open chunk stays in memory.
   Status flush();
   // Closes the last chunk, writes Data End, the summary and the Footer, and closes the file.
@@ -71,8 +73,8 @@ class McapWriter {
   McapWriterOptions options_;
   std::optional<Error> failed_;  // the first write error; every later call returns it
   bool closed_ = false;
-  uint64_t position_ = 0;   // bytes written so far
-  uint32_t data_crc_ = 0;   // CRC-32 of the data section so far (from the magic on)
+  uint64_t position_ = 0;  // bytes written so far
+  uint32_t data_crc_ = 0;  // CRC-32 of the data section so far (from the magic on)
   std::map<uint16_t, McapSchema> schemas_;
   std::map<uint16_t, McapChannel> channels_;
   std::map<uint16_t, uint32_t> next_sequence_;
@@ -82,7 +84,8 @@ class McapWriter {
   std::vector<std::byte> chunk_;
   uint64_t chunk_start_ = UINT64_MAX, chunk_end_ = 0;
   std::map<uint16_t, std::vector<std::pair<uint64_t, uint64_t>>> chunk_index_;
-  std::vector<std::vector<std::byte>> chunk_indexes_;  // ChunkIndex record contents, for the summary
+  std::vector<std::vector<std::byte>>
+      chunk_indexes_;  // ChunkIndex record contents, for the summary
 };
 
 }  // namespace tlvlink::foxglove

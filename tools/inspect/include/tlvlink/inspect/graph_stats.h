@@ -1,6 +1,6 @@
 #pragma once
-// Per-operator cost figures for `inspect`, `bench` and `quantize-sweep`: MACs, constant (weight) bytes, activation
-// bytes, and a liveness-based estimate of peak activation memory.
+// Per-operator cost figures for `inspect`, `bench` and `quantize-sweep`: MACs, constant (weight)
+// bytes, activation bytes, and a liveness-based estimate of peak activation memory.
 
 #include <cstddef>
 #include <cstdint>

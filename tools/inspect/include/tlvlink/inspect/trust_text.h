@@ -2,8 +2,8 @@
 // How `tlvlink inspect` and `tlvlink infer` show a head's trust record (runtime/heads
 // head_trust.h).
 //
-//   trust_text(head.trust)         // "trusted: test accuracy 82.0 % vs majority 73.4 % (n=2160; touch: DIR ...)"
-//   trust_text(head.trust, false)  // the same without the set
+//   trust_text(head.trust)         // "trusted: test accuracy 82.0 % vs majority 73.4 % (n=2160;
+//   touch: DIR ...)" trust_text(head.trust, false)  // the same without the set
 
 #include <string>
 

@@ -23,8 +23,9 @@ namespace tlvlink::tools {
 
 struct SensorFrame {
   Image view;
-  std::string sensor;  // the sensor it was read as; empty: no known sensor (a 4:3 frame taken as it is)
-  std::string note;    // one line on what was done, for the user
+  std::string
+      sensor;  // the sensor it was read as; empty: no known sensor (a 4:3 frame taken as it is)
+  std::string note;  // one line on what was done, for the user
 };
 
 // `sensor`: a known sensor name (runtime/capture sensor_models.h), or empty to detect. Errors:

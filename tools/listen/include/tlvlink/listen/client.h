@@ -34,18 +34,18 @@
 
 namespace tlvlink::listen {
 
-class RecordSink;    // recording.h
+class RecordSink;  // recording.h
 class RecordSource;
 
 struct ClientOptions {
-  bool reconnect = true;         // reopen after a disconnect or a failed open (live sources)
-  int reconnect_min_ms = 100;    // backoff doubles up to the max
+  bool reconnect = true;       // reopen after a disconnect or a failed open (live sources)
+  int reconnect_min_ms = 100;  // backoff doubles up to the max
   int reconnect_max_ms = 1000;
-  int time_sync_ms = 1000;       // TimeSync period; 0: none (no clock offset, no latencies)
-  bool request_info = true;      // send Info when no Hello came soon after connecting
-  std::string record;            // also write what arrives into this recording file
-  bool overwrite_record = false; // replace an existing `record` file (else it is an error)
-  bool realtime = false;         // replay: pace records at their recorded times
+  int time_sync_ms = 1000;        // TimeSync period; 0: none (no clock offset, no latencies)
+  bool request_info = true;       // send Info when no Hello came soon after connecting
+  std::string record;             // also write what arrives into this recording file
+  bool overwrite_record = false;  // replace an existing `record` file (else it is an error)
+  bool realtime = false;          // replay: pace records at their recorded times
   // Borrowed for the client's lifetime: also (or instead of `record`) receives every record a
   // .tlvrec would get, from a live source or copied from a replayed one (tools/foxglove's MCAP
   // recordings carry them). A write error ends the client as a `record` write error does.
@@ -66,10 +66,12 @@ class Client {
   // "usb[:VID:PID][,serial=S]" (libusb; defaults 1d6b:0104), "replay:FILE".
   // A live source that is absent is not an error here (the client keeps trying); a malformed
   // source string or an unreadable recording is.
-  static Result<std::unique_ptr<Client>> open(std::string_view source, const ClientOptions& options = {});
+  static Result<std::unique_ptr<Client>> open(std::string_view source,
+                                              const ClientOptions& options = {});
   // A replay of records from any container (an MCAP recording's record channel); `name` is the
   // source() string.
-  static Result<std::unique_ptr<Client>> open_replay(std::unique_ptr<RecordSource> records, std::string name,
+  static Result<std::unique_ptr<Client>> open_replay(std::unique_ptr<RecordSource> records,
+                                                     std::string name,
                                                      const ClientOptions& options = {});
   ~Client();
   Client(const Client&) = delete;
@@ -86,7 +88,8 @@ class Client {
   };
   // Calls the handlers until *stop is true, duration_ms passed (negative: no limit) or the
   // recording ended.
-  Status run(const Handlers& handlers, const std::atomic<bool>* stop = nullptr, int64_t duration_ms = -1);
+  Status run(const Handlers& handlers, const std::atomic<bool>* stop = nullptr,
+             int64_t duration_ms = -1);
 
   // Link events since the last call (pull API users; run() reports them through on_event).
   std::vector<LinkEvent> take_events();

@@ -29,20 +29,21 @@ class LatencyWindow {
 };
 
 struct LinkStats {
-  protocol::DeframerCounters frames;  // bytes, good frames, rejected by verdict (accumulated over reconnects)
-  uint64_t messages = 0;              // good frames of a known type, delivered or consumed
-  uint64_t unknown_types = 0;         // good frames of a type this client does not know: skipped
-  uint64_t undecodable = 0;           // good frames whose payload did not verify
-  uint64_t sequence_gaps = 0;         // times the board's sequence jumped forward
-  uint64_t frames_missing = 0;        // frames those jumps skipped (lost or rejected on the link)
-  uint64_t sequence_resets = 0;       // the sequence went back (board restarted, or reordering)
-  uint64_t board_restarts = 0;        // a Hello with a new boot id
-  uint64_t delayed = 0;               // messages the board flagged as sent late
+  protocol::DeframerCounters
+      frames;             // bytes, good frames, rejected by verdict (accumulated over reconnects)
+  uint64_t messages = 0;  // good frames of a known type, delivered or consumed
+  uint64_t unknown_types = 0;    // good frames of a type this client does not know: skipped
+  uint64_t undecodable = 0;      // good frames whose payload did not verify
+  uint64_t sequence_gaps = 0;    // times the board's sequence jumped forward
+  uint64_t frames_missing = 0;   // frames those jumps skipped (lost or rejected on the link)
+  uint64_t sequence_resets = 0;  // the sequence went back (board restarted, or reordering)
+  uint64_t board_restarts = 0;   // a Hello with a new boot id
+  uint64_t delayed = 0;          // messages the board flagged as sent late
   uint64_t connects = 0, disconnects = 0;
   bool link_up = false;
-  LatencyWindow link_latency;         // send -> receive, on the host clock (needs the clock estimate)
-  LatencyWindow capture_latency;      // FramePrediction capture -> receive, on the host clock
-  LatencyWindow round_trip;           // Pong delay (NTP delay)
+  LatencyWindow link_latency;     // send -> receive, on the host clock (needs the clock estimate)
+  LatencyWindow capture_latency;  // FramePrediction capture -> receive, on the host clock
+  LatencyWindow round_trip;       // Pong delay (NTP delay)
   protocol::ClockEstimate clock;
 };
 

@@ -16,13 +16,14 @@ namespace tlvlink::listen {
 
 class Message {
  public:
-  Message(const protocol::FrameHeader& header, std::span<const std::byte> payload, int64_t receive_ns);
+  Message(const protocol::FrameHeader& header, std::span<const std::byte> payload,
+          int64_t receive_ns);
 
   const protocol::FrameHeader& header() const { return header_; }
   protocol::MessageType type() const { return header_.type; }
   uint32_t sequence() const { return header_.sequence; }
-  int64_t send_ns() const { return header_.send_ns; }      // board clock
-  int64_t receive_ns() const { return receive_ns_; }       // host CLOCK_MONOTONIC (or as recorded)
+  int64_t send_ns() const { return header_.send_ns; }  // board clock
+  int64_t receive_ns() const { return receive_ns_; }   // host CLOCK_MONOTONIC (or as recorded)
   bool delayed() const { return (header_.flags & protocol::kFlagDelayed) != 0; }
   std::span<const std::byte> payload() const {
     return {reinterpret_cast<const std::byte*>(storage_.data()), size_};
@@ -32,7 +33,9 @@ class Message {
   // = board time - offset_ns). A function of the stream alone, so a replay gives the same.
   const protocol::ClockEstimate& clock() const { return clock_; }
   void set_clock(const protocol::ClockEstimate& clock) { clock_ = clock; }
-  int64_t to_host_ns(int64_t board_ns) const { return clock_.valid ? board_ns - clock_.offset_ns : board_ns; }
+  int64_t to_host_ns(int64_t board_ns) const {
+    return clock_.valid ? board_ns - clock_.offset_ns : board_ns;
+  }
 
   // kInvalidState when the message is of another type; kProtocolMalformed when it does not verify.
   Result<protocol::HelloView> hello() const;

@@ -40,7 +40,8 @@ struct Record {
 // Creates a recording file of any format (.tlvrec, .mcap) by one rule: an existing file is an
 // error unless `overwrite` (then it is truncated); anything but a regular file (a FIFO, a
 // device) is refused without blocking. `what` names the file in errors ("recording").
-Result<std::FILE*> create_recording_file(const std::string& path, bool overwrite, const char* what = "recording");
+Result<std::FILE*> create_recording_file(const std::string& path, bool overwrite,
+                                         const char* what = "recording");
 
 // Where a client writes what it reads and sends (a .tlvrec file, or another container that
 // carries the same records: tools/foxglove's MCAP recordings).
@@ -67,13 +68,15 @@ class RecordingWriter : public RecordSink {
   // existing file is an error unless `overwrite` (then it is truncated); anything but a regular
   // file (a FIFO, a device) is refused without blocking. Write errors name the path and the
   // reason ("disk full", "file size limit reached").
-  static Result<std::unique_ptr<RecordingWriter>> create(const std::string& path, bool overwrite = false);
+  static Result<std::unique_ptr<RecordingWriter>> create(const std::string& path,
+                                                         bool overwrite = false);
   ~RecordingWriter() override;
   Status write(RecordKind kind, int64_t time_ns, std::span<const std::byte> data) override;
   Status flush() override;
 
  private:
-  explicit RecordingWriter(std::FILE* file, std::string path) : file_(file), path_(std::move(path)) {}
+  explicit RecordingWriter(std::FILE* file, std::string path)
+      : file_(file), path_(std::move(path)) {}
   std::FILE* file_;
   std::string path_;
 };

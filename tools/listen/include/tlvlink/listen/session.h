@@ -26,7 +26,7 @@ class MessageSink {
 };
 
 struct SessionOptions {
-  std::string source;                 // Client::open()'s source string
+  std::string source;  // Client::open()'s source string
   ClientOptions client;
   bool json = false;                  // JSON lines instead of text lines
   std::vector<std::string> commands;  // command_text.h syntax, sent after the first Hello
@@ -34,9 +34,9 @@ struct SessionOptions {
   bool exit_after_replies = false;    // stop once every command was answered (1 if one was refused)
   int64_t duration_ms = -1;           // stop after this long (negative: no limit)
   uint64_t max_predictions = 0;       // stop after this many FramePredictions (0: no limit)
-  int stats_every_ms = 0;             // also print the link statistics this often (0: only at the end)
-  int reply_timeout_ms = 5000;        // exit_after_replies: give up waiting after this long
-  std::vector<MessageSink*> sinks;    // borrowed for the call
+  int stats_every_ms = 0;       // also print the link statistics this often (0: only at the end)
+  int reply_timeout_ms = 5000;  // exit_after_replies: give up waiting after this long
+  std::vector<MessageSink*> sinks;  // borrowed for the call
   // Opens the client instead of Client::open(source, client) (a replay of another container).
   std::function<Result<std::unique_ptr<Client>>(const ClientOptions&)> open_client;
 };

@@ -29,10 +29,10 @@ Result<UsbSelector> parse_usb_selector(std::string_view text);
 // What enumeration found: one entry per device with the selector's VID:PID.
 struct UsbCandidate {
   uint16_t vendor = 0, product = 0;
-  std::string serial;        // empty if it could not be read
+  std::string serial;  // empty if it could not be read
   uint8_t bus = 0, address = 0;
   bool has_stream_interface = false;
-  bool accessible = true;    // false: could not be opened (permissions: udev rule missing)
+  bool accessible = true;  // false: could not be opened (permissions: udev rule missing)
 };
 
 // Index of the one device to use; kTransportUnavailable naming what was found otherwise

@@ -42,7 +42,13 @@ inline constexpr int64_t kMaxCalibrationFrames = 4096;
 inline constexpr size_t kMaxCalibrationSources = 8;
 
 enum class CalibFormat : uint8_t {
-  kAuto = 0, kTouch100k, kTag, kFeel, kFeelRepacked, kImages, kExtreme
+  kAuto = 0,
+  kTouch100k,
+  kTag,
+  kFeel,
+  kFeelRepacked,
+  kImages,
+  kExtreme
 };
 const char* calib_format_name(CalibFormat format);  // "auto", "touch100k", "tag", "feel", ...
 Result<CalibFormat> parse_calib_format(const std::string& name);

@@ -25,10 +25,10 @@
 namespace tlvlink::quantize {
 
 struct QuantizeOptions {
-  std::string model_path;   // float .tlvm
-  std::string output_path;  // int8 .tlvm to write
-  std::string report_dir;   // empty: no report files
-  CalibDataOptions data;    // where calibration and held-out frames come from
+  std::string model_path;          // float .tlvm
+  std::string output_path;         // int8 .tlvm to write
+  std::string report_dir;          // empty: no report files
+  CalibDataOptions data;           // where calibration and held-out frames come from
   CalibrationOptions calibration;  // method and percentile (validated here)
   double averaging_constant = TensorObserver::kDefaultAveragingConstant;  // method ema
   // Weights, --keep-float names ("first" / "last" or operator names, checked against the

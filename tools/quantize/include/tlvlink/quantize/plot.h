@@ -10,11 +10,11 @@
 namespace tlvlink::quantize {
 
 struct PlotPoint {
-  double x = 0;          // latency, ms
-  double y = 0;          // error (> 0; values below PlotSpec::y_floor are drawn at the floor)
-  size_t series = 0;     // colour: index into PlotSpec::series
-  size_t shape = 0;      // marker: index into PlotSpec::shapes
-  size_t fill = 0;       // 0 filled, else hollow: index into PlotSpec::fills
+  double x = 0;       // latency, ms
+  double y = 0;       // error (> 0; values below PlotSpec::y_floor are drawn at the floor)
+  size_t series = 0;  // colour: index into PlotSpec::series
+  size_t shape = 0;   // marker: index into PlotSpec::shapes
+  size_t fill = 0;    // 0 filled, else hollow: index into PlotSpec::fills
 };
 
 struct PlotSpec {

@@ -34,7 +34,7 @@ struct QuantizeRun {
   std::vector<std::pair<std::string, double>> timing;  // phase, seconds
   std::string tasks_table;  // fp32 vs int8 task accuracies (eval), empty if not run
   nlohmann::json tasks_json;
-  std::string tasks_note;   // why task accuracies are missing, if they are
+  std::string tasks_note;  // why task accuracies are missing, if they are
 };
 
 // "inf" / "-" for non-finite values; used by the sweep too.

@@ -20,7 +20,7 @@ struct TaskEvalOptions {
 };
 
 struct TaskComparison {
-  std::string table;   // plain text, fp32 and int8 side by side
+  std::string table;  // plain text, fp32 and int8 side by side
   nlohmann::json json;
   double max_drop_points = 0;  // largest fp32 - int8 accuracy drop over available cells, in points
 };

@@ -46,10 +46,10 @@ struct LiveOfflineReport {
   int32_t runs = 0;
   int64_t events = 0;
   std::vector<HeadComparison> heads;
-  PairedRate grasps;                 // scripted grasps both runs predicted
+  PairedRate grasps;  // scripted grasps both runs predicted
   int32_t grasps_scripted = 0;
   int32_t live_grasps_missing = 0, offline_grasps_missing = 0;  // scripted, not predicted
-  ScoreReport live, offline;         // each side's own score, pooled over the runs
+  ScoreReport live, offline;  // each side's own score, pooled over the runs
   int32_t bootstrap_samples = 0;
   bool meets_target() const;
 };

@@ -36,7 +36,9 @@ inline constexpr double kInvisibleSignalDn = 3.5;
 
 struct Ratio {
   int64_t hits = 0, total = 0;
-  double rate() const { return total > 0 ? static_cast<double>(hits) / static_cast<double>(total) : 0.0; }
+  double rate() const {
+    return total > 0 ? static_cast<double>(hits) / static_cast<double>(total) : 0.0;
+  }
 };
 
 // The Wilson score interval of a binomial rate at z = 1.96 (95 %): {0, 1} for an empty ratio.
@@ -46,42 +48,42 @@ struct Interval {
 Interval wilson95(const Ratio& r);
 
 struct HeadScore {
-  std::string head;    // "material", "hard_soft", "rough_smooth"
-  Ratio frames;        // frames in contact with a prediction and a defined label
+  std::string head;             // "material", "hard_soft", "rough_smooth"
+  Ratio frames;                 // frames in contact with a prediction and a defined label
   int64_t without_contact = 0;  // labelled frames of an event the renderer shows without contact
-  Ratio events;        // the last prediction of each event
-  double majority = 0;  // accuracy of always answering the events' most common label
+  Ratio events;                 // the last prediction of each event
+  double majority = 0;          // accuracy of always answering the events' most common label
   std::map<std::string, int64_t> event_labels;  // the scored events' true labels, counted
 };
 
 struct ScoreReport {
-  int64_t truth_frames = 0;        // per finger, in the scenario
-  int64_t frames = 0;              // daemon frame records matched to the truth
-  int64_t unmatched_frames = 0;    // frame records of sensors not named in `fingers`
-  int64_t calibrating = 0;         // frames while the gate learnt its reference (not scored)
+  int64_t truth_frames = 0;      // per finger, in the scenario
+  int64_t frames = 0;            // daemon frame records matched to the truth
+  int64_t unmatched_frames = 0;  // frame records of sensors not named in `fingers`
+  int64_t calibrating = 0;       // frames while the gate learnt its reference (not scored)
   // Contact gating.
-  int64_t truth_contact = 0;       // matched frames the renderer shows in contact
-  int64_t missed_contact = 0;      // of those, gated as no contact (false negatives)
-  int64_t missed_light = 0;        // of the misses, under 1 N (ramp ends)
-  int64_t false_contact = 0;       // gated as contact with the gel open
-  int64_t invisible_contact = 0;   // in contact by the renderer, signal < kInvisibleSignalDn (not
-                                   // in truth_contact; of them, gated as contact below)
+  int64_t truth_contact = 0;      // matched frames the renderer shows in contact
+  int64_t missed_contact = 0;     // of those, gated as no contact (false negatives)
+  int64_t missed_light = 0;       // of the misses, under 1 N (ramp ends)
+  int64_t false_contact = 0;      // gated as contact with the gel open
+  int64_t invisible_contact = 0;  // in contact by the renderer, signal < kInvisibleSignalDn (not
+                                  // in truth_contact; of them, gated as contact below)
   int64_t invisible_seen = 0;
-  int64_t invisible_events = 0;    // events whose every contact frame is invisible
-  int64_t encoded = 0;             // frames the encoder ran on
-  Ratio contact_events;            // events whose contact the gate saw at least once
+  int64_t invisible_events = 0;  // events whose every contact frame is invisible
+  int64_t encoded = 0;           // frames the encoder ran on
+  Ratio contact_events;          // events whose contact the gate saw at least once
   // Per event kind ("grasp", "press"): frames in contact the gate missed (hits = missed).
   std::map<std::string, Ratio> missed_by_kind;
   // Heads.
   std::vector<HeadScore> heads;
   // Grasps.
-  int32_t truth_grasps = 0;        // scripted grasp events in the frames that were played
-  int32_t grasp_records = 0;       // grasp records in the output
-  int32_t grasps_computed = 0;     // computed, matched to a scripted grasp
+  int32_t truth_grasps = 0;     // scripted grasp events in the frames that were played
+  int32_t grasp_records = 0;    // grasp records in the output
+  int32_t grasps_computed = 0;  // computed, matched to a scripted grasp
   int32_t grasps_not_computed = 0;
-  int32_t grasps_unmatched = 0;    // records whose frames fall outside any scripted grasp
-  Ratio grasp_accuracy;            // predicted success == label, over computed and matched
-  double grasp_majority = 0;       // always answering the scripted grasps' majority label
+  int32_t grasps_unmatched = 0;       // records whose frames fall outside any scripted grasp
+  Ratio grasp_accuracy;               // predicted success == label, over computed and matched
+  double grasp_majority = 0;          // always answering the scripted grasps' majority label
   int32_t truth_grasp_successes = 0;  // scripted grasps that hold
   std::map<std::string, int32_t> not_computed_reasons;
 };

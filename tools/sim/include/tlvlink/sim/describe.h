@@ -21,7 +21,14 @@ namespace tlvlink::sim {
 
 // The categorical traits a description may talk about, derived from the physics.
 enum class TraitKey : uint8_t {
-  kHardness, kRoughness, kBumpy, kThermal, kFriction, kForce, kShape, kClass,
+  kHardness,
+  kRoughness,
+  kBumpy,
+  kThermal,
+  kFriction,
+  kForce,
+  kShape,
+  kClass,
 };
 inline constexpr size_t kTraitKeyCount = 8;
 
@@ -39,7 +46,7 @@ inline constexpr double kLightForceN = 2.0, kFirmForceN = 7.0;
 struct TactileTraits {
   bool hard = false;
   Roughness roughness = Roughness::kMid;
-  bool bumpy = false;               // rough with a large correlation length
+  bool bumpy = false;  // rough with a large correlation length
   ThermalFeel thermal = ThermalFeel::kNeutral;
   FrictionFeel friction = FrictionFeel::kModerate;
   ForceFeel force = ForceFeel::kMedium;
@@ -60,9 +67,9 @@ struct PhraseRule {
 
 struct PhraseInfo {
   std::string text;
-  int64_t count = 0;                // occurrences in Touch100k (paper's appendix)
+  int64_t count = 0;  // occurrences in Touch100k (paper's appendix)
   int32_t words = 0;
-  uint32_t facets = 0;              // bit set over phrase_facet_names()
+  uint32_t facets = 0;  // bit set over phrase_facet_names()
   std::vector<PhraseRule> any_of;
   // Fraction of a reference population of touches the phrase fits (Describer::create), and the
   // selection weight derived from it (see Describer::describe_phrases).

@@ -29,17 +29,17 @@ struct Marker {
 };
 
 struct Frame {
-  int32_t height = 0, width = 0;    // the profile's processed size
-  std::vector<uint8_t> rgb;         // height * width * 3, row-major, interleaved RGB
+  int32_t height = 0, width = 0;  // the profile's processed size
+  std::vector<uint8_t> rgb;       // height * width * 3, row-major, interleaved RGB
   ContactState state;
-  std::vector<Marker> markers;      // empty unless RenderOptions::markers
+  std::vector<Marker> markers;  // empty unless RenderOptions::markers
 };
 
 class Renderer {
  public:
   // Validates the profile; builds the sensor's background (seeded by sensor_seed).
   static Result<std::unique_ptr<Renderer>> create(const SensorProfile& profile,
-                                                   uint64_t sensor_seed);
+                                                  uint64_t sensor_seed);
   virtual ~Renderer() = default;
 
   // Renders one frame into `out` (reusing its buffers). `noise_seed` drives the camera noise

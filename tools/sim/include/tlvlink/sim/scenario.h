@@ -35,9 +35,9 @@ struct ScenarioOptions {
   int32_t grasps = 6;
   int32_t presses = 4;
   uint64_t seed = 1;
-  int32_t jpeg_quality = 90;       // MJPEG sensors
-  bool markers = false;            // a gel with printed markers (the grasp sets have them)
-  int32_t static_variants = 3;     // distinct noise frames cycled through a static stretch
+  int32_t jpeg_quality = 90;    // MJPEG sensors
+  bool markers = false;         // a gel with printed markers (the grasp sets have them)
+  int32_t static_variants = 3;  // distinct noise frames cycled through a static stretch
   int64_t finger_b_phase_ns = 7'000'000;
   // Also record each finger's processed frames as the datasets store them (the renderer's
   // frame, upright, as a JPEG q90 of image::encode_jpeg: a Touch100k or Feel set's bytes) into
@@ -52,12 +52,12 @@ struct ScenarioOptions {
 };
 
 struct ScenarioReport {
-  int64_t frames = 0;          // per finger
-  int64_t rendered = 0;        // both fingers: frames rendered (the rest are repeats)
-  int64_t file_bytes = 0;      // both recordings
-  double seconds = 0;          // the scenario's length
+  int64_t frames = 0;      // per finger
+  int64_t rendered = 0;    // both fingers: frames rendered (the rest are repeats)
+  int64_t file_bytes = 0;  // both recordings
+  double seconds = 0;      // the scenario's length
   int32_t grasps_succeeding = 0;
-  double render_seconds = 0;   // wall time spent writing it
+  double render_seconds = 0;  // wall time spent writing it
 };
 
 // Writes the scenario into `dir` (created if missing; existing scenario files are replaced

@@ -53,8 +53,8 @@ struct GraspSetSummary {
 Result<GraspSetSummary> write_grasp_set(const GraspSetJob& job);
 
 struct ExtremeSetSummary {
-  int rendered = 0;                  // DIR/<name>.ppm written, one line each in extreme.jsonl
-  int invalid_total = 0;             // invalid parameter sets checked
+  int rendered = 0;                     // DIR/<name>.ppm written, one line each in extreme.jsonl
+  int invalid_total = 0;                // invalid parameter sets checked
   std::vector<std::string> unrejected;  // "<case> was not rejected naming '<field>'"
   bool all_rejected() const { return unrejected.empty(); }
 };

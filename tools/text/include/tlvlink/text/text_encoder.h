@@ -68,10 +68,10 @@ Result<std::vector<float>> text_feature(TextEncoder& encoder, const std::string&
 
 // Zero-shot prompts of one task: class names and the templates ("{c}" replaced by the class).
 struct PromptSet {
-  std::string task;                         // "material", "hard", "rough", "grasp"
+  std::string task;  // "material", "hard", "rough", "grasp"
   std::vector<std::string> class_names;
-  std::vector<std::string> templates;       // applied to every class ...
-  std::vector<std::string> fixed_prompts;   // ... or one literal prompt per class (grasp)
+  std::vector<std::string> templates;      // applied to every class ...
+  std::vector<std::string> fixed_prompts;  // ... or one literal prompt per class (grasp)
   // The prompts of class i, with {c} substituted.
   std::vector<std::string> prompts_for(size_t class_index) const;
 };

@@ -35,21 +35,21 @@ enum class PressShape : uint8_t { kSphere, kCylinder, kFlat, kEdge };
 inline constexpr int32_t kPressShapeCount = 4;
 
 struct MaterialClass {
-  int32_t id;                       // TAG id 0..19
-  std::string_view name;            // "concrete", ..., "others"
-  Range modulus_pa;                 // sampled log-uniform
+  int32_t id;             // TAG id 0..19
+  std::string_view name;  // "concrete", ..., "others"
+  Range modulus_pa;       // sampled log-uniform
   Range poisson;
   Range friction;
-  Range sq_um;                      // sampled log-uniform
+  Range sq_um;  // sampled log-uniform
   Range correlation_length_mm;
   Range hurst;
   // Paired "vision" image appearance: base colour (RGB 0..255), colour jitter and a pattern.
   std::array<uint8_t, 3> colour;
   int32_t colour_jitter;
-  std::string_view pattern;         // "grain", "weave", "speckle", "bricks", "blades", "cells", ...
+  std::string_view pattern;  // "grain", "weave", "speckle", "bricks", "blades", "cells", ...
   // Added by the generators (beyond the renderer's needs):
-  bool tag_hard;                    // Touch-and-Go's class-level hard/soft label
-  double thermal_effusivity;        // W s^0.5 / (m^2 K), sets the cool/warm description cue
+  bool tag_hard;              // Touch-and-Go's class-level hard/soft label
+  double thermal_effusivity;  // W s^0.5 / (m^2 K), sets the cool/warm description cue
   std::array<double, kPressShapeCount> press_shapes;  // relative weights, indexed by PressShape
   // Thickness of the compliant layer over a rigid backing (fabric on a table, a leather cover,
   // a sheet or stack of paper, a turf of grass), sampled log-uniform; {0, 0} = bulk material.
@@ -68,9 +68,9 @@ struct MaterialSample {
   int32_t class_id = 0;
   double modulus_pa = 0, poisson = 0, friction = 0;
   double sq_um = 0, correlation_length_mm = 0, hurst = 0;
-  bool hard = false;                // E_o > kHardModulusPa
-  int32_t rough = -1;               // 1 rough (Sq > 5 um), 0 smooth (Sq <= 1 um), -1 in between
-  double layer_mm = 0;              // compliant layer thickness, 0 = bulk (see MaterialClass)
+  bool hard = false;    // E_o > kHardModulusPa
+  int32_t rough = -1;   // 1 rough (Sq > 5 um), 0 smooth (Sq <= 1 um), -1 in between
+  double layer_mm = 0;  // compliant layer thickness, 0 = bulk (see MaterialClass)
   // Vision appearance of this object: the class colour after jitter.
   std::array<uint8_t, 3> colour = {128, 128, 128};
 };

@@ -55,9 +55,9 @@ struct AdaptComparison {
 // Errors: checkpoint unreadable or not the one `model` came from (cosine named), options out of
 // range, frames from recordings (images only), and every error of grouped cross-validation
 // (a class with fewer than two groups ...).
-Result<AdaptComparison> compare_adapted_head(const Model& model,
-                                             const eval::LabelledFrames& frames,
-                                             const std::string& sensor, const AdaptOptions& options);
+Result<AdaptComparison> compare_adapted_head(const Model& model, const eval::LabelledFrames& frames,
+                                             const std::string& sensor,
+                                             const AdaptOptions& options);
 
 // The comparison as the CLI prints it, with the verdict (pays only when the adapted head's
 // accuracy is above the linear head's and its interval's low end above the linear accuracy).

@@ -45,10 +45,10 @@ struct LayerSpec {
 };
 
 struct ArchSpec {
-  std::string name;                 // "large", "small", "tiny"
+  std::string name;  // "large", "small", "tiny"
   int32_t input_height = 96, input_width = 128;
-  std::vector<LayerSpec> layers;    // in order; the last one is the 1x1 head conv
-  int32_t embedding_dim = 128;      // FC output = the text encoder's dimension
+  std::vector<LayerSpec> layers;  // in order; the last one is the 1x1 head conv
+  int32_t embedding_dim = 128;    // FC output = the text encoder's dimension
 };
 
 // Names of the built-in architectures, for --help and error messages: "large, small, tiny".

@@ -22,9 +22,9 @@ inline constexpr double kExponentialBetaRate = 5.0;
 
 struct BetaOptions {
   BetaSchedule schedule = BetaSchedule::kLinear;  // kNone: beta = 0 at every step (ablation)
-  double beta1 = 0.9;       // beta at step 0, in [0, 1]
-  double span = 0.9;        // fraction of all steps over which beta decays, in (0, 1]
-  double beta_min = 0.0;    // beta from the end of the span on, in [0, beta1]
+  double beta1 = 0.9;                             // beta at step 0, in [0, 1]
+  double span = 0.9;      // fraction of all steps over which beta decays, in (0, 1]
+  double beta_min = 0.0;  // beta from the end of the span on, in [0, beta1]
 };
 Status validate(const BetaOptions& options);
 
@@ -36,9 +36,9 @@ Status validate(const BetaOptions& options);
 double beta_at(const BetaOptions& options, int64_t step, int64_t total_steps);
 
 struct LrOptions {
-  double lr = 2e-4;          // peak learning rate
+  double lr = 2e-4;  // peak learning rate
   int64_t warmup_steps = 200;
-  double min_lr = 0.0;       // floor of the cosine decay
+  double min_lr = 0.0;  // floor of the cosine decay
 };
 Status validate(const LrOptions& options);
 

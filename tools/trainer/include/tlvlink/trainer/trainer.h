@@ -45,9 +45,9 @@ struct TeacherOptions {
   // [N, D_t] (a projection D_t -> text dim is learned with the student when D_t differs).
   std::string torchscript;
   std::string builtin_arch = "tiny";
-  int32_t epochs = 3;          // built-in teacher pre-training epochs
-  double lr = 1e-3;            // built-in teacher peak learning rate (trained from scratch)
-  int32_t input_height = 224, input_width = 224;  // TorchScript teacher input
+  int32_t epochs = 3;  // built-in teacher pre-training epochs
+  double lr = 1e-3;    // built-in teacher peak learning rate (trained from scratch)
+  int32_t input_height = 224, input_width = 224;                     // TorchScript teacher input
   std::vector<float> mean = {0.48145466f, 0.4578275f, 0.40821073f};  // CLIP's, TorchScript only
   std::vector<float> std = {0.26862954f, 0.26130258f, 0.27577711f};
 };
@@ -83,14 +83,14 @@ struct AugmentOptions {
 // size, before the model's own resize. Each component is drawn on or off per view with its
 // probability and its parameters from the ranges in the README (view_augment.cc holds them).
 enum ViewComponent : uint32_t {
-  kViewGeometry = 1u << 0,   // mounting: shift, rotation, scale
-  kViewColour = 1u << 1,     // LED / white-balance gains, exposure, colour cast
-  kViewVignette = 1u << 2,   // radial fall-off
-  kViewLedDrift = 1u << 3,   // a colour gradient across the gel
-  kViewDust = 1u << 4,       // dark specks on the gel or lens
-  kViewBlur = 1u << 5,       // focus
-  kViewNoise = 1u << 6,      // sensor noise
-  kViewCodec = 1u << 7,      // none, JPEG q50-98, MJPEG decoded at 1/2 or 1/4, YUYV 4:2:2
+  kViewGeometry = 1u << 0,  // mounting: shift, rotation, scale
+  kViewColour = 1u << 1,    // LED / white-balance gains, exposure, colour cast
+  kViewVignette = 1u << 2,  // radial fall-off
+  kViewLedDrift = 1u << 3,  // a colour gradient across the gel
+  kViewDust = 1u << 4,      // dark specks on the gel or lens
+  kViewBlur = 1u << 5,      // focus
+  kViewNoise = 1u << 6,     // sensor noise
+  kViewCodec = 1u << 7,     // none, JPEG q50-98, MJPEG decoded at 1/2 or 1/4, YUYV 4:2:2
   kViewAll = (1u << 8) - 1,
 };
 // "geometry", "colour", ... for one bit; a comma list for a mask ("none" for 0, "all").
@@ -99,7 +99,7 @@ std::string view_components_name(uint32_t components);
 Result<uint32_t> parse_view_components(std::string_view list);
 
 struct ViewAugmentOptions {
-  uint32_t components = 0;          // ViewComponent bits; 0 = off
+  uint32_t components = 0;  // ViewComponent bits; 0 = off
   // > 0: two views of every sample per step, both in the losses, plus this weight times the
   // mean (1 - cosine) between the two views' embeddings (needs components).
   double consistency_weight = 0;
@@ -114,19 +114,19 @@ struct ViewAugmentOptions {
 };
 
 struct TrainOptions {
-  std::string data_dir;         // Touch100k-format directory
-  std::string output;           // final checkpoint (required)
-  std::string checkpoint_dir;   // periodic checkpoints step_NNNNNNN.ckpt (empty: none)
+  std::string data_dir;        // Touch100k-format directory
+  std::string output;          // final checkpoint (required)
+  std::string checkpoint_dir;  // periodic checkpoints step_NNNNNNN.ckpt (empty: none)
   int64_t checkpoint_every = 500;
-  std::string resume;           // checkpoint to continue from (its settings are used)
-  std::string log_path;         // JSON-lines training log; empty: <output>.log.jsonl
+  std::string resume;    // checkpoint to continue from (its settings are used)
+  std::string log_path;  // JSON-lines training log; empty: <output>.log.jsonl
 
   std::string arch = "small";
   int32_t input_height = 96, input_width = 128;
   ResizeFilter resize = ResizeFilter::kBilinear;
   TextOptions text;
   TeacherOptions teacher;
-  BetaOptions beta;             // schedule kNone = --no-curriculum (no teacher needed)
+  BetaOptions beta;  // schedule kNone = --no-curriculum (no teacher needed)
   Objective objective = Objective::kTlvLink;
   double supervised_weight = 1;  // kTlvLinkSupervised: weight of the cross-entropy term
   // With the supervised heads (kSupervised, kTlvLinkSupervised): weight of the contact
@@ -139,16 +139,16 @@ struct TrainOptions {
   ViewAugmentOptions view;
 
   LrOptions lr;
-  double weight_decay = 0.2;    // AdamW, on conv/FC weights (not BN, biases, temperature)
+  double weight_decay = 0.2;  // AdamW, on conv/FC weights (not BN, biases, temperature)
   double adam_beta1 = 0.9, adam_beta2 = 0.98, adam_eps = 1e-6;
   double init_temperature = 0.07;
   double max_logit_scale = 100;  // CLIP's clamp of 1 / temperature
   int32_t batch = 96;
   int32_t epochs = 12;
-  int64_t max_steps = 0;        // > 0: train this many steps (schedules span them) instead
+  int64_t max_steps = 0;  // > 0: train this many steps (schedules span them) instead
   uint64_t seed = 1;
-  int32_t threads = 1;          // torch intra-op threads (results depend on it; see README)
-  int64_t max_samples = 0;      // > 0: use only the first N training samples
+  int32_t threads = 1;      // torch intra-op threads (results depend on it; see README)
+  int64_t max_samples = 0;  // > 0: use only the first N training samples
   size_t max_cache_bytes = kDefaultMaxCacheBytes;
   // The hash split by session of a set that records none (the datasets' rule,
   // tlvlink/datasets/detect.h).
@@ -164,7 +164,7 @@ struct TrainSummary {
   double first_epoch_loss = 0, last_epoch_loss = 0, final_loss = 0;
   double student_samples_per_s = 0;
   double load_seconds = 0, teacher_seconds = 0, student_seconds = 0;
-  std::string checkpoint;        // the final checkpoint written
+  std::string checkpoint;  // the final checkpoint written
   std::string log_path;
 };
 Result<TrainSummary> train(const TrainOptions& options);
@@ -179,7 +179,7 @@ struct ExportOptions {
   // training set, skipped with a note when it no longer exists), preprocessed by
   // tools::preprocess, with libtorch's eval-mode embeddings as the expected outputs.
   std::string golden_data;
-  int32_t golden_frames = 2;    // 0..8
+  int32_t golden_frames = 2;  // 0..8
 };
 inline constexpr int32_t kMaxGoldenFrames = 8;
 struct ExportSummary {
@@ -189,7 +189,7 @@ struct ExportSummary {
   int32_t embedding_dim = 0;
   std::vector<std::string> zero_shot_heads;
   int32_t golden_pairs = 0;
-  std::string note;             // e.g. why no golden pairs were embedded
+  std::string note;  // e.g. why no golden pairs were embedded
 };
 // Folds BatchNorm, writes the fp32 .tlvm with metadata and zero-shot heads, and checks that it
 // loads (Model::load).
