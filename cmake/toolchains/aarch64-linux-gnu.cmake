@@ -13,7 +13,8 @@
 # Cache variables (set them with -D or in a board preset, boards/*.json):
 #   TLVLINK_SYSROOT     the unpacked arm64 packages (default: the make_sysroot.sh default)
 #   TLVLINK_TARGET_CPU  -mcpu= for tlvlink and everything built here (default: generic armv8-a)
-#   TLVLINK_QEMU_CPU    qemu-aarch64 -cpu for running tests (default cortex-a76: NEON + sdot)
+#   TLVLINK_QEMU_CPU    qemu-aarch64 -cpu for running tests (default cortex-a76: NEON + sdot;
+#                       TLVLINK_TEST_CPU in ctest's environment overrides it)
 set(CMAKE_SYSTEM_NAME Linux)
 set(CMAKE_SYSTEM_PROCESSOR aarch64)
 set(CMAKE_LIBRARY_ARCHITECTURE aarch64-linux-gnu)
@@ -69,12 +70,13 @@ set(CMAKE_C_STANDARD_INCLUDE_DIRECTORIES "${TLVLINK_SYSROOT}/usr/include/aarch64
 set(CMAKE_CXX_STANDARD_INCLUDE_DIRECTORIES "${TLVLINK_SYSROOT}/usr/include/aarch64-linux-gnu")
 
 # Tests (ctest, gtest_discover_tests) run through qemu user mode. binfmt_misc is not assumed:
-# qemu is always called explicitly. -L serves the toolchain's ld.so and libc; LD_LIBRARY_PATH
+# qemu is always called explicitly, by qemu-aarch64-run.sh (TLVLINK_TEST_CPU in the environment
+# runs the tree under another -cpu). -L serves the toolchain's ld.so and libc; LD_LIBRARY_PATH
 # finds the sysroot's shared libraries (XNNPACK, pthreadpool, cpuinfo).
 find_program(TLVLINK_QEMU_AARCH64 qemu-aarch64)
 if(TLVLINK_QEMU_AARCH64)
   set(CMAKE_CROSSCOMPILING_EMULATOR
-      "${TLVLINK_QEMU_AARCH64};-cpu;${TLVLINK_QEMU_CPU};-L;${_tlvlink_toolchain_libc};-E;LD_LIBRARY_PATH=${_tlvlink_sysroot_libdir}")
+      "sh;${CMAKE_CURRENT_LIST_DIR}/qemu-aarch64-run.sh;${TLVLINK_QEMU_AARCH64};${TLVLINK_QEMU_CPU};${_tlvlink_toolchain_libc};${_tlvlink_sysroot_libdir}")
 else()
   message(WARNING "tlvlink: qemu-aarch64 not found (apt package qemu-user): cross-built tests cannot run here")
 endif()

@@ -75,7 +75,9 @@ for preset in "${presets[@]}"; do
   targets=()
   for p in "${preset_programs[@]}"; do targets+=("$(basename "$p")"); done
   targets+=("${hil_targets[@]}")
-  if ! { cmake --preset "$preset" >"$log-configure.log" 2>&1 &&
+  # A tree the cross stage configured is only built here (its tests may be running beside this:
+  # a second configure would rewrite their files); cmake re-configures by itself when it must.
+  if ! { { [ -f "build/$preset/CMakeCache.txt" ] || cmake --preset "$preset" >"$log-configure.log" 2>&1; } &&
          cmake --build --preset "$preset" -j "$jobs" --target "${targets[@]}" >"$log-build.log" 2>&1; }; then
     grep -E "error:|FAILED:|CMake Error" "$log-configure.log" "$log-build.log" | cut -c1-300 | head -30
     summary+=("$preset: BUILD FAILED (logs: $log-*.log)")

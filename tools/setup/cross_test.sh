@@ -1,7 +1,15 @@
 #!/usr/bin/env bash
 # Cross-builds the aarch64 board presets and runs their tests under qemu-aarch64 (user mode).
-#   cross_test.sh [a76|a72|all]        (default: all)
+#   cross_test.sh [a76|a72|all] [--build-only|--test-only]        (default: all, build and test)
 #     a76 -> preset generic-a76 (-mcpu/-cpu cortex-a76), a72 -> preset rpi4-a72 (cortex-a72)
+#     all -> one test tree under both CPU models: the Cortex-A72 build (it runs on both) under
+#            -cpu cortex-a72, then under -cpu cortex-a76, where XNNPACK picks its dot-product
+#            kernels at run time; the Cortex-A76 build is built (the emulated board runs it:
+#            board_test.sh) and runs only what depends on being compiled for the A76: its CPU
+#            check (daemon.refuses_a_cpu_without_its_features / runs_on_the_cpu_it_is_built_for)
+#            and the x86-64 parity of its own code (CrossArchParity).
+#     --build-only / --test-only: the two halves (run_tests.sh builds first, then starts the
+#            emulated board's stage beside these tests).
 # Environment:
 #   TLVLINK_JOBS              parallel build/test jobs (default 2: the machine is shared)
 #   TLVLINK_CROSS_CMAKE_ARGS  extra configure arguments, e.g. -DTLVLINK_BUILD_HOST_TOOLS=ON
@@ -13,13 +21,23 @@
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 
-which=${1:-all}
+which=all build=1 test=1
+for a in "$@"; do
+  case "$a" in
+    a76|a72|all) which=$a ;;
+    --build-only) test=0 ;;
+    --test-only) build=0 ;;
+    *) echo "cross_test.sh: unknown argument '$a' (a76|a72|all, --build-only|--test-only)" >&2; exit 2 ;;
+  esac
+done
 jobs=${TLVLINK_JOBS:-2}
+# Test runs: "preset cpu [ctest -R regex]" (no regex: the whole suite).
+a76_own='^daemon\.(refuses_a_cpu_without_its_features|runs_on_the_cpu_it_is_built_for)$|^CrossArchParity\.'
 case "$which" in
-  a76) presets=(generic-a76) ;;
-  a72) presets=(rpi4-a72) ;;
-  all) presets=(generic-a76 rpi4-a72) ;;
-  *) echo "cross_test.sh: unknown target '$which' (a76|a72|all)" >&2; exit 2 ;;
+  a76) presets=(generic-a76); runs=("generic-a76 cortex-a76") ;;
+  a72) presets=(rpi4-a72); runs=("rpi4-a72 cortex-a72") ;;
+  all) presets=(rpi4-a72 generic-a76)
+       runs=("rpi4-a72 cortex-a72" "rpi4-a72 cortex-a76" "generic-a76 cortex-a76 $a76_own") ;;
 esac
 
 now() { date +%s.%N; }
@@ -53,12 +71,12 @@ record_parity() {
   TLVLINK_PARITY_DIR=build/parity TLVLINK_PARITY_RECORD=1 build/host/tests/parity/cross_arch_parity_test \
     >>build/logs/cross-parity-record.log 2>&1
 }
-if ! record_parity; then
+if [ $build -eq 1 ] && ! record_parity; then
   tail -30 build/logs/cross-parity-record.log
   echo "cross_test: recording the x86-64 parity outputs failed (log: build/logs/cross-parity-record.log)" >&2
   exit 1
 fi
-echo "cross_test: x86-64 parity recording $(secs "$t0" "$(now)")s ($(ls build/parity | wc -l) files in build/parity)"
+[ $build -eq 0 ] || echo "cross_test: x86-64 parity recording $(secs "$t0" "$(now)")s ($(ls build/parity | wc -l) files in build/parity)"
 
 # Text+data bytes of an ELF file or archive (what ends up in flash/RAM; debug info excluded).
 elf_bytes() {
@@ -112,7 +130,7 @@ size_report() {  # $1 preset
 summary=()
 failed=0
 for preset in "${presets[@]}"; do
-  cpu=$(sed -n 's/.*"TLVLINK_QEMU_CPU": "\([^"]*\)".*/\1/p' "boards/$preset.json")
+  [ $build -eq 1 ] || break
   log=build/logs/cross-$preset
   echo "=== $preset: configure + build (-j$jobs)"
   t0=$(now)
@@ -122,18 +140,29 @@ for preset in "${presets[@]}"; do
     summary+=("$preset: CONFIGURE FAILED (log: $log-configure.log)"); failed=1; continue
   fi
   # Keep going past errors: the tests that did build still run (the rest show as *_NOT_BUILT).
-  build_ok=1
-  if ! cmake --build --preset "$preset" -j "$jobs" -- -k 0 >"$log-build.log" 2>&1; then
+  if cmake --build --preset "$preset" -j "$jobs" -- -k 0 >"$log-build.log" 2>&1; then
+    echo "build: $(secs "$t0" "$(now)")s"
+    summary+=("$preset: build $(secs "$t0" "$(now)")s")
+  else
     grep -E "error:|FAILED:|undefined reference" "$log-build.log" | cut -c1-300 | head -40
-    build_ok=0; failed=1
+    echo "build: FAILED after $(secs "$t0" "$(now)")s (log: $log-build.log)"
+    summary+=("$preset: BUILD FAILED after $(secs "$t0" "$(now)")s (log: $log-build.log)"); failed=1
   fi
-  t_build=$(secs "$t0" "$(now)")
-  if [ $build_ok -eq 1 ]; then echo "build: ${t_build}s"; else echo "build: FAILED after ${t_build}s (log: $log-build.log)"; fi
   size_report "$preset"
+done
 
-  echo "=== $preset: tests under qemu-aarch64 -cpu $cpu (-j$jobs)"
+for run in "${runs[@]}"; do
+  [ $test -eq 1 ] || break
+  read -r preset cpu regex <<<"$run"
+  [ -f "build/$preset/CTestTestfile.cmake" ] || {
+    summary+=("$preset: NOT BUILT (run cross_test.sh ${which} --build-only first)"); failed=1; continue; }
+  log=build/logs/cross-$preset-$cpu
+  what="tests"; filter=()
+  if [ -n "${regex:-}" ]; then what="the tests of its own build"; filter=(-R "$regex"); fi
+  echo "=== $preset: $what under qemu-aarch64 -cpu $cpu (-j$jobs)"
   t0=$(now)
-  ctest --preset "$preset" -j "$jobs" --output-on-failure >"$log-test.log" 2>&1
+  # TLVLINK_TEST_CPU: the tree's emulator runs qemu under this CPU (cmake/toolchains/qemu-aarch64-run.sh).
+  TLVLINK_TEST_CPU=$cpu ctest --preset "$preset" -j "$jobs" --output-on-failure "${filter[@]}" >"$log-test.log" 2>&1
   rc=$?
   t_test=$(secs "$t0" "$(now)")
   # Everything but the per-test "Start"/"Passed" lines and ctest's search list for an unbuilt
@@ -144,12 +173,10 @@ for preset in "${presets[@]}"; do
   # "97% tests passed, 1 tests failed out of 33" -> "32 passed, 1 failed"
   counts=$(grep -Eo "[0-9]+ tests failed out of [0-9]+" "$log-test.log" | tail -1 |
            awk '{printf "%d passed, %d failed", $6 - $1, $1}')
-  build_note="build ${t_build}s"
-  [ $build_ok -eq 1 ] || build_note="BUILD FAILED after ${t_build}s (log: $log-build.log)"
   if [ $rc -eq 0 ]; then
-    summary+=("$preset: $build_note, tests ${t_test}s under -cpu $cpu: ${counts:-no summary}")
+    summary+=("$preset: $what ${t_test}s under -cpu $cpu: ${counts:-no summary}")
   else
-    summary+=("$preset: $build_note, TESTS FAILED under -cpu $cpu (${counts:-no summary}) in ${t_test}s (log: $log-test.log)")
+    summary+=("$preset: TESTS FAILED under -cpu $cpu (${counts:-no summary}) in ${t_test}s (log: $log-test.log)")
     failed=1
   fi
 done
