@@ -162,7 +162,11 @@ async function slowClient(tty) {
     client.on("advertise", (channels) => {
       for (const c of channels) client.subscribe(c.id);
       ws._socket.pause();  // reads nothing more until the session is over
-      board = t.startBoard(streamCheck, tty, 12000, 4000, ["--embedding"]);
+      // Twice what the listener waits for, at half the former pace: 12,000 at 4000/s beside the
+      // other stages lost more than a third on the way (the board's send queue drops the oldest
+      // when the pty is full) and the count was never reached (2026-12-05: 7,319 of 8,000 in
+      // the 60 s). Fewer messages would fit in the paused socket's buffers: nothing to drop.
+      board = t.startBoard(streamCheck, tty, 16000, 2000, ["--embedding"]);
       let out = "";
       server.process.stdout.on("data", (d) => {
         out = (out + d).slice(-4096);
