@@ -65,6 +65,9 @@ class VividLoop : public ::testing::Test {
 // Counts what a consumer reading every `read_ms` sees of a feed changing every `feed_ms`.
 struct Seen {
   int frames = 0, exact = 0, duplicates = 0, gaps = 0, not_looped = 0;
+  // Duplicates although the feeder had queued two frames or more since the previous read: a stale
+  // frame delivered. The others are the feeder's thread not running (a loaded guest).
+  int duplicates_while_fed = 0;
 };
 
 TEST_F(VividLoop, FramesArriveBitExactWithDuplicatesAndGaps) {
@@ -73,10 +76,11 @@ TEST_F(VividLoop, FramesArriveBitExactWithDuplicatesAndGaps) {
   auto watch = [&](int feed_ms, int read_ms, int frames) {
     Seen s;
     feeder->feed_every(feed_ms);
-    uint32_t last = 0;
+    uint32_t last = 0, queued_before = feeder->frames_queued();
     bool have_last = false;
     for (int i = 0; i < frames; ++i) {
       auto f = src->next(3000);
+      const uint32_t queued = feeder->frames_queued();
       EXPECT_TRUE(f.ok()) << f.error().message();
       if (!f.ok()) break;
       uint32_t index = 0;
@@ -85,11 +89,15 @@ TEST_F(VividLoop, FramesArriveBitExactWithDuplicatesAndGaps) {
         ++s.not_looped;  // vivid's own pattern (the feed had not started): not ours
       } else {
         ++s.exact;
-        if (have_last && index == last) ++s.duplicates;
+        if (have_last && index == last) {
+          ++s.duplicates;
+          if (queued - queued_before >= 2) ++s.duplicates_while_fed;
+        }
         if (have_last && index > last + 1) s.gaps += static_cast<int>(index - last - 1);
         last = index;
         have_last = true;
       }
+      queued_before = queued;
       src->release();
       if (read_ms > 0) std::this_thread::sleep_for(std::chrono::milliseconds(read_ms));
     }
@@ -104,14 +112,19 @@ TEST_F(VividLoop, FramesArriveBitExactWithDuplicatesAndGaps) {
       "looped\n",
       slow_feed.frames, slow_feed.exact, slow_feed.duplicates, slow_feed.gaps,
       slow_feed.not_looped);
-  std::printf("note: feed 30 fps / read 7 fps: %d frames, %d bit-exact, %d duplicates, %d gaps\n",
-              slow_reader.frames, slow_reader.exact, slow_reader.duplicates, slow_reader.gaps);
+  std::printf(
+      "note: feed 30 fps / read 7 fps: %d frames, %d bit-exact, %d duplicates (%d while fed), %d "
+      "gaps\n",
+      slow_reader.frames, slow_reader.exact, slow_reader.duplicates,
+      slow_reader.duplicates_while_fed, slow_reader.gaps);
   EXPECT_GE(slow_feed.exact, 30);
   EXPECT_LE(slow_feed.not_looped, 3);
   EXPECT_GE(slow_feed.duplicates, 15);
   EXPECT_EQ(slow_reader.exact, slow_reader.frames);
   EXPECT_GE(slow_reader.gaps, 10);
-  EXPECT_LE(slow_reader.duplicates, 1);
+  // Beside the other test stages (2026-12-05) the guest's feeder thread once stalled for a read
+  // period: 2 duplicates. A duplicate counts against the source only if frames were fed.
+  EXPECT_LE(slow_reader.duplicates_while_fed, 1);
   std::printf("note: source: %llu delivered, %llu stale skipped, %llu dropped, measured %.1f fps\n",
               static_cast<unsigned long long>(src->stats().delivered),
               static_cast<unsigned long long>(src->stats().skipped_stale),
