@@ -96,6 +96,8 @@ class FramePrediction:
     contact: bool
     heads: List[HeadOutput]
     embedding: List[float]
+    gate: Any = "unknown"  # minor 3: the contact gate's state; "unknown" from an older board
+    gate_score_dn: float = math.nan  # minor 3: the gate's score, DN; NaN from an older board
 
 
 @dataclass
@@ -215,7 +217,8 @@ def _frame(t: Table) -> FramePrediction:
              for h in t.tables(slot(T, "heads"))]
     return FramePrediction(_f(t, T, "sensor", "B"), _f(t, T, "frame_sequence", "I"), capture, start, end,
                            t.scalars(slot(T, "stage_ns"), "I"), bool(_f(t, T, "contact", "B")), heads,
-                           t.scalars(slot(T, "embedding"), "f"))
+                           t.scalars(slot(T, "embedding"), "f"), enum_name("GateState", _f(t, T, "gate", "B")),
+                           _f(t, T, "gate_score_dn", "f", math.nan))
 
 
 def _grasp(t: Table) -> GraspPrediction:
@@ -354,6 +357,8 @@ class Message:
                 d["capture_host_ns"] = self.to_host_ns(b.capture_ns)
             d["stage_ns"] = list(b.stage_ns)
             d["contact"] = b.contact
+            d["gate"] = b.gate
+            d["gate_score_dn"] = _float_or_none(b.gate_score_dn)
             heads = []
             for h in b.heads:
                 o: Dict[str, Any] = {"head": h.head}
