@@ -113,15 +113,46 @@ void LineBuffer::json_number(float v) {
     append("null");
     return;
   }
-  // The float as the double it widens to, in the shortest form that reads back as that double:
-  // what nlohmann::json and Python print for it, so every reader gets the same number (and the
-  // same float again when narrowing it).
-  char text[32];
-  const std::to_chars_result r = std::to_chars(text, text + sizeof text, static_cast<double>(v));
-  const std::string_view t(text, static_cast<size_t>(r.ptr - text));
-  append(t);
-  // "60.0", not "60": a float reads back as a float in every language.
-  if (t.find_first_of(".e") == std::string_view::npos) append(".0");
+  // The float as the double it widens to, in the shortest digits that read back as that double
+  // (what nlohmann::json and Python print, so every reader gets the same number and the same
+  // float again), laid out as nlohmann::json lays them out: plain decimals for exponents -4..15,
+  // "1.5e+20" beyond.
+  char sci[32];
+  const std::to_chars_result r =
+      std::to_chars(sci, sci + sizeof sci, static_cast<double>(v), std::chars_format::scientific);
+  const std::string_view t(sci, static_cast<size_t>(r.ptr - sci));  // [-]d[.ddd]e(+|-)XX
+  const size_t e = t.find('e');
+  char digits[24];
+  size_t k = 0;
+  for (size_t i = 0; i < e; ++i) {
+    if (t[i] >= '0' && t[i] <= '9') digits[k++] = t[i];
+  }
+  int exponent = 0;
+  std::from_chars(t.data() + e + (t[e + 1] == '+' ? 2 : 1), t.data() + t.size(), exponent);
+  const int n = exponent + 1;  // the value is 0.d1d2...dk * 10^n
+  const int kk = static_cast<int>(k);
+  const std::string_view d(digits, k);
+  if (t[0] == '-') put('-');
+  if (kk <= n && n <= 15) {  // 1234e7 -> 12340000000.0
+    append(d);
+    for (int i = kk; i < n; ++i) put('0');
+    append(".0");
+  } else if (0 < n && n <= 15) {  // 1234e-2 -> 12.34
+    append(d.substr(0, static_cast<size_t>(n)));
+    put('.');
+    append(d.substr(static_cast<size_t>(n)));
+  } else if (-4 < n && n <= 0) {  // 1234e-6 -> 0.001234
+    append("0.");
+    for (int i = n; i < 0; ++i) put('0');
+    append(d);
+  } else {  // 1.234e+20, 1e-07
+    put(d[0]);
+    if (k > 1) {
+      put('.');
+      append(d.substr(1));
+    }
+    printf("e%c%02d", n - 1 < 0 ? '-' : '+', n - 1 < 0 ? 1 - n : n - 1);
+  }
 }
 
 void LineBuffer::key(const char* key) {

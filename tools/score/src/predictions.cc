@@ -11,9 +11,10 @@ int32_t finger_of(const std::string& sensor, const std::vector<std::string>& fin
   return sensor == fingers[0] ? 0 : sensor == fingers[1] ? 1 : -1;
 }
 
-// What a Hello names: sensors and heads by index.
+// What a Hello names: sensors, and heads with their labels, by index.
 struct Names {
-  std::map<int64_t, std::string> sensors, heads;
+  std::map<int64_t, std::string> sensors;
+  std::map<int64_t, std::pair<std::string, std::vector<std::string>>> heads;
 };
 
 void read_hello(const json& j, Names& n) {
@@ -21,7 +22,26 @@ void read_hello(const json& j, Names& n) {
   for (const json& s : j.value("sensors", json::array()))
     n.sensors[s.value("index", int64_t{-1})] = s.value("name", "");
   int64_t i = 0;
-  for (const json& h : j.value("heads", json::array())) n.heads[i++] = h.value("name", "");
+  for (const json& h : j.value("heads", json::array())) {
+    n.heads[i++] = {h.value("name", ""),
+                    h.value("labels", json::array()).get<std::vector<std::string>>()};
+  }
+}
+
+// A head's name and top label: as the line gives them, else from the Hello (the first of equal
+// maxima, as the writer picks it).
+std::pair<std::string, std::string> head_label(const json& h, const Names& names) {
+  std::string name = h.value("name", ""), label = h.value("top_label", "");
+  const auto it = names.heads.find(h.value("head", int64_t{-1}));
+  if (it == names.heads.end()) return {name, label};
+  if (name.empty()) name = it->second.first;
+  if (label.empty()) {
+    const std::vector<double> p = h.value("probabilities", std::vector<double>{});
+    size_t top = 0;
+    for (size_t k = 1; k < p.size(); ++k) top = p[k] > p[top] ? k : top;
+    if (top < p.size() && top < it->second.second.size()) label = it->second.second[top];
+  }
+  return {name, label};
 }
 
 // The one form (protocol 1.3 and later; a 1.2 board has no gate state: its contact flag).
@@ -42,12 +62,8 @@ FrameRecord frame_prediction(const json& j, const Names& names,
                                                             : Gate::kNone;
   r.encoded = j.value("infer_end_ns", int64_t{0}) != 0;  // 0: the encoder did not run (spec §7)
   for (const json& h : j.value("heads", json::array())) {
-    std::string name = h.value("name", "");
-    if (name.empty()) {
-      auto it = names.heads.find(h.value("head", int64_t{-1}));
-      if (it != names.heads.end()) name = it->second;
-    }
-    r.labels.emplace_back(name, lower(h.value("top_label", "")));
+    auto [name, label] = head_label(h, names);
+    r.labels.emplace_back(std::move(name), lower(std::move(label)));
   }
   return r;
 }

@@ -26,9 +26,9 @@ class LineBuffer {
   // A JSON string with quotes: escapes what JSON requires (as nlohmann::json does) and writes
   // each byte that is not valid UTF-8 as U+FFFD (a board's strings are not checked).
   void json_string(std::string_view s);
-  // The float widened to double, in the shortest decimal that reads back as that double
-  // ("0.10000000149011612", "60.0": as nlohmann::json and Python print it); NaN and the
-  // infinities (which JSON has not) as null.
+  // The float widened to double, in the shortest decimal that reads back as that double, laid
+  // out as nlohmann::json does ("0.10000000149011612", "60.0", "3.000000060122632e+20"; Python
+  // prints the same value); NaN and the infinities (which JSON has not) as null.
   void json_number(float v);
   // ,"key":  (a key after the first of an object).
   void key(const char* key);
