@@ -137,9 +137,9 @@ void write_line(LineBuffer& out, const Message& m, const FormatContext& c) {
 }  // namespace
 
 std::string json_line(const Message& m, const FormatContext& c) {
-  // Host memory is plentiful: a line longer than the buffer (a large FrameImage) is written
-  // again into a larger one, never cut.
-  std::vector<char> storage(64 * 1024);
+  // One buffer a thread, kept: a line longer than it (a large FrameImage) is written again into
+  // a larger one, never cut.
+  thread_local std::vector<char> storage(64 * 1024);
   for (;;) {
     LineBuffer out(storage);
     write_line(out, m, c);
