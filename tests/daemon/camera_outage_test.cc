@@ -75,10 +75,10 @@ TEST(DaemonCameraOutage, FastFailingSourceIsPacedAndItsOutageReported) {
   bool summary = false;
   while (std::getline(in, line)) {
     const auto j = nlohmann::json::parse(line);
-    if (j.at("type") == "event") events += j.at("text").get<std::string>() + "\n";
-    if (j.at("type") != "summary") continue;
+    if (j.at("type") == "error") events += j.at("text").get<std::string>() + "\n";
+    if (j.at("type") != "stats" || !j.at("final")) continue;
     summary = true;
-    const auto& cam = j.at("camera");
+    const auto& cam = j.at("daemon").at("camera");
     EXPECT_EQ(cam.at("disconnects").at(0), 1) << line;
     EXPECT_EQ(cam.at("reconnects").at(0), 0) << line;
     EXPECT_EQ(cam.at("reopen_failures").at(0), calls.load()) << line;

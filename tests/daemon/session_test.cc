@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
@@ -26,6 +27,9 @@
 #include "tlvlink/model.h"
 #if defined(TLVLINK_HAVE_LISTEN)
 #include "tlvlink/listen/client.h"
+#if defined(TLVLINK_HAVE_LISTEN_CLI)
+#include "tlvlink/listen/format.h"
+#endif
 #endif
 
 namespace tlvlink::daemon {
@@ -164,31 +168,37 @@ void streams_without_allocating_per_frame(bool images) {
   ASSERT_FALSE(default_heads.empty());
   std::ifstream in(out);
   std::string line;
-  uint64_t frames = 0, grasps = 0, stats = 0, summaries = 0;
+  uint64_t frames = 0, grasps = 0, stats = 0, summaries = 0, lines = 0;
   while (std::getline(in, line)) {
     const auto j = nlohmann::json::parse(line);
     const std::string type = j.at("type");
-    if (type == "frame") {
+    // The one JSON-lines form (runtime/stream json_lines.h): a Hello first, lines numbered.
+    EXPECT_EQ(j.at("sequence"), lines) << line;
+    if (lines++ == 0) {
+      EXPECT_EQ(type, "hello") << line;
+    }
+    if (type == "frame_prediction") {
       ++frames;
+      const bool encoded = j.at("infer_end_ns") != 0;
       // Predictions in contact only (an open-gel frame may be encoded for a grasp's "before").
-      EXPECT_EQ(j.contains("heads"), j.at("encoded") && j.at("contact") != "none") << line;
-      if (j.contains("heads")) {
+      EXPECT_EQ(!j.at("heads").empty(), encoded && j.at("gate") != "none") << line;
+      EXPECT_EQ(j.at("contact"), j.at("gate") == "contact") << line;
+      if (!j.at("heads").empty()) {
         // The default output: the model's probe heads except those its trust records mark
         // untrusted (none in the shipped model today; its hard_soft head was, before 2026-11-25).
         EXPECT_EQ(j.at("heads").size(), default_heads.size()) << line;
-        for (const std::string& name : default_heads) {
-          const double p = j.at("heads").at(name).at("p");
-          EXPECT_TRUE(p > 0.0 && p <= 1.0) << name << ": " << line;
+        for (size_t k = 0; k < default_heads.size(); ++k) {
+          EXPECT_EQ(j.at("heads").at(k).at("name"), default_heads[k]) << line;
+          const double p = j.at("heads").at(k).at("top_probability");
+          EXPECT_TRUE(p > 0.0 && p <= 1.0) << default_heads[k] << ": " << line;
         }
       }
-      EXPECT_GE(j.at("ms").at("total").get<double>(), 0.0);
-    } else if (type == "grasp") {
+      EXPECT_GE(j.at("send_ns").get<int64_t>(), j.at("capture_ns").get<int64_t>()) << line;
+    } else if (type == "grasp_prediction") {
       ++grasps;
       EXPECT_EQ(j.at("frames").size(), 4u);
     } else if (type == "stats") {
-      ++stats;
-    } else if (type == "summary") {
-      ++summaries;
+      ++(j.at("final") ? summaries : stats);
     }
   }
   EXPECT_EQ(frames, t.frames);
@@ -272,7 +282,7 @@ TEST(DaemonSession, ReportsTheEmbeddingAndItsInt8Tensor) {
   std::map<std::vector<int>, std::vector<double>> by_int8;  // int8 tensor -> its embedding
   while (std::getline(in, line)) {
     const auto j = nlohmann::json::parse(line);
-    if (j.at("type") != "frame") continue;
+    if (j.at("type") != "frame_prediction") continue;
     ++frames;
     ASSERT_TRUE(j.contains("embedding") && j.contains("int8")) << line;
     const auto embedding = j.at("embedding").get<std::vector<double>>();
@@ -297,6 +307,15 @@ namespace tlvlink::daemon {
 namespace {
 
 #if defined(TLVLINK_HAVE_LISTEN)
+// What a JSON line is about, the same in every output: the message type and its frame or grasp.
+[[maybe_unused]] std::string message_key(const nlohmann::json& j) {
+  const std::string type = j.at("type");
+  if (type == "frame_prediction")
+    return type + ":" + j.at("sensor").dump() + ":" + j.at("frame_sequence").dump();
+  if (type == "grasp_prediction") return type + ":" + j.at("grasp_id").dump();
+  return type;
+}
+
 // The host's reader, as a robot's controller reads: every message to `on_message` until `done`
 // is set and the link has then been quiet for a second (a pty discards what its reader has not
 // read when the board closes it).
@@ -342,7 +361,19 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
   std::string stage_names;
   std::atomic<int> detected_grasps{0}, stats_seen{0}, stats_with_a_repeated_cause{0},
       bad_stage_counts{0};
+#if defined(TLVLINK_HAVE_LISTEN_CLI)
+  // `tlvlink listen --json`'s line of every message, by what it is about (read by this thread
+  // only until it is joined).
+  std::map<std::string, std::string> listened;
+  std::optional<listen::Message> last_hello;
+#endif
   std::thread reader = read_until_quiet(**client, done, [&](const listen::Message& m) {
+#if defined(TLVLINK_HAVE_LISTEN_CLI)
+    if (m.type() == protocol::MessageType::kHello) last_hello = m;
+    const std::string line =
+        listen::json_line(m, listen::FormatContext{last_hello ? &*last_hello : nullptr});
+    listened[message_key(nlohmann::json::parse(line))] = line;
+#endif
     if (auto h = m.hello(); h.ok()) {
       hello = h.value().sensor_count() == 2;
       heads_in_hello = static_cast<int>(h.value().head_count());
@@ -394,6 +425,36 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
   EXPECT_EQ(detected_grasps.load(), static_cast<int>(grasps.load())) << "grasp mode is detected";
   EXPECT_GT(stats_seen.load(), 0);
   EXPECT_EQ(stats_with_a_repeated_cause.load(), 0);
+#if defined(TLVLINK_HAVE_LISTEN_CLI)
+  // Issue 32 item 6, one JSON-lines form: the daemon's `jsonl:` line and the listener's line of
+  // the same message agree on every key they share; the only keys of one side alone are the
+  // listener's host clock and the daemon's int8 tensor. The frame header's keys (sequence,
+  // send_ns) are each output's own.
+  const std::set<std::string> own = {"sequence", "flags", "delayed", "send_ns"};
+  const std::set<std::string> host_only = {"receive_ns", "send_host_ns", "capture_host_ns"};
+  std::ifstream in(jsonl);
+  std::string line;
+  std::map<std::string, int> compared;
+  while (std::getline(in, line)) {
+    const auto d = nlohmann::json::parse(line);
+    if (d.at("type") == "stats" || d.at("type") == "error") continue;  // made apart per output
+    const auto it = listened.find(message_key(d));
+    ASSERT_NE(it, listened.end()) << "the listener never saw: " << line;
+    const auto l = nlohmann::json::parse(it->second);
+    for (const auto& [key, value] : d.items()) {
+      if (own.count(key) == 0) {
+        EXPECT_EQ(l.value(key, nlohmann::json()), value) << key;
+      }
+    }
+    for (const auto& [key, value] : l.items()) {
+      EXPECT_TRUE(d.contains(key) || host_only.count(key) > 0) << key << " only in " << it->second;
+    }
+    ++compared[d.at("type")];
+  }
+  EXPECT_EQ(compared["hello"], 1);
+  EXPECT_EQ(compared["frame_prediction"], static_cast<int>(t.frames));
+  EXPECT_EQ(compared["grasp_prediction"], static_cast<int>(t.grasps + t.grasps_not_computed));
+#endif
 }
 
 // Issue 33 item 1: FrameImages of the view, 10 a second per sensor, beside the predictions. The

@@ -66,11 +66,12 @@ wait_for() {  # PATTERN FILE: up to 20 s
   for _ in $(seq 200); do grep -q "$1" "$2" 2> /dev/null && return 0; sleep 0.1; done
   return 1
 }
-wait_for '"type":"frame"' "$work/out.jsonl" || fail "no frame predictions from the shipped model"
+wait_for '"type":"frame_prediction"' "$work/out.jsonl" || fail "no frame predictions from the shipped model"
 grep -q '"roughness"' "$work/out.jsonl" && fail "the shipped model reports a roughness head"
 mv "$work/mine.signed.tlvm" "$work/current.tlvm"
 kill -HUP "$daemon"
-wait_for '"roughness"' "$work/out.jsonl" || fail "no roughness predictions after SIGHUP"
+# A frame's head entry (the reloaded session's hello line names the head too: not enough).
+wait_for '"name":"roughness","probabilities"' "$work/out.jsonl" || fail "no roughness predictions after SIGHUP"
 grep -q "head roughness (probe): reported; trusted" "$work/daemon.log" ||
   fail "the daemon did not report the new head's trust"
 kill -TERM "$daemon"
@@ -78,6 +79,6 @@ rc=0; wait "$daemon" || rc=$?
 daemon=
 [ "$rc" = 0 ] || fail "tlvlinkd exit $rc"
 # The new head answers on the billets it was fitted on (the cross-validated figure is in fit.txt).
-right=$(grep -o '"roughness":{"label":"[a-z]*"' "$work/out.jsonl" | wc -l)
+right=$(grep -o '"name":"roughness","probabilities":\[[^]]*\],"top_label":"[a-z]*"' "$work/out.jsonl" | wc -l)
 [ "$right" -gt 0 ] || fail "no roughness answers"
 echo "loop ok: fitted ($(grep -o 'head (embeddings) *accuracy *[0-9.]* %' "$work/fit.txt" | tr -s ' ')), signed, reloaded on SIGHUP, $right roughness predictions"

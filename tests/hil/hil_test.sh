@@ -76,7 +76,7 @@ EOF
 rm -f "$dir/host.jsonl"
 "$host_daemon" --config "$dir/host.toml" >build/logs/hil-host-reference.log 2>&1 ||
   { tail -20 build/logs/hil-host-reference.log; echo "hil: the host reference run failed" >&2; exit 1; }
-echo "hil: host reference $(grep -c '"type":"frame"' "$dir/host.jsonl") predictions ($(secs "$t0" "$(now)")s)"
+echo "hil: host reference $(grep -c '"type":"frame_prediction"' "$dir/host.jsonl") predictions ($(secs "$t0" "$(now)")s)"
 
 # 3 + 4. One boot per preset, then the comparison.
 failed=0

@@ -136,6 +136,19 @@ ordered_json make_cases() {
                       "a frame the contact gate skipped: no heads, infer_start_ns = the contact "
                       "decision, infer_end_ns 0 (README §7)",
                       wire(message(gated, 2)), {"ok:frame_prediction"}));
+  {
+    // Minor 3: the gate's state and score; a frame while the gate learns its reference.
+    protocol::FramePrediction calibrating = encoded;
+    calibrating.contact = false;
+    calibrating.gate = protocol::GateState::kCalibrating;
+    calibrating.gate_score_dn = 1.5f;
+    ordered_json c = one("frame_prediction_gate",
+                         "minor 3: the contact gate's state (calibrating: not decided yet) and "
+                         "score in DN; a 1.2 receiver skips both",
+                         wire(message(calibrating, 2)), {"ok:frame_prediction"});
+    c["fields"] = {{"contact", false}, {"gate", "calibrating"}, {"gate_score_dn", 1.5}};
+    cases.push_back(c);
+  }
   protocol::GraspPrediction grasp;
   grasp.grasp_id = 3;
   grasp.status = protocol::GraspStatus::kComputed;

@@ -35,10 +35,11 @@ TEST(SchemaEvolution, FieldsFromANewerPeerAreSkipped) {
   fbb.AddElement<uint32_t>(fb::FramePrediction::VT_FRAME_SEQUENCE, 77, 0);
   fbb.AddStruct(fb::FramePrediction::VT_TIMING, &timing);
   fbb.AddElement<uint8_t>(fb::FramePrediction::VT_CONTACT, 1, 0);
-  // FramePrediction has 7 fields (slots 0-6); a newer minor version appended three more.
-  fbb.AddElement<uint64_t>(slot(7), 0xDEADBEEFCAFEull, 0);
-  fbb.AddOffset(slot(8), future_text);
-  fbb.AddElement<float>(slot(9), 3.5f, 0);
+  fbb.AddElement<uint8_t>(fb::FramePrediction::VT_GATE, 3, 0);
+  // FramePrediction has 9 fields (slots 0-8, 1.3); a newer minor version appended three more.
+  fbb.AddElement<uint64_t>(slot(9), 0xDEADBEEFCAFEull, 0);
+  fbb.AddOffset(slot(10), future_text);
+  fbb.AddElement<float>(slot(11), 3.5f, 0);
   fbb.Finish(flatbuffers::Offset<fb::FramePrediction>(fbb.EndTable(start)));
   Result<FramePredictionView> r = decode_frame_prediction(bytes(fbb));
   ASSERT_TRUE(r.ok()) << r.error().message();
@@ -48,6 +49,22 @@ TEST(SchemaEvolution, FieldsFromANewerPeerAreSkipped) {
   EXPECT_TRUE(r.value().contact());
   EXPECT_EQ(r.value().head_count(), 0u);
   EXPECT_TRUE(r.value().embedding().empty());
+  EXPECT_EQ(r.value().gate(), GateState::kContact);
+}
+
+// A board of protocol 1.2 sends no gate state: unknown and NaN, and `contact` as it was.
+TEST(SchemaEvolution, FramePredictionOfA12BoardHasNoGateState) {
+  flatbuffers::FlatBufferBuilder fbb;
+  const auto start = fbb.StartTable();
+  fbb.AddElement<uint32_t>(fb::FramePrediction::VT_FRAME_SEQUENCE, 5, 0);
+  fbb.AddElement<uint8_t>(fb::FramePrediction::VT_CONTACT, 1, 0);
+  fbb.Finish(flatbuffers::Offset<fb::FramePrediction>(fbb.EndTable(start)));
+  Result<FramePredictionView> r = decode_frame_prediction(bytes(fbb));
+  ASSERT_TRUE(r.ok()) << r.error().message();
+  EXPECT_TRUE(r.value().contact());
+  EXPECT_EQ(r.value().gate(), GateState::kUnknown);
+  EXPECT_STREQ(gate_state_name(r.value().gate()), "unknown");
+  EXPECT_TRUE(std::isnan(r.value().gate_score_dn()));
 }
 
 TEST(SchemaEvolution, FieldsAnOlderPeerDidNotSendReadAsDefaults) {

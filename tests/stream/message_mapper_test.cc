@@ -32,6 +32,7 @@ TEST(MessageMapper, FramePredictionCarriesStagesHeadsAndContact) {
   p.sequence = 42;
   p.times = {1000, 1300, 2000, 2100, 2500, 4000, 4100, 0};
   p.contact_state = 2;
+  p.contact_score_dn = 7.25f;
   p.encoder_ran = true;
   p.head_count = 1;
   p.heads[0].head = 3;
@@ -57,6 +58,25 @@ TEST(MessageMapper, FramePredictionCarriesStagesHeadsAndContact) {
   auto view = protocol::decode_frame_prediction(bytes);
   ASSERT_TRUE(view.ok()) << view.error().message();
   EXPECT_EQ(view->frame_sequence(), 42u);
+  // Protocol 1.3: the gate's state and score travel (a 1.2 host skips them).
+  EXPECT_EQ(view->gate(), protocol::GateState::kContact);
+  EXPECT_EQ(view->gate_score_dn(), 7.25f);
+}
+
+// pipeline::ContactState -> GateState: calibrating (no decision yet) is not "no contact".
+TEST(MessageMapper, GateStateOfEveryContactState) {
+  MessageMapper mapper(false);
+  pipeline::FramePrediction p;
+  const protocol::GateState want[] = {protocol::GateState::kCalibrating, protocol::GateState::kNone,
+                                      protocol::GateState::kContact};
+  for (uint8_t state = 0; state < 3; ++state) {
+    p.contact_state = state;
+    const protocol::FramePrediction m = mapper.frame(p);
+    EXPECT_EQ(m.gate, want[state]) << int{state};
+    EXPECT_EQ(m.contact, state == 2) << "contact keeps its 1.2 meaning";
+    const auto bytes = encoded(m);
+    EXPECT_EQ(protocol::decode_frame_prediction(bytes)->gate(), want[state]);
+  }
 }
 
 TEST(MessageMapper, AGatedFrameHasNoHeadsAndUnsetStagesAreZero) {

@@ -69,7 +69,9 @@ d, mode = sys.argv[1], sys.argv[2]
 log = open(f"{d}/daemon.log").read()
 cpu = re.search(r"cpu %: process ([\d.]+), inference ([\d.]+), output ([\d.]+)", log)
 cost = re.search(r"per image ([\d.]+) us copying on the inference thread, ([\d.]+) ms encoding", log)
-total = sorted(json.loads(l)["ms"]["total"] for l in open(f"{d}/predictions.jsonl") if '"type":"frame"' in l)
+# capture -> written: the line's send_ns (when the daemon wrote it) less the camera's time.
+total = sorted((j["send_ns"] - j["capture_ns"]) / 1e6 for j in map(json.loads, open(f"{d}/predictions.jsonl"))
+               if j["type"] == "frame_prediction")
 pct = lambda p: total[min(len(total) - 1, max(0, int(round(p / 100 * len(total) + 0.5)) - 1))]  # nearest rank
 images = [json.loads(l) for l in open(f"{d}/stream.jsonl") if '"type":"frame_image"' in l]
 size = sorted(len(i["data"]) * 3 // 4 for i in images)

@@ -117,7 +117,7 @@ wait "$listener" || true
 trap - EXIT
 count() { grep -c "\"type\":\"$1\"" "$out/stream.jsonl" || true; }
 echo "   received: $(count hello) hello, $(count frame_prediction) frame predictions, $(count grasp_prediction) grasp"
-echo "   predictions, $(count stats) stats; the daemon wrote $(grep -c '"type":"frame"' "$out/predictions.jsonl" || true) frame records to its JSON lines"
+echo "   predictions, $(count stats) stats; the daemon wrote $(grep -c '"type":"frame_prediction"' "$out/predictions.jsonl" || true) to its JSON lines (the same form)"
 echo "   link statistics (tlvlink listen; send -> received on this machine's one clock):"
 sed -n '/^link:/,$p' "$out/listen.log" | sed 's/^/     /'
 echo "   stream: $out/stream.jsonl (JSON lines), $out/stream.tlvrec (tlvlink replay $out/stream.tlvrec)"

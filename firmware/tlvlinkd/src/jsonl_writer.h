@@ -2,42 +2,42 @@
 #ifndef TLVLINK_DAEMON_PRIVATE
 #error "jsonl_writer.h is internal to firmware/tlvlinkd"
 #endif
-// The daemon's output as JSON lines (until the stream protocol carries it): one object per frame
-// prediction, grasp prediction, event and stats report, each written with one write(2). Names
-// (sensors, heads, labels) are resolved once at start. Schema: firmware/tlvlinkd/README.md.
+// Where the daemon's JSON lines go: stdout or a file, each line written with one write(2) from a
+// fixed line buffer (no heap). What the lines say is the sink's (jsonl_sink.h).
 
 #include <atomic>
 #include <cstdint>
-#include <limits>
 #include <string>
-#include <string_view>
-#include <vector>
 
-#include "line_buffer.h"
-#include "output_queue.h"
 #include "tlvlink/error.h"
-#include "tlvlink/stream/names.h"
+#include "tlvlink/stream/line_buffer.h"
 
 namespace tlvlink::daemon::internal {
 
-using stream::OutputNames;
-
 class JsonlWriter {
  public:
+  // Long enough for a frame with a 256-wide embedding and its int8 tensor, or a Hello of many
+  // heads; a longer line is counted as not written (problem()), never cut.
+  static constexpr size_t kLineCapacity = 16384;
+  using Line = stream::FixedLineBuffer<kLineCapacity>;
+
   // "-" is stdout; otherwise the file is created or appended to.
-  static Result<JsonlWriter> open(const std::string& target, OutputNames names);
+  static Result<JsonlWriter> open(const std::string& target);
   JsonlWriter() = default;
-  JsonlWriter(JsonlWriter&& other) noexcept;
+  JsonlWriter(JsonlWriter&& other) noexcept;  // the line buffer is scratch: not moved
   JsonlWriter& operator=(JsonlWriter&&) = delete;
   JsonlWriter(const JsonlWriter&) = delete;
   ~JsonlWriter();
 
-  // Each writes one line; a failed write (disk full, a line too long) is counted, not fatal. A
-  // pipe whose reader left (EPIPE) closes the output: later lines are not written or counted.
-  void write(const OutputRecord& record, int64_t written_ns);
-  void write_line(const LineBuffer& line);
-  LineBuffer& scratch() { return line_; }
-  const OutputNames& names() const { return names_; }
+  // The buffer the next line is formatted into (cleared).
+  stream::LineBuffer& start_line() {
+    line_.clear();
+    return line_;
+  }
+  // Writes the line formatted into start_line()'s buffer; a failed write (disk full, a line too
+  // long) is counted, not fatal. A pipe whose reader left (EPIPE) closes the output: later
+  // lines are not written or counted.
+  void write_line();
 
   uint64_t lines() const { return lines_; }
   uint64_t failed_writes() const { return failed_; }
@@ -47,15 +47,10 @@ class JsonlWriter {
   std::string problem() const;
 
  private:
-  void frame(const pipeline::FramePrediction& p, int64_t written_ns);
-  void grasp(const pipeline::GraspPrediction& g);
-  void event(const EventRecord& e);
-
   int fd_ = -1;
   bool owns_fd_ = false;
   std::string target_;  // "jsonl:PATH"
-  OutputNames names_;
-  LineBuffer line_;
+  Line line_;
   uint64_t lines_ = 0, failed_ = 0, too_long_ = 0;
   int last_errno_ = 0;
   std::atomic<bool> closed_{false};

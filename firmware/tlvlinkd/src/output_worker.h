@@ -16,13 +16,15 @@
 #include "capture_worker.h"
 #include "frame_images.h"
 #include "inference_worker.h"
-#include "jsonl_writer.h"
 #include "output_queue.h"
 #include "output_sink.h"
 #include "run_totals.h"
 #include "tlvlink/pipeline/latency_stats.h"
+#include "tlvlink/stream/names.h"
 
 namespace tlvlink::daemon::internal {
+
+using stream::OutputNames;
 
 class OutputWorker {
  public:

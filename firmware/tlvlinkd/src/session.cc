@@ -6,6 +6,7 @@
 #include <limits>
 #include <thread>
 
+#include "board_hello.h"
 #include "capture_worker.h"
 #include "clock.h"
 #include "commands.h"
@@ -147,9 +148,10 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
 #endif
   for (const std::string& o : config.outputs) {
     if (o.rfind("jsonl:", 0) == 0) {
-      TLV_ASSIGN_OR_RETURN(internal::JsonlWriter writer,
-                           internal::JsonlWriter::open(o.substr(6), s.names));
-      s.sinks.push_back(std::make_unique<internal::JsonlSink>(std::move(writer)));
+      TLV_ASSIGN_OR_RETURN(internal::JsonlWriter writer, internal::JsonlWriter::open(o.substr(6)));
+      s.sinks.push_back(std::make_unique<internal::JsonlSink>(
+          std::move(writer), internal::make_hello(config, *s.model, s.names),
+          config.processing.grasp_options.mode == pipeline::GraspOptions::Mode::kDetected));
       continue;
     }
 #if defined(TLVLINK_HAVE_STREAM)

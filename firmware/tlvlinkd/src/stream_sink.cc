@@ -1,9 +1,6 @@
 #include "stream_sink.h"
 
-#include <unistd.h>
-
-#include <vector>
-
+#include "board_hello.h"
 #include "clock.h"
 #include "tlvlink/log.h"
 #include "tlvlink/transport/transport_spec.h"
@@ -13,34 +10,18 @@ namespace {
 
 TLV_LOG_CATEGORY(kLogStream, "stream");
 
-#ifndef TLVLINK_BOARD_NAME
-#define TLVLINK_BOARD_NAME "unknown"
-#endif
-#ifndef TLVLINK_VERSION
-#define TLVLINK_VERSION "0"
-#endif
-
 }  // namespace
 
 Result<std::unique_ptr<StreamSink>> StreamSink::open(const std::string& spec,
                                                      const DaemonConfig& config, const Model& model,
-                                                     const OutputNames& names,
+                                                     const stream::OutputNames& names,
                                                      CommandQueue& commands) {
   auto sink = std::unique_ptr<StreamSink>(new StreamSink(config.processing.grasp_options.mode ==
                                                          pipeline::GraspOptions::Mode::kDetected));
   auto link = transport::make_transport(spec);
   if (!link.ok()) return link.error().with_context("output '%s'", spec.c_str());
   TLV_ASSIGN_OR_RETURN(sink->sender_, transport::Sender::create(std::move(link).value(), {}));
-  char host[256] = "board";
-  gethostname(host, sizeof host - 1);
-  const stream::BoardIdentity board{host, TLVLINK_BOARD_NAME, TLVLINK_VERSION,
-                                    static_cast<uint64_t>(getpid())};
-  std::vector<stream::SensorDescription> sensors;
-  for (const SensorConfig& s : config.sensors) {
-    sensors.push_back({s.name, s.sensor_model, image::pixel_format_name(s.format.format),
-                       s.format.width, s.format.height, s.fps});
-  }
-  sink->hello_.emplace(board, model, config.model, sensors, names);
+  sink->hello_ = make_hello(config, model, names);
   TLV_TRY(sink->sender_->set_hello(sink->hello_->hello()));
   TLV_TRY(sink->sender_->set_command_handler([&commands](const protocol::Command& c) -> Status {
     TLV_ASSIGN_OR_RETURN(const Command cmd, stream::from_protocol(c, board_clock_ns()));
@@ -95,26 +76,7 @@ bool StreamSink::post_image(const stream::FrameImageRecord& image) {
 }
 
 void StreamSink::stats(const RunTotals& r, bool) {
-  stream::StreamTotals t;
-  t.seconds = r.seconds;
-  t.sensors = r.sensors;
-  t.sensor_fps = r.sensor_fps;
-  t.sensor_frames = r.sensor_frames;
-  t.sensor_encoded = r.sensor_encoded;
-  t.sensor_gated = r.sensor_gated;
-  t.capture_gap = r.drops_sequence;
-  t.capture_error = r.bad_frames + r.decode_errors;
-  // Camera frames skipped for a newer one (the capture thread busy) and decoded frames dropped
-  // (inference behind) are both inference_busy; the stream's "stale" is the Sender's (messages
-  // too old to send), and its queue_full is added to this output queue's (one entry a cause).
-  t.inference_busy = r.drops_stale + r.drops_queue;
-  t.queue_full = r.drops_output;
-  t.frame_images = r.frame_images;
-  t.image_busy = r.drops_image;
-  t.cpu_percent = r.process_cpu_pct;
-  t.cpu_cores = static_cast<uint8_t>(sysconf(_SC_NPROCESSORS_ONLN));
-  t.rss_bytes = static_cast<uint64_t>(r.peak_rss_kb) * 1024;
-  failed_ += sender_->post(mapper_.stats(t)).ok() ? 0 : 1;
+  failed_ += sender_->post(mapper_.stats(stream_totals(r))).ok() ? 0 : 1;
 }
 
 }  // namespace tlvlink::daemon::internal

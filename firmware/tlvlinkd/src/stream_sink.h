@@ -9,11 +9,9 @@
 // queue. The Hello is built once at start.
 
 #include <memory>
-#include <optional>
 #include <string>
 
 #include "commands.h"
-#include "jsonl_writer.h"
 #include "output_sink.h"
 #include "tlvlink/daemon/config.h"
 #include "tlvlink/model.h"
@@ -28,7 +26,8 @@ class StreamSink final : public OutputSink {
   // `spec`: serial:..., pty:..., usb... (transport_spec.h). Commands go to `commands`.
   static Result<std::unique_ptr<StreamSink>> open(const std::string& spec,
                                                   const DaemonConfig& config, const Model& model,
-                                                  const OutputNames& names, CommandQueue& commands);
+                                                  const stream::OutputNames& names,
+                                                  CommandQueue& commands);
   ~StreamSink() override;
   void record(const OutputRecord& record, int64_t written_ns) override;
   void stats(const RunTotals& totals, bool final) override;
@@ -43,7 +42,7 @@ class StreamSink final : public OutputSink {
 
   std::unique_ptr<transport::Sender> sender_;
   // Storage the Hello's views point into (kept for the Sender's copy and its re-sends).
-  std::optional<stream::HelloBuilder> hello_;
+  std::unique_ptr<stream::HelloBuilder> hello_;
   stream::MessageMapper mapper_;  // per-record scratch (no allocation per record)
   uint64_t failed_ = 0;
   bool closed_ = false;

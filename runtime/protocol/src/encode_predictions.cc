@@ -17,7 +17,7 @@ Result<std::span<const std::byte>> encode_payload(const FramePrediction& m,
   constexpr const char* kWhat = "FramePrediction";
   TLV_TRY(internal::check_list(kWhat, "heads", m.heads.size()));
   internal::SizeBound bound;
-  bound.table(7);
+  bound.table(9);
   bound.bytes += sizeof(fb::FrameTiming);
   bound.vector(m.stage_ns.size(), 4);
   bound.vector(m.heads.size(), 4);
@@ -52,6 +52,8 @@ Result<std::span<const std::byte>> encode_payload(const FramePrediction& m,
     b.add_contact(m.contact);
     b.add_heads(head_vec);
     b.add_embedding(embedding);
+    b.add_gate(static_cast<fb::GateState>(m.gate));
+    b.add_gate_score_dn(m.gate_score_dn);
     return b.Finish();
   });
 }

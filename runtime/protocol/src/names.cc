@@ -80,6 +80,16 @@ const char* drop_cause_name(DropCause cause) {
   return nullptr;
 }
 
+const char* gate_state_name(GateState state) {
+  switch (state) {
+    case GateState::kUnknown: return "unknown";
+    case GateState::kCalibrating: return "calibrating";
+    case GateState::kNone: return "none";
+    case GateState::kContact: return "contact";
+  }
+  return nullptr;
+}
+
 const char* image_kind_name(ImageKind kind) {
   switch (kind) {
     case ImageKind::kView: return "view";

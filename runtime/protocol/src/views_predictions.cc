@@ -50,6 +50,10 @@ HeadOutput FramePredictionView::head(size_t i) const {
 std::span<const float> FramePredictionView::embedding() const {
   return span_of(frame(table_)->embedding());
 }
+GateState FramePredictionView::gate() const {
+  return static_cast<GateState>(frame(table_)->gate());
+}
+float FramePredictionView::gate_score_dn() const { return frame(table_)->gate_score_dn(); }
 
 uint32_t GraspPredictionView::grasp_id() const { return grasp(table_)->grasp_id(); }
 GraspStatus GraspPredictionView::status() const {

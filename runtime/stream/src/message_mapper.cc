@@ -10,6 +10,17 @@
 namespace tlvlink::stream {
 namespace {
 
+// pipeline::ContactState (calibrating 0, no contact 1, contact 2) on the wire, where 0 is
+// "unknown" (a board older than protocol 1.3).
+protocol::GateState gate_state(uint8_t contact_state) {
+  switch (contact_state) {
+    case 0: return protocol::GateState::kCalibrating;
+    case 1: return protocol::GateState::kNone;
+    case 2: return protocol::GateState::kContact;
+    default: return protocol::GateState::kUnknown;
+  }
+}
+
 uint32_t span_ns(int64_t from, int64_t to) {
   if (from <= 0 || to < from) return 0;
   return static_cast<uint32_t>(std::min<int64_t>(to - from, std::numeric_limits<uint32_t>::max()));
@@ -37,6 +48,8 @@ protocol::FramePrediction MessageMapper::frame(const pipeline::FramePrediction& 
   m.heads = std::span<const protocol::HeadOutput>(
       head_outputs_.data(), p.encoder_ran ? static_cast<size_t>(p.head_count) : 0);
   m.embedding = std::span<const float>(p.embedding.data(), static_cast<size_t>(p.embedding_dim));
+  m.gate = gate_state(p.contact_state);
+  m.gate_score_dn = p.contact_score_dn;
   return m;
 }
 

@@ -52,31 +52,37 @@ def load_jsonl(path):
 
 
 def probs_of(heads, names=None):
-    """{head name: [p...]} from a JSON 'heads' object or stream HeadOutputs (+ Hello names)."""
-    if isinstance(heads, dict):
-        return {k: v["probs"] for k, v in heads.items()}
+    """{head name: [p...]} from a JSON line's 'heads' (the one JSON-lines form: tlvlinkd's
+    jsonl: output as `tlvlink listen --json` prints) or stream HeadOutputs (+ Hello names)."""
+    if heads and isinstance(heads[0], dict):
+        return {h["name"]: h["probabilities"] for h in heads}
     return {names[h.head]: list(h.probabilities) for h in heads}
+
+
+def is_summary(line):
+    """The daemon's last stats line of a run (its summary)."""
+    return line.get("type") == "stats" and line.get("final") is True
 
 
 class Reference:
     """The host's predictions, one per distinct frame (repeats of a frame give identical ones)."""
 
     def __init__(self, lines):
-        summary = [l for l in lines if l.get("type") == "summary"]
+        summary = [l for l in lines if is_summary(l)]
         if not summary:
             sys.exit("hil_compare: the host reference has no summary line (did it stop cleanly?)")
-        self.drops = summary[-1]["drops"]  # the replay may skip a record (e.g. its last); what
+        self.drops = summary[-1]["daemon"]["drops"]  # the replay may skip a record (e.g. its last); what
         # counts is that every distinct frame the feeder fed has a reference (checked in main)
         self.frames = []  # distinct frames in recorded order: (first seq, int8, embedding, probs)
         seen = {}
         for l in lines:
-            if l.get("type") != "frame":
+            if l.get("type") != "frame_prediction":
                 continue
             key = tuple(l["int8"])
             if key in seen:
                 continue
             seen[key] = len(self.frames)
-            self.frames.append((l["seq"], l["int8"], l["embedding"], probs_of(l["heads"])))
+            self.frames.append((l["frame_sequence"], l["int8"], l["embedding"], probs_of(l["heads"])))
         self.scale = max(abs(v) for f in self.frames for v in f[2])
         self.tol = EMBEDDING_REL_TOL * self.scale
         # The smallest distance between two distinct frames' embeddings: the identification margin.
@@ -197,21 +203,21 @@ def decode_relay(path):
 def instance_counts(lines):
     """Computed predictions of one daemon start: its summary's `encoded` when it stopped, else the
     larger of its last stats' `encoded` and its frame lines (a SIGKILLed daemon writes no summary)."""
-    frames = [l for l in lines if l.get("type") == "frame"]
-    summaries = [l for l in lines if l.get("type") == "summary"]
-    stats = [l for l in lines if l.get("type") == "stats"]
+    frames = [l for l in lines if l.get("type") == "frame_prediction"]
+    summaries = [l for l in lines if is_summary(l)]
+    stats = [l for l in lines if l.get("type") == "stats" and "daemon" in l]
     if summaries:
-        return summaries[-1]["encoded"], frames, True
-    return max([s["encoded"] for s in stats] + [len(frames)]), frames, False
+        return summaries[-1]["daemon"]["encoded"], frames, True
+    return max([s["daemon"]["encoded"] for s in stats] + [len(frames)]), frames, False
 
 
 def camera_counts(lines):
-    """Camera outages of one daemon start (JSON lines' "camera" of its summary, else its last
-    stats): outages begun, ended by a reopen, reopen attempts failed, seconds without a camera."""
-    reports = [l for l in lines if l.get("type") in ("stats", "summary") and "camera" in l]
+    """Camera outages of one daemon start (its stats lines' run report: the summary's, else the
+    last): outages begun, ended by a reopen, reopen attempts failed, seconds without a camera."""
+    reports = [l for l in lines if l.get("type") == "stats" and "camera" in l.get("daemon", {})]
     if not reports:
         return 0, 0, 0, 0.0
-    c = reports[-1]["camera"]
+    c = reports[-1]["daemon"]["camera"]
     return (sum(c["disconnects"]), sum(c["reconnects"]), sum(c["reopen_failures"]),
             sum(c["outage_s"]))
 
@@ -268,8 +274,8 @@ def main():
             computed += c
             lines_total += len(frames)
             instances_done.append(stopped)
-            idx = [check.one("jsonl", f"{name} daemon start {k} jsonl seq {f['seq']}", f["embedding"],
-                             probs_of(f.get("heads", {})), f["int8"]) for f in frames]
+            idx = [check.one("jsonl", f"{name} daemon start {k} jsonl seq {f['frame_sequence']}",
+                             f["embedding"], probs_of(f["heads"]), f["int8"]) for f in frames]
             check.ordered(f"{name} daemon start {k} (JSON lines)", idx)
             if not stopped and frames:  # SIGKILLed: what it computed in its last second may be lost
                 last = frames[-1]["capture_ns"]

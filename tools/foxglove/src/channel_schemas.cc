@@ -105,6 +105,9 @@ ChannelSchemas build() {
        {"capture_host_ns", integer("capture_ns on the host clock")},
        {"stage_ns", array(integer(), "per-stage latency, ns (stage names in the Hello)")},
        {"contact", boolean()},
+       {"gate", name_or_number("the contact gate: unknown (a board older than protocol 1.3), "
+                               "calibrating, none, contact")},
+       {"gate_score_dn", nullable_number("the gate's score, DN; null from a board older than 1.3")},
        {"heads", array(object({{"head", integer()},
                                {"name", string()},
                                {"probabilities", array(number())},

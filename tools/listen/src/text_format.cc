@@ -32,8 +32,11 @@ double ms(int64_t ns) { return static_cast<double>(ns) / 1e6; }
 std::string frame_text(const protocol::FramePredictionView& f, const FormatContext& c) {
   Result<protocol::HelloView> h =
       c.hello ? c.hello->hello() : Result<protocol::HelloView>(Error(ErrorCode::kInvalidState, ""));
-  std::string line = sprintf_string("frame  s%u #%-7u %s", f.sensor(), f.frame_sequence(),
-                                    f.contact() ? "contact" : "no-contact");
+  // The gate's state (minor 3): a frame it has not decided on yet says so.
+  const char* gate = f.gate() == protocol::GateState::kCalibrating ? "calibrating"
+                     : f.contact()                                 ? "contact"
+                                                                   : "no-contact";
+  std::string line = sprintf_string("frame  s%u #%-7u %s", f.sensor(), f.frame_sequence(), gate);
   for (size_t i = 0; i < f.head_count(); ++i) {
     const protocol::HeadOutput o = f.head(i);
     if (o.probabilities.empty()) continue;

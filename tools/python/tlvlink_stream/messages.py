@@ -96,6 +96,8 @@ class FramePrediction:
     contact: bool
     heads: List[HeadOutput]
     embedding: List[float]
+    gate: Any = "unknown"  # minor 3: the contact gate's state; "unknown" from an older board
+    gate_score_dn: float = math.nan  # minor 3: the gate's score, DN; NaN from an older board
 
 
 @dataclass
@@ -215,7 +217,8 @@ def _frame(t: Table) -> FramePrediction:
              for h in t.tables(slot(T, "heads"))]
     return FramePrediction(_f(t, T, "sensor", "B"), _f(t, T, "frame_sequence", "I"), capture, start, end,
                            t.scalars(slot(T, "stage_ns"), "I"), bool(_f(t, T, "contact", "B")), heads,
-                           t.scalars(slot(T, "embedding"), "f"))
+                           t.scalars(slot(T, "embedding"), "f"), enum_name("GateState", _f(t, T, "gate", "B")),
+                           _f(t, T, "gate_score_dn", "f", math.nan))
 
 
 def _grasp(t: Table) -> GraspPrediction:
@@ -325,10 +328,10 @@ class Message:
         return getattr(self.body, name)
 
     def to_dict(self, hello: Optional[Hello] = None) -> Dict[str, Any]:
+        # The keys of the one JSON-lines form (runtime/stream json_lines.h), in its order: the
+        # message's, then the host's (receive time, host-clock times, the round trip).
         d: Dict[str, Any] = {"type": self.type, "sequence": self.sequence, "flags": self.flags,
-                             "delayed": self.delayed, "send_ns": self.send_ns, "receive_ns": self.receive_ns}
-        if self.clock.valid:
-            d["send_host_ns"] = self.to_host_ns(self.send_ns)
+                             "delayed": self.delayed, "send_ns": self.send_ns}
         b = self.body
         if self.type == "hello":
             d.update(device=b.device, board=b.board, firmware_version=b.firmware_version, boot_id=f"{b.boot_id:016x}",
@@ -350,10 +353,10 @@ class Message:
                 d["sensor_name"] = name
             d.update(frame_sequence=b.frame_sequence, capture_ns=b.capture_ns, infer_start_ns=b.infer_start_ns,
                      infer_end_ns=b.infer_end_ns)
-            if self.clock.valid:
-                d["capture_host_ns"] = self.to_host_ns(b.capture_ns)
             d["stage_ns"] = list(b.stage_ns)
             d["contact"] = b.contact
+            d["gate"] = b.gate
+            d["gate_score_dn"] = _float_or_none(b.gate_score_dn)
             heads = []
             for h in b.heads:
                 o: Dict[str, Any] = {"head": h.head}
@@ -385,17 +388,21 @@ class Message:
             d.update(command_sequence=b.command_sequence, kind=b.kind, code=b.code, text=b.text)
         elif self.type == "pong":
             d.update(command_sequence=b.command_sequence, host_send_ns=b.host_send_ns,
-                     board_receive_ns=b.board_receive_ns,
-                     round_trip_ns=(self.receive_ns - b.host_send_ns) - (self.send_ns - b.board_receive_ns))
+                     board_receive_ns=b.board_receive_ns)
         elif self.type == "frame_image":
             d["sensor"] = b.sensor
             name = hello.sensor_name(b.sensor) if hello else ""
             if name:
                 d["sensor_name"] = name
             d.update(frame_sequence=b.frame_sequence, capture_ns=b.capture_ns)
-            if self.clock.valid:
-                d["capture_host_ns"] = self.to_host_ns(b.capture_ns)
             d.update(kind=b.kind, width=b.width, height=b.height, format=b.format, contact=b.contact,
                      mask_width=b.mask_width, mask_height=b.mask_height, mask=b.mask_rows(),
                      data=base64.b64encode(b.data).decode("ascii"))
+        if self.type == "pong":
+            d["round_trip_ns"] = (self.receive_ns - b.host_send_ns) - (self.send_ns - b.board_receive_ns)
+        d["receive_ns"] = self.receive_ns
+        if self.clock.valid:
+            d["send_host_ns"] = self.to_host_ns(self.send_ns)
+            if self.type in ("frame_prediction", "frame_image"):
+                d["capture_host_ns"] = self.to_host_ns(b.capture_ns)
         return d

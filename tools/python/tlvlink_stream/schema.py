@@ -9,7 +9,7 @@ import re
 
 # Hash of the stream.fbs this package decodes (README "Schema hash"). A Hello carries the board's;
 # a different value means fields may be unknown to one side (they are skipped), not an error.
-SCHEMA_HASH = 0x094a2aca5021ce1d
+SCHEMA_HASH = 0xd42d83f639579b4a
 
 MESSAGE_TYPES = {
     0x01: "hello",
@@ -33,7 +33,8 @@ TABLES = {
     "Hello": ["device", "board", "firmware_version", "boot_id", "schema_hash", "model_id", "model_checksum",
               "sensors", "heads", "stage_names", "embedding_dim", "clock", "max_frame_size"],
     "HeadOutput": ["head", "probabilities"],
-    "FramePrediction": ["sensor", "frame_sequence", "timing", "stage_ns", "contact", "heads", "embedding"],
+    "FramePrediction": ["sensor", "frame_sequence", "timing", "stage_ns", "contact", "heads", "embedding", "gate",
+                        "gate_score_dn"],
     "GraspPrediction": ["grasp_id", "status", "probability", "reason", "reason_text", "frames", "phase_source",
                         "closed_ns", "lifting_ns", "infer_end_ns"],
     "DropCount": ["cause", "count", "sensor"],
@@ -70,6 +71,7 @@ ENUMS = {
     "GraspPhase": ["before", "during"],
     "PhaseSource": ["command", "detected"],
     "DropCause": ["capture_gap", "capture_error", "inference_busy", "queue_full", "link_down", "stale", "image_busy"],
+    "GateState": ["unknown", "calibrating", "none", "contact"],
     "ImageKind": ["view", "input"],
     "ImageFormat": ["jpeg"],
 }

@@ -11,7 +11,7 @@ from typing import Callable, Iterable, List, Optional
 
 MAGIC = b"TL"
 VERSION_MAJOR = 1
-VERSION_MINOR = 2  # 1: HeadInfo's cross-validated records; 2: FrameImage
+VERSION_MINOR = 3  # 1: HeadInfo's cross-validated records; 2: FrameImage; 3: FramePrediction.gate
 HEADER_SIZE = 24
 CRC_SIZE = 4
 MAX_FRAME_SIZE = 16384

@@ -10,6 +10,7 @@
 #include <set>
 #include <utility>
 
+#include "predictions.h"
 #include "truth.h"
 
 namespace tlvlink::score {
@@ -28,22 +29,20 @@ struct Predictions {
 Result<Predictions> read_predictions(const std::string& path, const Truth& truth,
                                      const std::vector<std::string>& fingers) {
   Predictions p;
-  TLV_TRY(internal::read_lines(path, [&](const json& j) -> Status {
-    const std::string type = j.value("type", "");
-    if (type == "frame" && j.contains("heads")) {
-      const std::string sensor = j.value("sensor", "");
-      const int32_t finger = sensor == fingers[0] ? 0 : sensor == fingers[1] ? 1 : -1;
-      const auto seq = j.value("seq", int64_t{-1});
-      if (finger < 0 || seq < 0) return {};
-      auto& labels = p.frames[{finger, seq % truth.frames}];
-      for (const auto& [head, pred] : j["heads"].items())
-        labels[head] = internal::lower(pred.value("label", ""));
-    } else if (type == "grasp" && j.value("computed", false)) {
-      const int32_t event = internal::grasp_event(j, truth);
-      if (event >= 0) p.grasps[event] = j.value("prediction", "") == "success";
-    }
-    return {};
-  }));
+  TLV_TRY(internal::read_predictions(
+      path, fingers,
+      [&](const internal::FrameRecord& f) -> Status {
+        if (f.labels.empty() || f.finger < 0 || f.seq < 0) return {};
+        auto& labels = p.frames[{f.finger, f.seq % truth.frames}];
+        for (const auto& [head, label] : f.labels) labels[head] = label;
+        return {};
+      },
+      [&](const internal::GraspRecord& g) -> Status {
+        if (!g.computed) return {};
+        const int32_t event = internal::grasp_event(g.during_seq_a, truth);
+        if (event >= 0) p.grasps[event] = g.success;
+        return {};
+      }));
   return p;
 }
 

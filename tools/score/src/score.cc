@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <set>
 
+#include "predictions.h"
 #include "truth.h"
 
 namespace tlvlink::score {
@@ -15,7 +16,6 @@ namespace {
 
 using internal::json;
 using internal::lower;
-using internal::read_lines;
 using internal::read_truth;
 using internal::Truth;
 using internal::TruthEvent;
@@ -45,91 +45,80 @@ Result<ScoreReport> score_live_run(const std::string& truth_path,
   std::map<std::string, int64_t> head_no_contact;
   std::map<std::string, std::map<std::pair<int32_t, int32_t>, std::string>> last_label;
   std::set<int32_t> events_seen_contact, events_played, events_visible;
-  TLV_TRY(read_lines(predictions_path, [&](const json& j) -> Status {
-    const std::string type = j.value("type", "");
-    if (type == "frame") {
-      const std::string sensor = j.value("sensor", "");
-      const int32_t finger = sensor == fingers[0] ? 0 : sensor == fingers[1] ? 1 : -1;
-      if (finger < 0) {
-        ++r.unmatched_frames;
-        return {};
+  const auto on_frame = [&](const internal::FrameRecord& f) -> Status {
+    if (f.finger < 0) {
+      ++r.unmatched_frames;
+      return {};
+    }
+    TLV_ENSURE(f.seq >= 0, ErrorCode::kFormat, "frame record without a sequence");
+    const TruthFrame& tf = truth.fingers[f.finger][static_cast<size_t>(f.seq % truth.frames)];
+    const bool gated_contact = f.gate == internal::Gate::kContact;
+    if (f.gate == internal::Gate::kCalibrating) {  // learning the reference: no decision yet
+      ++r.calibrating;
+      return {};
+    }
+    ++r.frames;
+    r.encoded += f.encoded ? 1 : 0;
+    if (tf.event >= 0) events_played.insert(tf.event);
+    const bool invisible = tf.contact && tf.signal_dn < kInvisibleSignalDn;
+    if (invisible) {  // nothing a camera can see: counted apart, not a miss of the gate
+      ++r.invisible_contact;
+      r.invisible_seen += gated_contact ? 1 : 0;
+    } else if (tf.contact) {
+      ++r.truth_contact;
+      if (!gated_contact) {
+        ++r.missed_contact;
+        r.missed_light += tf.force_n < 1.0 ? 1 : 0;
+      } else if (tf.event >= 0) {
+        events_seen_contact.insert(tf.event);
       }
-      const auto seq = j.value("seq", int64_t{-1});
-      TLV_ENSURE(seq >= 0, ErrorCode::kFormat, "frame record without a sequence");
-      const TruthFrame& tf = truth.fingers[finger][static_cast<size_t>(seq % truth.frames)];
-      const std::string gate = j.value("contact", "none");
-      const bool gated_contact = gate == "contact";
-      if (gate == "calibrating") {  // the gate is learning the reference: no decision yet
-        ++r.calibrating;
-        return {};
+      if (tf.event >= 0) {
+        events_visible.insert(tf.event);
+        Ratio& k = r.missed_by_kind[truth.events[static_cast<size_t>(tf.event)].kind];
+        ++k.total;
+        k.hits += gated_contact ? 0 : 1;
       }
-      ++r.frames;
-      r.encoded += j.value("encoded", false) ? 1 : 0;
-      if (tf.event >= 0) events_played.insert(tf.event);
-      const bool invisible = tf.contact && tf.signal_dn < kInvisibleSignalDn;
-      if (invisible) {  // nothing a camera can see: counted apart, not a miss of the gate
-        ++r.invisible_contact;
-        r.invisible_seen += gated_contact ? 1 : 0;
-      } else if (tf.contact) {
-        ++r.truth_contact;
-        if (!gated_contact) {
-          ++r.missed_contact;
-          r.missed_light += tf.force_n < 1.0 ? 1 : 0;
-        } else if (tf.event >= 0) {
-          events_seen_contact.insert(tf.event);
-        }
-        if (tf.event >= 0) {
-          events_visible.insert(tf.event);
-          Ratio& k = r.missed_by_kind[truth.events[static_cast<size_t>(tf.event)].kind];
-          ++k.total;
-          k.hits += gated_contact ? 0 : 1;
-        }
-      } else if (gated_contact) {
-        ++r.false_contact;
+    } else if (gated_contact) {
+      ++r.false_contact;
+    }
+    if (tf.event < 0) return {};
+    const TruthEvent& ev = truth.events[static_cast<size_t>(tf.event)];
+    for (const auto& [head, got] : f.labels) {
+      auto want = ev.labels.find(head);
+      if (want == ev.labels.end() || want->second.empty()) continue;
+      if (!tf.contact) {  // nothing on the gel: a label of the gate's false contact, not of the
+                          // object
+        ++head_no_contact[head];
+        continue;
       }
-      if (tf.event < 0 || !j.contains("heads")) return {};
-      const TruthEvent& ev = truth.events[static_cast<size_t>(tf.event)];
-      for (const auto& [head, pred] : j["heads"].items()) {
-        auto want = ev.labels.find(head);
-        if (want == ev.labels.end() || want->second.empty()) continue;
-        if (!tf.contact) {  // nothing on the gel: a label of the gate's false contact, not of the
-                            // object
-          ++head_no_contact[head];
-          continue;
-        }
-        const std::string got = lower(pred.value("label", ""));
-        Ratio& hr = head_frames[head];
-        ++hr.total;
-        hr.hits += got == want->second ? 1 : 0;
-        last_label[head][{tf.event, finger}] = got;
-      }
-    } else if (type == "grasp") {
-      ++r.grasp_records;
-      int64_t seq = -1;
-      for (const json& f : j.value("frames", json::array())) {
-        if (f.value("finger", "") == "A" && f.value("moment", "") == "during")
-          seq = f.value("seq", int64_t{-1});
-      }
-      const bool computed = j.value("computed", false);
-      if (!computed) {
-        ++r.grasps_not_computed;
-        ++r.not_computed_reasons[j.value("reason", "?")];
-        return {};
-      }
-      const int32_t event =
-          seq >= 0 ? truth.fingers[0][static_cast<size_t>(seq % truth.frames)].event : -1;
-      if (event < 0 || !truth.events[static_cast<size_t>(event)].has_success) {
-        ++r.grasps_unmatched;
-        return {};
-      }
-      ++r.grasps_computed;
-      const bool predicted = j.value("prediction", "") == "success";
-      ++r.grasp_accuracy.total;
-      r.grasp_accuracy.hits +=
-          predicted == truth.events[static_cast<size_t>(event)].success ? 1 : 0;
+      Ratio& hr = head_frames[head];
+      ++hr.total;
+      hr.hits += got == want->second ? 1 : 0;
+      last_label[head][{tf.event, f.finger}] = got;
     }
     return {};
-  }));
+  };
+  const auto on_grasp = [&](const internal::GraspRecord& g) -> Status {
+    ++r.grasp_records;
+    if (!g.computed) {
+      ++r.grasps_not_computed;
+      ++r.not_computed_reasons[g.reason];
+      return {};
+    }
+    const int32_t event =
+        g.during_seq_a >= 0
+            ? truth.fingers[0][static_cast<size_t>(g.during_seq_a % truth.frames)].event
+            : -1;
+    if (event < 0 || !truth.events[static_cast<size_t>(event)].has_success) {
+      ++r.grasps_unmatched;
+      return {};
+    }
+    ++r.grasps_computed;
+    ++r.grasp_accuracy.total;
+    r.grasp_accuracy.hits += g.success == truth.events[static_cast<size_t>(event)].success ? 1 : 0;
+    return {};
+  };
+  TLV_TRY(internal::read_predictions(predictions_path, fingers, on_frame, on_grasp));
   // Events in the frames that were played.
   int32_t successes = 0;
   for (int32_t e : events_played) {

@@ -56,12 +56,7 @@ Result<Truth> read_truth(const std::string& path) {
   return t;
 }
 
-int32_t grasp_event(const json& j, const Truth& truth) {
-  int64_t seq = -1;
-  for (const json& f : j.value("frames", json::array())) {
-    if (f.value("finger", "") == "A" && f.value("moment", "") == "during")
-      seq = f.value("seq", int64_t{-1});
-  }
+int32_t grasp_event(int64_t seq, const Truth& truth) {
   if (seq < 0 || truth.frames <= 0) return -1;
   const int32_t event = truth.fingers[0][static_cast<size_t>(seq % truth.frames)].event;
   if (event < 0 || !truth.events[static_cast<size_t>(event)].has_success) return -1;

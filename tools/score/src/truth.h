@@ -65,8 +65,8 @@ Status read_lines(const std::string& path, Each each) {
 
 Result<Truth> read_truth(const std::string& path);
 
-// The scripted grasp a grasp record belongs to: the event of finger A's "during" frame; -1 when
-// the record names none or it falls outside every grasp.
-int32_t grasp_event(const json& record, const Truth& truth);
+// The scripted grasp a grasp record belongs to: the event of finger A's "during" frame
+// (`during_seq_a`); -1 when the record names none (-1) or it falls outside every grasp.
+int32_t grasp_event(int64_t during_seq_a, const Truth& truth);
 
 }  // namespace tlvlink::score::internal

@@ -91,6 +91,9 @@ struct FrameTiming {
   int64_t capture_ns = 0, infer_start_ns = 0, infer_end_ns = 0;
 };
 
+// Minor 3: the contact gate's state on a frame; kUnknown from an older board (absent).
+enum class GateState : uint8_t { kUnknown = 0, kCalibrating = 1, kNone = 2, kContact = 3 };
+
 struct HeadOutput {
   uint16_t head = 0;  // index into Hello::heads
   std::span<const float> probabilities;
@@ -104,7 +107,9 @@ struct FramePrediction {
   std::span<const uint32_t> stage_ns;
   bool contact = false;
   std::span<const HeadOutput> heads;
-  std::span<const float> embedding;  // empty: not sent
+  std::span<const float> embedding;      // empty: not sent
+  GateState gate = GateState::kUnknown;  // minor 3
+  float gate_score_dn = kNotRecorded;    // minor 3: the gate's score, DN
 };
 
 struct GraspFrame {

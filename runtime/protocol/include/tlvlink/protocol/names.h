@@ -17,6 +17,7 @@ const char* grasp_reason_name(GraspReason reason);
 const char* grasp_phase_name(GraspPhase phase);
 const char* phase_source_name(PhaseSource source);
 const char* drop_cause_name(DropCause cause);
+const char* gate_state_name(GateState state);       // "unknown", "calibrating", "none", "contact"
 const char* image_kind_name(ImageKind kind);        // "view", "input"
 const char* image_format_name(ImageFormat format);  // "jpeg"
 const char* command_kind_name(CommandKind kind);

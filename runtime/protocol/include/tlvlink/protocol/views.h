@@ -71,6 +71,8 @@ class FramePredictionView {
   size_t head_count() const;
   HeadOutput head(size_t i) const;
   std::span<const float> embedding() const;  // empty when not sent
+  GateState gate() const;                    // minor 3; kUnknown from an older board
+  float gate_score_dn() const;               // minor 3; NaN from an older board
 
  private:
   friend Result<FramePredictionView> decode_frame_prediction(std::span<const std::byte>);

@@ -11,7 +11,9 @@ namespace tlvlink::protocol {
 inline constexpr uint8_t kMagic0 = 0x54;  // 'T'
 inline constexpr uint8_t kMagic1 = 0x4C;  // 'L'
 inline constexpr uint8_t kVersionMajor = 1;
-inline constexpr uint8_t kVersionMinor = 2;  // 1: HeadInfo's cross-validated records; 2: FrameImage
+inline constexpr uint8_t kVersionMinor =
+    3;  // 1: HeadInfo's cross-validated records; 2: FrameImage;
+        // 3: FramePrediction's gate state and score
 
 inline constexpr size_t kHeaderSize = 24;
 inline constexpr size_t kCrcSize = 4;

@@ -4,6 +4,8 @@
 
 #include "tlvlink/stream/commands.h"
 #include "tlvlink/stream/hello.h"
+#include "tlvlink/stream/json_lines.h"
+#include "tlvlink/stream/line_buffer.h"
 #include "tlvlink/stream/message_mapper.h"
 #include "tlvlink/stream/names.h"
 #include "tlvlink/stream/stages.h"
