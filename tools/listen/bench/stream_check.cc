@@ -255,6 +255,11 @@ int board(const Args& a) {
       static_cast<unsigned long long>(c.dropped_link_down), c.reconnects,
       static_cast<unsigned long long>(c.commands),
       static_cast<unsigned long long>(c.commands_refused));
+  // Every message the board lost, by cause (a reader restarted while nobody read: tests/python).
+  std::printf("board-drops queue_full=%llu link_down=%llu stale=%llu\n",
+              static_cast<unsigned long long>(c.dropped_queue_full),
+              static_cast<unsigned long long>(c.dropped_link_down),
+              static_cast<unsigned long long>(c.dropped_stale));
   std::printf(
       "note: board: %.1f wire bytes per frame (%llu frames, %llu bytes)\n",
       c.frames_sent ? static_cast<double>(c.bytes_sent) / static_cast<double>(c.frames_sent) : 0.0,
