@@ -122,7 +122,13 @@ Counted count_allocations_after_warmup(Session& session, int64_t warmup) {
 void streams_without_allocating_per_frame(bool images) {
   testing::TempDir dir;
   const std::string out = dir.path() + "/predictions.jsonl", link = dir.path() + "/board";
+  // Under qemu-user (the aarch64 trees) the encoder runs ~20 emulated frames a second: 400
+  // counted frames (2.5 grasp cycles) there, 1,000 in the host and asan trees.
+#ifdef TLVLINK_TEST_UNDER_EMULATION
+  constexpr int64_t kWarmup = 200, kCounted = 400;
+#else
   constexpr int64_t kWarmup = 200, kCounted = 1000;
+#endif
   std::string text = config_text(out, kWarmup + kCounted);
   if (images) {
     text.replace(text.find("output = \"jsonl:" + out + "\""), 16 + out.size() + 1,
@@ -146,7 +152,8 @@ void streams_without_allocating_per_frame(bool images) {
   EXPECT_EQ(allocations, 0u) << "heap allocations while " << kCounted << " frames went through"
                              << (images ? " with frame images on" : "");
   if (images) {
-    // 1,200 frames at 100 fps in all: ~6 s a sensor, ~90 images each at 15 a second.
+    // 1,200 frames at 100 fps in all: ~6 s a sensor, ~90 images each at 15 a second (600 under
+    // emulation: slower than real time there, so as many images).
     EXPECT_GE(t.images_sent, 60u) << t.images_busy << " busy";
   }
   EXPECT_GE(t.frames, static_cast<uint64_t>(kWarmup + kCounted));
