@@ -415,6 +415,10 @@ TEST(DaemonSession, StreamsThePredictionsOverAPtyToTheClient) {
     }
   });
   while (!(*session)->limit_reached()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  // stop() closes the pty, which discards what its reader has not read: on a loaded machine the
+  // reader was 35 frames behind (2026-12-05). Wait (at most 10 s) until it has them all.
+  for (int i = 0; i < 1000 && frames < (*session)->frames_processed(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   const SessionTotals t = (*session)->stop();
   done = true;
   reader.join();
