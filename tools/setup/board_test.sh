@@ -6,18 +6,25 @@
 # those targets, in the cross stage's build trees), one boot per CPU, with boot, test and build
 # times. In the generic-a76 boot the prediction stream's USB tests follow the capture tests
 # (tests/listen/rig: FunctionFS bulk <-> libusb and CDC-ACM through dummy_hcd, replug, reader
-# restart, corruption injection, throughput; ~2.5 min); their figures are printed at the end.
+# restart, corruption injection; ~2.5 min; with --bench also the throughput benchmark over each
+# link, which the test command does not run); their figures are printed at the end.
 # Then the hardware-in-the-loop run (tests/hil/hil_test.sh: tlvlinkd on simulated GelSight frames
 # through vivid, predictions over the USB gadget compared one by one with the host build; fault
 # runs in the Cortex-A76 boot, the clean run in a Cortex-A72 boot; ~5 min).
-#   board_test.sh [a76|a72|all]        (default: all)
+#   board_test.sh [a76|a72|all] [--bench]        (default: all)
 # Environment: TLVLINK_JOBS (build jobs, default 2: the machine is shared); PYTHON (default
 # /usr/bin/python3: the rig needs only its standard library).
 # Logs: build/logs/board-<preset>-{configure,build}.log; the guest's console: build/rig/<preset>/.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 
-which=${1:-all}
+which=all bench=0
+for arg in "$@"; do
+  case "$arg" in
+    --bench) bench=1 ;;
+    *) which=$arg ;;
+  esac
+done
 jobs=${TLVLINK_JOBS:-2}
 case "$which" in
   a76) presets=(generic-a76) ;;
@@ -90,7 +97,7 @@ for preset in "${presets[@]}"; do
   echo "=== $preset: rig -cpu $cpu (build ${t_build}s)"
   t0=$(now)
   "$py" tools/rig/rig.py run --cpu "$cpu" --script "$script" "${args[@]}" \
-    --env TLVLINK_RIG=1 --out "build/rig/$preset" | tee "$log-rig.log"
+    --env TLVLINK_RIG=1 --env TLVLINK_RIG_BENCH=$bench --out "build/rig/$preset" | tee "$log-rig.log"
   rc=${PIPESTATUS[0]}
   t_rig=$(secs "$t0" "$(now)")
   line=$(grep -E "^rig: tests " "$log-rig.log" | tail -1)

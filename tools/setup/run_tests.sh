@@ -21,11 +21,11 @@ bash tools/setup/install_deps.sh all || { echo "run_tests: dependency installati
 
 passed=0; failed=0; failed_names=(); stage_times=()
 stage_start() { echo; echo "=== stage $1 ($(date -u +%H:%M:%S)) ==="; stage_t0=$(date +%s); }
-stage_end() {  # $1 name, $2 status
-  local dt=$(( $(date +%s) - stage_t0 ))
-  stage_times+=("$1 ${dt}s")
-  if [ "$2" -eq 0 ]; then passed=$((passed + 1)); echo "=== stage $1 passed in ${dt}s ===";
-  else failed=$((failed + 1)); failed_names+=("$1"); echo "=== stage $1 FAILED in ${dt}s ==="; fi
+stage_end() {  # $1 name, $2 status [, $3 seconds (default: since stage_start), $4 note]
+  local dt=${3:-$(( $(date +%s) - stage_t0 ))} note=${4:+ ($4)}
+  stage_times+=("$1 ${dt}s$note")
+  if [ "$2" -eq 0 ]; then passed=$((passed + 1)); echo "=== stage $1 passed in ${dt}s$note ===";
+  else failed=$((failed + 1)); failed_names+=("$1"); echo "=== stage $1 FAILED in ${dt}s$note ==="; fi
 }
 
 # Every tree this command configures keeps line tables only (-g1, TLVLINK_DEBUG_LINES in
@@ -139,26 +139,21 @@ run_fuzz() {
 
 # The README's minimal board builds, each configured on its own (no host-tool dependency may be
 # needed): the runtime as a board program links it (tests/minimal; with XNNPACK it may use only
-# XNNPACK, pthreadpool, cpuinfo and flatbuffers, without it only flatbuffers), then the model and
-# reference-executor suites in a build without XNNPACK and without host tools.
+# XNNPACK, pthreadpool, cpuinfo and flatbuffers, without it only flatbuffers). The tree without
+# XNNPACK also builds and runs the suites that need no host tools (model, reference executor,
+# heads, verify, core: TLVLINK_MINIMAL_SUITES), which had a third tree of their own.
 run_minimal() {
   local v name xnn t rc=0
-  for v in board:ON reference:OFF; do
-    name=${v%%:*} xnn=${v#*:} t=$(date +%s)
+  for v in board:ON:OFF reference:OFF:ON; do
+    IFS=: read -r name xnn suites <<<"$v"
+    t=$(date +%s)
     { cmake -S tests/minimal -B "build/minimal-$name" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${ci_cmake_args[@]}" \
-        -DTLVLINK_WITH_XNNPACK="$xnn" -DTLVLINK_WITH_IMAGE="$xnn" -DTLVLINK_WITH_CAPTURE="$xnn" -DTLVLINK_WITH_PIPELINE="$xnn" -DTLVLINK_BUILD_DAEMON="$xnn" >/dev/null &&
+        -DTLVLINK_WITH_XNNPACK="$xnn" -DTLVLINK_WITH_IMAGE="$xnn" -DTLVLINK_WITH_CAPTURE="$xnn" -DTLVLINK_WITH_PIPELINE="$xnn" -DTLVLINK_BUILD_DAEMON="$xnn" \
+        -DTLVLINK_MINIMAL_SUITES="$suites" >/dev/null &&
         cmake --build "build/minimal-$name" -j "$jobs" &&
-        ctest --test-dir "build/minimal-$name" --output-on-failure --no-tests=error; } || rc=1
-    echo "minimal: $name runtime (XNNPACK $xnn) $(( $(date +%s) - t ))s"
+        ctest --test-dir "build/minimal-$name" -j "$jobs" --output-on-failure --no-tests=error; } || rc=1
+    echo "minimal: $name runtime (XNNPACK $xnn, suites $suites) $(( $(date +%s) - t ))s"
   done
-  t=$(date +%s)
-  { cmake -S . -B build/minimal-tests -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${ci_cmake_args[@]}" \
-      -DTLVLINK_WERROR=ON -DTLVLINK_WITH_XNNPACK=OFF -DTLVLINK_WITH_IMAGE=OFF -DTLVLINK_WITH_CAPTURE=OFF -DTLVLINK_WITH_PIPELINE=OFF -DTLVLINK_BUILD_DAEMON=OFF -DTLVLINK_BUILD_HOST_TOOLS=OFF \
-      -DTLVLINK_BUILD_TESTS=ON >/dev/null &&
-      cmake --build build/minimal-tests -j "$jobs" &&
-      ctest --test-dir build/minimal-tests -j "$jobs" --output-on-failure --no-tests=error
-  } || rc=1
-  echo "minimal: model + reference suites without XNNPACK $(( $(date +%s) - t ))s"
   return $rc
 }
 
@@ -230,9 +225,7 @@ for i in "${!foreground[@]}"; do
     read -r rc board_secs <build/logs/board.status 2>/dev/null || { rc=1 board_secs=0; }
     s=board log=build/logs/board.log
     cat "$log"
-    stage_times+=("board ${board_secs}s (beside the others)")
-    if [ "$rc" -eq 0 ]; then passed=$((passed + 1)); echo "=== stage board passed in ${board_secs}s (beside the others) ===";
-    else failed=$((failed + 1)); failed_names+=(board); echo "=== stage board FAILED in ${board_secs}s (beside the others) ==="; fi
+    stage_end board "$rc" "$board_secs" "beside the others"
   else
     stage_start "$s"
     log="build/logs/$s.log"

@@ -16,6 +16,9 @@ for rates in "1e-4 0" "1e-3 0" "1e-2 0" "0 1e-3" "1e-3 1e-3"; do
   rig_run "usb.ffs.corrupt.$1.$2" 150 sh $usb corrupt ffs $1 $2
 done
 rig_run usb.acm.corrupt.1e-3.1e-3 150 sh $usb corrupt acm 1e-3 1e-3
-# Benchmarks (figures printed, not asserted): throughput over each link.
-rig_run usb.ffs.bench 180 sh $usb bench ffs
-rig_run usb.acm.bench 180 sh $usb bench acm
+# Benchmarks (figures printed, not asserted): throughput over each link. Only when asked
+# (tools/setup/board_test.sh --bench): the test command runs no benchmark.
+if [ "${TLVLINK_RIG_BENCH:-0}" = 1 ]; then
+  rig_run usb.ffs.bench 180 sh $usb bench ffs
+  rig_run usb.acm.bench 180 sh $usb bench acm
+fi
