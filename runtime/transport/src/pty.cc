@@ -161,9 +161,11 @@ void PtyTransport::interrupt() { internal::signal_wake_fd(wake_); }
 // Closing the master discards what the reader has not read yet: wait for it. The reader's
 // backlog is visible only from the slave side; TIOCGPTPEER opens it without a path, briefly.
 // FIONREAD counts the line discipline's buffer, which the kernel refills from its flip buffers
-// asynchronously: only several empty looks in a row mean everything was read.
+// asynchronously: only empty looks for 100 ms in a row mean everything was read (20 ms lost a
+// reader its last 4 predictions on a loaded 2-core machine, 2026-12-05: most likely that refill
+// running late).
 void PtyTransport::drain(int timeout_ms) {
-  constexpr int kStepMs = 5, kEmptyLooks = 4;
+  constexpr int kStepMs = 5, kEmptyLooks = 20;
   int empty = 0;
   for (int waited = 0; master_ >= 0 && peer_present_ && waited < timeout_ms && empty < kEmptyLooks;
        waited += kStepMs) {
