@@ -128,6 +128,35 @@ TEST(ContactGate, ReleaseNeedsConsecutiveQuietFramesAndDriftIsFollowedOnlyWhileI
   EXPECT_EQ(g.update(view(gel(rng, 6.0f + 12.0f))).value().state, ContactState::kContact);
 }
 
+// The frame that completes the reference is judged like the next ones: a press that began while
+// the gate calibrated (frames dropped under load can put one there) is contact at once, and the
+// frame's mask, which marks where it differs from the reference, never marks a no-contact frame.
+TEST(ContactGate, TheFrameThatCompletesTheReferenceIsJudgedToo) {
+  testing::Rng rng(5);
+  ContactGateOptions o;
+  auto quiet = ContactGate::create(kW, kH, 3, o);
+  ASSERT_TRUE(quiet.ok());
+  for (int i = 0; i + 1 < o.reference_frames; ++i) (void)quiet->update(view(gel(rng)));
+  auto last = quiet->update(view(gel(rng)));
+  ASSERT_TRUE(last.ok());
+  EXPECT_EQ(last->state, ContactState::kNoContact) << "score " << last->score_dn;
+  EXPECT_GT(last->score_dn, 0.0f) << "the completing frame is scored";
+  EXPECT_LT(last->score_dn, last->threshold_dn);
+
+  auto pressed = ContactGate::create(kW, kH, 3, o);
+  ASSERT_TRUE(pressed.ok());
+  for (int i = 0; i + 1 < o.reference_frames; ++i) (void)pressed->update(view(gel(rng)));
+  auto d = pressed->update(view(gel(rng, 0, 40)));  // the press begins on the last reference frame
+  ASSERT_TRUE(d.ok());
+  EXPECT_EQ(d->state, ContactState::kContact);
+  EXPECT_TRUE(d->onset);
+  std::vector<uint8_t> mask((static_cast<size_t>(o.grid_width * o.grid_height) + 7) / 8);
+  ASSERT_TRUE(pressed->contact_mask(mask).ok());
+  int marked = 0;
+  for (uint8_t b : mask) marked += __builtin_popcount(b);
+  EXPECT_GT(marked, 0) << "the frame in contact marks its cells";
+}
+
 TEST(ContactGate, RezeroRecalibratesAndErrorsNameTheProblem) {
   testing::Rng rng(3);
   ContactGate g = calibrated(rng);

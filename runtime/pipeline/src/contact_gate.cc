@@ -142,9 +142,8 @@ Result<ContactDecision> ContactGate::update(const image::ImageView& f) {
     std::fill(mean_.begin(), mean_.end(), 0.0f);
     std::fill(m2_.begin(), m2_.end(), 0.0f);
     state_ = ContactState::kNoContact;
-    d.state = state_;
-    d.threshold_dn = threshold_;
-    return d;
+    // The frame that completes the reference is judged against it like any later one: a touch
+    // that began during calibration is contact now, as its mask already shows.
   }
   d.score_dn = score();
   d.threshold_dn = threshold_;
