@@ -214,6 +214,91 @@ TEST(ModelHeads, WrittenHeadsAreAppliedByTheRuntimePathIdentically) {
             13);  // i % 3 == 0 in 160..199
 }
 
+// Grasp episodes of two sensor models whose grasp signal points opposite ways: one head for
+// both cannot separate them, a head per model can (as the simulator's Mini and DIGIT optics
+// differ, firmware/models/README.md).
+eval::EmbeddingSet two_sensor_grasp_set(int32_t dim, uint64_t seed) {
+  testing::Rng rng(seed);
+  eval::EmbeddingSet set;
+  eval::GraspEmbeddings g;
+  g.dim = dim;
+  for (int i = 0; i < 240; ++i) {
+    const int32_t label = i % 2;
+    const bool digit = (i / 2) % 2 == 1;
+    for (int32_t f = 0; f < eval::kGraspFrames; ++f) {
+      const bool during = f == 1 || f == 4;
+      const float shift = during && label == 1 ? (digit ? -1.5f : 1.5f) : 0.0f;
+      for (int32_t j = 0; j < dim; ++j) g.values.push_back(rng.normal(0, 1) + shift);
+    }
+    for (int32_t f = 0; f < heads::kFingers * heads::kDifferenceFeatures; ++f)
+      g.difference.push_back(rng.normal(0, 1));
+    g.label.push_back(label);
+    g.sensor.push_back(digit ? "digit" : "gelsight-mini");
+    g.group.push_back("o" + std::to_string(i / 4));
+    g.is_test.push_back(i >= 160 ? 1 : 0);
+    g.keys.push_back(std::to_string(i));
+  }
+  set.grasp = std::move(g);
+  return set;
+}
+
+TEST(ModelHeads, AGraspHeadPerSensorModelIsFittedOnItsEpisodesAndUsedForThem) {
+  const uint64_t seed = testing::test_seed();
+  SCOPED_SEED_TRACE(seed);
+  auto original = testing::load_model(reference_model(quantize::EncoderDType::kFloat32));
+  ASSERT_NE(original, nullptr);
+  const int32_t dim = original->metadata().embedding_dim;
+  const eval::EmbeddingSet set = two_sensor_grasp_set(dim, seed);
+  eval::HeadFitOptions one;
+  one.grasp_per_sensor = false;
+  auto single = eval::fit_heads(set, one);
+  ASSERT_TRUE(single.ok()) << single.error().message();
+  EXPECT_TRUE(single->sensor_grasp.empty());
+  auto fitted = eval::fit_heads(set, {});
+  ASSERT_TRUE(fitted.ok()) << fitted.error().message();
+  ASSERT_EQ(fitted->sensor_grasp.size(), 2u);
+  EXPECT_EQ(fitted->sensor_grasp[0].sensors, std::vector<std::string>{"digit"});
+  EXPECT_EQ(fitted->sensor_grasp[1].sensors, std::vector<std::string>{"gelsight-mini"});
+  auto bytes = eval::model_with_heads(*original, *fitted, {});
+  ASSERT_TRUE(bytes.ok()) << bytes.error().message();
+  auto model = testing::load_model(*bytes);
+  ASSERT_NE(model, nullptr);
+  const Metadata& m = model->metadata();
+  ASSERT_EQ(m.sensor_grasp_heads.size(), 2u);
+
+  // eval scores each episode with its sensor's head, as the runtime picks it.
+  eval::EvalOptions o;
+  o.oracle_samples = 0;
+  auto r = eval::evaluate_embeddings(m, set, o);
+  ASSERT_TRUE(r.ok()) << r.error().message();
+  const eval::TaskResult* used = r->find(eval::Task::kGrasp, eval::Method::kModelHeads);
+  ASSERT_TRUE(used != nullptr && used->available);
+  ASSERT_EQ(r->grasp_head_cells.size(), 3u);
+  const eval::TaskResult& any = r->grasp_head_cells[0];
+  EXPECT_EQ(any.n, used->n);
+  EXPECT_EQ(r->grasp_head_cells[1].n + r->grasp_head_cells[2].n, used->n);
+  // 80 test episodes, the signal 1.5 SD on every dimension: per sensor nearly all right, one
+  // head for both near chance (the shifts cancel). 20 points is far beyond the noise of 80 items.
+  EXPECT_GT(used->accuracy, any.accuracy + 0.2) << used->accuracy << " vs " << any.accuracy;
+  EXPECT_GT(used->accuracy, 0.85);
+  const auto evaluator = heads::HeadEvaluator::create(m);
+  ASSERT_TRUE(evaluator.ok());
+  const eval::GraspEmbeddings& g = *set.grasp;
+  int64_t right = 0, n = 0;
+  for (size_t i = 0; i < g.size(); ++i) {
+    if (g.is_test[i] == 0) continue;
+    std::vector<std::span<const float>> features;
+    for (const heads::GraspFeature& f : evaluator->grasp_layout())
+      features.push_back(g.feature(i, f));
+    auto p = evaluator->grasp_probability(features, evaluator->grasp_head_for(g.sensor[i]));
+    ASSERT_TRUE(p.ok()) << p.error().message();
+    right += (*p > 0.5f ? 1 : 0) == g.label[i];
+    ++n;
+  }
+  EXPECT_EQ(right, used->correct) << "the runtime's choice of head is eval's";
+  EXPECT_EQ(n, used->n);
+}
+
 TEST(ModelHeads, ModelWithoutEmbeddingOutputIsRefused) {
   auto original = testing::load_model(reference_model(quantize::EncoderDType::kFloat32));
   ASSERT_NE(original, nullptr);

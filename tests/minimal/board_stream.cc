@@ -181,7 +181,7 @@ int run(const char* model_path, const std::string& recording) {
   auto exec = make_executor(m, ExecutorKind::kReference, {});
 #endif
   if (!exec.ok()) return fail("executor", exec.error());
-  const pipeline::SensorSetup sensors[] = {{"gel", kW, kH, 3, -1}};
+  const pipeline::SensorSetup sensors[] = {{"gel", kW, kH, 3, -1, ""}};
   pipeline::ProcessorOptions options;
   options.contact.reference_frames = 5;
   auto processor = pipeline::FrameProcessor::create(m, **exec, sensors, options);

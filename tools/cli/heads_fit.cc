@@ -22,6 +22,7 @@ namespace {
 struct HeadsFitCommand {
   std::string model, output;
   EvalFlags flags;
+  bool one_grasp_head = false;
   bool no_zero_shot = false;
   bool keep_untrusted_zero_shot = false;
   // --images: a head of the user's own
@@ -104,12 +105,18 @@ int run_heads_fit(const HeadsFitCommand& c) {
   job.data = std::move(data).value();
   job.options = std::move(options).value();
   job.add_missing_zero_shot = !c.no_zero_shot;
+  job.options.heads.grasp_per_sensor = !c.one_grasp_head;
   job.keep_untrusted_zero_shot = c.keep_untrusted_zero_shot;
   job.on_note = [](const std::string& note) { std::fprintf(stderr, "note: %s\n", note.c_str()); };
   auto r = eval::fit_heads_into_file(job);
   if (!r.ok()) return report_error(command, r.error());
-  std::printf("wrote %s (%zu bytes): %zu linear heads%s\n", c.output.c_str(), r->bytes,
-              r->heads.linear.size(), r->heads.grasp ? " + grasp head" : "");
+  std::string sensors;
+  for (const auto& h : r->heads.sensor_grasp)
+    sensors += (sensors.empty() ? "" : ", ") + h.sensors[0];
+  std::printf("wrote %s (%zu bytes): %zu linear heads%s%s%s%s\n", c.output.c_str(), r->bytes,
+              r->heads.linear.size(), r->heads.grasp ? " + grasp head" : "",
+              sensors.empty() ? "" : " + a grasp head per sensor model (", sensors.c_str(),
+              sensors.empty() ? "" : ")");
   for (const auto& [task, p] : r->heads.probes) {
     const eval::TaskResult* t = r->score.find(task, eval::Method::kModelHeads);
     std::printf("  %-13s l2=%-7g train acc %.3f (%lld rows)", eval::task_name(task), p.l2,
@@ -137,6 +144,9 @@ void add_heads_command(CLI::App& app, int& exit_code) {
   cmd->add_option("model", c->model, "Model file (.tlvm)")->required();
   cmd->add_option("-o,--output", c->output, "Output model file (.tlvm)")->required();
   c->flags.add_to(*cmd);
+  cmd->add_flag("--one-grasp-head", c->one_grasp_head,
+                "Fit only the grasp head for every sensor, not also one per sensor model when "
+                "the grasp set holds several");
   cmd->add_flag("--no-zero-shot", c->no_zero_shot,
                 "Do not add zero-shot heads for tasks the model has none for");
   cmd->add_flag("--keep-untrusted-zero-shot", c->keep_untrusted_zero_shot,

@@ -8,6 +8,17 @@
 
 namespace tlvlink::daemon {
 
+namespace {
+// "grasp", or "grasp (fitted on gelsight-mini)" for a sensor grasp head.
+std::string grasp_head_label(const heads::HeadEvaluator& heads, size_t head) {
+  std::string out(heads.grasp_name(head));
+  if (head == 0) return out;
+  out += " (fitted on";
+  for (std::string_view s : heads.grasp_head(head).sensors) out += " " + std::string(s);
+  return out + ")";
+}
+}  // namespace
+
 Result<std::unique_ptr<Model>> load_config_model(const DaemonConfig& config) {
   LoadOptions load;
   PublicKey key;
@@ -49,7 +60,7 @@ Result<ModelCheck> check_model(const DaemonConfig& config) {
   }
   std::vector<pipeline::SensorSetup> setups;
   for (const SensorConfig& c : config.sensors) {
-    setups.push_back({c.name, c.view.width, c.view.height, 3, c.finger});
+    setups.push_back({c.name, c.view.width, c.view.height, 3, c.finger, c.sensor_model});
   }
   auto processor = pipeline::FrameProcessor::create(m, *executor, setups, config.processing);
   if (!processor.ok()) return processor.error().with_context("%s", config.path.c_str());
@@ -58,7 +69,7 @@ Result<ModelCheck> check_model(const DaemonConfig& config) {
     out.reported_heads.emplace_back(results[static_cast<size_t>(h)].name);
   }
   if ((*processor)->tracks_grasps())
-    out.grasp_head = std::string((*processor)->heads().grasp_name());
+    out.grasp_head = grasp_head_label((*processor)->heads(), (*processor)->grasp_head());
   return out;
 }
 

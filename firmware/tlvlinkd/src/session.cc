@@ -135,14 +135,15 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
   }
   std::vector<pipeline::SensorSetup> setups;
   for (const SensorConfig& c : config.sensors) {
-    setups.push_back({c.name, c.view.width, c.view.height, 3, c.finger});
+    setups.push_back({c.name, c.view.width, c.view.height, 3, c.finger, c.sensor_model});
   }
   TLV_ASSIGN_OR_RETURN(s.processor, pipeline::FrameProcessor::create(*s.model, *s.executor, setups,
                                                                      config.processing));
   s.queue = std::make_unique<internal::OutputQueue>(config.output_queue);
   std::vector<std::string> sensor_names;
   for (const SensorConfig& c : config.sensors) sensor_names.push_back(c.name);
-  s.names = stream::output_names(std::move(sensor_names), s.processor->heads());
+  s.names = stream::output_names(std::move(sensor_names), s.processor->heads(),
+                                 s.processor->grasp_head());
 #if defined(TLVLINK_HAVE_STREAM)
   internal::StreamSink* link = nullptr;
 #endif

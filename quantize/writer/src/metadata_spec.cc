@@ -23,6 +23,11 @@ HeadTrustSpec trust(const HeadTrust& t) {
   s.baseline = t.baseline;
   return s;
 }
+GraspHeadSpec grasp_head(const GraspHead& h) {
+  return {std::string(h.name), std::string(h.feature_layout),
+          floats(h.weight),    h.bias,
+          trust(h.trust),      strings(h.sensors)};
+}
 }  // namespace
 
 MetadataSpec metadata_spec_from(const Metadata& m) {
@@ -44,10 +49,8 @@ MetadataSpec metadata_spec_from(const Metadata& m) {
                                  h.logit_scale, trust(h.trust)});
   }
   s.has_grasp_head = m.grasp_head.present;
-  if (s.has_grasp_head) {
-    s.grasp_head = {std::string(m.grasp_head.name), std::string(m.grasp_head.feature_layout),
-                    floats(m.grasp_head.weight), m.grasp_head.bias, trust(m.grasp_head.trust)};
-  }
+  if (s.has_grasp_head) s.grasp_head = grasp_head(m.grasp_head);
+  for (const GraspHead& h : m.sensor_grasp_heads) s.sensor_grasp_heads.push_back(grasp_head(h));
   s.producer = m.provenance.producer;
   s.created_utc = m.provenance.created_utc;
   s.training_json = m.provenance.training;

@@ -24,6 +24,20 @@ flatbuffers::Offset<fb::HeadTrust> write_trust(flatbuffers::FlatBufferBuilder& f
                              t.ci_low, t.ci_high, t.groups, t.baseline_accuracy, baseline);
 }
 
+// golden: the head's p(success) on the golden pairs (a sensor grasp head's), or null.
+flatbuffers::Offset<fb::GraspHead> write_grasp_head(flatbuffers::FlatBufferBuilder& fbb,
+                                                    const GraspHeadSpec& g, const float* golden) {
+  // Last field first, as the one call with every argument built in place did under GCC: files
+  // without the appended fields stay byte for byte what they were.
+  const auto golden_value = golden == nullptr ? 0 : fbb.CreateVector(golden, 1);
+  const auto sensors = g.sensors.empty() ? 0 : fbb.CreateVectorOfStrings(g.sensors);
+  const auto trust = write_trust(fbb, g.trust);
+  const auto weight = fbb.CreateVector(g.weight);
+  const auto layout = fbb.CreateString(g.feature_layout);
+  const auto name = fbb.CreateString(g.name);
+  return fb::CreateGraspHead(fbb, name, layout, weight, g.bias, trust, sensors, golden_value);
+}
+
 }  // namespace
 
 flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder& fbb,
@@ -53,10 +67,12 @@ flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder&
         write_trust(fbb, h.trust)));
   }
   flatbuffers::Offset<fb::GraspHead> grasp = 0;
-  if (spec.has_grasp_head) {
-    const auto& g = spec.grasp_head;
-    grasp = fb::CreateGraspHead(fbb, fbb.CreateString(g.name), fbb.CreateString(g.feature_layout),
-                                fbb.CreateVector(g.weight), g.bias, write_trust(fbb, g.trust));
+  if (spec.has_grasp_head) grasp = write_grasp_head(fbb, spec.grasp_head, nullptr);
+  std::vector<flatbuffers::Offset<fb::GraspHead>> sensor_grasp;
+  for (size_t i = 0; i < spec.sensor_grasp_heads.size(); ++i) {
+    const float* golden =
+        heads != nullptr && i < heads->sensor_grasp.size() ? &heads->sensor_grasp[i] : nullptr;
+    sensor_grasp.push_back(write_grasp_head(fbb, spec.sensor_grasp_heads[i], golden));
   }
   auto provenance = fb::CreateProvenance(
       fbb, fbb.CreateString(spec.producer),
@@ -75,7 +91,8 @@ flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder&
   return fb::CreateMetadata(fbb, fbb.CreateString(spec.name), input, spec.embedding_dim,
                             spec.embedding_output, fbb.CreateVector(linear),
                             fbb.CreateVector(zero_shot), grasp, provenance,
-                            fbb.CreateVector(golden), golden_grasp);
+                            fbb.CreateVector(golden), golden_grasp,
+                            sensor_grasp.empty() ? 0 : fbb.CreateVector(sensor_grasp));
 }
 
 }  // namespace tlvlink::quantize::writer_internal

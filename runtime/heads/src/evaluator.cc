@@ -98,13 +98,31 @@ Status HeadEvaluator::evaluate(std::span<const float> e) {
   return {};
 }
 
-std::string_view HeadEvaluator::grasp_name() const {
-  return has_grasp() ? metadata_->grasp_head.name : std::string_view();
+size_t HeadEvaluator::grasp_head_count() const {
+  return has_grasp() ? 1 + metadata_->sensor_grasp_heads.size() : 0;
 }
 
-Result<float> HeadEvaluator::grasp_probability(
-    std::span<const std::span<const float>> features) const {
+size_t HeadEvaluator::grasp_head_for(std::string_view sensor_model) const {
+  if (!has_grasp() || sensor_model.empty()) return 0;
+  for (size_t h = 0; h < metadata_->sensor_grasp_heads.size(); ++h)
+    for (std::string_view s : metadata_->sensor_grasp_heads[h].sensors)
+      if (s == sensor_model) return h + 1;
+  return 0;
+}
+
+const GraspHead& HeadEvaluator::grasp_head(size_t head) const {
+  return head == 0 ? metadata_->grasp_head : metadata_->sensor_grasp_heads[head - 1];
+}
+
+std::string_view HeadEvaluator::grasp_name(size_t head) const {
+  return has_grasp() && head < grasp_head_count() ? grasp_head(head).name : std::string_view();
+}
+
+Result<float> HeadEvaluator::grasp_probability(std::span<const std::span<const float>> features,
+                                               size_t head) const {
   TLV_ENSURE(has_grasp(), ErrorCode::kInvalidState, "the model has no grasp head");
+  TLV_ENSURE(head < grasp_head_count(), ErrorCode::kInvalidArgument,
+             "grasp head %zu of %zu requested", head, grasp_head_count());
   TLV_ENSURE(features.size() == grasp_layout_.size(), ErrorCode::kShapeMismatch,
              "grasp head reads %zu features (%.*s), got %zu", grasp_layout_.size(),
              static_cast<int>(metadata_->grasp_head.feature_layout.size()),
@@ -115,7 +133,8 @@ Result<float> HeadEvaluator::grasp_probability(
                "grasp feature %zu has %zu values, the head reads %zu there", k, features[k].size(),
                want);
   }
-  return sigmoid(grasp_logit(metadata_->grasp_head.weight, metadata_->grasp_head.bias, features));
+  const GraspHead& g = grasp_head(head);
+  return sigmoid(grasp_logit(g.weight, g.bias, features));
 }
 
 }  // namespace tlvlink::heads

@@ -122,6 +122,24 @@ Status convert_trust(const fb::HeadTrust* t, const char* what, std::string_view 
   return {};
 }
 
+Status convert_grasp_head(const fb::GraspHead& g, size_t dim, GraspHead& head) {
+  head.present = true;
+  head.name = view(g.name());
+  head.feature_layout = view(g.feature_layout());
+  head.weight = floats(g.weight());
+  head.bias = g.bias();
+  // The weight count against the feature layout (embeddings and difference statistics) is
+  // heads::HeadEvaluator::create's check, which every user of the head and load-time
+  // verification (golden head outputs) runs.
+  TLV_ENSURE(dim >= 1 && !head.weight.empty() && std::isfinite(head.bias),
+             ErrorCode::kModelInvalidMetadata,
+             "grasp head '%.*s' has %zu weights and bias %g (embedding dimension %zu)",
+             static_cast<int>(head.name.size()), head.name.data(), head.weight.size(),
+             static_cast<double>(g.bias()), dim);
+  TLV_TRY(check_finite_values(head.weight, "grasp head", head.name));
+  return convert_trust(g.trust(), "grasp head", head.name, head.trust);
+}
+
 Status convert_heads(const fb::Metadata& m, Metadata& out) {
   const auto dim = static_cast<size_t>(out.embedding_dim);
   if (m.linear_heads() != nullptr) {
@@ -164,18 +182,45 @@ Status convert_heads(const fb::Metadata& m, Metadata& out) {
       out.zero_shot_heads.push_back(std::move(head));
     }
   }
-  if (const fb::GraspHead* g = m.grasp_head(); g != nullptr) {
-    GraspHead& head = out.grasp_head;
-    head = {true, view(g->name()), view(g->feature_layout()), floats(g->weight()), g->bias(), {}};
-    // The weight count against the feature layout (embeddings and difference statistics) is
-    // heads::HeadEvaluator::create's check, which every user of the head and load-time
-    // verification (golden head outputs) runs.
-    TLV_ENSURE(dim >= 1 && !head.weight.empty() && std::isfinite(head.bias),
-               ErrorCode::kModelInvalidMetadata,
-               "grasp head has %zu weights and bias %g (embedding dimension %zu)",
-               head.weight.size(), static_cast<double>(g->bias()), dim);
-    TLV_TRY(check_finite_values(head.weight, "grasp head", head.name));
-    TLV_TRY(convert_trust(g->trust(), "grasp head", head.name, head.trust));
+  if (const fb::GraspHead* g = m.grasp_head(); g != nullptr)
+    TLV_TRY(convert_grasp_head(*g, dim, out.grasp_head));
+  if (m.sensor_grasp_heads() != nullptr) {
+    TLV_ENSURE(out.grasp_head.present, ErrorCode::kModelInvalidMetadata,
+               "the model has %u sensor grasp heads but no grasp head (the fallback for any "
+               "other sensor)",
+               m.sensor_grasp_heads()->size());
+    for (const fb::GraspHead* g : *m.sensor_grasp_heads()) {
+      GraspHead head;
+      TLV_TRY(convert_grasp_head(*g, dim, head));
+      head.sensors = strings(g->sensors());
+      TLV_ENSURE(head.feature_layout == out.grasp_head.feature_layout &&
+                     head.weight.size() == out.grasp_head.weight.size(),
+                 ErrorCode::kModelInvalidMetadata,
+                 "sensor grasp head '%.*s' reads '%.*s' (%zu weights); the grasp head reads "
+                 "'%.*s' (%zu): a runtime computes one feature layout for every head",
+                 static_cast<int>(head.name.size()), head.name.data(),
+                 static_cast<int>(head.feature_layout.size()), head.feature_layout.data(),
+                 head.weight.size(), static_cast<int>(out.grasp_head.feature_layout.size()),
+                 out.grasp_head.feature_layout.data(), out.grasp_head.weight.size());
+      TLV_ENSURE(!head.sensors.empty(), ErrorCode::kModelInvalidMetadata,
+                 "sensor grasp head '%.*s' names no sensor model",
+                 static_cast<int>(head.name.size()), head.name.data());
+      for (std::string_view sensor : head.sensors) {
+        for (const GraspHead& other : out.sensor_grasp_heads)
+          for (std::string_view taken : other.sensors)
+            TLV_ENSURE(sensor != taken && !sensor.empty(), ErrorCode::kModelInvalidMetadata,
+                       "sensor model '%.*s' has two sensor grasp heads (or an empty name)",
+                       static_cast<int>(sensor.size()), sensor.data());
+      }
+      const std::span<const float> golden = floats(g->golden());
+      TLV_ENSURE(golden.size() <= 1 && (golden.empty() || std::isfinite(golden[0])),
+                 ErrorCode::kModelInvalidMetadata,
+                 "sensor grasp head '%.*s': %zu golden values (one finite value expected)",
+                 static_cast<int>(head.name.size()), head.name.data(), golden.size());
+      head.has_golden = !golden.empty();
+      head.golden = golden.empty() ? 0.0f : golden[0];
+      out.sensor_grasp_heads.push_back(std::move(head));
+    }
   }
   return {};
 }
@@ -214,6 +259,10 @@ Status convert_golden(const fb::Metadata& m, Buffers buffers, const Graph& graph
              grasp.size());
   out.has_golden_grasp = !grasp.empty();
   out.golden_grasp = grasp.empty() ? 0.0f : grasp[0];
+  for (const GraspHead& h : out.sensor_grasp_heads)
+    TLV_ENSURE(!h.has_golden || !out.golden.empty(), ErrorCode::kModelInvalidMetadata,
+               "sensor grasp head '%.*s' stores a golden output but the model has no golden pairs",
+               static_cast<int>(h.name.size()), h.name.data());
   return {};
 }
 

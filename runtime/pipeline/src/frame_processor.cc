@@ -136,6 +136,9 @@ Result<std::unique_ptr<FrameProcessor>> FrameProcessor::create(const Model& mode
         GraspTracker::create(p->heads_.grasp_layout(), model.metadata().embedding_dim,
                              options.grasp_options, {input.height, input.width, input.channels}));
     p->tracker_ = std::make_unique<GraspTracker>(std::move(t));
+    const std::string& a = sensors[static_cast<size_t>(fingers[0])].sensor_model;
+    if (a == sensors[static_cast<size_t>(fingers[1])].sensor_model)
+      p->grasp_head_ = p->heads_.grasp_head_for(a);
     for (int32_t finger : {0, 1}) {
       if (!p->tracker_->wants_image(finger)) continue;
       Sensor& s = p->sensors_[static_cast<size_t>(fingers[finger])];
@@ -265,7 +268,8 @@ bool FrameProcessor::take_grasp(GraspPrediction& out) {
   if (!tracker_->take_finished(out, features)) return false;
   if (out.computed) {
     auto p = heads_.grasp_probability(
-        std::span<const std::span<const float>>(features, static_cast<size_t>(out.feature_count)));
+        std::span<const std::span<const float>>(features, static_cast<size_t>(out.feature_count)),
+        grasp_head_);
     if (p.ok()) {
       out.probability = *p;
     } else {

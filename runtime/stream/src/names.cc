@@ -5,7 +5,8 @@
 
 namespace tlvlink::stream {
 
-OutputNames output_names(std::vector<std::string> sensors, const heads::HeadEvaluator& evaluator) {
+OutputNames output_names(std::vector<std::string> sensors, const heads::HeadEvaluator& evaluator,
+                         size_t grasp_head) {
   OutputNames n;
   n.sensors = std::move(sensors);
   for (const heads::HeadResult& r : evaluator.results()) {
@@ -28,10 +29,11 @@ OutputNames output_names(std::vector<std::string> sensors, const heads::HeadEval
     }
     n.heads.push_back(std::move(h));
   }
-  n.grasp_head = std::string(evaluator.grasp_name());
-  if (evaluator.has_grasp() && evaluator.grasp_trust().present) {
-    n.grasp.accuracy = evaluator.grasp_trust().accuracy;
-    n.grasp.majority = evaluator.grasp_trust().majority;
+  if (grasp_head >= evaluator.grasp_head_count()) grasp_head = 0;
+  n.grasp_head = std::string(evaluator.grasp_name(grasp_head));
+  if (evaluator.has_grasp() && evaluator.grasp_trust(grasp_head).present) {
+    n.grasp.accuracy = evaluator.grasp_trust(grasp_head).accuracy;
+    n.grasp.majority = evaluator.grasp_trust(grasp_head).majority;
   }
   return n;
 }

@@ -60,6 +60,10 @@ Result<GoldenHeadOutputs> golden_head_outputs(const Model& model) {
     }
     TLV_ASSIGN_OR_RETURN(out.grasp, eval.grasp_probability(features));
     out.has_grasp = true;
+    for (size_t h = 1; h < eval.grasp_head_count(); ++h) {
+      TLV_ASSIGN_OR_RETURN(const float p, eval.grasp_probability(features, h));
+      out.sensor_grasp.push_back(p);
+    }
   }
   return out;
 }
@@ -69,6 +73,7 @@ Result<HeadCheck> check_golden_heads(const Model& model) {
   HeadCheck c;
   for (const GoldenPair& p : m.golden) c.stored = c.stored || !p.head_probabilities.empty();
   c.stored = c.stored || m.has_golden_grasp;
+  for (const GraspHead& h : m.sensor_grasp_heads) c.stored = c.stored || h.has_golden;
   if (!c.stored) return c;
   TLV_ENSURE(golden_heads_apply(model), ErrorCode::kModelInvalidMetadata,
              "the model stores golden head outputs but its embedding is not graph output 0");
@@ -91,6 +96,15 @@ Result<HeadCheck> check_golden_heads(const Model& model) {
              "the golden grasp output is %s but the model %s a grasp head",
              m.has_golden_grasp ? "stored" : "missing", want.has_grasp ? "has" : "has no");
   if (want.has_grasp) worse(static_cast<double>(want.grasp), static_cast<double>(m.golden_grasp));
+  for (size_t h = 0; h < m.sensor_grasp_heads.size(); ++h) {
+    const GraspHead& head = m.sensor_grasp_heads[h];
+    TLV_ENSURE(head.has_golden == m.has_golden_grasp, ErrorCode::kModelInvalidMetadata,
+               "sensor grasp head '%.*s' %s a golden output but the grasp head %s",
+               static_cast<int>(head.name.size()), head.name.data(),
+               head.has_golden ? "stores" : "lacks", m.has_golden_grasp ? "does" : "does not");
+    if (head.has_golden)
+      worse(static_cast<double>(want.sensor_grasp[h]), static_cast<double>(head.golden));
+  }
   c.pass = c.max_abs_error <= c.tolerance;
   return c;
 }

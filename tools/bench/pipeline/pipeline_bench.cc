@@ -204,7 +204,8 @@ int main(int argc, char** argv) {
                          [&](size_t) { return e.invoke_trusted_inputs().ok(); }));
   pipeline::ProcessorOptions po;
   po.contact_gating = false;  // every frame encoded, as the Python peer does
-  const pipeline::SensorSetup setup{"bench", sm->view.width, sm->view.height, 3, -1};
+  const pipeline::SensorSetup setup{"bench", sm->view.width,       sm->view.height, 3,
+                                    -1,      std::string(sm->name)};
   auto processor = pipeline::FrameProcessor::create(**model, e, std::span(&setup, 1), po);
   if (!processor.ok()) return std::fprintf(stderr, "%s\n", processor.error().message()), 1;
   pipeline::FramePrediction out;

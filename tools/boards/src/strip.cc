@@ -93,7 +93,10 @@ Result<StripReport> strip_model(const std::string& model_path, const daemon::Sce
     const std::string name = "grasp:" + std::string(md.grasp_head.name);
     const bool keep = scene.grasp != "off";
     (keep ? report.kept : report.removed).push_back(name);
-    if (!keep) spec.has_grasp_head = false;
+    if (!keep) {
+      spec.has_grasp_head = false;
+      spec.sensor_grasp_heads.clear();
+    }
   }
   report.golden_before = md.golden.size();
   TLV_ENSURE(!md.golden.empty(), ErrorCode::kInvalidState,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "tlvlink/eval/eval.h"
@@ -105,18 +106,86 @@ TaskResult score_touch(const TouchEmbeddings& t, Task task, Method method, const
   return r;
 }
 
-Result<TaskResult> score_grasp_head(const GraspEmbeddings& g, Method method,
-                                    std::span<const float> w, float b, std::string_view layout,
-                                    std::string source) {
+// The grasp head scoring test episode i (null: leave the episode out).
+using GraspHeadFor = std::function<const GraspHead*(size_t)>;
+
+Result<TaskResult> score_grasp_heads(const GraspEmbeddings& g, Method method,
+                                     const GraspHeadFor& head_for, std::string source) {
   TaskResult r = cell(Task::kGrasp, method);
   Tally tally(Task::kGrasp);
   for (size_t i = 0; i < g.size(); ++i) {
     if (g.is_test[i] == 0) continue;
-    TLV_ASSIGN_OR_RETURN(const float logit, grasp_head_logit(w, b, layout, g, i));
+    const GraspHead* h = head_for(i);
+    if (h == nullptr) continue;
+    TLV_ASSIGN_OR_RETURN(const float logit,
+                         grasp_head_logit(h->weight, h->bias, h->feature_layout, g, i));
     tally.add(g.label[i], logit > 0 ? 1 : 0);
   }
   finish(r, std::move(tally), std::move(source));
   return r;
+}
+
+Result<TaskResult> score_grasp_head(const GraspEmbeddings& g, Method method,
+                                    std::span<const float> w, float b, std::string_view layout,
+                                    std::string source) {
+  GraspHead head;
+  head.weight = w;
+  head.bias = b;
+  head.feature_layout = layout;
+  return score_grasp_heads(
+      g, method, [&](size_t) { return &head; }, std::move(source));
+}
+
+// The head a runtime uses for episode i's sensor: the sensor grasp head naming it, else the
+// grasp head (heads::HeadEvaluator::grasp_head_for, on the set's recorded sensor).
+const GraspHead* runtime_grasp_head(const Metadata& m, const GraspEmbeddings& g, size_t i) {
+  const std::string_view sensor = i < g.sensor.size() ? g.sensor[i] : std::string_view();
+  for (const GraspHead& h : m.sensor_grasp_heads)
+    if (!sensor.empty() && std::find(h.sensors.begin(), h.sensors.end(), sensor) != h.sensors.end())
+      return &h;
+  return &m.grasp_head;
+}
+
+// The model-heads grasp cell as a runtime scores it (each episode by its sensor's head), and
+// each head alone on the episodes it is for (the grasp head on all: it is the fallback for any
+// sensor), for their trust records.
+Status score_model_grasp(const Metadata& m, const GraspEmbeddings& g, EvalReport& rep) {
+  const std::string name(m.grasp_head.name);
+  std::string source = "model head '" + name + "'";
+  if (!m.sensor_grasp_heads.empty())
+    source += " and its sensor heads, each episode by its sensor's";
+  TLV_ASSIGN_OR_RETURN(
+      TaskResult cell,
+      score_grasp_heads(
+          g, Method::kModelHeads, [&](size_t i) { return runtime_grasp_head(m, g, i); }, source));
+  rep.results.push_back(std::move(cell));
+  if (m.sensor_grasp_heads.empty()) return {};
+  TLV_ASSIGN_OR_RETURN(TaskResult all,
+                       score_grasp_heads(
+                           g, Method::kModelHeads, [&](size_t) { return &m.grasp_head; },
+                           "model head '" + name + "' (any sensor) on every episode"));
+  rep.grasp_head_cells.push_back(std::move(all));
+  for (const GraspHead& h : m.sensor_grasp_heads) {
+    const auto mine = [&](size_t i) { return runtime_grasp_head(m, g, i) == &h ? &h : nullptr; };
+    const auto fallback = [&](size_t i) { return mine(i) != nullptr ? &m.grasp_head : nullptr; };
+    std::string sensors;
+    for (std::string_view s : h.sensors) sensors += (sensors.empty() ? "" : ",") + std::string(s);
+    TLV_ASSIGN_OR_RETURN(TaskResult own,
+                         score_grasp_heads(g, Method::kModelHeads, mine,
+                                           "sensor head '" + std::string(h.name) + "' (" + sensors +
+                                               ") on its sensor's episodes"));
+    if (own.n == 0) continue;  // no episode of its sensor in this set
+    TLV_ASSIGN_OR_RETURN(TaskResult any, score_grasp_heads(g, Method::kModelHeads, fallback, ""));
+    char buf[240];
+    std::snprintf(buf, sizeof buf,
+                  "grasp model heads on %s episodes (n=%lld): its sensor head %.1f %%, the "
+                  "any-sensor head %.1f %% (majority %.1f %%)",
+                  sensors.c_str(), static_cast<long long>(own.n), 100 * own.accuracy,
+                  100 * any.accuracy, 100 * own.majority);
+    rep.notes.emplace_back(buf);
+    rep.grasp_head_cells.push_back(std::move(own));
+  }
+  return {};
 }
 
 // TLV-Link's grasp zero-shot: logits averaged over fingers A/B x before/after.
@@ -215,12 +284,8 @@ Status evaluate_model_heads(const Metadata& m, const EmbeddingSet& set, EvalRepo
         rep.results.push_back(unavailable(task, Method::kModelHeads, "no grasp data"));
       } else if (!m.grasp_head.present) {
         rep.results.push_back(unavailable(task, Method::kModelHeads, "model has no grasp head"));
-      } else {
-        const GraspHead& g = m.grasp_head;
-        auto r = score_grasp_head(*set.grasp, Method::kModelHeads, g.weight, g.bias,
-                                  g.feature_layout, "model head '" + std::string(g.name) + "'");
-        rep.results.push_back(r.ok() ? std::move(r).value()
-                                     : unavailable(task, Method::kModelHeads, r.error().message()));
+      } else if (Status st = score_model_grasp(m, *set.grasp, rep); !st.ok()) {
+        rep.results.push_back(unavailable(task, Method::kModelHeads, st.error().message()));
       }
       continue;
     }

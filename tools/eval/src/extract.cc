@@ -249,6 +249,7 @@ Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
       out.hidden_during.push_back({e.states[0][static_cast<int>(heads::Moment::kDuring)],
                                    e.states[1][static_cast<int>(heads::Moment::kDuring)]});
       out.group.push_back(e.object_name);
+      out.sensor.push_back(e.sensor);
       out.is_test.push_back(test ? 1 : 0);
       out.keys.push_back((*loader)->key());
       ++taken;

@@ -1,5 +1,6 @@
 // fit_heads: probes on the train split; model_with_heads: the heads written into a model copy.
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -50,18 +51,17 @@ Status fit_touch(const TouchEmbeddings& t, const HeadFitOptions& o, FittedHeads&
   return {};
 }
 
-Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads& out) {
-  const std::string layout_text = grasp_feature_layout(o.grasp_features);
-  TLV_ASSIGN_OR_RETURN(const auto layout, heads::parse_grasp_layout(layout_text));
-  TLV_ENSURE(!heads::has_difference(layout) || !g.difference.empty(), ErrorCode::kInvalidArgument,
-             "grasp features '%s' read difference features; the grasp set has none (a model "
-             "whose input is not 3-channel gives none): use --grasp-features before-during",
-             layout_text.c_str());
+// A grasp head on the training episodes `use` accepts (probe diagnostics into `probe`); empty
+// with a note (`why`) when they hold one class only.
+Result<std::optional<quantize::GraspHeadSpec>> fit_grasp_head(
+    const GraspEmbeddings& g, const HeadFitOptions& o, const std::string& layout_text,
+    std::span<const heads::GraspFeature> layout, const std::function<bool(size_t)>& use,
+    std::optional<FittedProbe>& probe_out, std::string& why) {
   std::vector<float> x;
   std::vector<int32_t> y;
   std::vector<std::string> groups;
   for (size_t i = 0; i < g.size(); ++i) {
-    if (g.is_test[i] != 0) continue;
+    if (g.is_test[i] != 0 || !use(i)) continue;
     for (const int32_t swap : {0, 1}) {
       if (swap == 1 && !o.grasp_swap_fingers) break;
       for (const heads::GraspFeature& f : layout) {
@@ -72,10 +72,8 @@ Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads&
       groups.push_back(g.group[i]);  // both copies in the same validation group
     }
   }
-  if (const std::string why = unfit_reason(y); !why.empty()) {
-    out.notes.push_back("grasp: not fitted, " + why);
-    return {};
-  }
+  why = unfit_reason(y);
+  if (!why.empty()) return std::optional<quantize::GraspHeadSpec>();
   const auto features = static_cast<int32_t>(heads::layout_values(layout, g.dim));
   ProbeData data{x, features, y, 2, groups};
   auto probe = fit_probe(data, o.probe);
@@ -88,9 +86,46 @@ Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads&
   h.weight.resize(f);
   for (size_t i = 0; i < f; ++i) h.weight[i] = probe->weight[f + i] - probe->weight[i];
   h.bias = probe->bias[1] - probe->bias[0];
-  out.grasp = std::move(h);
+  probe_out = std::move(probe).value();
+  return std::optional<quantize::GraspHeadSpec>(std::move(h));
+}
+
+Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads& out) {
+  const std::string layout_text = grasp_feature_layout(o.grasp_features);
+  TLV_ASSIGN_OR_RETURN(const auto layout, heads::parse_grasp_layout(layout_text));
+  TLV_ENSURE(!heads::has_difference(layout) || !g.difference.empty(), ErrorCode::kInvalidArgument,
+             "grasp features '%s' read difference features; the grasp set has none (a model "
+             "whose input is not 3-channel gives none): use --grasp-features before-during",
+             layout_text.c_str());
+  std::optional<FittedProbe> probe;
+  std::string why;
+  TLV_ASSIGN_OR_RETURN(out.grasp,
+                       fit_grasp_head(
+                           g, o, layout_text, layout, [](size_t) { return true; }, probe, why));
+  if (!out.grasp) {
+    out.notes.push_back("grasp: not fitted, " + why);
+    return {};
+  }
   out.grasp_swap_fingers = o.grasp_swap_fingers;
-  out.probes.emplace_back(Task::kGrasp, std::move(probe).value());
+  out.probes.emplace_back(Task::kGrasp, std::move(*probe));
+  if (!o.grasp_per_sensor) return {};
+  std::set<std::string> sensors;
+  for (size_t i = 0; i < g.size() && i < g.sensor.size(); ++i)
+    if (g.is_test[i] == 0 && !g.sensor[i].empty()) sensors.insert(g.sensor[i]);
+  if (sensors.size() < 2) return {};  // the grasp head is already the one sensor's
+  for (const std::string& sensor : sensors) {
+    std::optional<FittedProbe> sensor_probe;
+    TLV_ASSIGN_OR_RETURN(
+        auto head, fit_grasp_head(
+                       g, o, layout_text, layout, [&](size_t i) { return g.sensor[i] == sensor; },
+                       sensor_probe, why));
+    if (!head) {
+      out.notes.push_back("grasp: no head for sensor " + sensor + ", " + why);
+      continue;
+    }
+    head->sensors = {sensor};
+    out.sensor_grasp.push_back(std::move(*head));
+  }
   return {};
 }
 
@@ -108,6 +143,9 @@ nlohmann::json probes_json(const FittedHeads& heads, const WriteHeadsOptions& o)
   if (heads.grasp) {
     j["grasp_feature_layout"] = heads.grasp->feature_layout;
     j["grasp_swap_fingers"] = heads.grasp_swap_fingers;
+    std::vector<std::string> sensors;
+    for (const quantize::GraspHeadSpec& h : heads.sensor_grasp) sensors.push_back(h.sensors[0]);
+    j["grasp_heads_per_sensor"] = sensors;
   }
   j["notes"] = heads.notes;
   if (!o.provenance_note.empty()) j["context"] = o.provenance_note;
@@ -141,6 +179,7 @@ Result<std::vector<std::byte>> model_with_heads(const Model& model, const Fitted
   if (heads.grasp && (options.replace_grasp || !meta.has_grasp_head)) {
     meta.has_grasp_head = true;
     meta.grasp_head = *heads.grasp;
+    meta.sensor_grasp_heads = heads.sensor_grasp;  // the old ones went with the old grasp head
   }
   std::string text_encoder;
   if (options.add_missing_zero_shot) {

@@ -89,9 +89,22 @@ Result<std::vector<std::byte>> model_with_trust(const Model& model, const EvalRe
     out.push_back(line_of("linear", h.name, h.trust, false));
   }
   if (meta.has_grasp_head) {
-    if (const TaskResult* c = scored(report, meta.grasp_head.name, Method::kModelHeads))
+    // With sensor heads, each record is the head's own (evaluate.cc score_model_grasp).
+    const bool own = report.grasp_head_cells.size() == 1 + meta.sensor_grasp_heads.size();
+    if (own) {
+      meta.grasp_head.trust = record_of(report, report.grasp_head_cells[0]);
+    } else if (const TaskResult* c = scored(report, meta.grasp_head.name, Method::kModelHeads)) {
       meta.grasp_head.trust = record_of(report, *c);
+    }
     out.push_back(line_of("grasp", meta.grasp_head.name, meta.grasp_head.trust, false));
+    for (size_t h = 0; h < meta.sensor_grasp_heads.size(); ++h) {
+      quantize::GraspHeadSpec& g = meta.sensor_grasp_heads[h];
+      if (own) {
+        g.trust = record_of(report, report.grasp_head_cells[h + 1]);
+        g.trust.test_set += " (" + g.sensors[0] + " episodes)";
+      }
+      out.push_back(line_of("grasp", g.name + " (" + g.sensors[0] + ")", g.trust, false));
+    }
   }
   std::vector<quantize::ZeroShotHeadSpec> kept;
   for (quantize::ZeroShotHeadSpec& h : meta.zero_shot_heads) {

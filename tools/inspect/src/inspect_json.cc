@@ -70,12 +70,18 @@ json metadata_json(const Model& model) {
          {"labels", std::vector<std::string>(h.class_names.begin(), h.class_names.end())},
          {"trust", trust_json(h.trust)}});
   }
-  if (m.grasp_head.present) {
+  // The grasp head, then the sensor grasp heads ("sensors": the models each was fitted on; the
+  // grasp head's list is empty: any sensor).
+  std::vector<const GraspHead*> grasp;
+  if (m.grasp_head.present) grasp.push_back(&m.grasp_head);
+  for (const GraspHead& g : m.sensor_grasp_heads) grasp.push_back(&g);
+  for (const GraspHead* g : grasp) {
     heads.push_back({{"kind", "grasp"},
-                     {"name", m.grasp_head.name},
-                     {"feature_layout", m.grasp_head.feature_layout},
-                     {"weights", m.grasp_head.weight.size()},
-                     {"trust", trust_json(m.grasp_head.trust)}});
+                     {"name", g->name},
+                     {"sensors", std::vector<std::string>(g->sensors.begin(), g->sensors.end())},
+                     {"feature_layout", g->feature_layout},
+                     {"weights", g->weight.size()},
+                     {"trust", trust_json(g->trust)}});
   }
   return {{"name", m.name},
           {"schema_version", model.schema_version()},

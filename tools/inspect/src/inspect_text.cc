@@ -61,6 +61,13 @@ void print_metadata(std::string& out, const Model& model) {
             m.grasp_head.weight.size(), static_cast<int>(m.grasp_head.feature_layout.size()),
             m.grasp_head.feature_layout.data(), trust_text(m.grasp_head.trust).c_str());
   }
+  for (const GraspHead& g : m.sensor_grasp_heads) {
+    std::string sensors;
+    for (std::string_view s : g.sensors) sensors += (sensors.empty() ? "" : ", ") + std::string(s);
+    appendf(out, "grasp head   %.*s for %s (fitted on those sensors only)\n             %s\n",
+            static_cast<int>(g.name.size()), g.name.data(), sensors.c_str(),
+            trust_text(g.trust).c_str());
+  }
   appendf(out, "golden pairs %zu\n", m.golden.size());
 }
 

@@ -67,6 +67,11 @@ struct GraspHead {
   std::span<const float> weight;
   float bias = 0;
   HeadTrust trust = {};
+  // A head of Metadata::sensor_grasp_heads: the sensor models it was fitted on, and its expected
+  // p(success) on the golden pairs as Metadata::golden_grasp (has_golden false: not stored).
+  std::vector<std::string_view> sensors;
+  bool has_golden = false;
+  float golden = 0;
 };
 
 struct Provenance {
@@ -96,6 +101,9 @@ struct Metadata {
   // reused in turn when fewer); absent (false) without a grasp head or in older files.
   bool has_golden_grasp = false;
   float golden_grasp = 0;
+  // Grasp heads fitted on one sensor model's grasps (same feature layout as grasp_head, which
+  // they require): fingers of a model one of them names use it, any other finger grasp_head.
+  std::vector<GraspHead> sensor_grasp_heads;
 };
 
 }  // namespace tlvlink

@@ -68,6 +68,7 @@ struct GraspHeadSpec {
   std::vector<float> weight;
   float bias = 0;
   HeadTrustSpec trust = {};
+  std::vector<std::string> sensors = {};  // a sensor grasp head's sensor models (metadata.h)
 };
 struct InputSpecDef {
   int32_t height = 0, width = 0, channels = 3;
@@ -86,6 +87,8 @@ struct MetadataSpec {
   std::vector<ZeroShotHeadSpec> zero_shot_heads;
   bool has_grasp_head = false;
   GraspHeadSpec grasp_head;
+  // Heads fitted on one sensor model's grasps (metadata.h Metadata::sensor_grasp_heads).
+  std::vector<GraspHeadSpec> sensor_grasp_heads;
   std::string producer = "tlvlink";
   std::string created_utc;  // empty: filled with the current time at finish()
   std::string training_json, quantization_json;

@@ -53,14 +53,23 @@ class HeadEvaluator {
   Status evaluate(std::span<const float> embedding);
   std::span<const HeadResult> results() const { return results_; }
 
-  // The grasp head, if the model has one: the features its layout names, in layout order.
+  // The grasp heads, if the model has one: the features their layout names, in layout order.
+  // Head 0 is the model's grasp head (fitted on every sensor); heads 1.. its sensor grasp heads
+  // (Metadata::sensor_grasp_heads, same layout), each fitted on one sensor model's grasps.
   bool has_grasp() const { return !grasp_layout_.empty(); }
-  std::string_view grasp_name() const;
-  const HeadTrust& grasp_trust() const { return metadata_->grasp_head.trust; }
+  size_t grasp_head_count() const;
+  // The head for fingers of `sensor_model` (capture/sensor_models.h names): the sensor grasp
+  // head that names it, else 0. Also 0 for an empty name.
+  size_t grasp_head_for(std::string_view sensor_model) const;
+  const GraspHead& grasp_head(size_t head = 0) const;  // head < grasp_head_count()
+  std::string_view grasp_name(size_t head = 0) const;
+  const HeadTrust& grasp_trust(size_t head = 0) const { return grasp_head(head).trust; }
   std::span<const GraspFeature> grasp_layout() const { return grasp_layout_; }
-  // p(success) from one feature per layout entry (an embedding of embedding_dim values, or a
-  // finger's kDifferenceFeatures difference statistics). No allocation.
-  Result<float> grasp_probability(std::span<const std::span<const float>> features) const;
+  // p(success) of grasp head `head` from one feature per layout entry (an embedding of
+  // embedding_dim values, or a finger's kDifferenceFeatures difference statistics). No
+  // allocation.
+  Result<float> grasp_probability(std::span<const std::span<const float>> features,
+                                  size_t head = 0) const;
 
  private:
   const Metadata* metadata_ = nullptr;

@@ -29,12 +29,15 @@
 
 namespace tlvlink::pipeline {
 
-// One sensor as the processor sees it: its processed frames' size and its finger (-1: not part of
-// a grasp; 0 = A, 1 = B).
+// One sensor as the processor sees it: its processed frames' size, its finger (-1: not part of
+// a grasp; 0 = A, 1 = B) and its sensor model (capture/sensor_models.h: "gelsight-mini",
+// "digit"; empty: not known), which picks the grasp head fitted on that model when the model
+// file has one.
 struct SensorSetup {
   std::string name;
   int32_t width = 0, height = 0, channels = 3;
   int32_t finger = -1;
+  std::string sensor_model;
 };
 
 struct ProcessorOptions {
@@ -83,6 +86,9 @@ class FrameProcessor {
   std::span<const int16_t> reported_heads() const { return reported_; }
   const heads::HeadEvaluator& heads() const { return heads_; }
   bool tracks_grasps() const { return tracker_ != nullptr; }
+  // The grasp head used (HeadEvaluator index): the fingers' sensor model's head when both
+  // fingers are of one model and the file has a head for it, else 0 (fitted on every sensor).
+  size_t grasp_head() const { return grasp_head_; }
   const ProcessorCounters& counters() const { return counters_; }
   const ContactGate& gate(int32_t sensor) const {
     return sensors_[static_cast<size_t>(sensor)].gate;
@@ -116,6 +122,7 @@ class FrameProcessor {
   std::vector<float> difference_image_;  // a finger's frame for the tracker (difference_plan)
   int32_t int8_tensor_ = -1;             // report_embedding: the int8 tensor reported (-1: none)
   std::unique_ptr<GraspTracker> tracker_;
+  size_t grasp_head_ = 0;
   ProcessorCounters counters_;
 };
 

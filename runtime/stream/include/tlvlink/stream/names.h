@@ -32,7 +32,9 @@ struct OutputNames {
   Head grasp;  // the grasp head's trust record (name and labels unused)
 };
 
-// The names of `heads`' per-frame heads (and its grasp head) for sensors named `sensors`.
-OutputNames output_names(std::vector<std::string> sensors, const heads::HeadEvaluator& heads);
+// The names of `heads`' per-frame heads (and of grasp head `grasp_head`, the one the board uses:
+// pipeline::FrameProcessor::grasp_head()) for sensors named `sensors`.
+OutputNames output_names(std::vector<std::string> sensors, const heads::HeadEvaluator& heads,
+                         size_t grasp_head = 0);
 
 }  // namespace tlvlink::stream

@@ -1,6 +1,6 @@
 #pragma once
 // The heads' part of the golden pairs: every per-frame head's probabilities on each golden
-// output read as the embedding, and the grasp head's p(success) with golden output k as its
+// output read as the embedding, and each grasp head's p(success) with golden output k as its
 // layout's feature k. Computed once here, by the writer (to store them) and by verify (to check
 // them), with the board's own head arithmetic (runtime/heads).
 //
@@ -27,6 +27,8 @@ struct GoldenHeadOutputs {
   std::vector<std::vector<float>> pairs;
   bool has_grasp = false;
   float grasp = 0;
+  // The same for each sensor grasp head, in file order (the same features).
+  std::vector<float> sensor_grasp;
 };
 
 // Whether the model's golden pairs can carry head outputs: golden pairs, at least one head, and

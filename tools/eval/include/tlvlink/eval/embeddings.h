@@ -137,6 +137,8 @@ struct GraspEmbeddings {
   // from its sidecar); 0 for the dataset's JPEG path and for sets that do not record it.
   std::vector<uint8_t> live_path;
   std::vector<std::string> group;  // object name
+  // The sensor model both fingers carry ("gelsight-mini"; "" when the set does not record it).
+  std::vector<std::string> sensor;
   std::vector<uint8_t> is_test;
   std::vector<std::string> keys;
   // What the simulator recorded about each episode (its sidecar): the grasp variables, the

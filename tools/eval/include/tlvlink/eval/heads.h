@@ -71,6 +71,10 @@ struct HeadFitOptions {
   // once with A and B swapped: the fit then gives both fingers the same weights, half the free
   // parameters for the same data.
   bool grasp_swap_fingers = true;
+  // When the grasp set's training split holds several sensor models, also a grasp head per
+  // model fitted on that model's episodes alone (metadata.h sensor_grasp_heads): one head for
+  // every sensor is a compromise between their optics (firmware/models/README.md).
+  bool grasp_per_sensor = true;
 };
 
 // Probes fitted on the TRAIN split: linear heads named by task_name() with canonical labels,
@@ -79,9 +83,10 @@ struct HeadFitOptions {
 struct FittedHeads {
   std::vector<quantize::LinearHeadSpec> linear;
   std::optional<quantize::GraspHeadSpec> grasp;
-  bool grasp_swap_fingers = false;                   // fitted with A/B-swapped copies
-  std::vector<std::pair<Task, FittedProbe>> probes;  // diagnostics per fitted task
-  std::vector<std::string> notes;                    // tasks skipped and why
+  std::vector<quantize::GraspHeadSpec> sensor_grasp;  // grasp_per_sensor: one per sensor model
+  bool grasp_swap_fingers = false;                    // fitted with A/B-swapped copies
+  std::vector<std::pair<Task, FittedProbe>> probes;   // diagnostics per fitted task
+  std::vector<std::string> notes;                     // tasks skipped and why
 };
 Result<FittedHeads> fit_heads(const EmbeddingSet& set, const HeadFitOptions& options);
 
