@@ -64,12 +64,25 @@ TEST(PipelineFeelReplay, GraspPredictionsAreTheGraspHeadOnTheEpisodesFrames) {
   sim::GraspEpisode ep;
   ASSERT_TRUE((*gen)->generate(0, ep).ok());
   const int32_t w = ep.frames[0][0].width, h = ep.frames[0][0].height;
-  const SensorSetup sensors[2] = {{"A", w, h, 3, 0}, {"B", w, h, 3, 1}};
+  // The episodes are GelSight Mini grasps (the generator's default sensor): the fingers say so,
+  // and the processor uses the model's Mini grasp head.
+  const SensorSetup sensors[2] = {{"A", w, h, 3, 0, "gelsight-mini"},
+                                  {"B", w, h, 3, 1, "gelsight-mini"}};
   auto p = FrameProcessor::create(m, **exec, sensors, po);
   ASSERT_TRUE(p.ok()) << p.error().message();
   ASSERT_TRUE((*p)->tracks_grasps());
   auto heads = heads::HeadEvaluator::create(m.metadata());
   ASSERT_TRUE(heads.ok());
+  const size_t mini_head = heads->grasp_head_for("gelsight-mini");
+  EXPECT_NE(mini_head, 0u) << "the shipped model has a grasp head fitted on GelSight Mini grasps";
+  EXPECT_EQ((*p)->grasp_head(), mini_head);
+  {
+    // Fingers of two models (or of a model without its own head) use the any-sensor head.
+    const SensorSetup mixed[2] = {{"A", w, h, 3, 0, "gelsight-mini"}, {"B", w, h, 3, 1, "digit"}};
+    auto q = FrameProcessor::create(m, **exec, mixed, po);
+    ASSERT_TRUE(q.ok()) << q.error().message();
+    EXPECT_EQ((*q)->grasp_head(), 0u);
+  }
   uint64_t seq = 0;
   int64_t t = 0;
   int computed = 0;
@@ -118,7 +131,7 @@ TEST(PipelineFeelReplay, GraspPredictionsAreTheGraspHeadOnTheEpisodesFrames) {
       ASSERT_TRUE(stats->compute(*open_gel, *grip, e.back()).ok());
     }
     for (const auto& v : e) features.emplace_back(v);
-    auto want = heads->grasp_probability(features);
+    auto want = heads->grasp_probability(features, mini_head);
     ASSERT_TRUE(want.ok());
     EXPECT_EQ(g.probability, *want) << "episode " << i << " (label " << ep.is_gripping << ")";
   }
