@@ -57,6 +57,13 @@ void print_heads(const Metadata& m, std::span<const float> embedding) {
         m.grasp_head.weight.size() / static_cast<size_t>(m.embedding_dim),
         static_cast<int>(m.grasp_head.feature_layout.size()), m.grasp_head.feature_layout.data(),
         inspect::trust_text(m.grasp_head.trust, false).c_str());
+    for (const GraspHead& g : m.sensor_grasp_heads) {
+      std::string sensors;
+      for (std::string_view v : g.sensors) sensors += (sensors.empty() ? "" : ",") + std::string(v);
+      std::printf("head %-14.*s %-9s -> the grasp head for %s fingers  [%s]\n",
+                  static_cast<int>(g.name.size()), g.name.data(), "probe", sensors.c_str(),
+                  inspect::trust_text(g.trust, false).c_str());
+    }
   }
   if (m.provenance.training.find("random-reference") != std::string_view::npos) {
     std::printf(
