@@ -12,6 +12,7 @@
 #include "support/random.h"
 #include "support/test_models.h"
 #include "tlvlink/eval/eval.h"
+#include "tlvlink/eval/trust.h"
 #include "tlvlink/executor.h"
 #include "tlvlink/heads/evaluator.h"
 #include "tlvlink/heads/head_math.h"
@@ -297,6 +298,26 @@ TEST(ModelHeads, AGraspHeadPerSensorModelIsFittedOnItsEpisodesAndUsedForThem) {
   }
   EXPECT_EQ(right, used->correct) << "the runtime's choice of head is eval's";
   EXPECT_EQ(n, used->n);
+
+  // Trust records: each head its own; a set holding one sensor's episodes only says nothing of
+  // the other sensor's head, whose record stays as it was (here: none).
+  eval::EmbeddingSet digit_only = set;
+  for (std::string& s : digit_only.grasp->sensor) s = "digit";
+  auto d = eval::evaluate_embeddings(m, digit_only, o);
+  ASSERT_TRUE(d.ok()) << d.error().message();
+  ASSERT_EQ(d->grasp_head_cells.size(), 3u);
+  EXPECT_EQ(d->grasp_head_cells[2].n, 0) << "no gelsight-mini episode";
+  auto recorded = eval::model_with_trust(*model, *d, {}, nullptr);
+  ASSERT_TRUE(recorded.ok()) << recorded.error().message();
+  auto with_trust = testing::load_model(*recorded);
+  ASSERT_NE(with_trust, nullptr);
+  const Metadata& t = with_trust->metadata();
+  EXPECT_TRUE(t.grasp_head.trust.present);
+  EXPECT_EQ(t.grasp_head.trust.n, used->n);
+  ASSERT_EQ(t.sensor_grasp_heads.size(), 2u);
+  EXPECT_TRUE(t.sensor_grasp_heads[0].trust.present);
+  EXPECT_EQ(t.sensor_grasp_heads[0].trust.n, used->n) << "every episode is a DIGIT one now";
+  EXPECT_FALSE(t.sensor_grasp_heads[1].trust.present) << "no Mini episode: no Mini record";
 }
 
 TEST(ModelHeads, ModelWithoutEmbeddingOutputIsRefused) {

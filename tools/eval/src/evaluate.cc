@@ -174,7 +174,10 @@ Status score_model_grasp(const Metadata& m, const GraspEmbeddings& g, EvalReport
                          score_grasp_heads(g, Method::kModelHeads, mine,
                                            "sensor head '" + std::string(h.name) + "' (" + sensors +
                                                ") on its sensor's episodes"));
-    if (own.n == 0) continue;  // no episode of its sensor in this set
+    if (own.n == 0) {  // no episode of its sensor in this set: nothing to say of it
+      rep.grasp_head_cells.push_back(std::move(own));
+      continue;
+    }
     TLV_ASSIGN_OR_RETURN(TaskResult any, score_grasp_heads(g, Method::kModelHeads, fallback, ""));
     char buf[240];
     std::snprintf(buf, sizeof buf,

@@ -115,10 +115,11 @@ Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads&
   if (sensors.size() < 2) return {};  // the grasp head is already the one sensor's
   for (const std::string& sensor : sensors) {
     std::optional<FittedProbe> sensor_probe;
-    TLV_ASSIGN_OR_RETURN(
-        auto head, fit_grasp_head(
-                       g, o, layout_text, layout, [&](size_t i) { return g.sensor[i] == sensor; },
-                       sensor_probe, why));
+    TLV_ASSIGN_OR_RETURN(auto head,
+                         fit_grasp_head(
+                             g, o, layout_text, layout,
+                             [&](size_t i) { return i < g.sensor.size() && g.sensor[i] == sensor; },
+                             sensor_probe, why));
     if (!head) {
       out.notes.push_back("grasp: no head for sensor " + sensor + ", " + why);
       continue;

@@ -99,7 +99,8 @@ Result<std::vector<std::byte>> model_with_trust(const Model& model, const EvalRe
     out.push_back(line_of("grasp", meta.grasp_head.name, meta.grasp_head.trust, false));
     for (size_t h = 0; h < meta.sensor_grasp_heads.size(); ++h) {
       quantize::GraspHeadSpec& g = meta.sensor_grasp_heads[h];
-      if (own) {
+      // A set without this head's sensor says nothing of it: its record stays.
+      if (own && report.grasp_head_cells[h + 1].n > 0) {
         g.trust = record_of(report, report.grasp_head_cells[h + 1]);
         g.trust.test_set += " (" + g.sensors[0] + " episodes)";
       }

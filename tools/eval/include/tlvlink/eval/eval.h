@@ -115,7 +115,8 @@ struct EvalReport {
   std::vector<std::pair<Task, FittedProbe>> probes;  // diagnostics of each fitted probe
   std::vector<std::string> notes;  // e.g. "the model is the random reference encoder ..."
   // A model with sensor grasp heads: its grasp head alone on every test episode, then each
-  // sensor head on its sensor's (their trust records); the model-heads grasp cell in `results`
+  // sensor head on its sensor's (their trust records; n = 0 when the set holds none of that
+  // sensor's episodes); the model-heads grasp cell in `results`
   // scores each episode by its sensor's head, as a runtime does. Empty otherwise.
   std::vector<TaskResult> grasp_head_cells;
 
