@@ -8,17 +8,6 @@
 
 namespace tlvlink::daemon {
 
-namespace {
-// "grasp", or "grasp (fitted on gelsight-mini)" for a sensor grasp head.
-std::string grasp_head_label(const heads::HeadEvaluator& heads, size_t head) {
-  std::string out(heads.grasp_name(head));
-  if (head == 0) return out;
-  out += " (fitted on";
-  for (std::string_view s : heads.grasp_head(head).sensors) out += " " + std::string(s);
-  return out + ")";
-}
-}  // namespace
-
 Result<std::unique_ptr<Model>> load_config_model(const DaemonConfig& config) {
   LoadOptions load;
   PublicKey key;
@@ -69,7 +58,7 @@ Result<ModelCheck> check_model(const DaemonConfig& config) {
     out.reported_heads.emplace_back(results[static_cast<size_t>(h)].name);
   }
   if ((*processor)->tracks_grasps())
-    out.grasp_head = grasp_head_label((*processor)->heads(), (*processor)->grasp_head());
+    out.grasp_head = heads::grasp_head_label((*processor)->heads(), (*processor)->grasp_head());
   return out;
 }
 

@@ -100,15 +100,8 @@ void log_heads(const pipeline::FrameProcessor& p) {
   }
   if (!p.tracks_grasps()) return;
   // Which grasp head the fingers' sensor model picked (the model may hold one per model).
-  const heads::HeadEvaluator& h = p.heads();
-  std::string sensors;
-  for (std::string_view v : h.grasp_head(p.grasp_head()).sensors)
-    sensors += (sensors.empty() ? "" : ", ") + std::string(v);
-  TLV_LOG(kLogDaemon, kInfo, "grasp head %.*s: %s (%zu in the model)",
-          static_cast<int>(h.grasp_name(p.grasp_head()).size()),
-          h.grasp_name(p.grasp_head()).data(),
-          sensors.empty() ? "fitted on every sensor model" : ("fitted on " + sensors).c_str(),
-          h.grasp_head_count());
+  TLV_LOG(kLogDaemon, kInfo, "grasp head %s; %zu in the model",
+          heads::grasp_head_label(p.heads(), p.grasp_head()).c_str(), p.heads().grasp_head_count());
 }
 
 }  // namespace

@@ -137,4 +137,13 @@ Result<float> HeadEvaluator::grasp_probability(std::span<const std::span<const f
   return sigmoid(grasp_logit(g.weight, g.bias, features));
 }
 
+std::string grasp_head_label(const HeadEvaluator& heads, size_t head) {
+  std::string out(heads.grasp_name(head));
+  if (head == 0 || head >= heads.grasp_head_count()) return out;
+  std::string sensors;
+  for (std::string_view s : heads.grasp_head(head).sensors)
+    sensors += (sensors.empty() ? "" : ", ") + std::string(s);
+  return out + " (fitted on " + sensors + ")";
+}
+
 }  // namespace tlvlink::heads

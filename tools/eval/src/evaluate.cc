@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tlvlink/eval/eval.h"
+#include "tlvlink/heads/evaluator.h"
 #include "tlvlink/heads/head_math.h"
 #include "tlvlink/sim/generate.h"
 
@@ -136,28 +137,26 @@ Result<TaskResult> score_grasp_head(const GraspEmbeddings& g, Method method,
       g, method, [&](size_t) { return &head; }, std::move(source));
 }
 
-// The head a runtime uses for episode i's sensor: the sensor grasp head naming it, else the
-// grasp head (heads::HeadEvaluator::grasp_head_for, on the set's recorded sensor).
-const GraspHead* runtime_grasp_head(const Metadata& m, const GraspEmbeddings& g, size_t i) {
-  const std::string_view sensor = i < g.sensor.size() ? g.sensor[i] : std::string_view();
-  for (const GraspHead& h : m.sensor_grasp_heads)
-    if (!sensor.empty() && std::find(h.sensors.begin(), h.sensors.end(), sensor) != h.sensors.end())
-      return &h;
-  return &m.grasp_head;
+// The head a runtime uses for episode i: the one HeadEvaluator::grasp_head_for picks for the
+// episode's recorded sensor (both fingers of an episode carry one sensor model).
+const GraspHead* runtime_grasp_head(const heads::HeadEvaluator& h, const GraspEmbeddings& g,
+                                    size_t i) {
+  return &h.grasp_head(h.grasp_head_for(i < g.sensor.size() ? g.sensor[i] : std::string()));
 }
 
 // The model-heads grasp cell as a runtime scores it (each episode by its sensor's head), and
 // each head alone on the episodes it is for (the grasp head on all: it is the fallback for any
 // sensor), for their trust records.
 Status score_model_grasp(const Metadata& m, const GraspEmbeddings& g, EvalReport& rep) {
+  TLV_ASSIGN_OR_RETURN(const heads::HeadEvaluator evaluator, heads::HeadEvaluator::create(m));
   const std::string name(m.grasp_head.name);
   std::string source = "model head '" + name + "'";
   if (!m.sensor_grasp_heads.empty())
     source += " and its sensor heads, each episode by its sensor's";
-  TLV_ASSIGN_OR_RETURN(
-      TaskResult cell,
-      score_grasp_heads(
-          g, Method::kModelHeads, [&](size_t i) { return runtime_grasp_head(m, g, i); }, source));
+  TLV_ASSIGN_OR_RETURN(TaskResult cell,
+                       score_grasp_heads(
+                           g, Method::kModelHeads,
+                           [&](size_t i) { return runtime_grasp_head(evaluator, g, i); }, source));
   rep.results.push_back(std::move(cell));
   if (m.sensor_grasp_heads.empty()) return {};
   TLV_ASSIGN_OR_RETURN(TaskResult all,
@@ -166,7 +165,9 @@ Status score_model_grasp(const Metadata& m, const GraspEmbeddings& g, EvalReport
                            "model head '" + name + "' (any sensor) on every episode"));
   rep.grasp_head_cells.push_back(std::move(all));
   for (const GraspHead& h : m.sensor_grasp_heads) {
-    const auto mine = [&](size_t i) { return runtime_grasp_head(m, g, i) == &h ? &h : nullptr; };
+    const auto mine = [&](size_t i) {
+      return runtime_grasp_head(evaluator, g, i) == &h ? &h : nullptr;
+    };
     const auto fallback = [&](size_t i) { return mine(i) != nullptr ? &m.grasp_head : nullptr; };
     std::string sensors;
     for (std::string_view s : h.sensors) sensors += (sensors.empty() ? "" : ",") + std::string(s);

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -79,5 +80,9 @@ class HeadEvaluator {
   std::vector<size_t> offsets_;  // where each head's logits start in scratch_
   std::vector<GraspFeature> grasp_layout_;
 };
+
+// How logs and checks name grasp head `head`: "grasp", or "grasp (fitted on gelsight-mini)" for
+// a sensor grasp head. Allocates: for start-up messages, not the frame loop.
+std::string grasp_head_label(const HeadEvaluator& heads, size_t head);
 
 }  // namespace tlvlink::heads
