@@ -141,6 +141,28 @@ TEST_F(EvalCli, HeadsFitOnJpegPathsAddsTrainRowsOnly) {
                              (dir_ / "bad.tlvm").string());
   EXPECT_RUN(bad, 2);  // an invalid argument
   EXPECT_NE(bad.out.find("--train-jpeg 0"), std::string::npos) << bad.out;
+  // --view-weight: one head's own weight; the others keep the plain fit; each line says which
+  // weight it got and how often its validation frames kept their answer through the codec.
+  const CliRun steady = tlvlink("heads fit " + kFp32 + kTouch +
+                                " --train-jpeg 75,90 --view-weight hard_soft=10 -q -o " +
+                                (dir_ / "steady.tlvm").string());
+  EXPECT_RUN(steady, 0);
+  EXPECT_TRUE(std::regex_search(
+      steady.out, std::regex(R"(hard_soft [^\n]*view weight 10 \(validation: [0-9.]+ %)")))
+      << steady.out;
+  EXPECT_TRUE(std::regex_search(steady.out, std::regex(R"(material [^\n]*view weight 0 )")))
+      << steady.out;
+  for (const auto& [flags, named] : std::vector<std::pair<std::string, std::string>>{
+           {" --view-weight 3", "--train-jpeg"},
+           {" --train-jpeg 75 --view-weight grasp=3", "grasp=3"},
+           {" --train-jpeg 75 --view-weight rugh=3", "rugh=3"},
+           {" --train-jpeg 75 --view-weight 3 --min-view-agreement 0.9", "several"}}) {
+    const CliRun refused =
+        tlvlink("heads fit " + kFp32 + kTouch + flags + " -q -o " + (dir_ / "r.tlvm").string());
+    EXPECT_RUN(refused, 2);
+    EXPECT_NE(refused.out.find(named), std::string::npos) << flags << "\n" << refused.out;
+    EXPECT_FALSE(fs::exists(dir_ / "r.tlvm")) << flags;
+  }
 }
 
 TEST_F(EvalCli, HeadsFitWritesAModelThatRunsIdenticallyAndBeatsChance) {

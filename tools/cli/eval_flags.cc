@@ -30,6 +30,19 @@ void EvalFlags::add_to(CLI::App& app) {
                  "Also fit on the touch train frames saved as JPEG at these qualities (e.g. "
                  "75,90): heads fitted across the codec paths a board's frames take")
       ->delimiter(',');
+  app.add_option("--view-weight", view_weights,
+                 "With --train-jpeg: penalise each touch head's logit change between a train "
+                 "frame and its JPEG re-encodings by this weight (0 = off), so a codec moves its "
+                 "answer less; several (e.g. 0,1,3,10): chosen on the validation split, by "
+                 "accuracy or by --min-view-agreement; TASK=W (e.g. rough_smooth=10) sets one "
+                 "head's (repeat for a grid)")
+      ->delimiter(',');
+  app.add_option("--min-view-agreement", min_view_agreement,
+                 "With several --view-weight: take the smallest whose head gives a validation "
+                 "frame and its re-encodings the same answer on at least this share of pairs "
+                 "(e.g. 0.95; none reaches it: the most agreeing); 0 = the most accurate")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   app.add_option("--max-touch", max_touch, "Touch samples per split (0 = all)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
@@ -95,6 +108,38 @@ Result<eval::EvalData> EvalFlags::data() const {
   return d;
 }
 
+Status EvalFlags::parse_view_weights(eval::HeadFitOptions& heads) const {
+  std::vector<double> shared;
+  bool penalised = false;
+  for (const std::string& item : view_weights) {
+    const size_t eq = item.find('=');
+    const std::string number = eq == std::string::npos ? item : item.substr(eq + 1);
+    char* end = nullptr;
+    const double w = std::strtod(number.c_str(), &end);
+    TLV_ENSURE(!number.empty() && end == number.c_str() + number.size() && std::isfinite(w) &&
+                   w >= 0,
+               ErrorCode::kInvalidArgument, "--view-weight: '%s' is not W or TASK=W with W >= 0",
+               item.c_str());
+    penalised = penalised || w > 0;
+    if (eq == std::string::npos) {
+      shared.push_back(w);
+      continue;
+    }
+    Result<eval::Task> parsed = eval::parse_task(item.substr(0, eq));
+    if (!parsed.ok()) return parsed.error().with_context("--view-weight %s", item.c_str());
+    const eval::Task task = *parsed;
+    TLV_ENSURE(task != eval::Task::kGrasp, ErrorCode::kInvalidArgument,
+               "--view-weight %s: only touch heads have views (material, hard_soft, "
+               "rough_smooth)",
+               item.c_str());
+    heads.view_weight_grid_of[task].push_back(w);
+  }
+  TLV_ENSURE(!penalised || !train_jpeg.empty(), ErrorCode::kInvalidArgument,
+             "--view-weight needs --train-jpeg: the re-encodings are the second views");
+  if (!shared.empty()) heads.probe.view_weight_grid = shared;
+  return {};
+}
+
 Result<eval::EvalOptions> EvalFlags::options() const {
   eval::EvalOptions o;
   TLV_ASSIGN_OR_RETURN(o.embedder.executor, parse_executor_kind(exec.executor));
@@ -117,6 +162,15 @@ Result<eval::EvalOptions> EvalFlags::options() const {
     }
   }
   o.heads.probe.logistic.max_iterations = max_iterations;
+  TLV_TRY(parse_view_weights(o.heads));
+  const bool several = o.heads.probe.view_weight_grid.size() > 1 ||
+                       std::any_of(o.heads.view_weight_grid_of.begin(),
+                                   o.heads.view_weight_grid_of.end(),
+                                   [](const auto& g) { return g.second.size() > 1; });
+  TLV_ENSURE(min_view_agreement == 0 || several, ErrorCode::kInvalidArgument,
+             "--min-view-agreement %g needs several --view-weight values to choose from",
+             min_view_agreement);
+  o.heads.probe.min_view_agreement = min_view_agreement;
   o.zero_shot = zero_shot == "model"  ? eval::ZeroShotSource::kModel
                 : zero_shot == "text" ? eval::ZeroShotSource::kText
                                       : eval::ZeroShotSource::kAuto;

@@ -21,6 +21,8 @@ struct EvalFlags {
   uint64_t split_seed = 0;
   int64_t max_touch = 0, max_grasp = 0;
   std::vector<int32_t> train_jpeg;
+  std::vector<std::string> view_weights;  // --view-weight: W or TASK=W items; empty = {0}
+  double min_view_agreement = 0;
   int jpeg_scale = 1;
   int quarter_turns = 0;
   std::string grasp_features = "before-during-difference";
@@ -36,6 +38,9 @@ struct EvalFlags {
   void add_to(CLI::App& app);
   Result<eval::EvalData> data() const;
   Result<eval::EvalOptions> options() const;
+
+ private:
+  Status parse_view_weights(eval::HeadFitOptions& heads) const;
 };
 
 }  // namespace tlvlink::cli

@@ -124,6 +124,13 @@ int run_heads_fit(const HeadsFitCommand& c) {
     if (t != nullptr && t->available) {
       std::printf("  test acc %.3f (n=%lld)", t->accuracy, static_cast<long long>(t->n));
     }
+    if (!p.view_trials.empty()) {
+      for (const eval::ViewWeightTrial& v : p.view_trials) {
+        if (v.view_weight == p.view_weight)
+          std::printf("  view weight %g (validation: %.1f %% of frame/re-encoding pairs agree)",
+                      v.view_weight, 100 * v.agreement);
+      }
+    }
     std::printf("%s%s\n", p.note.empty() ? "" : "  ", p.note.c_str());
   }
   std::printf("trust (recorded in the heads; runtime rule: head_trust.h):\n");

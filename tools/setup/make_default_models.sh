@@ -18,7 +18,11 @@
 #    of the heads' touch set and the grasp head on the Feel set, on the runtime's own embeddings
 #    and each finger's before-to-during difference statistics (runtime/heads/README.md);
 #    each head records its test accuracy (trust) -> OUT_DIR/touch-tiny-fp32.tlvm. Zero-shot heads
-#    that do not beat the majority class are left out.
+#    that do not beat the majority class are left out. The touch heads are also fitted on each
+#    training frame saved as JPEG q75 and q90, and the two-class heads with the view penalty
+#    (weight 10: their answer may not move between a frame and its re-encoding; the material
+#    head's accuracy pays too much for it, so not that one; firmware/models/README.md
+#    "Stability").
 # 4. `tlvlink quantize` (percentile 99.99, 200 calibration frames of the training split; the
 #    first convolution and the embedding layer kept in fp32; bias correction on 64 of them,
 #    quantize/README.md), then `tlvlink eval --record` re-measures the int8 heads on the same
@@ -83,7 +87,9 @@ fi
 
 echo "== heads fit -> $out/touch-tiny-fp32.tlvm"
 "$tlvlink" heads fit "$out/tiny.tlvm" --touch "$heads" --grasp "$feel" -q \
-  --grasp-features before-during-difference --overwrite -o "$out/touch-tiny-fp32.tlvm"
+  --grasp-features before-during-difference --train-jpeg 75,90 \
+  --view-weight material=0,hard_soft=10,rough_smooth=10 --max-iterations 3000 \
+  --overwrite -o "$out/touch-tiny-fp32.tlvm"
 
 echo "== quantize -> $out/touch-tiny-int8.tlvm"
 "$tlvlink" quantize "$out/touch-tiny-fp32.tlvm" --calib "$out/data" --calib-split train \

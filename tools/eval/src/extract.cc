@@ -28,11 +28,12 @@ struct TouchSink {
 
   Status add(const sim::TouchSample& s, const std::string& key, bool test, bool has_labels) {
     if (full(test)) return {};
-    TLV_TRY(add_row(s, s.touch, key, test, has_labels));
+    const auto original = static_cast<int64_t>(out.size());
+    TLV_TRY(add_row(s, s.touch, key, test, has_labels, -1));
     if (!test) {
       for (const int32_t q : train_jpeg) {
         TLV_ASSIGN_OR_RETURN(const sim::RgbImage j, internal::jpeg_path(s.touch, q));
-        TLV_TRY(add_row(s, j, key + "#jpeg-q" + std::to_string(q), test, has_labels));
+        TLV_TRY(add_row(s, j, key + "#jpeg-q" + std::to_string(q), test, has_labels, original));
       }
     }
     ++taken[test ? 1 : 0];
@@ -42,7 +43,7 @@ struct TouchSink {
 
   // One row: `frame` (the sample's or a re-encoding of it) with the sample's labels.
   Status add_row(const sim::TouchSample& s, const sim::RgbImage& frame, const std::string& key,
-                 bool test, bool has_labels) {
+                 bool test, bool has_labels, int64_t view_of) {
     const size_t d = static_cast<size_t>(out.dim);
     out.values.resize(out.values.size() + d);
     std::span<float> row(out.values.data() + out.values.size() - d, d);
@@ -54,6 +55,7 @@ struct TouchSink {
     out.group.push_back(s.session);
     out.is_test.push_back(test ? 1 : 0);
     out.keys.push_back(key);
+    if (!train_jpeg.empty()) out.view_of.push_back(view_of);
     out.hidden_material.push_back(s.material);
     if (!has_labels) out.hidden_material.back().class_id = -1;
     out.hidden_contact.push_back(s.contact);

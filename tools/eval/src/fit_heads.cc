@@ -1,9 +1,11 @@
 // fit_heads: probes on the train split; model_with_heads: the heads written into a model copy.
 
+#include <array>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "probe_json.h"
 #include "tlvlink/eval/heads.h"
 #include "tlvlink/heads/grasp_layout.h"
 #include "tlvlink/quantize/model_copy.h"
@@ -31,19 +33,29 @@ Status fit_touch(const TouchEmbeddings& t, const HeadFitOptions& o, FittedHeads&
     std::vector<float> x;
     std::vector<int32_t> y;
     std::vector<std::string> groups;
+    std::vector<int64_t> row_of(t.size(), -1);  // t's row -> the probe's row
+    std::vector<std::array<int64_t, 2>> pairs;
     for (size_t i = 0; i < t.size(); ++i) {
       if (t.is_test[i] != 0 || all[i] < 0) continue;
       const std::span<const float> r = t.row(i);
       x.insert(x.end(), r.begin(), r.end());
+      row_of[i] = static_cast<int64_t>(y.size());
       y.push_back(all[i]);
       groups.push_back(t.group[i]);
+      // A re-encoding follows its frame (extract.cc), so the frame's row is already known.
+      if (i < t.view_of.size() && t.view_of[i] >= 0 &&
+          row_of[static_cast<size_t>(t.view_of[i])] >= 0)
+        pairs.push_back({row_of[static_cast<size_t>(t.view_of[i])], row_of[i]});
     }
     if (const std::string why = unfit_reason(y); !why.empty()) {
       out.notes.push_back(std::string(task_name(task)) + ": not fitted, " + why);
       continue;
     }
-    ProbeData data{x, t.dim, y, task_class_count(task), groups};
-    auto probe = fit_probe(data, o.probe);
+    ProbeData data{x, t.dim, y, task_class_count(task), groups, pairs};
+    ProbeOptions po = o.probe;
+    if (auto own = o.view_weight_grid_of.find(task); own != o.view_weight_grid_of.end())
+      po.view_weight_grid = own->second;
+    auto probe = fit_probe(data, po);
     if (!probe.ok()) return probe.error().with_context("fitting the %s probe", task_name(task));
     out.linear.push_back({task_name(task), canonical_labels(task), probe->weight, probe->bias});
     out.probes.emplace_back(task, std::move(probe).value());
@@ -75,7 +87,7 @@ Result<std::optional<quantize::GraspHeadSpec>> fit_grasp_head(
   why = unfit_reason(y);
   if (!why.empty()) return std::optional<quantize::GraspHeadSpec>();
   const auto features = static_cast<int32_t>(heads::layout_values(layout, g.dim));
-  ProbeData data{x, features, y, 2, groups};
+  ProbeData data{x, features, y, 2, groups, {}};
   auto probe = fit_probe(data, o.probe);
   if (!probe.ok()) return probe.error().with_context("fitting the grasp probe");
   // Two-class softmax == sigmoid of the logit difference: same decision, same probability.
@@ -139,7 +151,9 @@ nlohmann::json probes_json(const FittedHeads& heads, const WriteHeadsOptions& o)
                           {"validation_rows", p.validation_rows},
                           {"train_accuracy", p.train_accuracy},
                           {"iterations", p.iterations},
-                          {"note", p.note}};
+                          {"note", p.note},
+                          {"view_weight", p.view_weight},
+                          {"view_trials", internal::view_trials_json(p)}};
   }
   if (heads.grasp) {
     j["grasp_feature_layout"] = heads.grasp->feature_layout;

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "probe_json.h"
 #include "tlvlink/eval/eval.h"
 
 namespace tlvlink::eval {
@@ -293,7 +294,9 @@ std::string report_json(std::span<const EvalReport* const> reports) {
                                       {"train_accuracy", p.train_accuracy},
                                       {"iterations", p.iterations},
                                       {"converged", p.converged},
-                                      {"note", p.note}};
+                                      {"note", p.note},
+                                      {"view_weight", p.view_weight},
+                                      {"view_trials", internal::view_trials_json(p)}};
     }
     for (const TouchOracle& o : r->touch_oracles) {
       nlohmann::json oj = {{"task", task_name(o.task)}, {"available", o.available}, {"n", o.n}};

@@ -138,7 +138,7 @@ Subset subset(const GroupedRows& r, std::span<const int64_t> rows) {
 Result<FittedProbe> fit_at(const GroupedRows& r, const CvOptions& o, double l2) {
   LogisticOptions lo = o.logistic;
   lo.l2 = l2;
-  return fit_logistic(ProbeData{r.x, r.dim, r.labels, r.classes, r.groups}, lo);
+  return fit_logistic(ProbeData{r.x, r.dim, r.labels, r.classes, r.groups, {}}, lo);
 }
 
 int32_t predict(const FittedProbe& p, const GroupedRows& r, size_t row) {

@@ -36,9 +36,27 @@ double dot4(const double* a, const double* b, size_t n) {
   return (s0 + s1) + (s2 + s3);
 }
 
-// f(theta) and its gradient: mean cross-entropy + l2/2 |W|^2.
-double objective(const StdMatrix& m, std::span<const int32_t> labels, int32_t classes, double l2,
-                 std::span<const double> theta, std::vector<double>& grad) {
+// view_weight/2 * sum_k w_k^T C w_k, its gradient added into `grad` (C symmetric).
+double view_penalty(const StdMatrix& m, size_t classes, double view_weight,
+                    std::span<const double> theta, std::vector<double>& grad) {
+  if (view_weight <= 0 || m.view_cov.empty()) return 0;
+  const auto d = static_cast<size_t>(m.dim);
+  std::vector<double> cw(d);
+  double penalty = 0;
+  for (size_t k = 0; k < classes; ++k) {
+    const double* w = theta.data() + k * d;
+    for (size_t i = 0; i < d; ++i) cw[i] = dot4(m.view_cov.data() + i * d, w, d);
+    penalty += dot4(w, cw.data(), d);
+    for (size_t i = 0; i < d; ++i) grad[k * d + i] += view_weight * cw[i];
+  }
+  return 0.5 * view_weight * penalty;
+}
+
+// f(theta) and its gradient: mean cross-entropy + l2/2 |W|^2 + the view penalty.
+double objective(const StdMatrix& m, std::span<const int32_t> labels, int32_t classes,
+                 const LogisticOptions& o, std::span<const double> theta,
+                 std::vector<double>& grad) {
+  const double l2 = o.l2;
   const auto d = static_cast<size_t>(m.dim);
   const auto c = static_cast<size_t>(classes);
   const double* w = theta.data();
@@ -77,7 +95,7 @@ double objective(const StdMatrix& m, std::span<const int32_t> labels, int32_t cl
     penalty += theta[k] * theta[k];
   }
   for (size_t k = c * d; k < grad.size(); ++k) grad[k] *= inv_n;
-  return loss * inv_n + 0.5 * l2 * penalty;
+  return loss * inv_n + 0.5 * l2 * penalty + view_penalty(m, c, o.view_weight, theta, grad);
 }
 
 double dot(std::span<const double> a, std::span<const double> b) {
@@ -133,6 +151,36 @@ StdMatrix standardise(std::span<const float> x, int32_t dim, std::span<const int
   return m;
 }
 
+void add_view_covariance(std::span<const float> x, std::span<const int64_t> rows,
+                         std::span<const std::array<int64_t, 2>> pairs, const Standardisation& s,
+                         StdMatrix& m) {
+  m.view_cov.clear();
+  if (pairs.empty()) return;
+  std::vector<uint8_t> in_rows(x.size() / static_cast<size_t>(m.dim), 0);
+  for (int64_t r : rows) in_rows[static_cast<size_t>(r)] = 1;
+  const auto d = static_cast<size_t>(m.dim);
+  std::vector<double> cov(d * d, 0.0), delta(d);
+  int64_t n = 0;
+  for (const auto& [a, b] : pairs) {
+    if (in_rows[static_cast<size_t>(a)] == 0 || in_rows[static_cast<size_t>(b)] == 0) continue;
+    const float* xa = x.data() + static_cast<size_t>(a) * d;
+    const float* xb = x.data() + static_cast<size_t>(b) * d;
+    for (size_t j = 0; j < d; ++j)
+      delta[j] = (static_cast<double>(xa[j]) - static_cast<double>(xb[j])) / s.std[j];
+    for (size_t i = 0; i < d; ++i)
+      for (size_t j = 0; j <= i; ++j) cov[i * d + j] += delta[i] * delta[j];
+    ++n;
+  }
+  if (n == 0) return;
+  for (size_t i = 0; i < d; ++i) {
+    for (size_t j = 0; j <= i; ++j) {
+      cov[i * d + j] /= static_cast<double>(n);
+      cov[j * d + i] = cov[i * d + j];
+    }
+  }
+  m.view_cov = std::move(cov);
+}
+
 Minimised minimise_logistic(const StdMatrix& m, std::span<const int32_t> labels, int32_t classes,
                             const LogisticOptions& o, std::vector<double>& theta) {
   const size_t p = static_cast<size_t>(classes) * (static_cast<size_t>(m.dim) + 1);
@@ -140,7 +188,7 @@ Minimised minimise_logistic(const StdMatrix& m, std::span<const int32_t> labels,
   std::vector<double> g(p), g_new(p), dir(p), x_new(p), alpha(static_cast<size_t>(o.history));
   std::deque<std::vector<double>> s_hist, y_hist;
   std::deque<double> rho_hist;
-  double f = objective(m, labels, classes, o.l2, theta, g);
+  double f = objective(m, labels, classes, o, theta, g);
   int32_t it = 0;
   bool stalled = false;
   for (; it < o.max_iterations && max_abs(g) > o.gradient_tolerance; ++it) {
@@ -171,7 +219,7 @@ Minimised minimise_logistic(const StdMatrix& m, std::span<const int32_t> labels,
     bool accepted = false;
     for (; step >= kMinStep; step *= 0.5) {
       for (size_t i = 0; i < p; ++i) x_new[i] = theta[i] + step * dir[i];
-      f_new = objective(m, labels, classes, o.l2, x_new, g_new);
+      f_new = objective(m, labels, classes, o, x_new, g_new);
       if (f_new <= f + kArmijo * step * slope) {
         accepted = true;
         break;

@@ -18,14 +18,21 @@ struct StdMatrix {
   std::vector<double> z;
   int64_t rows = 0;
   int32_t dim = 0;
+  // Mean outer product of the standardised differences between view pairs ([dim, dim]; empty
+  // when no pair): the view penalty is view_weight/2 * sum_k w_k^T view_cov w_k.
+  std::vector<double> view_cov;
 };
 StdMatrix standardise(std::span<const float> x, int32_t dim, std::span<const int64_t> rows,
                       const Standardisation& s);
+// Fills m.view_cov from the pairs whose two rows are both among `rows` (pairs index x).
+void add_view_covariance(std::span<const float> x, std::span<const int64_t> rows,
+                         std::span<const std::array<int64_t, 2>> pairs, const Standardisation& s,
+                         StdMatrix& m);
 Standardisation standardisation_of_rows(std::span<const float> x, int32_t dim,
                                         std::span<const int64_t> rows);
 
-// Minimises mean cross-entropy + l2/2 |W|^2 over theta = [W (classes x dim), b (classes)],
-// starting from `theta` (warm start; zeros for a cold one).
+// Minimises mean cross-entropy + l2/2 |W|^2 (+ the view penalty) over theta = [W (classes x dim), b
+// (classes)], starting from `theta` (warm start; zeros for a cold one).
 struct Minimised {
   int32_t iterations = 0;
   bool converged = false;   // max |gradient| <= tolerance, or no further decrease possible

@@ -105,6 +105,9 @@ struct TouchEmbeddings {
   std::vector<std::string> group;  // session
   std::vector<uint8_t> is_test;
   std::vector<std::string> keys;  // the loader's key of each sample
+  // For a row that is a re-encoding of another (--train-jpeg), that row's index; -1 for a frame
+  // as loaded. Empty when no row is re-encoded.
+  std::vector<int64_t> view_of;
   // What the simulator recorded about each sample (its sidecar): the material's hidden
   // parameters and the contact. class_id -1 when the set records none (oracle.h needs them).
   std::vector<sim::MaterialSample> hidden_material;

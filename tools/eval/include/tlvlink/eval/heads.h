@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <span>
 #include <string>
@@ -65,6 +66,9 @@ Result<TextHeads> zero_shot_heads_from_text(const Metadata& metadata, const Text
 
 struct HeadFitOptions {
   ProbeOptions probe;
+  // A touch head's own view-weight grid, in place of probe.view_weight_grid (e.g. a 20-class
+  // head that a codec penalty costs more accuracy than a two-class one).
+  std::map<Task, std::vector<double>> view_weight_grid_of;
   GraspFeatures grasp_features = GraspFeatures::kBeforeDuringDifference;
   // The two fingers are alike (the simulator draws each on its own sensor; a real gripper's
   // fingers are interchangeable), so the grasp head is fitted on every training episode twice,

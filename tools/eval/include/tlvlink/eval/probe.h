@@ -9,6 +9,7 @@
 //   auto probe = fit_probe(d, {});          // picks the L2 strength on a validation split by group
 //   // probe->weight [classes, dim], probe->bias [classes]
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -26,6 +27,10 @@ struct ProbeData {
   std::span<const int32_t> labels;
   int32_t classes = 0;
   std::span<const std::string> groups;  // may be empty: then no validation split is possible
+  // Pairs of rows that are two views of one touch (a frame and its JPEG re-encoding; same
+  // group, same label): with LogisticOptions::view_weight > 0 the fit penalises the head's
+  // logit change between them. May be empty.
+  std::span<const std::array<int64_t, 2>> view_pairs;
 };
 
 struct LogisticOptions {
@@ -33,6 +38,11 @@ struct LogisticOptions {
   int32_t max_iterations = 300;      // L-BFGS iterations
   double gradient_tolerance = 1e-5;  // stop when max |gradient| falls below
   int32_t history = 10;              // L-BFGS memory
+  // Penalty view_weight/2 * mean over view pairs of |W (z_a - z_b)|^2 (standardised features):
+  // the head is steered away from the directions in which a codec moves the embedding, so its
+  // answer changes less between two views of one touch. 0 = off. (fit_probe sets it from
+  // ProbeOptions::view_weight_grid.)
+  double view_weight = 0;
 };
 
 // L2 strength used when no validation split can be made (fewer than 2 groups).
@@ -48,6 +58,20 @@ struct ProbeOptions {
   // otherwise kFallbackL2 is used and FittedProbe::note says so).
   double validation_fraction = 0.2;
   uint64_t validation_seed = 0;
+  // View-penalty strengths tried (LogisticOptions::view_weight; needs ProbeData::view_pairs),
+  // each with its best L2. With min_view_agreement 0 the most accurate wins on validation (ties:
+  // the smaller weight); otherwise the smallest weight whose fit gives both views of a
+  // validation touch the same answer on >= min_view_agreement of the pairs (none: the most
+  // agreeing). One entry {0}: the plain fit. Without pairs the grid is ignored.
+  std::vector<double> view_weight_grid = {0.0};
+  double min_view_agreement = 0;
+};
+
+// One view weight's validation result (FittedProbe::view_trials).
+struct ViewWeightTrial {
+  double view_weight = 0, l2 = 0;
+  double accuracy = 0;   // validation accuracy at that l2
+  double agreement = 0;  // share of validation view pairs given the same answer
 };
 
 // A fitted probe in raw-embedding form plus how it was chosen.
@@ -55,8 +79,11 @@ struct FittedProbe {
   std::vector<float> weight;  // [classes, dim]
   std::vector<float> bias;    // [classes]
   int32_t classes = 0, dim = 0;
-  double l2 = 0;                            // chosen strength
-  std::vector<double> validation_accuracy;  // per l2_grid entry ([] when no validation split)
+  double l2 = 0;                             // chosen strength
+  double view_weight = 0;                    // chosen view-penalty strength
+  std::vector<double> validation_accuracy;   // per l2_grid entry at the chosen view weight
+                                             // ([] when no validation split)
+  std::vector<ViewWeightTrial> view_trials;  // per view_weight_grid entry ([] without pairs)
   int64_t train_rows = 0, validation_rows = 0;
   int64_t train_groups = 0, validation_groups = 0;
   double train_accuracy = 0;  // final fit (all training rows), raw-form head
