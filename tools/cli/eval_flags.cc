@@ -116,10 +116,10 @@ Status EvalFlags::parse_view_weights(eval::HeadFitOptions& heads) const {
     const std::string number = eq == std::string::npos ? item : item.substr(eq + 1);
     char* end = nullptr;
     const double w = std::strtod(number.c_str(), &end);
-    TLV_ENSURE(!number.empty() && end == number.c_str() + number.size() && std::isfinite(w) &&
-                   w >= 0,
-               ErrorCode::kInvalidArgument, "--view-weight: '%s' is not W or TASK=W with W >= 0",
-               item.c_str());
+    TLV_ENSURE(
+        !number.empty() && end == number.c_str() + number.size() && std::isfinite(w) && w >= 0,
+        ErrorCode::kInvalidArgument, "--view-weight: '%s' is not W or TASK=W with W >= 0",
+        item.c_str());
     penalised = penalised || w > 0;
     if (eq == std::string::npos) {
       shared.push_back(w);
@@ -163,10 +163,10 @@ Result<eval::EvalOptions> EvalFlags::options() const {
   }
   o.heads.probe.logistic.max_iterations = max_iterations;
   TLV_TRY(parse_view_weights(o.heads));
-  const bool several = o.heads.probe.view_weight_grid.size() > 1 ||
-                       std::any_of(o.heads.view_weight_grid_of.begin(),
-                                   o.heads.view_weight_grid_of.end(),
-                                   [](const auto& g) { return g.second.size() > 1; });
+  const bool several =
+      o.heads.probe.view_weight_grid.size() > 1 ||
+      std::any_of(o.heads.view_weight_grid_of.begin(), o.heads.view_weight_grid_of.end(),
+                  [](const auto& g) { return g.second.size() > 1; });
   TLV_ENSURE(min_view_agreement == 0 || several, ErrorCode::kInvalidArgument,
              "--min-view-agreement %g needs several --view-weight values to choose from",
              min_view_agreement);
