@@ -141,22 +141,29 @@ TEST_F(EvalCli, HeadsFitOnJpegPathsAddsTrainRowsOnly) {
                              (dir_ / "bad.tlvm").string());
   EXPECT_RUN(bad, 2);  // an invalid argument
   EXPECT_NE(bad.out.find("--train-jpeg 0"), std::string::npos) << bad.out;
-  // --view-weight: one head's own weight; the others keep the plain fit; each line says which
-  // weight it got and how often its validation frames kept their answer through the codec.
-  const CliRun steady = tlvlink("heads fit " + kFp32 + kTouch +
-                                " --train-jpeg 75,90 --view-weight hard_soft=10 -q -o " +
+  // --view-weight: one head's own weight, saying which weight it got and how often its
+  // validation frames kept their answer through the codec; --only: that head alone is refitted,
+  // the model's others are kept (the material head scores exactly as before).
+  const std::string plain_model = (dir_ / "plain.tlvm").string();
+  const CliRun steady = tlvlink("heads fit " + plain_model + kTouch +
+                                " --only hard_soft --train-jpeg 75,90 --view-weight hard_soft=10 "
+                                "--no-zero-shot -q -o " +
                                 (dir_ / "steady.tlvm").string());
   EXPECT_RUN(steady, 0);
   EXPECT_TRUE(std::regex_search(
       steady.out, std::regex(R"(hard_soft [^\n]*view weight 10 \(validation: [0-9.]+ %)")))
       << steady.out;
-  EXPECT_TRUE(std::regex_search(steady.out, std::regex(R"(material [^\n]*view weight 0 )")))
-      << steady.out;
+  EXPECT_FALSE(std::regex_search(steady.out, std::regex(R"(\n  material +l2=)"))) << steady.out;
+  const json before = eval_json(plain_model + kTouch).at("reports")[0];
+  const json after = eval_json((dir_ / "steady.tlvm").string() + kTouch).at("reports")[0];
+  EXPECT_EQ(find(before, "material", "model-heads")->at("correct"),
+            find(after, "material", "model-heads")->at("correct"));
   for (const auto& [flags, named] : std::vector<std::pair<std::string, std::string>>{
            {" --view-weight 3", "--train-jpeg"},
            {" --train-jpeg 75 --view-weight grasp=3", "grasp=3"},
            {" --train-jpeg 75 --view-weight rugh=3", "rugh=3"},
-           {" --train-jpeg 75 --view-weight 3 --min-view-agreement 0.9", "several"}}) {
+           {" --train-jpeg 75 --view-weight 3 --min-view-agreement 0.9", "several"},
+           {" --only rugh", "--only rugh"}}) {
     const CliRun refused =
         tlvlink("heads fit " + kFp32 + kTouch + flags + " -q -o " + (dir_ / "r.tlvm").string());
     EXPECT_RUN(refused, 2);

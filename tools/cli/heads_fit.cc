@@ -25,6 +25,7 @@ struct HeadsFitCommand {
   bool one_grasp_head = false;
   bool no_zero_shot = false;
   bool keep_untrusted_zero_shot = false;
+  std::vector<std::string> only;  // --only: the heads to fit (the others are kept)
   // --images: a head of the user's own
   std::string images, recordings, head, sensor;
   int folds = 5, stride = 1;
@@ -106,6 +107,12 @@ int run_heads_fit(const HeadsFitCommand& c) {
   job.options = std::move(options).value();
   job.add_missing_zero_shot = !c.no_zero_shot;
   job.options.heads.grasp_per_sensor = !c.one_grasp_head;
+  for (const std::string& name : c.only) {
+    auto task = eval::parse_task(name);
+    if (!task.ok())
+      return report_error(command, task.error().with_context("--only %s", name.c_str()));
+    job.options.heads.only.insert(*task);
+  }
   job.keep_untrusted_zero_shot = c.keep_untrusted_zero_shot;
   job.on_note = [](const std::string& note) { std::fprintf(stderr, "note: %s\n", note.c_str()); };
   auto r = eval::fit_heads_into_file(job);
@@ -154,6 +161,10 @@ void add_heads_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--one-grasp-head", c->one_grasp_head,
                 "Fit only the grasp head for every sensor, not also one per sensor model when "
                 "the grasp set holds several");
+  cmd->add_option("--only", c->only,
+                  "Fit only these heads (material, hard_soft, rough_smooth, grasp; the grasp "
+                  "head brings its per-sensor ones) and keep the model's others as they are")
+      ->delimiter(',');
   cmd->add_flag("--no-zero-shot", c->no_zero_shot,
                 "Do not add zero-shot heads for tasks the model has none for");
   cmd->add_flag("--keep-untrusted-zero-shot", c->keep_untrusted_zero_shot,

@@ -18,10 +18,11 @@
 #    of the heads' touch set and the grasp head on the Feel set, on the runtime's own embeddings
 #    and each finger's before-to-during difference statistics (runtime/heads/README.md);
 #    each head records its test accuracy (trust) -> OUT_DIR/touch-tiny-fp32.tlvm. Zero-shot heads
-#    that do not beat the majority class are left out. The touch heads are also fitted on each
-#    training frame saved as JPEG q75 and q90, and the two-class heads with the view penalty
-#    (weight 10: their answer may not move between a frame and its re-encoding; the material
-#    head's accuracy pays too much for it, so not that one; firmware/models/README.md
+#    that do not beat the majority class are left out. Then the two-class touch heads
+#    (hard/soft, rough/smooth) are fitted again (`--only`) on each training frame also saved as
+#    JPEG q75 and q90, with the view penalty (weight 10): their answer must not move between a
+#    frame and its re-encoding. The material head keeps its plain fit: it pays too much accuracy
+#    for the penalty, and the JPEG rows alone do not steady it (firmware/models/README.md
 #    "Stability").
 # 4. `tlvlink quantize` (percentile 99.99, 200 calibration frames of the training split; the
 #    first convolution and the embedding layer kept in fp32; bias correction on 64 of them,
@@ -87,8 +88,9 @@ fi
 
 echo "== heads fit -> $out/touch-tiny-fp32.tlvm"
 "$tlvlink" heads fit "$out/tiny.tlvm" --touch "$heads" --grasp "$feel" -q \
-  --grasp-features before-during-difference --train-jpeg 75,90 \
-  --view-weight material=0,hard_soft=10,rough_smooth=10 --max-iterations 3000 \
+  --grasp-features before-during-difference --overwrite -o "$out/heads-plain.tlvm"
+"$tlvlink" heads fit "$out/heads-plain.tlvm" --touch "$heads" -q --only hard_soft,rough_smooth \
+  --train-jpeg 75,90 --view-weight 10 --max-iterations 3000 --no-zero-shot \
   --overwrite -o "$out/touch-tiny-fp32.tlvm"
 
 echo "== quantize -> $out/touch-tiny-int8.tlvm"

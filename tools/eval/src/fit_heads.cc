@@ -29,6 +29,7 @@ std::string unfit_reason(std::span<const int32_t> labels) {
 
 Status fit_touch(const TouchEmbeddings& t, const HeadFitOptions& o, FittedHeads& out) {
   for (Task task : {Task::kMaterial, Task::kHard, Task::kRough}) {
+    if (!o.only.empty() && o.only.count(task) == 0) continue;
     const std::vector<int32_t>& all = t.labels(task);
     std::vector<float> x;
     std::vector<int32_t> y;
@@ -172,7 +173,8 @@ nlohmann::json probes_json(const FittedHeads& heads, const WriteHeadsOptions& o)
 Result<FittedHeads> fit_heads(const EmbeddingSet& set, const HeadFitOptions& options) {
   FittedHeads out;
   if (set.touch) TLV_TRY(fit_touch(*set.touch, options, out));
-  if (set.grasp) TLV_TRY(fit_grasp(*set.grasp, options, out));
+  if (set.grasp && (options.only.empty() || options.only.count(Task::kGrasp) > 0))
+    TLV_TRY(fit_grasp(*set.grasp, options, out));
   return out;
 }
 

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <set>
 #include <span>
 #include <string>
 #include <string_view>
@@ -69,6 +70,8 @@ struct HeadFitOptions {
   // A touch head's own view-weight grid, in place of probe.view_weight_grid (e.g. a 20-class
   // head that a codec penalty costs more accuracy than a two-class one).
   std::map<Task, std::vector<double>> view_weight_grid_of;
+  // The heads to fit; empty = every one the data allows. A head not fitted keeps the model's.
+  std::set<Task> only;
   GraspFeatures grasp_features = GraspFeatures::kBeforeDuringDifference;
   // The two fingers are alike (the simulator draws each on its own sensor; a real gripper's
   // fingers are interchangeable), so the grasp head is fitted on every training episode twice,
