@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "tlvlink/eval/stability.h"
+#include "tlvlink/eval/tasks.h"
 #include "tlvlink/model.h"
 
 namespace tlvlink::eval {
@@ -24,6 +25,7 @@ struct Bound {
   const char* path;
   double min_cosine;     // the smallest cosine of any item
   double min_agreement;  // every trusted head's share of unchanged answers
+  double min_two_class;  // the same for the two-class heads (hard/soft, rough/smooth)
 };
 
 // What the shipped files reach on these 48 scenes (seed 31) and the 130 real frames, less a
@@ -31,16 +33,19 @@ struct Bound {
 // model's ordinary spread (0.01-0.03 of cosine, one or two answers in 48) while a model that
 // reads the codec again (the files before issue 29: cosine -0.3 on JPEG q95, 0.18 through the
 // Mini's live decode) fails by far. The live decode and real frames at q95/q90 hold issue 29's
-// cosine target (0.97); answer agreement is held to the level reached, below the 95 % target
-// (firmware/models/README.md "Stability" says why: the 20-class material head's margins).
+// cosine target (0.97). The two-class heads, fitted with the view penalty, hold the 95 %
+// agreement target on the README's 200 scenes and keep 93.8-100 % here (the heads before the
+// penalty: rough/smooth 83.3 % on JPEG q75, 92.6 % on the live Mini); the material head is held
+// to the level reached, below the target (firmware/models/README.md "Stability" says why).
 constexpr Bound kBounds[] = {
-    {"simulated", "live gelsight-mini", 0.97, 0.80},  // measured 0.995, 88.9 % (material)
-    {"simulated", "live digit", 0.97, 0.85},          // 0.999, 95.2 %
-    {"simulated", "jpeg-q95", 0.95, 0.75},            // 0.982, 83.3 %
-    {"simulated", "jpeg-q90", 0.95, 0.65},            // 0.986, 75.0 %
-    {"simulated", "jpeg-q75", 0.92, 0.55},            // 0.966, 64.6 %
-    {"real", "jpeg-q90", 0.95, 0.85},                 // 0.970, 93.1 % (rough/smooth)
-    {"real", "+3 DN", 0.99, 0.95},                    // 0.999, 98.5 %
+    // measured: cosine, material, the two-class heads' lower
+    {"simulated", "live gelsight-mini", 0.97, 0.80, 0.90},  // 0.995, 88.9 %, 96.3 %
+    {"simulated", "live digit", 0.97, 0.85, 0.90},          // 0.999, 95.2 %, 100 %
+    {"simulated", "jpeg-q95", 0.95, 0.75, 0.90},            // 0.982, 83.3 %, 93.8 %
+    {"simulated", "jpeg-q90", 0.95, 0.65, 0.90},            // 0.986, 75.0 %, 95.8 %
+    {"simulated", "jpeg-q75", 0.92, 0.55, 0.90},            // 0.966, 64.6 %, 95.8 %
+    {"real", "jpeg-q90", 0.95, 0.85, 0.95},                 // 0.970, 96.9 %, 98.5 %
+    {"real", "+3 DN", 0.99, 0.95, 0.97},                    // 0.999, 98.5 %, 100 %
 };
 
 TEST(ShippedStability, TheSameTouchEmbedsAlikeThroughEveryPath) {
@@ -66,8 +71,11 @@ TEST(ShippedStability, TheSameTouchEmbedsAlikeThroughEveryPath) {
     ASSERT_NE(p, nullptr) << b.source << " " << b.path;
     EXPECT_GE(p->cos_min, b.min_cosine) << b.source << " " << b.path << ", worst: " << p->worst;
     for (const HeadAgreement& h : p->heads) {
-      if (h.trusted) {
-        EXPECT_GE(h.rate(), b.min_agreement) << b.source << " " << b.path << " " << h.head;
+      if (!h.trusted) continue;
+      EXPECT_GE(h.rate(), b.min_agreement) << b.source << " " << b.path << " " << h.head;
+      auto task = task_of_head(h.head);
+      if (task.ok() && task_class_count(*task) == 2) {
+        EXPECT_GE(h.rate(), b.min_two_class) << b.source << " " << b.path << " " << h.head;
       }
     }
   }
