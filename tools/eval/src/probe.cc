@@ -231,7 +231,7 @@ Result<FittedProbe> fit_probe(const ProbeData& d, const ProbeOptions& options) {
     std::vector<double> warm;
     for (const double view_weight : view_grid) {
       lo.view_weight = view_weight;
-      std::vector<double> acc(options.l2_grid.size(), 0.0), theta;
+      std::vector<double> acc(options.l2_grid.size(), 0.0);
       ViewWeightTrial trial{view_weight, 0, -1, 0};
       Fit chosen;
       for (size_t i : order) {
@@ -258,13 +258,16 @@ Result<FittedProbe> fit_probe(const ProbeData& d, const ProbeOptions& options) {
     if (d.view_pairs.empty()) p.view_trials.clear();
   } else {
     p.l2 = options.l2_grid.size() == 1 ? options.l2_grid[0] : kFallbackL2;
-    p.view_weight = view_grid.front();
+    p.view_weight = view_grid.front();  // without validation: the smallest
     char buf[160];
-    std::snprintf(buf, sizeof buf,
-                  "no validation split (%zu group%s, %zu l2 candidate%s); l2=%g, view weight %g",
+    std::snprintf(buf, sizeof buf, "no validation split (%zu group%s, %zu l2 candidate%s); l2=%g",
                   n_groups, n_groups == 1 ? "" : "s", options.l2_grid.size(),
-                  options.l2_grid.size() == 1 ? "" : "s", p.l2, p.view_weight);
+                  options.l2_grid.size() == 1 ? "" : "s", p.l2);
     p.note = buf;
+    if (p.view_weight > 0) {
+      std::snprintf(buf, sizeof buf, ", view weight %g", p.view_weight);
+      p.note += buf;
+    }
   }
   lo.view_weight = p.view_weight;
   lo.l2 = p.l2;

@@ -62,7 +62,8 @@ struct ProbeOptions {
   // each with its best L2. With min_view_agreement 0 the most accurate wins on validation (ties:
   // the smaller weight); otherwise the smallest weight whose fit gives both views of a
   // validation touch the same answer on >= min_view_agreement of the pairs (none: the most
-  // agreeing). One entry {0}: the plain fit. Without pairs the grid is ignored.
+  // agreeing). One entry {0}: the plain fit. Without pairs the grid is ignored; without a
+  // validation split the smallest weight is used.
   std::vector<double> view_weight_grid = {0.0};
   double min_view_agreement = 0;
 };
