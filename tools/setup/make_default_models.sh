@@ -20,7 +20,7 @@
 #    each head records its test accuracy (trust) -> OUT_DIR/touch-tiny-fp32.tlvm. Zero-shot heads
 #    that do not beat the majority class are left out. Then the two-class touch heads
 #    (hard/soft, rough/smooth) are fitted again (`--only`) on each training frame also saved as
-#    JPEG q75 and q90, with the view penalty (weight 10): their answer must not move between a
+#    JPEG q75 and q90, with the view penalty (weight 5): their answer must not move between a
 #    frame and its re-encoding. The material head keeps its plain fit: it pays too much accuracy
 #    for the penalty, and the JPEG rows alone do not steady it (firmware/models/README.md
 #    "Stability").
@@ -90,7 +90,7 @@ echo "== heads fit -> $out/touch-tiny-fp32.tlvm"
 "$tlvlink" heads fit "$out/tiny.tlvm" --touch "$heads" --grasp "$feel" -q \
   --grasp-features before-during-difference --overwrite -o "$out/heads-plain.tlvm"
 "$tlvlink" heads fit "$out/heads-plain.tlvm" --touch "$heads" -q --only hard_soft,rough_smooth \
-  --train-jpeg 75,90 --view-weight 10 --max-iterations 3000 --no-zero-shot \
+  --train-jpeg 75,90 --view-weight 5 --max-iterations 3000 --no-zero-shot \
   --overwrite -o "$out/touch-tiny-fp32.tlvm"
 
 echo "== quantize -> $out/touch-tiny-int8.tlvm"
