@@ -151,30 +151,24 @@ StdMatrix standardise(std::span<const float> x, int32_t dim, std::span<const int
   return m;
 }
 
-void add_view_covariance(std::span<const float> x, std::span<const int64_t> rows,
-                         std::span<const std::array<int64_t, 2>> pairs, const Standardisation& s,
-                         StdMatrix& m) {
+void add_view_covariance(std::span<const float> x, std::span<const std::array<int64_t, 2>> pairs,
+                         const Standardisation& s, StdMatrix& m) {
   m.view_cov.clear();
   if (pairs.empty()) return;
-  std::vector<uint8_t> in_rows(x.size() / static_cast<size_t>(m.dim), 0);
-  for (int64_t r : rows) in_rows[static_cast<size_t>(r)] = 1;
   const auto d = static_cast<size_t>(m.dim);
   std::vector<double> cov(d * d, 0.0), delta(d);
-  int64_t n = 0;
   for (const auto& [a, b] : pairs) {
-    if (in_rows[static_cast<size_t>(a)] == 0 || in_rows[static_cast<size_t>(b)] == 0) continue;
     const float* xa = x.data() + static_cast<size_t>(a) * d;
     const float* xb = x.data() + static_cast<size_t>(b) * d;
     for (size_t j = 0; j < d; ++j)
       delta[j] = (static_cast<double>(xa[j]) - static_cast<double>(xb[j])) / s.std[j];
     for (size_t i = 0; i < d; ++i)
       for (size_t j = 0; j <= i; ++j) cov[i * d + j] += delta[i] * delta[j];
-    ++n;
   }
-  if (n == 0) return;
+  const auto n = static_cast<double>(pairs.size());
   for (size_t i = 0; i < d; ++i) {
     for (size_t j = 0; j <= i; ++j) {
-      cov[i * d + j] /= static_cast<double>(n);
+      cov[i * d + j] /= n;
       cov[j * d + i] = cov[i * d + j];
     }
   }

@@ -24,10 +24,9 @@ struct StdMatrix {
 };
 StdMatrix standardise(std::span<const float> x, int32_t dim, std::span<const int64_t> rows,
                       const Standardisation& s);
-// Fills m.view_cov from the pairs whose two rows are both among `rows` (pairs index x).
-void add_view_covariance(std::span<const float> x, std::span<const int64_t> rows,
-                         std::span<const std::array<int64_t, 2>> pairs, const Standardisation& s,
-                         StdMatrix& m);
+// Fills m.view_cov from `pairs` (rows of x, both among the rows m was standardised from).
+void add_view_covariance(std::span<const float> x, std::span<const std::array<int64_t, 2>> pairs,
+                         const Standardisation& s, StdMatrix& m);
 Standardisation standardisation_of_rows(std::span<const float> x, int32_t dim,
                                         std::span<const int64_t> rows);
 

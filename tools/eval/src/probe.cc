@@ -59,12 +59,24 @@ struct Fit {
   internal::Minimised result;
 };
 
-// Fits on `rows` of the data, standardised over those rows; the head comes back folded.
+// The view pairs whose two rows are both among `rows` (sorted).
+std::vector<std::array<int64_t, 2>> pairs_within(const ProbeData& d,
+                                                 std::span<const int64_t> rows) {
+  std::vector<std::array<int64_t, 2>> out;
+  for (const auto& pair : d.view_pairs) {
+    if (std::binary_search(rows.begin(), rows.end(), pair[0]) &&
+        std::binary_search(rows.begin(), rows.end(), pair[1]))
+      out.push_back(pair);
+  }
+  return out;
+}
+
+// Fits on `rows` (sorted) of the data, standardised over those rows; the head comes back folded.
 Fit fit_rows(const ProbeData& d, std::span<const int64_t> rows, const LogisticOptions& o,
              std::vector<double> warm) {
   const Standardisation s = internal::standardisation_of_rows(d.x, d.dim, rows);
   internal::StdMatrix m = internal::standardise(d.x, d.dim, rows, s);
-  if (o.view_weight > 0) internal::add_view_covariance(d.x, rows, d.view_pairs, s, m);
+  if (o.view_weight > 0) internal::add_view_covariance(d.x, pairs_within(d, rows), s, m);
   std::vector<int32_t> labels(rows.size());
   for (size_t i = 0; i < rows.size(); ++i) labels[i] = d.labels[static_cast<size_t>(rows[i])];
   Fit f;
@@ -86,18 +98,6 @@ double accuracy(const ProbeData& d, const Fit& f, std::span<const int64_t> rows)
     correct += heads::argmax(logits) == d.labels[static_cast<size_t>(r)] ? 1 : 0;
   }
   return static_cast<double>(correct) / static_cast<double>(rows.size());
-}
-
-// The view pairs whose two rows are both among `rows` (sorted).
-std::vector<std::array<int64_t, 2>> pairs_within(const ProbeData& d,
-                                                 std::span<const int64_t> rows) {
-  std::vector<std::array<int64_t, 2>> out;
-  for (const auto& pair : d.view_pairs) {
-    if (std::binary_search(rows.begin(), rows.end(), pair[0]) &&
-        std::binary_search(rows.begin(), rows.end(), pair[1]))
-      out.push_back(pair);
-  }
-  return out;
 }
 
 // Share of `pairs` whose two rows get the same answer from the fit (1 when there are none).
