@@ -117,6 +117,9 @@ TEST_F(EvalCli, TableLikeThePapers) {
 
 // --train-jpeg: every train frame also through each JPEG quality, same labels: the fits see
 // (1 + qualities) x the rows; the test split (the recorded trust) is not re-encoded.
+// --train-live: one more row per train frame, through its sensor's live path.
+// --touch-from-grasps: two more train rows (the fingers' frames during the grasp) per training
+// grasp of a simulated Feel set.
 TEST_F(EvalCli, HeadsFitOnJpegPathsAddsTrainRowsOnly) {
   const auto rows_and_n = [](const std::string& out) {
     std::smatch m;
@@ -137,6 +140,26 @@ TEST_F(EvalCli, HeadsFitOnJpegPathsAddsTrainRowsOnly) {
   EXPECT_GT(plain_rows, 0);
   EXPECT_EQ(coded_rows, 3 * plain_rows);
   EXPECT_EQ(coded_n, plain_n);
+  const CliRun live =
+      tlvlink("heads fit " + kFp32 + kTouch + " --train-jpeg 75 --train-live -q -o " +
+              (dir_ / "live.tlvm").string());
+  EXPECT_RUN(live, 0);
+  const auto [live_rows, live_n] = rows_and_n(live.out);
+  EXPECT_EQ(live_rows, 3 * plain_rows);
+  EXPECT_EQ(live_n, plain_n);
+  const CliRun grasped = tlvlink("heads fit " + kFp32 + kTouch + " --touch-from-grasps " + kData +
+                                 "/feel -q -o " + (dir_ / "grasped.tlvm").string());
+  EXPECT_RUN(grasped, 0);
+  const auto [grasped_rows, grasped_n] = rows_and_n(grasped.out);
+  EXPECT_GT(grasped_rows, plain_rows);
+  EXPECT_EQ((grasped_rows - plain_rows) % 2, 0);    // both fingers of every grasp
+  EXPECT_LE(grasped_rows - plain_rows, 2 * 8 * 3);  // the fixture's 8 objects x 3 grasps
+  EXPECT_EQ(grasped_n, plain_n);
+  const CliRun no_touch = tlvlink("heads fit " + kFp32 + kGrasp + " --touch-from-grasps " + kData +
+                                  "/feel -q -o " + (dir_ / "r.tlvm").string());
+  EXPECT_RUN(no_touch, 2);
+  EXPECT_NE(no_touch.out.find("--touch-from-grasps needs --touch"), std::string::npos)
+      << no_touch.out;
   const CliRun bad = tlvlink("heads fit " + kFp32 + kTouch + " --train-jpeg 0 -q -o " +
                              (dir_ / "bad.tlvm").string());
   EXPECT_RUN(bad, 2);  // an invalid argument
@@ -154,6 +177,15 @@ TEST_F(EvalCli, HeadsFitOnJpegPathsAddsTrainRowsOnly) {
       steady.out, std::regex(R"(hard_soft [^\n]*view weight 10 \(validation: [0-9.]+ %)")))
       << steady.out;
   EXPECT_FALSE(std::regex_search(steady.out, std::regex(R"(\n  material +l2=)"))) << steady.out;
+  // The live path's views alone are second views too.
+  const CliRun live_only = tlvlink("heads fit " + plain_model + kTouch +
+                                   " --only rough_smooth --train-live --view-weight 3 "
+                                   "--no-zero-shot -q -o " +
+                                   (dir_ / "live_only.tlvm").string());
+  EXPECT_RUN(live_only, 0);
+  EXPECT_TRUE(std::regex_search(
+      live_only.out, std::regex(R"(rough_smooth [^\n]*view weight 3 \(validation: [0-9.]+ %)")))
+      << live_only.out;
   const json before = eval_json(plain_model + kTouch).at("reports")[0];
   const json after = eval_json((dir_ / "steady.tlvm").string() + kTouch).at("reports")[0];
   EXPECT_EQ(find(before, "material", "model-heads")->at("correct"),

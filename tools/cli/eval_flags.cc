@@ -30,9 +30,16 @@ void EvalFlags::add_to(CLI::App& app) {
                  "Also fit on the touch train frames saved as JPEG at these qualities (e.g. "
                  "75,90): heads fitted across the codec paths a board's frames take")
       ->delimiter(',');
+  app.add_flag("--train-live", train_live,
+               "Also fit on the touch train frames through their sensor's live path (the "
+               "simulated camera's raw output decoded as tlvlinkd decodes it; simulated sets)");
+  app.add_option("--touch-from-grasps", touch_from_grasps,
+                 "Also fit the touch heads on the training grasps of this simulated Feel set: "
+                 "each finger's frame during the grasp, labelled with the object's material");
   app.add_option("--view-weight", view_weights,
-                 "With --train-jpeg: penalise each touch head's logit change between a train "
-                 "frame and its JPEG re-encodings by this weight (0 = off), so a codec moves its "
+                 "With --train-jpeg / --train-live: penalise each touch head's logit change "
+                 "between a train frame and its re-encodings by this weight (0 = off), so a codec "
+                 "moves its "
                  "answer less; several (e.g. 0,1,3,10): chosen on the validation split, by "
                  "accuracy or by --min-view-agreement; TASK=W (e.g. rough_smooth=10) sets one "
                  "head's (repeat for a grid)")
@@ -102,9 +109,14 @@ Result<eval::EvalData> EvalFlags::data() const {
   d.gelsight_quarter_turns = quarter_turns;
   d.max_touch_samples = max_touch;
   d.train_jpeg_qualities = train_jpeg;
+  d.train_live_path = train_live;
+  d.touch_from_grasps_dir = touch_from_grasps;
   d.max_grasp_episodes = max_grasp;
   TLV_ENSURE(!touch.empty() || !grasp.empty(), ErrorCode::kInvalidArgument,
              "give a dataset: --touch DIR and/or --grasp DIR");
+  TLV_ENSURE(touch_from_grasps.empty() || !touch.empty(), ErrorCode::kInvalidArgument,
+             "--touch-from-grasps needs --touch: the grasps' frames are extra training rows of "
+             "the touch heads, whose test split is the touch set's");
   return d;
 }
 
@@ -134,8 +146,9 @@ Status EvalFlags::parse_view_weights(eval::HeadFitOptions& heads) const {
                item.c_str());
     heads.view_weight_grid_of[task].push_back(w);
   }
-  TLV_ENSURE(!penalised || !train_jpeg.empty(), ErrorCode::kInvalidArgument,
-             "--view-weight needs --train-jpeg: the re-encodings are the second views");
+  TLV_ENSURE(!penalised || !train_jpeg.empty() || train_live, ErrorCode::kInvalidArgument,
+             "--view-weight needs --train-jpeg or --train-live: the re-encodings are the second "
+             "views");
   if (!shared.empty()) heads.probe.view_weight_grid = shared;
   return {};
 }

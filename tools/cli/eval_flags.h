@@ -21,6 +21,8 @@ struct EvalFlags {
   uint64_t split_seed = 0;
   int64_t max_touch = 0, max_grasp = 0;
   std::vector<int32_t> train_jpeg;
+  bool train_live = false;
+  std::string touch_from_grasps;
   std::vector<std::string> view_weights;  // --view-weight: W or TASK=W items; empty = {0}
   double min_view_agreement = 0;
   int jpeg_scale = 1;

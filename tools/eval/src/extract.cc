@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
+#include <memory>
 
 #include "data_paths.h"
 #include "tlvlink/datasets/feel.h"
@@ -10,6 +12,8 @@
 #include "tlvlink/eval/embeddings.h"
 #include "tlvlink/image/preprocess.h"
 #include "tlvlink/io/progress.h"
+#include "tlvlink/sim/live_path.h"
+#include "tlvlink/sim/sensor.h"
 
 namespace tlvlink::eval {
 namespace {
@@ -23,10 +27,17 @@ struct TouchSink {
   int64_t cap = 0;  // per split, 0 = none
   int64_t taken[2] = {0, 0};
   std::vector<int32_t> train_jpeg = {};  // EvalData::train_jpeg_qualities
+  bool train_live = false;               // EvalData::train_live_path
+  std::map<std::string, std::unique_ptr<sim::LivePath>> live = {};  // per sensor profile
+  sim::RgbImage live_frame = {};
+
+  bool adds_views() const { return !train_jpeg.empty() || train_live; }
 
   bool full(bool test) const { return cap > 0 && taken[test ? 1 : 0] >= cap; }
 
-  Status add(const sim::TouchSample& s, const std::string& key, bool test, bool has_labels) {
+  // `live_view`: false for a frame that already took its sensor's live path.
+  Status add(const sim::TouchSample& s, const std::string& key, bool test, bool has_labels,
+             bool live_view = true) {
     if (full(test)) return {};
     const auto original = static_cast<int64_t>(out.size());
     TLV_TRY(add_row(s, s.touch, key, test, has_labels, -1));
@@ -35,10 +46,34 @@ struct TouchSink {
         TLV_ASSIGN_OR_RETURN(const sim::RgbImage j, internal::jpeg_path(s.touch, q));
         TLV_TRY(add_row(s, j, key + "#jpeg-q" + std::to_string(q), test, has_labels, original));
       }
+      if (train_live && live_view) TLV_TRY(add_live_view(s, key, has_labels, original));
     }
     ++taken[test ? 1 : 0];
     progress.add();
     return {};
+  }
+
+  // The frame through its sensor's live path (the camera's raw output and the board's decoder,
+  // what tlvlinkd reads), as a train row viewing `original`.
+  Status add_live_view(const sim::TouchSample& s, const std::string& key, bool has_labels,
+                       int64_t original) {
+    TLV_ENSURE(!s.sensor.empty(), ErrorCode::kInvalidArgument,
+               "--train-live: touch sample '%s' does not record its sensor (a simulated set "
+               "does; real data has no live path to replay)",
+               key.c_str());
+    std::unique_ptr<sim::LivePath>& path = live[s.sensor];
+    if (!path) {
+      Result<sim::SensorProfile> profile = sim::sensor_profile(s.sensor);
+      if (!profile.ok())
+        return profile.error().with_context("--train-live: sample '%s'", key.c_str());
+      Result<std::unique_ptr<sim::LivePath>> made = sim::LivePath::create(*profile);
+      if (!made.ok()) return made.error().with_context("--train-live: sample '%s'", key.c_str());
+      path = std::move(*made);
+    }
+    live_frame = s.touch;
+    if (Status st = path->apply(live_frame.rgb); !st.ok())
+      return st.error().with_context("--train-live: sample '%s'", key.c_str());
+    return add_row(s, live_frame, key + "#live", false, has_labels, original);
   }
 
   // One row: `frame` (the sample's or a re-encoding of it) with the sample's labels.
@@ -55,7 +90,7 @@ struct TouchSink {
     out.group.push_back(s.session);
     out.is_test.push_back(test ? 1 : 0);
     out.keys.push_back(key);
-    if (!train_jpeg.empty()) out.view_of.push_back(view_of);
+    if (adds_views()) out.view_of.push_back(view_of);
     out.hidden_material.push_back(s.material);
     if (!has_labels) out.hidden_material.back().class_id = -1;
     out.hidden_contact.push_back(s.contact);
@@ -123,6 +158,48 @@ Status run_tag(const EvalData& data, TouchSink& sink) {
   return {};
 }
 
+// EvalData::touch_from_grasps: each TRAINING grasp's "during" frame of either finger, as a touch
+// train row labelled with the grasped object's material (its session: the object).
+Status run_grasp_touches(const EvalData& data, TouchSink& sink) {
+  const std::string& dir = data.touch_from_grasps_dir;
+  Result<GraspFormat> detected = internal::detect_grasp_format(dir, GraspFormat::kAuto);
+  if (!detected.ok()) return detected.error().with_context("--touch-from-grasps");
+  const GraspFormat format = *detected;
+  datasets::FeelLoaderOptions o;
+  o.load_vision = o.require_vision = false;
+  o.scale_denominator = data.scale_denominator;
+  o.split = datasets::Split::kTrain;
+  o.resplit = internal::split_to_apply(data, dir, internal::dataset_format(format));
+  o.gelsight_quarter_turns = data.gelsight_quarter_turns;
+  auto loader = format == GraspFormat::kFeelHdf5 ? datasets::open_feel(dir, o)
+                                                 : datasets::open_feel_repacked(dir, o);
+  if (!loader.ok()) return loader.error().with_context("--touch-from-grasps %s", dir.c_str());
+  sim::GraspEpisode e;
+  sim::TouchSample s;
+  int64_t labelled = 0;
+  for (;;) {
+    TLV_ASSIGN_OR_RETURN(const bool more, (*loader)->next(e));
+    if (!more || sink.full(false)) break;
+    if (e.material.class_id < 0) continue;  // a real Feel episode: no material recorded
+    ++labelled;
+    s.session = "grasp:" + e.object_name;
+    s.object_id = e.object_id;
+    s.sensor = e.sensor;
+    s.material = e.material;
+    for (int32_t f = 0; f < heads::kFingers; ++f) {
+      s.sensor_instance = e.sensor_instance[f];
+      s.touch = e.frames[f][static_cast<int>(heads::Moment::kDuring)];
+      TLV_TRY(sink.add(s, (*loader)->key() + (f == 0 ? "#A" : "#B"), /*test=*/false,
+                       /*has_labels=*/true, /*live_view=*/!e.live_path));
+    }
+  }
+  TLV_ENSURE(labelled > 0, ErrorCode::kFormat,
+             "--touch-from-grasps %s: no training episode records its object's material (a "
+             "simulated Feel set does)",
+             dir.c_str());
+  return {};
+}
+
 Result<TouchEmbeddings> extract_touch(Embedder& embedder, const EvalData& data,
                                       const EmbedderOptions& options) {
   TLV_ASSIGN_OR_RETURN(const TouchFormat format,
@@ -134,13 +211,19 @@ Result<TouchEmbeddings> extract_touch(Embedder& embedder, const EvalData& data,
   tools::Progress progress(
       "embedding touch frames", total, stderr,
       options.progress ? tools::ProgressMode::kAuto : tools::ProgressMode::kQuiet);
-  TouchSink sink{
-      embedder, out, progress, data.max_touch_samples, {0, 0}, data.train_jpeg_qualities};
+  TouchSink sink{embedder,
+                 out,
+                 progress,
+                 data.max_touch_samples,
+                 {0, 0},
+                 data.train_jpeg_qualities,
+                 data.train_live_path};
   if (format == TouchFormat::kTouch100k) {
     TLV_TRY(run_touch100k(data, sink));
   } else {
     TLV_TRY(run_tag(data, sink));
   }
+  if (!data.touch_from_grasps_dir.empty()) TLV_TRY(run_grasp_touches(data, sink));
   if (options.progress) progress.finish();
   internal::fill_split_counts(out.split, out.group, out.is_test);
   TLV_ENSURE(out.size() > 0, ErrorCode::kFormat, "%s: no touch sample could be loaded (%s)",

@@ -52,6 +52,14 @@ struct EvalData {
   // (extra train rows: same labels, same session), so probes fitted on them are fitted across
   // the codec paths a board's frames take (`--train-jpeg`). Test rows are never re-encoded.
   std::vector<int32_t> train_jpeg_qualities;
+  // Touch TRAIN samples are also embedded after their sensor's live path (the simulated camera's
+  // raw output decoded by the board's decoder: sim/live_path.h), a second view of each frame
+  // (`--train-live`; simulated sets only: a sample must record its sensor).
+  bool train_live_path = false;
+  // A grasp set (Feel format, simulated: episodes record their object's material) whose TRAINING
+  // episodes' "during" frames (both fingers) are also touch train rows: the touch heads then see
+  // a gripper's contacts too, not only the touch set's presses (`--touch-from-grasps`).
+  std::string touch_from_grasps_dir;
   // Caps per split (train and test each), for quick runs; 0 = all. Items beyond are not read.
   int64_t max_touch_samples = 0;
   int64_t max_grasp_episodes = 0;
@@ -105,8 +113,8 @@ struct TouchEmbeddings {
   std::vector<std::string> group;  // session
   std::vector<uint8_t> is_test;
   std::vector<std::string> keys;  // the loader's key of each sample
-  // For a row that is a re-encoding of another (--train-jpeg), that row's index; -1 for a frame
-  // as loaded. Empty when no row is re-encoded.
+  // For a row that is a re-encoding of another (--train-jpeg, --train-live), that row's index; -1
+  // for a frame as loaded. Empty when no row is re-encoded.
   std::vector<int64_t> view_of;
   // What the simulator recorded about each sample (its sidecar): the material's hidden
   // parameters and the contact. class_id -1 when the set records none (oracle.h needs them).
