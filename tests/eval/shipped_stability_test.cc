@@ -39,7 +39,7 @@ struct Bound {
 // to the level reached, below the target (firmware/models/README.md "Stability" says why).
 constexpr Bound kBounds[] = {
     // measured: cosine, material, the two-class heads' lower
-    {"simulated", "live gelsight-mini", 0.97, 0.80, 0.90},  // 0.995, 88.9 %, 100 %
+    {"simulated", "live gelsight-mini", 0.97, 0.80, 0.90},  // 0.995, 88.9 %, 96.3 %
     {"simulated", "live digit", 0.97, 0.85, 0.90},          // 0.999, 95.2 %, 95.2 %
     {"simulated", "jpeg-q95", 0.95, 0.75, 0.90},            // 0.982, 83.3 %, 95.8 %
     {"simulated", "jpeg-q90", 0.95, 0.65, 0.90},            // 0.986, 75.0 %, 95.8 %

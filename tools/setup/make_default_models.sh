@@ -18,12 +18,16 @@
 #    of the heads' touch set and the grasp head on the Feel set, on the runtime's own embeddings
 #    and each finger's before-to-during difference statistics (runtime/heads/README.md);
 #    each head records its test accuracy (trust) -> OUT_DIR/touch-tiny-fp32.tlvm. Zero-shot heads
-#    that do not beat the majority class are left out. Then the two-class touch heads
-#    (hard/soft, rough/smooth) are fitted again (`--only`) on each training frame also saved as
-#    JPEG q75 and q90, with the view penalty (weight 5): their answer must not move between a
-#    frame and its re-encoding. The material head keeps its plain fit: it pays too much accuracy
-#    for the penalty, and the JPEG rows alone do not steady it (firmware/models/README.md
-#    "Stability").
+#    that do not beat the majority class are left out. Then the two-class touch heads are
+#    fitted again (`--only`), each with second views of its training frames and the view
+#    penalty (its answer must not move between a frame and its re-encoding): hard/soft on each
+#    training frame also saved as JPEG q75 and q90 (weight 5); rough/smooth on those, on each
+#    frame through its sensor's live path (`--train-live`), and on the Feel set's training
+#    grasps (each finger's frame during the grasp, labelled with the object's material:
+#    `--touch-from-grasps`), weight 5: with the JPEG views alone it lost 10-14 points on the
+#    gripper scenarios of the GelSight Mini. The material head keeps its plain fit: it pays too
+#    much accuracy for the penalty, and the JPEG rows alone do not steady it
+#    (firmware/models/README.md "Stability").
 # 4. `tlvlink quantize` (percentile 99.99, 200 calibration frames of the training split; the
 #    first convolution and the embedding layer kept in fp32; bias correction on 64 of them,
 #    quantize/README.md), then `tlvlink eval --record` re-measures the int8 heads on the same
@@ -89,9 +93,12 @@ fi
 echo "== heads fit -> $out/touch-tiny-fp32.tlvm"
 "$tlvlink" heads fit "$out/tiny.tlvm" --touch "$heads" --grasp "$feel" -q \
   --grasp-features before-during-difference --overwrite -o "$out/heads-plain.tlvm"
-"$tlvlink" heads fit "$out/heads-plain.tlvm" --touch "$heads" -q --only hard_soft,rough_smooth \
+"$tlvlink" heads fit "$out/heads-plain.tlvm" --touch "$heads" -q --only hard_soft \
   --train-jpeg 75,90 --view-weight 5 --max-iterations 3000 --no-zero-shot \
-  --overwrite -o "$out/touch-tiny-fp32.tlvm"
+  --overwrite -o "$out/heads-hard-soft.tlvm"
+"$tlvlink" heads fit "$out/heads-hard-soft.tlvm" --touch "$heads" -q --only rough_smooth \
+  --touch-from-grasps "$feel" --train-jpeg 75,90 --train-live --view-weight 5 \
+  --max-iterations 3000 --no-zero-shot --overwrite -o "$out/touch-tiny-fp32.tlvm"
 
 echo "== quantize -> $out/touch-tiny-int8.tlvm"
 "$tlvlink" quantize "$out/touch-tiny-fp32.tlvm" --calib "$out/data" --calib-split train \
