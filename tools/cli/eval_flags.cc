@@ -38,11 +38,10 @@ void EvalFlags::add_to(CLI::App& app) {
                  "each finger's frame during the grasp, labelled with the object's material");
   app.add_option("--view-weight", view_weights,
                  "With --train-jpeg / --train-live: penalise each touch head's logit change "
-                 "between a train frame and its re-encodings by this weight (0 = off), so a codec "
-                 "moves its "
-                 "answer less; several (e.g. 0,1,3,10): chosen on the validation split, by "
-                 "accuracy or by --min-view-agreement; TASK=W (e.g. rough_smooth=10) sets one "
-                 "head's (repeat for a grid)")
+                 "between a train frame and its re-encodings by this weight (0 = off), so a "
+                 "codec moves its answer less; several (e.g. 0,1,3,10): chosen on the validation "
+                 "split, by accuracy or by --min-view-agreement; TASK=W (e.g. rough_smooth=10) "
+                 "sets one head's (repeat for a grid)")
       ->delimiter(',');
   app.add_option("--min-view-agreement", min_view_agreement,
                  "With several --view-weight: take the smallest whose head gives a validation "
