@@ -12,6 +12,7 @@
 #include "tlvlink/datasets/touch100k.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/io/file.h"
+#include "tlvlink/sim/sensor.h"
 
 namespace tlvlink::eval::internal {
 
@@ -157,6 +158,15 @@ Result<datasets::RgbImage> jpeg_path(const datasets::RgbImage& frame, int32_t qu
   TLV_ASSIGN_OR_RETURN(const std::vector<uint8_t> bytes, image::encode_jpeg(in, quality));
   TLV_ASSIGN_OR_RETURN(image::Image out, image::decode_jpeg(bytes, "JPEG path"));
   return datasets::RgbImage{out.height, out.width, std::move(out.pixels)};
+}
+
+Status LivePaths::apply(const std::string& sensor, std::span<uint8_t> rgb) {
+  std::unique_ptr<sim::LivePath>& path = paths_[sensor];
+  if (!path) {
+    TLV_ASSIGN_OR_RETURN(const sim::SensorProfile profile, sim::sensor_profile(sensor));
+    TLV_ASSIGN_OR_RETURN(path, sim::LivePath::create(profile));
+  }
+  return path->apply(rgb);
 }
 
 }  // namespace tlvlink::eval::internal

@@ -6,13 +6,17 @@
 // split rule are tools/datasets' (tlvlink/datasets/detect.h); this maps them onto EvalData's
 // formats and adds what only the reports need (split source text, progress totals).
 
+#include <map>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "tlvlink/datasets/records.h"
 #include "tlvlink/datasets/split.h"
 #include "tlvlink/error.h"
 #include "tlvlink/eval/embeddings.h"
+#include "tlvlink/sim/live_path.h"
 
 namespace tlvlink::eval::internal {
 
@@ -38,6 +42,17 @@ std::string split_source(const std::optional<datasets::HashSplit>& split);
 // The frame saved as a JPEG at `quality` (4:2:0, as datasets and tools save) and read back: the
 // codec path of stability.h and of EvalData::train_jpeg_qualities.
 Result<datasets::RgbImage> jpeg_path(const datasets::RgbImage& frame, int32_t quality);
+
+// The frame through its sensor's live path (sim::LivePath: the camera's raw output and the
+// board's decoder), in place: the live path of stability.h and of EvalData::train_live_path.
+// One LivePath per sensor profile, made on first use.
+class LivePaths {
+ public:
+  Status apply(const std::string& sensor, std::span<uint8_t> rgb);
+
+ private:
+  std::map<std::string, std::unique_ptr<sim::LivePath>> paths_;
+};
 
 // Non-blank lines of a text file (0 when it cannot be read): progress totals.
 int64_t count_lines(const std::string& path);

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
-#include <memory>
 
 #include "data_paths.h"
 #include "tlvlink/datasets/feel.h"
@@ -12,8 +10,6 @@
 #include "tlvlink/eval/embeddings.h"
 #include "tlvlink/image/preprocess.h"
 #include "tlvlink/io/progress.h"
-#include "tlvlink/sim/live_path.h"
-#include "tlvlink/sim/sensor.h"
 
 namespace tlvlink::eval {
 namespace {
@@ -28,7 +24,7 @@ struct TouchSink {
   int64_t taken[2] = {0, 0};
   std::vector<int32_t> train_jpeg = {};  // EvalData::train_jpeg_qualities
   bool train_live = false;               // EvalData::train_live_path
-  std::map<std::string, std::unique_ptr<sim::LivePath>> live = {};  // per sensor profile
+  internal::LivePaths live = {};
   sim::RgbImage live_frame = {};
 
   bool adds_views() const { return !train_jpeg.empty() || train_live; }
@@ -61,17 +57,8 @@ struct TouchSink {
                "--train-live: touch sample '%s' does not record its sensor (a simulated set "
                "does; real data has no live path to replay)",
                key.c_str());
-    std::unique_ptr<sim::LivePath>& path = live[s.sensor];
-    if (!path) {
-      Result<sim::SensorProfile> profile = sim::sensor_profile(s.sensor);
-      if (!profile.ok())
-        return profile.error().with_context("--train-live: sample '%s'", key.c_str());
-      Result<std::unique_ptr<sim::LivePath>> made = sim::LivePath::create(*profile);
-      if (!made.ok()) return made.error().with_context("--train-live: sample '%s'", key.c_str());
-      path = std::move(*made);
-    }
     live_frame = s.touch;
-    if (Status st = path->apply(live_frame.rgb); !st.ok())
+    if (Status st = live.apply(s.sensor, live_frame.rgb); !st.ok())
       return st.error().with_context("--train-live: sample '%s'", key.c_str());
     return add_row(s, live_frame, key + "#live", false, has_labels, original);
   }
@@ -158,21 +145,29 @@ Status run_tag(const EvalData& data, TouchSink& sink) {
   return {};
 }
 
+// One split of a grasp set (Feel HDF5 or repacked), frames only, as the data asks them decoded.
+Result<std::unique_ptr<datasets::GraspEpisodeLoader>> open_grasp_split(
+    const EvalData& data, const std::string& dir, GraspFormat format, datasets::Split split,
+    const std::optional<datasets::HashSplit>& resplit) {
+  datasets::FeelLoaderOptions o;
+  o.load_vision = o.require_vision = false;
+  o.scale_denominator = data.scale_denominator;
+  o.split = split;
+  o.resplit = resplit;
+  o.gelsight_quarter_turns = data.gelsight_quarter_turns;
+  return format == GraspFormat::kFeelHdf5 ? datasets::open_feel(dir, o)
+                                          : datasets::open_feel_repacked(dir, o);
+}
+
 // EvalData::touch_from_grasps: each TRAINING grasp's "during" frame of either finger, as a touch
 // train row labelled with the grasped object's material (its session: the object).
 Status run_grasp_touches(const EvalData& data, TouchSink& sink) {
   const std::string& dir = data.touch_from_grasps_dir;
   Result<GraspFormat> detected = internal::detect_grasp_format(dir, GraspFormat::kAuto);
   if (!detected.ok()) return detected.error().with_context("--touch-from-grasps");
-  const GraspFormat format = *detected;
-  datasets::FeelLoaderOptions o;
-  o.load_vision = o.require_vision = false;
-  o.scale_denominator = data.scale_denominator;
-  o.split = datasets::Split::kTrain;
-  o.resplit = internal::split_to_apply(data, dir, internal::dataset_format(format));
-  o.gelsight_quarter_turns = data.gelsight_quarter_turns;
-  auto loader = format == GraspFormat::kFeelHdf5 ? datasets::open_feel(dir, o)
-                                                 : datasets::open_feel_repacked(dir, o);
+  auto loader =
+      open_grasp_split(data, dir, *detected, datasets::Split::kTrain,
+                       internal::split_to_apply(data, dir, internal::dataset_format(*detected)));
   if (!loader.ok()) return loader.error().with_context("--touch-from-grasps %s", dir.c_str());
   sim::GraspEpisode e;
   sim::TouchSample s;
@@ -291,15 +286,8 @@ Result<GraspEmbeddings> extract_grasp(Embedder& embedder, const EvalData& data,
       options.progress ? tools::ProgressMode::kAuto : tools::ProgressMode::kQuiet);
   std::string summary;
   for (const bool test : {false, true}) {
-    datasets::FeelLoaderOptions o;
-    o.load_vision = o.require_vision = false;
-    o.scale_denominator = data.scale_denominator;
-    o.split = test ? datasets::Split::kTest : datasets::Split::kTrain;
-    o.resplit = hash;
-    o.gelsight_quarter_turns = data.gelsight_quarter_turns;
-    auto loader = format == GraspFormat::kFeelHdf5
-                      ? datasets::open_feel(data.grasp_dir, o)
-                      : datasets::open_feel_repacked(data.grasp_dir, o);
+    auto loader = open_grasp_split(data, data.grasp_dir, format,
+                                   test ? datasets::Split::kTest : datasets::Split::kTrain, hash);
     if (!loader.ok()) return loader.error();
     if (data.problems != nullptr) (*loader)->report().on_problem = data.problems->callback();
     sim::GraspEpisode e;

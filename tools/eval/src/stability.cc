@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <memory>
 
 #include <nlohmann/json.hpp>
@@ -19,8 +18,6 @@
 #include "tlvlink/io/file.h"
 #include "tlvlink/io/model_input.h"
 #include "tlvlink/sim/generate.h"
-#include "tlvlink/sim/live_path.h"
-#include "tlvlink/sim/sensor.h"
 
 namespace tlvlink::eval {
 namespace {
@@ -121,7 +118,7 @@ Status simulated_scenes(const StabilityOptions& o, Probe& probe, std::vector<Pat
   to.vision_height = 24;  // the vision image is not used
   to.vision_width = 32;
   TLV_ASSIGN_OR_RETURN(auto generator, sim::TouchSampleGenerator::create(to));
-  std::map<std::string, std::unique_ptr<sim::LivePath>> live;
+  internal::LivePaths live;
   sim::TouchSample s;
   for (int64_t i = 0; i < generator->size(); ++i) {
     TLV_TRY(generator->generate(i, s));
@@ -133,13 +130,8 @@ Status simulated_scenes(const StabilityOptions& o, Probe& probe, std::vector<Pat
       TLV_ASSIGN_OR_RETURN(const sim::RgbImage j, internal::jpeg_path(s.touch, q));
       TLV_TRY(probe.compare(j, item, tally(all, "simulated", "jpeg-q" + std::to_string(q))));
     }
-    auto& path = live[s.sensor];
-    if (!path) {
-      TLV_ASSIGN_OR_RETURN(const sim::SensorProfile profile, sim::sensor_profile(s.sensor));
-      TLV_ASSIGN_OR_RETURN(path, sim::LivePath::create(profile));
-    }
     sim::RgbImage l = s.touch;
-    TLV_TRY(path->apply(l.rgb));
+    TLV_TRY(live.apply(s.sensor, l.rgb));
     TLV_TRY(probe.compare(l, item, tally(all, "simulated", "live " + s.sensor)));
   }
   return {};
