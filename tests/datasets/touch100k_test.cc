@@ -95,6 +95,33 @@ TEST(Touch100k, RoundTrip) {
   }
 }
 
+// Quality 100 with full chroma: the touch frames come back within the round trip's rounding
+// (YCbCr at 8 bits and q100's smallest quantiser step: under 1 DN on average, a few at single
+// pixels, 4 measured), and the set says how it was stored.
+TEST(Touch100k, FullChromaQuality100KeepsTheFramesAndIsRecorded) {
+  TempDir tmp;
+  WriterOptions o;
+  o.jpeg_quality = 100;
+  o.jpeg_full_chroma = true;
+  const auto samples = testing::touch_set(2, 2);
+  write_touch100k_set(tmp.path(), samples, o);
+  const auto prov = nlohmann::json::parse(std::ifstream(tmp / "tlvlink_sim.json"));
+  EXPECT_EQ(prov["writer"]["jpeg_chroma"], "4:4:4");
+  EXPECT_EQ(prov["writer"]["jpeg_quality"], 100);
+  const auto loaded = load_all(tmp.path());
+  ASSERT_EQ(loaded.size(), samples.size());
+  for (size_t i = 0; i < samples.size(); ++i) {
+    const auto d = testing::image_diff(samples[i].touch, loaded[i].touch);
+    EXPECT_LE(d.mean, 1.0) << i;
+    EXPECT_LE(d.max, 5) << i;
+  }
+  TempDir plain;
+  write_touch100k_set(plain.path(), samples);
+  EXPECT_EQ(
+      nlohmann::json::parse(std::ifstream(plain / "tlvlink_sim.json"))["writer"]["jpeg_chroma"],
+      "4:2:0");
+}
+
 TEST(Touch100k, WithoutSidecarOnlyTheFormatsFields) {
   TempDir tmp;
   WriterOptions o;

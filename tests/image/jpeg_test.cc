@@ -70,6 +70,36 @@ TEST(Jpeg, Quality100RoundTripIsClose) {
   expect_close(img, back.value(), kQ100MeanAbsTolerance, kQ100MaxAbsTolerance);
 }
 
+// Colour that changes every pixel (how a GelSight shows fine surface normals): 4:2:0 averages
+// each 2x2 block's colour away; 4:4:4 at q100 keeps it. Tolerances: q100's quantisation and the
+// YCbCr round trip move a pixel by at most a few DN; the 4:2:0 loss here is tens of DN.
+TEST(Jpeg, FullChromaKeepsColourDetailThatSubsamplingLoses) {
+  Image img;
+  img.width = 64;
+  img.height = 48;
+  img.channels = 3;
+  img.pixels.resize(64 * 48 * 3);
+  for (int32_t y = 0; y < 48; ++y)
+    for (int32_t x = 0; x < 64; ++x) {
+      uint8_t* p = &img.pixels[static_cast<size_t>((y * 64 + x) * 3)];
+      const bool odd = ((x + y) & 1) != 0;
+      p[0] = odd ? 170 : 90;  // red and blue swap, green holds the luma nearly level
+      p[1] = 128;
+      p[2] = odd ? 90 : 170;
+    }
+  auto full = encode_jpeg(img, 100, /*full_chroma=*/true);
+  auto halved = encode_jpeg(img, 100);
+  ASSERT_TRUE(full.ok() && halved.ok());
+  auto full_back = decode_jpeg(full.value(), "4:4:4");
+  auto halved_back = decode_jpeg(halved.value(), "4:2:0");
+  ASSERT_TRUE(full_back.ok() && halved_back.ok());
+  expect_close(img, full_back.value(), 1.0, 4);
+  double halved_error = 0;
+  for (size_t i = 0; i < img.pixels.size(); ++i)
+    halved_error += std::abs(int{img.pixels[i]} - int{halved_back->pixels[i]});
+  EXPECT_GT(halved_error / static_cast<double>(img.pixels.size()), 10.0);
+}
+
 TEST(Jpeg, GrayEncodesAndDecodesAsRgb) {
   const Image gray = smooth(24, 40, 1, 7);
   auto bytes = encode_jpeg(gray, 100);

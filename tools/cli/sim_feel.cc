@@ -30,6 +30,7 @@ struct FeelFlags {
   bool live_path = false;
   double live_path_fraction = 0;
   int jpeg_quality = 95;
+  bool jpeg_full_chroma = false;
   int quarter_turns = 0;
   double test_fraction = 0.2;
   bool no_sidecar = false;
@@ -54,6 +55,7 @@ int run_feel(const FeelFlags& f) {
   gen.live_path_fraction = f.live_path_fraction;
   datasets::FeelWriterOptions& wo = job.writer;
   wo.jpeg_quality = f.jpeg_quality;
+  wo.jpeg_full_chroma = f.jpeg_full_chroma;
   wo.test_fraction = f.test_fraction;
   wo.sidecar = !f.no_sidecar;
   wo.records_per_file = f.records_per_file;
@@ -158,6 +160,8 @@ void add_sim_feel_command(CLI::App& sim, int& exit_code) {
   cmd->add_option("--jpeg-quality", f->jpeg_quality, "--repacked: quality of the stored JPEGs")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
+  cmd->add_flag("--jpeg-full-chroma", f->jpeg_full_chroma,
+                std::string("--repacked: ") + kJpegFullChromaHelp);
   cmd->add_option("--quarter-turns", f->quarter_turns,
                   "HDF5: store GelSight frames rotated by this many quarter turns "
                   "counterclockwise (the published files are stored rotated)")

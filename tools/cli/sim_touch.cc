@@ -30,6 +30,7 @@ struct TouchFlags {
   double markers_fraction = 0;
   int sensor_instances = 1;
   int jpeg_quality = 90;
+  bool jpeg_full_chroma = false;
   double test_fraction = 0.2;
   bool no_sidecar = false;
   int threads = 1;
@@ -50,6 +51,7 @@ int run_touch(const TouchFlags& f) {
   job.format =
       f.format == "tag" ? sim::TouchSetFormat::kTouchAndGo : sim::TouchSetFormat::kTouch100k;
   job.writer.jpeg_quality = f.jpeg_quality;
+  job.writer.jpeg_full_chroma = f.jpeg_full_chroma;
   job.writer.test_fraction = f.test_fraction;
   job.writer.sidecar = !f.no_sidecar;
   job.dir = f.output_dir;
@@ -102,6 +104,7 @@ void add_touch_command(CLI::App& sim, int& exit_code, const char* name, const ch
   cmd->add_option("--jpeg-quality", f->jpeg_quality, "Quality of the stored JPEGs")
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
+  cmd->add_flag("--jpeg-full-chroma", f->jpeg_full_chroma, kJpegFullChromaHelp);
   cmd->add_option("--test-fraction", f->test_fraction,
                   "Share of sessions in the test split (train/test never share a session)")
       ->check(CLI::Range(0.0, 1.0))

@@ -17,7 +17,7 @@ JpegEncoder& thread_encoder() {
 
 }  // namespace
 
-Result<std::vector<uint8_t>> encode_jpeg(const Image& image, int32_t quality) {
+Result<std::vector<uint8_t>> encode_jpeg(const Image& image, int32_t quality, bool full_chroma) {
   TLV_ENSURE(image.channels == 1 || image.channels == 3, ErrorCode::kInvalidArgument,
              "JPEG encode: %d channels (expected 1 or 3)", image.channels);
   const size_t need = static_cast<size_t>(image.width) * static_cast<size_t>(image.height) *
@@ -25,11 +25,11 @@ Result<std::vector<uint8_t>> encode_jpeg(const Image& image, int32_t quality) {
   TLV_ENSURE(image.pixels.size() == need, ErrorCode::kInvalidArgument,
              "JPEG encode: %zu pixel bytes for %dx%dx%d (expected %zu)", image.pixels.size(),
              image.width, image.height, image.channels, need);
-  TLV_ASSIGN_OR_RETURN(
-      const std::span<const uint8_t> bytes,
-      thread_encoder().encode(
-          image.view(), quality,
-          image.channels == 3 ? JpegEncoder::Subsampling::k420 : JpegEncoder::Subsampling::kGray));
+  TLV_ASSIGN_OR_RETURN(const std::span<const uint8_t> bytes,
+                       thread_encoder().encode(image.view(), quality,
+                                               image.channels == 1 ? JpegEncoder::Subsampling::kGray
+                                               : full_chroma       ? JpegEncoder::Subsampling::k444
+                                                             : JpegEncoder::Subsampling::k420));
   return std::vector<uint8_t>(bytes.begin(), bytes.end());
 }
 

@@ -9,6 +9,7 @@ int tj_subsampling(JpegEncoder::Subsampling s) {
   switch (s) {
     case JpegEncoder::Subsampling::k420: return TJSAMP_420;
     case JpegEncoder::Subsampling::k422: return TJSAMP_422;
+    case JpegEncoder::Subsampling::k444: return TJSAMP_444;
     case JpegEncoder::Subsampling::kGray: return TJSAMP_GRAY;
   }
   return TJSAMP_420;

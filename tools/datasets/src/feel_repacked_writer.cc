@@ -51,8 +51,9 @@ class FeelRepackedWriter final : public GraspDatasetWriter {
           TLV_TRY(jpeg_round_trip(image, options_.camera_jpeg_quality));
         const std::string path =
             join_path(dir_, "data/" + touch_dir + "/" + gelsight_key(f, m) + ".jpg");
-        TLV_ASSIGN_OR_RETURN(const int64_t bytes,
-                             write_jpeg_image(path, image, options_.jpeg_quality));
+        TLV_ASSIGN_OR_RETURN(
+            const int64_t bytes,
+            write_jpeg_image(path, image, options_.jpeg_quality, options_.jpeg_full_chroma));
         summary_.bytes += bytes;
         summary_.files += 1;
       }

@@ -46,9 +46,10 @@ Status check_image(const RgbImage& image, const std::string& what) {
   return {};
 }
 
-Result<int64_t> write_jpeg_image(const std::string& path, const RgbImage& image, int32_t quality) {
+Result<int64_t> write_jpeg_image(const std::string& path, const RgbImage& image, int32_t quality,
+                                 bool full_chroma) {
   TLV_TRY(check_image(image, path));
-  auto encoded = image::encode_jpeg(to_tool_image(image), quality);
+  auto encoded = image::encode_jpeg(to_tool_image(image), quality, full_chroma);
   if (!encoded.ok()) return encoded.error().with_context("%s", path.c_str());
   TLV_TRY(tools::write_file(path, std::as_bytes(std::span<const uint8_t>(encoded.value()))));
   return static_cast<int64_t>(encoded.value().size());

@@ -17,7 +17,8 @@ namespace tlvlink::datasets {
 Status check_image(const RgbImage& image, const std::string& what);
 
 // Encodes and writes a JPEG; returns the bytes written.
-Result<int64_t> write_jpeg_image(const std::string& path, const RgbImage& image, int32_t quality);
+Result<int64_t> write_jpeg_image(const std::string& path, const RgbImage& image, int32_t quality,
+                                 bool full_chroma = false);
 // JPEG encode + decode at `quality` (a camera's MJPEG stage), in place.
 Status jpeg_round_trip(RgbImage& image, int32_t quality);
 

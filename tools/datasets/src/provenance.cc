@@ -24,6 +24,7 @@ Status validate(const WriterOptions& options) {
 Status write_provenance(const std::string& dir, const char* format, const WriterOptions& options,
                         const OrderedJson& writer_extra, WriteSummary& summary) {
   OrderedJson writer = {{"jpeg_quality", options.jpeg_quality},
+                        {"jpeg_chroma", options.jpeg_full_chroma ? "4:4:4" : "4:2:0"},
                         {"test_fraction", options.test_fraction},
                         {"sidecar", options.sidecar}};
   for (const auto& [k, v] : writer_extra.items()) writer[k] = v;

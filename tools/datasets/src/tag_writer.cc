@@ -67,9 +67,10 @@ class TagWriter final : public TouchDatasetWriter {
     }
     const std::string key = tag_frame_key(s.session, s.frame_index);
     const std::string file = key.substr(s.session.size() + 1);
-    TLV_ASSIGN_OR_RETURN(const int64_t touch_bytes,
-                         write_jpeg_image(join_path(dir_, s.session + "/gelsight_frame/" + file),
-                                          s.touch, options_.jpeg_quality));
+    TLV_ASSIGN_OR_RETURN(
+        const int64_t touch_bytes,
+        write_jpeg_image(join_path(dir_, s.session + "/gelsight_frame/" + file), s.touch,
+                         options_.jpeg_quality, options_.jpeg_full_chroma));
     TLV_ASSIGN_OR_RETURN(const int64_t vision_bytes,
                          write_jpeg_image(join_path(dir_, s.session + "/video_frame/" + file),
                                           s.vision, options_.jpeg_quality));

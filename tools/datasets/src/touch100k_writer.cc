@@ -38,9 +38,9 @@ class Touch100kWriter final : public TouchDatasetWriter {
       TLV_TRY(make_dirs(join_path(dir_, "vision/" + s.session)));
       last_session_ = s.session;
     }
-    TLV_ASSIGN_OR_RETURN(
-        const int64_t touch_bytes,
-        write_jpeg_image(join_path(dir_, "touch/" + img), s.touch, options_.jpeg_quality));
+    TLV_ASSIGN_OR_RETURN(const int64_t touch_bytes,
+                         write_jpeg_image(join_path(dir_, "touch/" + img), s.touch,
+                                          options_.jpeg_quality, options_.jpeg_full_chroma));
     TLV_ASSIGN_OR_RETURN(
         const int64_t vision_bytes,
         write_jpeg_image(join_path(dir_, "vision/" + img), s.vision, options_.jpeg_quality));

@@ -55,7 +55,8 @@ class JpegDecoder {
 
 class JpegEncoder {
  public:
-  enum class Subsampling : uint8_t { k420, k422, kGray };
+  // k444 keeps full colour resolution: a GelSight's surface normals are in its colours.
+  enum class Subsampling : uint8_t { k420, k422, k444, kGray };
 
   JpegEncoder() = default;
   JpegEncoder(const JpegEncoder&) = delete;
@@ -78,8 +79,9 @@ class JpegEncoder {
 };
 
 // Conveniences for host tools (allocate; one decoder/encoder per thread behind them).
-// RGB (3 channels) or gray (1) -> baseline JPEG, 4:2:0 for RGB.
-Result<std::vector<uint8_t>> encode_jpeg(const Image& image, int32_t quality);
+// RGB (3 channels) or gray (1) -> baseline JPEG; RGB 4:2:0, or 4:4:4 with full_chroma.
+Result<std::vector<uint8_t>> encode_jpeg(const Image& image, int32_t quality,
+                                         bool full_chroma = false);
 // JPEG bytes -> RGB image at 1/scale_denominator. `name` (file path or "stream") in errors.
 Result<Image> decode_jpeg(std::span<const uint8_t> bytes, const std::string& name,
                           int32_t scale_denominator = 1);

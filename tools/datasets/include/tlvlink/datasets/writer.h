@@ -16,7 +16,10 @@
 namespace tlvlink::datasets {
 
 struct WriterOptions {
-  int32_t jpeg_quality = 90;          // [1, 100], every JPEG the writer stores
+  int32_t jpeg_quality = 90;  // [1, 100], every JPEG the writer stores
+  // Store touch frames' JPEGs 4:4:4 instead of 4:2:0: the colour detail where a GelSight shows
+  // fine surface normals is kept (with quality 100 the frames are within a few DN).
+  bool jpeg_full_chroma = false;
   double test_fraction = 0.2;         // [0, 1], share of sessions/objects in the test split
   std::string generator_json = "{}";  // JSON object describing what made the samples
                                       // (e.g. sim::touch_set_options_json()); in tlvlink_sim.json
