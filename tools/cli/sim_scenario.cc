@@ -43,7 +43,7 @@ int run_scenario(const ScenarioFlags& f) {
       f.output_dir.c_str(), f.sensor.c_str(), f.grasps, r->grasps_succeeding, f.presses, r->seconds,
       static_cast<long long>(r->frames), static_cast<long long>(r->rendered),
       static_cast<double>(r->file_bytes) / 1e6,
-      f.offline ? " + A.offline.tlvraw + B.offline.tlvraw" : "", r->render_seconds);
+      f.offline ? " + A/B.offline.tlvraw + A/B.dataset.tlvraw" : "", r->render_seconds);
   return kExitOk;
 }
 
@@ -67,10 +67,12 @@ void add_sim_scenario_command(CLI::App& sim, int& exit_code) {
       ->capture_default_str();
   cmd->add_flag("--markers", f->markers, "A gel with printed markers");
   cmd->add_flag("--offline", f->offline,
-                "Also record the processed frames as the datasets store them (JPEG q90 of the "
-                "upright view) into DIR/A.offline.tlvraw and B.offline.tlvraw: replayed by "
-                "tlvlinkd (format mjpeg, the view's size, crop 0, jpeg_scale 1, orientation "
-                "upright) they give the offline image path's predictions of the same frames");
+                "Also record the processed frames of the upright view twice: exactly (RGB24, "
+                "bit for bit) into DIR/A.offline.tlvraw and B.offline.tlvraw, and as the "
+                "datasets store them (JPEG q90, 4:2:0) into DIR/A.dataset.tlvraw and "
+                "B.dataset.tlvraw; replayed by tlvlinkd (format rgb24 / mjpeg, the view's size, "
+                "crop 0, jpeg_scale 1, orientation upright) they give the offline image path's "
+                "predictions of the same frames, and of the datasets' copy of them");
   cmd->add_flag("--overwrite", f->overwrite,
                 "Replace the files of an earlier scenario in the directory");
   cmd->footer(kExitCodeFooter);

@@ -50,13 +50,14 @@ for m in "$fp32" "$int8"; do
 done
 
 step "4/7 record the scenario: two simulated Minis, 6 grasps + 4 presses (tlvlink sim scenario)"
-# Rendered once (~15-30 s; ~220 MB of MJPEG in build/demo/out/scenario), reused while its options
-# are unchanged.
+# Rendered once (~15-30 s; ~320 MB in build/demo/out/scenario: the cameras' MJPEG and the
+# processed frames, exact and as JPEG), reused while its options are unchanged.
 scenario=$out/scenario
-# --offline: the same frames as the datasets store them too (JPEG q90 of the processed view), for
-# the live-vs-offline line of step 7; commands.txt holds the gripper controller's marks.
+# --offline: the processed frames of the view too, exactly (RGB24) and as the datasets store them
+# (JPEG q90), for the live-vs-offline line of step 7; commands.txt holds the gripper controller's
+# marks.
 scenario_args=(--sensor gelsight-mini --grasps 6 --presses 4 --seed 2026 --offline)
-if [ ! -f "$scenario/truth.jsonl" ] || [ ! -f "$scenario/A.offline.tlvraw" ] || [ ! -f "$scenario/commands.txt" ] || [ "$(cat "$scenario/args" 2>/dev/null)" != "${scenario_args[*]}" ]; then
+if [ ! -f "$scenario/truth.jsonl" ] || [ ! -f "$scenario/A.dataset.tlvraw" ] || [ ! -f "$scenario/commands.txt" ] || [ "$(cat "$scenario/args" 2>/dev/null)" != "${scenario_args[*]}" ]; then
   "$tlvlink" sim scenario -o "$scenario" --overwrite "${scenario_args[@]}"
   echo "${scenario_args[*]}" >"$scenario/args"
 else
@@ -94,11 +95,11 @@ finger = "B"
 source = "replay"
 device = "$PWD/$scenario/B.tlvraw"
 TOML
-# Beside it, the same scenes from the frames as the datasets store them (the offline image path),
-# into offline.jsonl only: step 7 compares the two on the same frames.
+# Beside it, the same scenes from their processed frames, exactly (the offline image path), into
+# offline.jsonl only: step 7 compares the two on the same frames.
 sed -e "s|^output = .*|output = [\"jsonl:$PWD/$out/offline.jsonl\"]|" -e '/^status_line/d' \
-    -e "s|/A.tlvraw\"|/A.offline.tlvraw\"\nformat = \"mjpeg\"\nwidth = 320\nheight = 240\ncrop = 0.0\njpeg_scale = 1|" \
-    -e "s|/B.tlvraw\"|/B.offline.tlvraw\"\nformat = \"mjpeg\"\nwidth = 320\nheight = 240\ncrop = 0.0\njpeg_scale = 1|" \
+    -e "s|/A.tlvraw\"|/A.offline.tlvraw\"\nformat = \"rgb24\"\nwidth = 320\nheight = 240\ncrop = 0.0\njpeg_scale = 1|" \
+    -e "s|/B.tlvraw\"|/B.offline.tlvraw\"\nformat = \"rgb24\"\nwidth = 320\nheight = 240\ncrop = 0.0\njpeg_scale = 1|" \
     "$out/tlvlinkd.toml" >"$out/offline.toml"
 rm -f "$out/predictions.jsonl" "$out/offline.jsonl"
 "$tlvlinkd" --config "$out/offline.toml" 2>"$out/offline.log" >/dev/null &

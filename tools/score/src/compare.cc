@@ -255,7 +255,7 @@ std::string format_live_offline(const LiveOfflineReport& r) {
   std::snprintf(line, sizeof(line),
                 "live vs offline: %d scenario(s), %lld events; the same frames through the live "
                 "image path (raw camera output, the board's decoder) and the offline one (the "
-                "processed frames as datasets store them)\n"
+                "scenes' processed frames replayed: sim scenario --offline)\n"
                 "95 %% intervals: bootstrap over events (%d samples); targets: per-frame heads "
                 "within %.0f points, grasps within %.0f\n",
                 r.runs, static_cast<long long>(r.events), r.bootstrap_samples,

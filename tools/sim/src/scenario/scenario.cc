@@ -149,7 +149,7 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
   TLV_ENSURE(o.static_variants >= 1 && o.static_variants <= 100, ErrorCode::kInvalidArgument,
              "scenario: static_variants = %d is outside 1..100", o.static_variants);
   TLV_ENSURE(o.offline_jpeg_quality >= 1 && o.offline_jpeg_quality <= 100,
-             ErrorCode::kInvalidArgument, "scenario: offline JPEG quality %d outside 1..100",
+             ErrorCode::kInvalidArgument, "scenario: dataset JPEG quality %d outside 1..100",
              o.offline_jpeg_quality);
   TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(o.sensor));
   const capture::SensorModel* model = capture::find_sensor_model(profile.name);
@@ -245,9 +245,11 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
                                {dir + "/B.tlvraw", dir + "/.B.tlvraw.partial"},
                                {dir + "/truth.jsonl", dir + "/.truth.jsonl.partial"},
                                {dir + "/commands.txt", dir + "/.commands.txt.partial"}};
-  if (o.offline) {  // files[4], files[5]
+  if (o.offline) {  // files[4..5]: the processed frames exactly; [6..7]: as datasets store them
     files.push_back({dir + "/A.offline.tlvraw", dir + "/.A.offline.tlvraw.partial"});
     files.push_back({dir + "/B.offline.tlvraw", dir + "/.B.offline.tlvraw.partial"});
+    files.push_back({dir + "/A.dataset.tlvraw", dir + "/.A.dataset.tlvraw.partial"});
+    files.push_back({dir + "/B.dataset.tlvraw", dir + "/.B.dataset.tlvraw.partial"});
   }
   for (const Staged& f : files) {
     struct stat existing {};
@@ -309,9 +311,11 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
                    ::fsync(::fileno(commands.get())) == 0,
                ErrorCode::kIo, "scenario: writing %s failed", files[3].temp_path.c_str());
   }
-  std::vector<capture::RecordingWriter> writers, offline;
-  capture::RecordingFormat offline_format = format;
-  offline_format.format = {image::PixelFormat::kMjpeg, model->view.width, model->view.height, 0};
+  std::vector<capture::RecordingWriter> writers, offline, dataset;
+  capture::RecordingFormat offline_format = format, dataset_format = format;
+  offline_format.format = {image::PixelFormat::kRgb24, model->view.width, model->view.height,
+                           model->view.width * 3};
+  dataset_format.format = {image::PixelFormat::kMjpeg, model->view.width, model->view.height, 0};
   for (int32_t f = 0; f < kFingers; ++f) {
     capture::WriterOptions wo;
     wo.origin_ns = 0;  // shared: B's phase survives
@@ -324,10 +328,14 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
           auto ow, capture::RecordingWriter::create(files[4 + static_cast<size_t>(f)].temp_path,
                                                     offline_format, wo));
       offline.push_back(std::move(ow));
+      TLV_ASSIGN_OR_RETURN(
+          auto dw, capture::RecordingWriter::create(files[6 + static_cast<size_t>(f)].temp_path,
+                                                    dataset_format, wo));
+      dataset.push_back(std::move(dw));
     }
   }
   struct Stored {
-    capture::RecordedBytes bytes, offline;
+    capture::RecordedBytes bytes, offline, dataset;
     ContactState state;
     double signal_dn = 0;
   };
@@ -350,8 +358,10 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
       auto hit = shot.static_key != 0 ? stored[f].find(shot.static_key) : stored[f].end();
       if (hit != stored[f].end()) {
         TLV_TRY(writers[static_cast<size_t>(f)].append_repeat(hit->second.bytes, t, seq));
-        if (o.offline)
+        if (o.offline) {
           TLV_TRY(offline[static_cast<size_t>(f)].append_repeat(hit->second.offline, t, seq));
+          TLV_TRY(dataset[static_cast<size_t>(f)].append_repeat(hit->second.dataset, t, seq));
+        }
         state = hit->second.state;
         signal_dn = hit->second.signal_dn;
       } else {
@@ -364,20 +374,22 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
                                         kFingerNames[f]);
         TLV_ASSIGN_OR_RETURN(const capture::RecordedBytes b,
                              writers[static_cast<size_t>(f)].append(raw.bytes, t, seq));
-        capture::RecordedBytes ob;
+        capture::RecordedBytes ob, db;
         if (o.offline) {
           const image::Image processed{raw.processed.width, raw.processed.height, 3,
                                        raw.processed.rgb};
+          TLV_ASSIGN_OR_RETURN(ob,
+                               offline[static_cast<size_t>(f)].append(processed.pixels, t, seq));
           TLV_ASSIGN_OR_RETURN(const std::vector<uint8_t> jpeg,
                                image::encode_jpeg(processed, o.offline_jpeg_quality));
-          TLV_ASSIGN_OR_RETURN(ob, offline[static_cast<size_t>(f)].append(jpeg, t, seq));
+          TLV_ASSIGN_OR_RETURN(db, dataset[static_cast<size_t>(f)].append(jpeg, t, seq));
         }
         state = raw.processed.state;
         block_means(raw.processed, blocks);
         if (open_blocks[f].empty()) open_blocks[f] = blocks;  // the lead-in: the open gel
         signal_dn = max_difference(blocks, open_blocks[f]);
         ++report.rendered;
-        if (shot.static_key != 0) stored[f][shot.static_key] = {b, ob, state, signal_dn};
+        if (shot.static_key != 0) stored[f][shot.static_key] = {b, ob, db, state, signal_dn};
       }
       std::fprintf(truth.get(),
                    "{\"type\":\"frame\",\"finger\":\"%s\",\"seq\":%lld,\"offset_ms\":%.3f,"
@@ -389,7 +401,7 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
     }
     if (progress) progress(k + 1, total);
   }
-  for (auto* group : {&writers, &offline}) {
+  for (auto* group : {&writers, &offline, &dataset}) {
     for (auto& w : *group) {
       report.file_bytes += static_cast<int64_t>(w.file_bytes());
       TLV_TRY(w.close());

@@ -1,9 +1,9 @@
 #pragma once
 // Live vs offline on the same frames (issue 29's "live = offline" benchmark): each scenario is
 // played twice by tlvlinkd, once from the cameras' raw output (the live image path) and once
-// from the processed frames as the datasets store them (`tlvlink sim scenario --offline`), and
-// both runs are scored against the truth frame by frame. Only frames both runs predicted are
-// compared, so the difference is the image path's alone.
+// from the processed frames (`tlvlink sim scenario --offline`: exactly, or as the datasets
+// store them), and both runs are scored against the truth frame by frame. Only frames both runs
+// predicted are compared, so the difference is the image path's alone.
 //
 // Frames of one event show one object under one grip: the unit of resampling is the event
 // (a cluster bootstrap over events, seeded), for the per-frame and per-event rates alike, and

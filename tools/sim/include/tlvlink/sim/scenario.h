@@ -14,7 +14,7 @@
 // minute of two 8 MP MJPEG streams costs a few hundred renders and ~100 MB of disk.
 //
 // Output directory: A.tlvraw, B.tlvraw (capture/recording.h; B's frames 7 ms after A's, as two
-// unsynchronised cameras are), optionally A.offline.tlvraw, B.offline.tlvraw (below),
+// unsynchronised cameras are), optionally A/B.offline.tlvraw and A/B.dataset.tlvraw (below),
 // commands.txt (the controller's closed / lifting marks of every grasp, tlvlinkd's
 // command_script) and truth.jsonl (one "scenario" line, one "event" line per event,
 // one "frame" line per frame and finger: contact, force, event). Written under temporary names
@@ -39,13 +39,15 @@ struct ScenarioOptions {
   bool markers = false;         // a gel with printed markers (the grasp sets have them)
   int32_t static_variants = 3;  // distinct noise frames cycled through a static stretch
   int64_t finger_b_phase_ns = 7'000'000;
-  // Also record each finger's processed frames as the datasets store them (the renderer's
-  // frame, upright, as a JPEG q90 of image::encode_jpeg: a Touch100k or Feel set's bytes) into
-  // A.offline.tlvraw and B.offline.tlvraw, an MJPEG camera of the view's size: tlvlinkd replays
-  // them (format "mjpeg", the view's width and height, crop 0, jpeg_scale 1, orientation
-  // "upright") to give the offline image path's predictions of the very same frames.
+  // Also record each finger's processed frames (the renderer's frame of the view, upright):
+  //   A/B.offline.tlvraw  the frames exactly, bit for bit (an RGB24 camera of the view's size):
+  //                       the offline image path's predictions of the very same frames
+  //   A/B.dataset.tlvraw  the frames as the datasets store them (JPEG q90, 4:2:0, of
+  //                       image::encode_jpeg: a Touch100k or Feel set's bytes), an MJPEG camera
+  // tlvlinkd replays them with format "rgb24" / "mjpeg", the view's width and height, crop 0,
+  // jpeg_scale 1, orientation "upright". The two differ by the datasets' codec alone.
   bool offline = false;
-  int32_t offline_jpeg_quality = 90;  // the dataset writers' default
+  int32_t offline_jpeg_quality = 90;  // the dataset copy's; the dataset writers' default
   // Replace the files of an earlier scenario in the directory; else one that exists (A.tlvraw,
   // B.tlvraw, truth.jsonl, commands.txt, the offline recordings) is an error naming it.
   bool overwrite = false;
