@@ -238,6 +238,17 @@ TEST_F(UntrustedCli, SimScenarioKeepsAnEarlierScenarioUnlessOverwrite) {
   EXPECT_NE(slurp(dir + "/truth.jsonl"), "earlier truth\n");
 }
 
+// `sim feel --jpeg-full-chroma` stores JPEGs only in the repacked layout: alone it is a usage
+// error naming what it needs, and nothing is written.
+TEST_F(UntrustedCli, FeelFullChromaWithoutRepackedIsAUsageError) {
+  const std::string dir = path("feel-chroma");
+  fs::remove_all(dir);
+  const CliRun r = tlvlink("sim feel -o " + dir + " --objects 1 --jpeg-full-chroma");
+  EXPECT_RUN(r, 2);
+  EXPECT_TRUE(contains(r, "--repacked")) << r.out;
+  EXPECT_FALSE(fs::exists(dir));
+}
+
 TEST_F(UntrustedCli, QuantizeWithoutDataListIsAnErrorNamingIt) {
   const std::string set = copy_set("nolist");
   fs::remove(fs::path(set) / "data_list.json");

@@ -129,8 +129,9 @@ void add_sim_feel_command(CLI::App& sim, int& exit_code) {
                   "one sensor for both fingers and the whole set")
       ->check(CLI::Range(1, sim::kMaxSensorInstances))
       ->capture_default_str();
-  cmd->add_flag("--repacked", f->repacked,
-                "TLV-Link's layout: data/<touch_dir>/gelsight*.jpg + {train,test}_info.json");
+  CLI::Option* repacked =
+      cmd->add_flag("--repacked", f->repacked,
+                    "TLV-Link's layout: data/<touch_dir>/gelsight*.jpg + {train,test}_info.json");
   cmd->add_option("--records-per-file", f->records_per_file, "HDF5: grasps per file")
       ->check(CLI::Range(1, 10000))
       ->capture_default_str();
@@ -161,7 +162,8 @@ void add_sim_feel_command(CLI::App& sim, int& exit_code) {
       ->check(CLI::Range(1, 100))
       ->capture_default_str();
   cmd->add_flag("--jpeg-full-chroma", f->jpeg_full_chroma,
-                std::string("--repacked: ") + kJpegFullChromaHelp);
+                std::string("--repacked: ") + kJpegFullChromaHelp)
+      ->needs(repacked);  // the HDF5 files store no JPEGs of their own
   cmd->add_option("--quarter-turns", f->quarter_turns,
                   "HDF5: store GelSight frames rotated by this many quarter turns "
                   "counterclockwise (the published files are stored rotated)")
