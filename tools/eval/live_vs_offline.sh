@@ -53,6 +53,7 @@ sensor_toml() {  # name finger recording sensor path(live|offline|dataset)
   fi
 }
 
+paths=(live offline dataset)  # tlvlinkd runs per scenario, side by side
 truths=(); lives=(); offlines=(); datasets=()
 t0=$(date +%s)
 for spec in "${scenarios[@]}"; do
@@ -68,7 +69,7 @@ for spec in "${scenarios[@]}"; do
   # The paths play at the cameras' pace, side by side (a daemon uses ~25 % of a core): the
   # grasp detector and the smoothing reason in the recorded time, so the replay is real time.
   pids=()
-  for path in live offline dataset; do
+  for path in "${paths[@]}"; do
     suffix=""; [ "$path" != live ] && suffix=.$path
     {
       # The gripper controller's closed / lifting marks (commands.txt) start each grasp: a grasp
@@ -83,8 +84,8 @@ for spec in "${scenarios[@]}"; do
     pids+=($!)
   done
   echo "== tlvlinkd $spec: live, offline and dataset in real time ($(grep -o '"frames":[0-9]*' "$dir/truth.jsonl" | head -1 | cut -d: -f2) frames per finger)"
-  for i in 0 1 2; do
-    path=(live offline dataset); path=${path[$i]}
+  for i in "${!paths[@]}"; do
+    path=${paths[$i]}
     wait "${pids[$i]}" || { tail -5 "$dir/$path.log"; echo "live_vs_offline: tlvlinkd failed ($dir/$path.log)" >&2; exit 1; }
     echo "   $path: $(grep -E '^ *drops:' "$dir/$path.log" | sed 's/^ *//')"
   done

@@ -148,9 +148,9 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
              o.presses);
   TLV_ENSURE(o.static_variants >= 1 && o.static_variants <= 100, ErrorCode::kInvalidArgument,
              "scenario: static_variants = %d is outside 1..100", o.static_variants);
-  TLV_ENSURE(o.offline_jpeg_quality >= 1 && o.offline_jpeg_quality <= 100,
+  TLV_ENSURE(o.dataset_jpeg_quality >= 1 && o.dataset_jpeg_quality <= 100,
              ErrorCode::kInvalidArgument, "scenario: dataset JPEG quality %d outside 1..100",
-             o.offline_jpeg_quality);
+             o.dataset_jpeg_quality);
   TLV_ASSIGN_OR_RETURN(const SensorProfile profile, sensor_profile(o.sensor));
   const capture::SensorModel* model = capture::find_sensor_model(profile.name);
   TLV_ENSURE(model != nullptr, ErrorCode::kInvalidArgument,
@@ -381,7 +381,7 @@ Result<ScenarioReport> write_scenario(const ScenarioOptions& o, const std::strin
           TLV_ASSIGN_OR_RETURN(ob,
                                offline[static_cast<size_t>(f)].append(processed.pixels, t, seq));
           TLV_ASSIGN_OR_RETURN(const std::vector<uint8_t> jpeg,
-                               image::encode_jpeg(processed, o.offline_jpeg_quality));
+                               image::encode_jpeg(processed, o.dataset_jpeg_quality));
           TLV_ASSIGN_OR_RETURN(db, dataset[static_cast<size_t>(f)].append(jpeg, t, seq));
         }
         state = raw.processed.state;

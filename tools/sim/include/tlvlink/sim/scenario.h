@@ -47,7 +47,7 @@ struct ScenarioOptions {
   // tlvlinkd replays them with format "rgb24" / "mjpeg", the view's width and height, crop 0,
   // jpeg_scale 1, orientation "upright". The two differ by the datasets' codec alone.
   bool offline = false;
-  int32_t offline_jpeg_quality = 90;  // the dataset copy's; the dataset writers' default
+  int32_t dataset_jpeg_quality = 90;  // A/B.dataset.tlvraw; the dataset writers' default
   // Replace the files of an earlier scenario in the directory; else one that exists (A.tlvraw,
   // B.tlvraw, truth.jsonl, commands.txt, the offline recordings) is an error naming it.
   bool overwrite = false;
