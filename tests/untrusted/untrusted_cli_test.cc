@@ -238,15 +238,21 @@ TEST_F(UntrustedCli, SimScenarioKeepsAnEarlierScenarioUnlessOverwrite) {
   EXPECT_NE(slurp(dir + "/truth.jsonl"), "earlier truth\n");
 }
 
-// `sim feel --jpeg-full-chroma` stores JPEGs only in the repacked layout: alone it is a usage
-// error naming what it needs, and nothing is written.
-TEST_F(UntrustedCli, FeelFullChromaWithoutRepackedIsAUsageError) {
-  const std::string dir = path("feel-chroma");
-  fs::remove_all(dir);
-  const CliRun r = tlvlink("sim feel -o " + dir + " --objects 1 --jpeg-full-chroma");
-  EXPECT_RUN(r, 2);
-  EXPECT_TRUE(contains(r, "--repacked")) << r.out;
-  EXPECT_FALSE(fs::exists(dir));
+// `sim feel` writes one of two layouts; an option of the other one would be silently ignored.
+// The JPEG options need --repacked and the HDF5 ones refuse it: each is a usage error naming
+// --repacked, and nothing is written.
+TEST_F(UntrustedCli, FeelOptionsOfTheOtherLayoutAreUsageErrors) {
+  const std::string dir = path("feel-layout");
+  const char* wrong_layout[] = {"--jpeg-full-chroma", "--jpeg-quality 90",
+                                "--repacked --deflate 3", "--repacked --records-per-file 5",
+                                "--repacked --quarter-turns 1"};
+  for (const char* options : wrong_layout) {
+    fs::remove_all(dir);
+    const CliRun r = tlvlink("sim feel -o " + dir + " --objects 1 " + options);
+    EXPECT_RUN(r, 2) << options;
+    EXPECT_TRUE(contains(r, "--repacked")) << options << ": " << r.out;
+    EXPECT_FALSE(fs::exists(dir)) << options;
+  }
 }
 
 TEST_F(UntrustedCli, QuantizeWithoutDataListIsAnErrorNamingIt) {

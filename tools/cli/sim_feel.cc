@@ -132,11 +132,14 @@ void add_sim_feel_command(CLI::App& sim, int& exit_code) {
   CLI::Option* repacked =
       cmd->add_flag("--repacked", f->repacked,
                     "TLV-Link's layout: data/<touch_dir>/gelsight*.jpg + {train,test}_info.json");
+  // An option of the other layout would be silently ignored: refuse it, naming the layout.
   cmd->add_option("--records-per-file", f->records_per_file, "HDF5: grasps per file")
       ->check(CLI::Range(1, 10000))
+      ->excludes(repacked)
       ->capture_default_str();
   cmd->add_option("--deflate", f->deflate_level, "HDF5: deflate level (0 = none)")
       ->check(CLI::Range(0, 9))
+      ->excludes(repacked)
       ->capture_default_str();
   cmd->add_option("--camera-jpeg-quality", f->camera_jpeg_quality,
                   "JPEG round trip of every frame before storing, like the rig's MJPEG camera "
@@ -160,6 +163,7 @@ void add_sim_feel_command(CLI::App& sim, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--jpeg-quality", f->jpeg_quality, "--repacked: quality of the stored JPEGs")
       ->check(CLI::Range(1, 100))
+      ->needs(repacked)
       ->capture_default_str();
   cmd->add_flag("--jpeg-full-chroma", f->jpeg_full_chroma,
                 std::string("--repacked: ") + kJpegFullChromaHelp)
@@ -168,6 +172,7 @@ void add_sim_feel_command(CLI::App& sim, int& exit_code) {
                   "HDF5: store GelSight frames rotated by this many quarter turns "
                   "counterclockwise (the published files are stored rotated)")
       ->check(CLI::Range(0, 3))
+      ->excludes(repacked)
       ->capture_default_str();
   cmd->add_option("--test-fraction", f->test_fraction, "Share of objects in the test split")
       ->check(CLI::Range(0.0, 1.0))
