@@ -243,9 +243,8 @@ TEST_F(UntrustedCli, SimScenarioKeepsAnEarlierScenarioUnlessOverwrite) {
 // --repacked, and nothing is written.
 TEST_F(UntrustedCli, FeelOptionsOfTheOtherLayoutAreUsageErrors) {
   const std::string dir = path("feel-layout");
-  const char* wrong_layout[] = {"--jpeg-full-chroma", "--jpeg-quality 90",
-                                "--repacked --deflate 3", "--repacked --records-per-file 5",
-                                "--repacked --quarter-turns 1"};
+  const char* wrong_layout[] = {"--jpeg-full-chroma", "--jpeg-quality 90", "--repacked --deflate 3",
+                                "--repacked --records-per-file 5", "--repacked --quarter-turns 1"};
   for (const char* options : wrong_layout) {
     fs::remove_all(dir);
     const CliRun r = tlvlink("sim feel -o " + dir + " --objects 1 " + options);
