@@ -223,6 +223,43 @@ TEST(GraspTracker, CommandedModeUsesTheControllersMarks) {
   EXPECT_FALSE(d.tracker.mark_lifting(0));
 }
 
+// Two cameras' clocks are not the controller's: finger B's frames carry times 150 ms later than
+// A's of the same moment, so when the "closed" mark arrives B's newest open-gel frame may be
+// timestamped after it. Its previous one is then B's "before" (a live replay lost a grasp so).
+TEST(GraspTracker, CommandedBeforeSurvivesAFingerClockAheadOfTheMark) {
+  GraspOptions o;
+  o.mode = GraspOptions::Mode::kCommanded;
+  o.settle_ns = 100 * kMs;
+  constexpr int64_t kAhead = 150 * kMs;
+  {
+    Stream s = make(o);
+    // Open gels, encoded as the daemon does (what wants() asks for: every 500 ms): A at frames 0
+    // (0 ms) and 13 (520), B at 0 (150) and 13 (670).
+    s.run(
+        0, 14, [](int32_t, uint64_t) { return false; }, kAhead, true);
+    EXPECT_TRUE(s.tracker.mark_closed(560 * kMs));
+    s.run(14, 24, kAlways, kAhead, true);
+    ASSERT_EQ(s.done.size(), 1u);
+    ASSERT_TRUE(s.done[0].computed) << s.done[0].reason.data();
+    EXPECT_EQ(s.done[0].frames[0].sequence, 13u);  // A: its newest, before the mark
+    EXPECT_EQ(s.done[0].frames[2].sequence, 0u);   // B: 670 ms is after the mark; 150 ms is not
+    EXPECT_EQ(s.done[0].frames[2].capture_ns, kAhead);
+    ASSERT_EQ(s.features.size(), 4u);
+    EXPECT_EQ(s.features[2], emb(1, 0));
+  }
+  {  // B's only open-gel frame is later than the mark: it still shows the open gel
+    Stream s = make(o);
+    s.run(
+        0, 1, [](int32_t, uint64_t) { return false; }, kAhead);
+    EXPECT_TRUE(s.tracker.mark_closed(100 * kMs));
+    s.run(1, 10, kAlways, kAhead);
+    ASSERT_EQ(s.done.size(), 1u);
+    ASSERT_TRUE(s.done[0].computed) << s.done[0].reason.data();
+    EXPECT_EQ(s.done[0].frames[2].sequence, 0u);
+    EXPECT_EQ(s.done[0].frames[2].capture_ns, kAhead);
+  }
+}
+
 TEST(GraspTracker, BadOptionsAndLayoutsAreErrors) {
   GraspOptions o;
   o.settle_ns = -1;

@@ -71,11 +71,12 @@ Result<GraspTracker> GraspTracker::create(std::span<const heads::GraspFeature> l
     t.difference_stats_ = std::move(stats).value();
     t.image_values_ = t.difference_stats_.values();
     t.images_.assign(static_cast<size_t>(heads::kFingers) * 2 * t.image_values_, 0.0f);
-    t.idle_images_.assign(static_cast<size_t>(heads::kFingers) * t.image_values_, 0.0f);
+    t.idle_images_.assign(static_cast<size_t>(heads::kFingers * kIdleHistory) * t.image_values_,
+                          0.0f);
   }
   const size_t d = static_cast<size_t>(dim);
   t.embeddings_.assign(static_cast<size_t>(heads::kFingers * heads::kMoments) * d, 0.0f);
-  t.idle_.assign(static_cast<size_t>(heads::kFingers) * d, 0.0f);
+  t.idle_.assign(static_cast<size_t>(heads::kFingers * kIdleHistory) * d, 0.0f);
   t.finished_features_.assign(static_cast<size_t>(kMaxFinished) * t.feature_values_, 0.0f);
   return t;
 }
@@ -132,7 +133,7 @@ bool GraspTracker::wants(int32_t finger, int64_t t_ns) const {
     // Idle: keep an open-gel frame for the next grasp's "before" (the caller encodes it only
     // when the gate sees no contact; on_frame takes it only then).
     if (!needed(finger, Moment::kBefore) || contact_[finger]) return false;
-    const Slot& idle = idle_slots_[finger];
+    const Slot& idle = idle_slots_[finger][idle_newest_[finger]];
     return !idle.taken || t_ns - idle.t_ns >= options_.idle_refresh_ns;
   }
   for (Moment m : {Moment::kDuring, Moment::kAfter}) {
@@ -156,24 +157,30 @@ void GraspTracker::start(int64_t t_ns) {
   const size_t d = static_cast<size_t>(dim_);
   for (int32_t f = 0; f < heads::kFingers; ++f) {
     if (!needed(f, Moment::kBefore)) continue;
-    const Slot& idle = idle_slots_[f];
-    if (!idle.taken || idle.t_ns > t_ns) {
+    // The newest open-gel frame; if it is later than the start (the finger's clock runs ahead
+    // of the mark's), the one before it (written first, so kept only beside a newest one).
+    const int32_t newest = idle_newest_[f];
+    const int32_t older = 1 - newest;
+    if (!idle_slots_[f][newest].taken) {
       fail(t_ns, "finger %c has no frame of its open gel before the grasp (its 'before' moment)",
            finger_letter(f));
       return;
     }
+    const int32_t pick =
+        idle_slots_[f][newest].t_ns > t_ns && idle_slots_[f][older].taken ? older : newest;
+    const Slot& idle = idle_slots_[f][pick];
     if (t_ns - idle.t_ns > options_.before_max_age_ns) {
       fail(t_ns, "finger %c's last open-gel frame is %.1f s old (before_max_age %.1f s)",
            finger_letter(f), static_cast<double>(t_ns - idle.t_ns) * 1e-9,
            static_cast<double>(options_.before_max_age_ns) * 1e-9);
       return;
     }
+    const size_t kept = static_cast<size_t>(f * kIdleHistory + pick);
     std::memcpy(embeddings_.data() +
                     (static_cast<size_t>(f) * heads::kMoments + index(Moment::kBefore)) * d,
-                idle_.data() + static_cast<size_t>(f) * d, d * sizeof(float));
+                idle_.data() + kept * d, d * sizeof(float));
     if (image_needed(f, Moment::kBefore)) {
-      std::memcpy(image_slot(f, Moment::kBefore),
-                  idle_images_.data() + static_cast<size_t>(f) * image_values_,
+      std::memcpy(image_slot(f, Moment::kBefore), idle_images_.data() + kept * image_values_,
                   image_values_ * sizeof(float));
     }
     slots_[f][index(Moment::kBefore)] = idle;
@@ -295,13 +302,15 @@ void GraspTracker::on_frame(int32_t finger, uint64_t sequence, int64_t t_ns, boo
   const bool has_image = image.size() == image_values_ && image_values_ > 0;
   if (!contact && phase_ != Phase::kWaiting && embedding.size() == d &&
       (!difference_[finger] || has_image)) {
-    std::memcpy(idle_.data() + static_cast<size_t>(finger) * d, embedding.data(),
-                d * sizeof(float));
+    int32_t& newest = idle_newest_[finger];
+    if (idle_slots_[finger][newest].taken) newest = 1 - newest;  // the older one gives way
+    const size_t kept = static_cast<size_t>(finger * kIdleHistory + newest);
+    std::memcpy(idle_.data() + kept * d, embedding.data(), d * sizeof(float));
     if (difference_[finger]) {
-      std::memcpy(idle_images_.data() + static_cast<size_t>(finger) * image_values_, image.data(),
+      std::memcpy(idle_images_.data() + kept * image_values_, image.data(),
                   image_values_ * sizeof(float));
     }
-    idle_slots_[finger] = {true, sequence, t_ns};
+    idle_slots_[finger][newest] = {true, sequence, t_ns};
   }
   const bool detected = options_.mode == GraspOptions::Mode::kDetected;
   if (phase_ == Phase::kFinished) {

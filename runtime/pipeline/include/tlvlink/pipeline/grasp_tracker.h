@@ -12,8 +12,10 @@
 //   start    detected: both fingers touch, their contact onsets within onset_window
 //            commanded: the controller's "closed" mark
 //   before   each finger's latest frame without contact before the start (the tracker keeps
-//            one encoded open-gel frame per finger, refreshed every idle_refresh while idle, no
-//            older than before_max_age at the start)
+//            each finger's two latest encoded open-gel frames, refreshed every idle_refresh
+//            while idle, no older than before_max_age at the start; when both carry a later time
+//            than a "closed" mark, that finger's camera clock runs ahead of the controller's,
+//            and the earlier one, still an open gel, is taken)
 //   during   each finger's first frame at or after start + settle (commanded: or at the
 //            "lifting" mark if that comes first: the object no longer rests after it)
 //   after    each finger's first frame at or after the later "during" frame + after_delay
@@ -129,14 +131,18 @@ class GraspTracker {
   std::vector<float> embeddings_;  // [finger][moment][dim]
   Slot slots_[heads::kFingers][heads::kMoments];
   bool contact_[heads::kFingers] = {false, false};
-  // Each finger's latest encoded open-gel frame (the candidate "before"), stored in idle_.
-  Slot idle_slots_[heads::kFingers];
-  std::vector<float> idle_;  // [finger][dim]
-  // Difference features: the images of "before" and "during" and each finger's idle frame.
+  // Each finger's two latest encoded open-gel frames (the candidates for "before"), stored in
+  // idle_: the cameras' clocks are not the marks', so the newest may carry a time after the
+  // "closed" mark that arrives later, and the one before it is then the finger's "before".
+  static constexpr int32_t kIdleHistory = 2;
+  Slot idle_slots_[heads::kFingers][kIdleHistory];
+  int32_t idle_newest_[heads::kFingers] = {0, 0};
+  std::vector<float> idle_;  // [finger][history][dim]
+  // Difference features: the images of "before" and "during" and each finger's idle frames.
   bool difference_[heads::kFingers] = {false, false};
   size_t image_values_ = 0;
   std::vector<float> images_;       // [finger][before, during][image_values_]
-  std::vector<float> idle_images_;  // [finger][image_values_]
+  std::vector<float> idle_images_;  // [finger][history][image_values_]
   heads::GraspDifference difference_stats_;
   std::array<float, heads::kFingers * heads::kDifferenceFeatures> differences_{};
   int64_t onset_[heads::kFingers] = {-1, -1};
