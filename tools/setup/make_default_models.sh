@@ -105,9 +105,9 @@ echo "== heads fit -> $out/touch-tiny-fp32.tlvm"
 echo "== quantize -> $out/touch-tiny-int8.tlvm"
 "$tlvlink" quantize "$out/touch-tiny-fp32.tlvm" --calib "$out/data" --calib-split train \
   --keep-float first,last -o "$out/int8-quantized.tlvm" --report "$out/quantize-report" -q
-# The grasp heads read small before-to-during changes of the embeddings, and the int8 encoder
-# moves those: fitted on the fp32 file's embeddings, the board's grasp logits sat 0.3-0.6 below
-# the exact frames' on the live benchmark's Minis. Fitted again on the int8 file's own.
+# The grasp heads read small before-to-during changes of the embeddings: fitted on the fp32
+# file's, the board read live grasps worse (firmware/models/README.md "Live = offline"; why is not
+# established). Fitted again on the int8 file's own embeddings, what the board computes.
 "$tlvlink" heads fit "$out/int8-quantized.tlvm" --grasp "$feel" -q --only grasp \
   --grasp-features before-during-difference --no-zero-shot --overwrite -o "$out/int8-unrecorded.tlvm"
 # The board's file records the board's figures: the int8 heads re-measured on the same splits.
