@@ -13,9 +13,9 @@
 //            commanded: the controller's "closed" mark
 //   before   each finger's latest frame without contact before the start (the tracker keeps
 //            each finger's two latest encoded open-gel frames, refreshed every idle_refresh
-//            while idle, no older than before_max_age at the start; when both carry a later time
-//            than a "closed" mark, that finger's camera clock runs ahead of the controller's,
-//            and the earlier one, still an open gel, is taken)
+//            while idle, no older than before_max_age at the start; when the newest carries a
+//            later time than the "closed" mark, that finger's camera clock runs ahead of the
+//            controller's, and the one before it is taken: an open gel either way)
 //   during   each finger's first frame at or after start + settle (commanded: or at the
 //            "lifting" mark if that comes first: the object no longer rests after it)
 //   after    each finger's first frame at or after the later "during" frame + after_delay
