@@ -15,6 +15,7 @@ namespace {
 struct ScoreFlags {
   std::vector<std::string> truth, predictions, offline;
   std::vector<std::string> fingers = {"left", "right"};
+  std::string reference = "offline";
   bool json = false;
 };
 
@@ -33,9 +34,12 @@ int run_score(const ScoreFlags& f) {
       runs.push_back({f.truth[i], f.predictions[i], f.offline[i]});
     auto r = score::compare_live_offline(runs, f.fingers);
     if (!r.ok()) return report_error("score", r.error());
+    const auto ref =
+        f.reference == "dataset" ? score::Reference::kDatasetCopy : score::Reference::kExactFrames;
     std::printf("%s\n",
-                f.json ? score::format_live_offline_json(*r).c_str()
-                       : (score::format_score(r->live) + score::format_live_offline(*r)).c_str());
+                f.json
+                    ? score::format_live_offline_json(*r, ref).c_str()
+                    : (score::format_score(r->live) + score::format_live_offline(*r, ref)).c_str());
     return kExitOk;
   }
   score::ScoreReport pooled;
@@ -70,6 +74,12 @@ void add_score_command(CLI::App& app, int& exit_code) {
                   "tlvlinkd's output on the scenario's offline recordings (sim scenario "
                   "--offline; one per --truth): prints live vs offline per head and for grasps "
                   "with 95 % intervals (bootstrap over events)");
+  cmd->add_option("--reference", f->reference,
+                  "What the --offline runs replayed: offline (the scenes' processed frames "
+                  "exactly; the targets apply) or dataset (the datasets' JPEG copy of them: "
+                  "labelled so, no targets)")
+      ->check(CLI::IsMember({"offline", "dataset"}))
+      ->capture_default_str();
   cmd->add_option("--fingers", f->fingers, "The daemon's sensor names of finger A and B")
       ->delimiter(',')
       ->expected(2)

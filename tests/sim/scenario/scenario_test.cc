@@ -240,7 +240,18 @@ TEST_F(Scenario, ScoreCountsAPerfectRunAsPerfectAndEachMistakeOnce) {
   EXPECT_EQ(c->grasps_scripted, 2);
   EXPECT_EQ(c->live.missed_contact, 0);
   EXPECT_EQ(c->offline.missed_contact, 1);
-  EXPECT_NE(score::format_live_offline(*c).find("live - offline"), std::string::npos);
+  const std::string exact = score::format_live_offline(*c);
+  EXPECT_NE(exact.find("live - offline"), std::string::npos);
+  EXPECT_NE(exact.find("targets: "), std::string::npos);
+  // Against the datasets' copy the columns say so and no target is judged.
+  const std::string copy = score::format_live_offline(*c, score::Reference::kDatasetCopy);
+  EXPECT_NE(copy.find("live - dataset"), std::string::npos);
+  EXPECT_EQ(copy.find("offline"), std::string::npos) << copy;
+  EXPECT_EQ(copy.find("targets: "), std::string::npos) << copy;
+  EXPECT_EQ(copy.find("OVER TARGET"), std::string::npos) << copy;
+  const std::string copy_json = score::format_live_offline_json(*c, score::Reference::kDatasetCopy);
+  EXPECT_NE(copy_json.find("\"reference\":\"dataset\""), std::string::npos);
+  EXPECT_EQ(copy_json.find("meets_target"), std::string::npos);
   auto pooled = score::compare_live_offline(
       {{dir_ + "/truth.jsonl", perfect, planted}, {dir_ + "/truth.jsonl", perfect, planted}},
       {"left", "right"});

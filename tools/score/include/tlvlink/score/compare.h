@@ -63,7 +63,14 @@ Result<LiveOfflineReport> compare_live_offline(const std::vector<RunFiles>& runs
 // Sums `add` into `into` (counts; the majority rates are recomputed from the pooled labels).
 void merge_scores(ScoreReport& into, const ScoreReport& add);
 
-std::string format_live_offline(const LiveOfflineReport& report);
-std::string format_live_offline_json(const LiveOfflineReport& report);
+// What the --offline runs replayed: the exact processed frames (the targets apply), or the
+// datasets' JPEG copy of them (information: what the datasets' codec alone moves; no targets).
+enum class Reference { kExactFrames, kDatasetCopy };
+const char* reference_name(Reference reference);  // "offline" / "dataset"
+
+std::string format_live_offline(const LiveOfflineReport& report,
+                                Reference reference = Reference::kExactFrames);
+std::string format_live_offline_json(const LiveOfflineReport& report,
+                                     Reference reference = Reference::kExactFrames);
 
 }  // namespace tlvlink::score
