@@ -9,7 +9,8 @@ leave-one-scenario-out on the training scenarios, so every fold has sensors it d
 fitted on all training scenarios and scored once on the test scenarios, per press, with 95 %
 intervals from a bootstrap over presses and paired differences against one frame.
 
-  press_sequence.py --train DIR,DIR... --test DIR,DIR...   (DIR: truth.jsonl + press.jsonl)
+  press_sequence.py [--predictions NAME] --train DIR,DIR... --test DIR,DIR...
+  (DIR: the scenario's truth.jsonl and tlvlinkd's output NAME, default press-offline.jsonl)
 """
 import argparse
 import json
@@ -27,26 +28,28 @@ BOOTSTRAP = 2000
 
 
 class Press:
-    def __init__(self, scenario, hard, material, frames):
-        self.scenario, self.hard, self.material = scenario, hard, material
+    def __init__(self, scenario, sensor, hard, material, frames):
+        self.scenario, self.sensor, self.hard, self.material = scenario, sensor, hard, material
         # (sequence, gate score DN, embedding, force N, area mm2, the model's hard/soft head's
         # answer as tlvlinkd reported it: smoothed over the contact so far), in order
         self.frames = frames
 
 
-def load_scenario(directory):
+def load_scenario(directory, predictions):
     """The presses of one scenario with the embeddings tlvlinkd gave their frames in contact."""
-    events, truth = {}, {}
+    events, truth, sensor = {}, {}, "?"
     with open(f"{directory}/truth.jsonl") as f:
-        for n, line in enumerate(f, 1):
+        for line in f:
             r = json.loads(line)
-            if r["type"] == "event" and r["kind"] == "press":
+            if r["type"] == "scenario":
+                sensor = r["sensor"]
+            elif r["type"] == "event" and r["kind"] == "press":
                 events[r["id"]] = r
             elif r["type"] == "frame" and r["finger"] == "A":
                 truth[r["seq"]] = (r["event"], r["force_n"], r["area_mm2"])
     frames = {}
-    with open(f"{directory}/press.jsonl") as f:
-        for n, line in enumerate(f, 1):
+    with open(f"{directory}/{predictions}") as f:
+        for line in f:
             r = json.loads(line)
             if r.get("type") != "frame_prediction" or not r["contact"] or "embedding" not in r:
                 continue
@@ -58,13 +61,14 @@ def load_scenario(directory):
                 (r["frame_sequence"], r["gate_score_dn"], np.asarray(r["embedding"], np.float32),
                  force, area, head[0] == "hard" if head else None))
     if not frames:
-        sys.exit(f"press_sequence: {directory}/press.jsonl has no embeddings of presses "
+        sys.exit(f"press_sequence: {directory}/{predictions} has no embeddings of presses "
                  "(tlvlinkd with embedding = true on the scenario's finger A)")
     presses = []
     for event_id, event in sorted(events.items()):
         fr = sorted(frames.get(event_id, []), key=lambda x: x[0])
         if len(fr) >= 4:  # a press the gate saw for a few frames at least
-            presses.append(Press(directory, event["hard_soft"] == "hard", event["material"], fr))
+            presses.append(
+                Press(directory, sensor, event["hard_soft"] == "hard", event["material"], fr))
     return presses, len(events)
 
 
@@ -138,6 +142,8 @@ def interval(values, resamples):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--predictions", default="press-offline.jsonl",
+                    help="tlvlinkd's output in each directory (embedding = true)")
     ap.add_argument("--train", required=True, help="comma-separated scenario directories")
     ap.add_argument("--test", required=True, help="comma-separated scenario directories")
     a = ap.parse_args()
@@ -145,7 +151,7 @@ def main():
     train, test = [], []
     for dirs, into in ((train_dirs, train), (test_dirs, test)):
         for d in dirs:
-            presses, total = load_scenario(d)
+            presses, total = load_scenario(d, a.predictions)
             into.extend(presses)
             print(f"{d}: {len(presses)} of {total} presses seen for >= 4 frames")
     y_train = np.array([p.hard for p in train], float)
@@ -158,6 +164,14 @@ def main():
           f"{100 * majority_correct.mean():.1f} % on test")
     rng = np.random.default_rng(1)
     resamples = [rng.integers(0, len(test), len(test)) for _ in range(BOOTSTRAP)]
+    def per_sensor(correct):  # each sensor model's presses apart: they need not agree
+        out = ""
+        for sensor in sorted({p.sensor for p in test}):
+            on = np.array([p.sensor == sensor for p in test])
+            out += (f"  {sensor} {100 * correct[on].mean():.1f} (majority "
+                    f"{100 * majority_correct[on].mean():.1f}, n {on.sum()})")
+        return out
+
     # The model's own per-frame head, as tlvlinkd reports it, at the first frame and at the peak.
     for name, pick in (("first", lambda p: p.frames[0]),
                        ("peak", lambda p: p.frames[int(np.argmax([x[1] for x in p.frames]))])):
@@ -169,7 +183,8 @@ def main():
         d = correct - majority_correct
         dlo, dhi = interval(d, resamples)
         print(f"the model's hard/soft head at the {name} frame: {100 * correct.mean():5.1f} % "
-              f"[{lo:4.1f}, {hi:4.1f}]  vs majority {100 * d.mean():+5.1f} [{dlo:+5.1f}, {dhi:+5.1f}]")
+              f"[{lo:4.1f}, {hi:4.1f}]  vs majority {100 * d.mean():+5.1f} [{dlo:+5.1f}, {dhi:+5.1f}]"
+              + per_sensor(correct))
     one_frame = None
     for kind in FEATURES:
         x_train = np.stack([features(p, kind) for p in train])
@@ -186,7 +201,7 @@ def main():
             d = correct - base
             lo, hi = interval(d, resamples)
             line += f"  vs {name} {100 * d.mean():+5.1f} [{lo:+5.1f}, {hi:+5.1f}]"
-        print(line)
+        print(line + per_sensor(correct))
         if kind == "peak":
             one_frame = correct
 
