@@ -9,7 +9,7 @@ leave-one-scenario-out on the training scenarios, so every fold has sensors it d
 fitted on all training scenarios and scored once on the test scenarios, per press, with 95 %
 intervals from a bootstrap over presses and paired differences against one frame.
 
-  press_sequence.py [--predictions NAME] --train DIR,DIR... --test DIR,DIR...
+  press_sequence.py [--predictions NAME] [--thin SENSOR=N] --train DIR,DIR... --test DIR,DIR...
   (DIR: the scenario's truth.jsonl and tlvlinkd's output NAME, default press-offline.jsonl)
 """
 import argparse
@@ -35,7 +35,7 @@ class Press:
         self.frames = frames
 
 
-def load_scenario(directory, predictions):
+def load_scenario(directory, predictions, thin=None):
     """The presses of one scenario with the embeddings tlvlinkd gave their frames in contact."""
     events, truth, sensor = {}, {}, "?"
     with open(f"{directory}/truth.jsonl") as f:
@@ -56,6 +56,8 @@ def load_scenario(directory, predictions):
             event, force, area = truth.get(r["frame_sequence"], (-1, 0.0, 0.0))
             if event not in events:
                 continue
+            if thin and r["frame_sequence"] % thin.get(sensor, 1) != 0:
+                continue  # as a camera of a lower frame rate would see the press
             head = [h["top_label"] for h in r["heads"] if h["name"] == "hard_soft"]
             frames.setdefault(event, []).append(
                 (r["frame_sequence"], r["gate_score_dn"], np.asarray(r["embedding"], np.float32),
@@ -144,16 +146,27 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--predictions", default="press-offline.jsonl",
                     help="tlvlinkd's output in each directory (embedding = true)")
+    ap.add_argument("--thin", action="append", default=[], metavar="SENSOR=N",
+                    help="keep only every N-th frame of that sensor model's scenarios (a slower "
+                         "camera); repeatable")
     ap.add_argument("--train", required=True, help="comma-separated scenario directories")
     ap.add_argument("--test", required=True, help="comma-separated scenario directories")
     a = ap.parse_args()
     train_dirs, test_dirs = a.train.split(","), a.test.split(",")
+    thin = {}
+    for t in a.thin:
+        sensor, _, n = t.partition("=")
+        if not n.isdigit() or int(n) < 1:
+            ap.error(f"--thin {t}: expected SENSOR=N with N >= 1, e.g. digit=5")
+        thin[sensor] = int(n)
     train, test = [], []
     for dirs, into in ((train_dirs, train), (test_dirs, test)):
         for d in dirs:
-            presses, total = load_scenario(d, a.predictions)
+            presses, total = load_scenario(d, a.predictions, thin)
             into.extend(presses)
-            print(f"{d}: {len(presses)} of {total} presses seen for >= 4 frames")
+            share = np.median([p.frames[0][3] / max(x[3] for x in p.frames) for p in presses])
+            print(f"{d}: {len(presses)} of {total} presses seen for >= 4 frames; the first in "
+                  f"contact at a median {100 * share:.1f} % of the peak force")
     y_train = np.array([p.hard for p in train], float)
     y_test = np.array([p.hard for p in test], float)
     groups = np.array([train_dirs.index(p.scenario) for p in train])
@@ -167,9 +180,13 @@ def main():
     def per_sensor(correct):  # each sensor model's presses apart: they need not agree
         out = ""
         for sensor in sorted({p.sensor for p in test}):
-            on = np.array([p.sensor == sensor for p in test])
+            on = np.flatnonzero([p.sensor == sensor for p in test])
+            d = correct[on] - majority_correct[on]
+            draws = [rng.integers(0, len(on), len(on)) for _ in range(BOOTSTRAP)]
+            lo, hi = interval(d, draws)
             out += (f"  {sensor} {100 * correct[on].mean():.1f} (majority "
-                    f"{100 * majority_correct[on].mean():.1f}, n {on.sum()})")
+                    f"{100 * majority_correct[on].mean():.1f}: {100 * d.mean():+.1f} "
+                    f"[{lo:+.1f}, {hi:+.1f}], n {len(on)})")
         return out
 
     # The model's own per-frame head, as tlvlinkd reports it, at the first frame and at the peak.
