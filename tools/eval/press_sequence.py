@@ -177,15 +177,19 @@ def main():
           f"{100 * majority_correct.mean():.1f} % on test")
     rng = np.random.default_rng(1)
     resamples = [rng.integers(0, len(test), len(test)) for _ in range(BOOTSTRAP)]
-    def per_sensor(correct):  # each sensor model's presses apart: they need not agree
+    # Each sensor model's presses apart (they need not agree), resampled once for every row.
+    sensors = {}
+    for sensor in sorted({p.sensor for p in test}):
+        on = np.flatnonzero([p.sensor == sensor for p in test])
+        sensors[sensor] = (on, [on[rng.integers(0, len(on), len(on))] for _ in range(BOOTSTRAP)])
+
+    def per_sensor(correct):
         out = ""
-        for sensor in sorted({p.sensor for p in test}):
-            on = np.flatnonzero([p.sensor == sensor for p in test])
-            d = correct[on] - majority_correct[on]
-            draws = [rng.integers(0, len(on), len(on)) for _ in range(BOOTSTRAP)]
+        for sensor, (on, draws) in sensors.items():
+            d = correct - majority_correct
             lo, hi = interval(d, draws)
             out += (f"  {sensor} {100 * correct[on].mean():.1f} (majority "
-                    f"{100 * majority_correct[on].mean():.1f}: {100 * d.mean():+.1f} "
+                    f"{100 * majority_correct[on].mean():.1f}: {100 * d[on].mean():+.1f} "
                     f"[{lo:+.1f}, {hi:+.1f}], n {len(on)})")
         return out
 
