@@ -28,6 +28,10 @@ GraspHeadSpec grasp_head(const GraspHead& h) {
           floats(h.weight),    h.bias,
           trust(h.trust),      strings(h.sensors)};
 }
+LinearHeadSpec linear_head(const LinearHead& h) {
+  return {std::string(h.name), strings(h.labels), floats(h.weight),
+          floats(h.bias),      trust(h.trust),    std::string(h.features)};
+}
 }  // namespace
 
 MetadataSpec metadata_spec_from(const Metadata& m) {
@@ -39,10 +43,7 @@ MetadataSpec metadata_spec_from(const Metadata& m) {
              in.resize_filter, floats(in.mean), floats(in.std), in.background_subtraction};
   s.embedding_dim = m.embedding_dim;
   s.embedding_output = m.embedding_output;
-  for (const LinearHead& h : m.linear_heads) {
-    s.linear_heads.push_back(
-        {std::string(h.name), strings(h.labels), floats(h.weight), floats(h.bias), trust(h.trust)});
-  }
+  for (const LinearHead& h : m.linear_heads) s.linear_heads.push_back(linear_head(h));
   for (const ZeroShotHead& h : m.zero_shot_heads) {
     s.zero_shot_heads.push_back({std::string(h.name), strings(h.class_names),
                                  std::string(h.prompt_template), floats(h.prompt_matrix),
@@ -51,6 +52,7 @@ MetadataSpec metadata_spec_from(const Metadata& m) {
   s.has_grasp_head = m.grasp_head.present;
   if (s.has_grasp_head) s.grasp_head = grasp_head(m.grasp_head);
   for (const GraspHead& h : m.sensor_grasp_heads) s.sensor_grasp_heads.push_back(grasp_head(h));
+  for (const LinearHead& h : m.press_heads) s.press_heads.push_back(linear_head(h));
   s.producer = m.provenance.producer;
   s.created_utc = m.provenance.created_utc;
   s.training_json = m.provenance.training;

@@ -38,6 +38,19 @@ flatbuffers::Offset<fb::GraspHead> write_grasp_head(flatbuffers::FlatBufferBuild
   return fb::CreateGraspHead(fbb, name, layout, weight, g.bias, trust, sensors, golden_value);
 }
 
+flatbuffers::Offset<fb::LinearHead> write_linear_head(flatbuffers::FlatBufferBuilder& fbb,
+                                                      const LinearHeadSpec& h) {
+  // Last field first (as GCC evaluated the one call's arguments): a per-frame head, which has no
+  // features, keeps the bytes it had before the field existed.
+  const auto features = h.features.empty() ? 0 : fbb.CreateString(h.features);
+  const auto trust = write_trust(fbb, h.trust);
+  const auto bias = fbb.CreateVector(h.bias);
+  const auto weight = fbb.CreateVector(h.weight);
+  const auto labels = fbb.CreateVectorOfStrings(h.labels);
+  const auto name = fbb.CreateString(h.name);
+  return fb::CreateLinearHead(fbb, name, labels, weight, bias, trust, features);
+}
+
 }  // namespace
 
 flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder& fbb,
@@ -54,11 +67,7 @@ flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder&
         fbb.CreateVector(in.mean), fbb.CreateVector(in.std), in.background_subtraction);
   }
   std::vector<flatbuffers::Offset<fb::LinearHead>> linear;
-  for (const auto& h : spec.linear_heads) {
-    linear.push_back(fb::CreateLinearHead(
-        fbb, fbb.CreateString(h.name), fbb.CreateVectorOfStrings(h.labels),
-        fbb.CreateVector(h.weight), fbb.CreateVector(h.bias), write_trust(fbb, h.trust)));
-  }
+  for (const auto& h : spec.linear_heads) linear.push_back(write_linear_head(fbb, h));
   std::vector<flatbuffers::Offset<fb::ZeroShotHead>> zero_shot;
   for (const auto& h : spec.zero_shot_heads) {
     zero_shot.push_back(fb::CreateZeroShotHead(
@@ -88,11 +97,17 @@ flatbuffers::Offset<fb::Metadata> write_metadata(flatbuffers::FlatBufferBuilder&
   }
   flatbuffers::Offset<flatbuffers::Vector<float>> golden_grasp = 0;
   if (heads != nullptr && heads->has_grasp) golden_grasp = fbb.CreateVector(&heads->grasp, 1);
-  return fb::CreateMetadata(fbb, fbb.CreateString(spec.name), input, spec.embedding_dim,
-                            spec.embedding_output, fbb.CreateVector(linear),
-                            fbb.CreateVector(zero_shot), grasp, provenance,
-                            fbb.CreateVector(golden), golden_grasp,
-                            sensor_grasp.empty() ? 0 : fbb.CreateVector(sensor_grasp));
+  // Appended fields before the others (see write_linear_head): absent ones add no bytes.
+  flatbuffers::Offset<flatbuffers::Vector<float>> golden_press = 0;
+  if (heads != nullptr && !heads->press.empty()) golden_press = fbb.CreateVector(heads->press);
+  std::vector<flatbuffers::Offset<fb::LinearHead>> press;
+  for (const auto& h : spec.press_heads) press.push_back(write_linear_head(fbb, h));
+  const auto press_heads = press.empty() ? 0 : fbb.CreateVector(press);
+  return fb::CreateMetadata(
+      fbb, fbb.CreateString(spec.name), input, spec.embedding_dim, spec.embedding_output,
+      fbb.CreateVector(linear), fbb.CreateVector(zero_shot), grasp, provenance,
+      fbb.CreateVector(golden), golden_grasp,
+      sensor_grasp.empty() ? 0 : fbb.CreateVector(sensor_grasp), press_heads, golden_press);
 }
 
 }  // namespace tlvlink::quantize::writer_internal

@@ -6,11 +6,11 @@
 namespace tlvlink::heads {
 
 const char* head_kind_name(HeadKind kind) {
-  return kind == HeadKind::kZeroShot ? "zero-shot" : "probe";
+  return kind == HeadKind::kZeroShot ? "zero-shot" : kind == HeadKind::kPress ? "press" : "probe";
 }
 
 bool reported_by_default(const HeadResult& result) {
-  return result.kind == HeadKind::kProbe &&
+  return result.kind != HeadKind::kZeroShot &&
          (result.trust == nullptr ||
           assess_head(*result.trust).level != HeadTrustLevel::kUntrusted);
 }
@@ -40,7 +40,17 @@ Result<HeadEvaluator> HeadEvaluator::create(const Metadata& m) {
                z.prompt_matrix.size(), dim);
     values += 2 * z.class_names.size();
   }
+  for (const LinearHead& l : m.press_heads) {
+    TLV_ENSURE(!l.labels.empty() && l.weight.size() == l.labels.size() * 2 * dim &&
+                   l.bias.size() == l.labels.size(),
+               ErrorCode::kModelInvalidMetadata,
+               "press head '%.*s': %zu labels, %zu weights, %zu biases for 2 x embedding dim %zu",
+               static_cast<int>(l.name.size()), l.name.data(), l.labels.size(), l.weight.size(),
+               l.bias.size(), dim);
+    values += 2 * l.labels.size();
+  }
   h.scratch_.assign(values, 0.0f);
+  h.press_features_.assign(m.press_heads.empty() ? 0 : 2 * dim, 0.0f);
   size_t at = 0;
   const auto add = [&](std::string_view name, HeadKind kind,
                        std::span<const std::string_view> labels, const HeadTrust& trust) {
@@ -58,6 +68,8 @@ Result<HeadEvaluator> HeadEvaluator::create(const Metadata& m) {
   for (const LinearHead& l : m.linear_heads) add(l.name, HeadKind::kProbe, l.labels, l.trust);
   for (const ZeroShotHead& z : m.zero_shot_heads)
     add(z.name, HeadKind::kZeroShot, z.class_names, z.trust);
+  h.per_frame_ = h.results_.size();
+  for (const LinearHead& l : m.press_heads) add(l.name, HeadKind::kPress, l.labels, l.trust);
   if (m.grasp_head.present) {
     TLV_ASSIGN_OR_RETURN(h.grasp_layout_, parse_grasp_layout(m.grasp_head.feature_layout));
     const size_t needs = layout_values(h.grasp_layout_, m.embedding_dim);
@@ -81,7 +93,7 @@ Status HeadEvaluator::evaluate(std::span<const float> e) {
   TLV_ENSURE(e.size() == static_cast<size_t>(dim_), ErrorCode::kShapeMismatch,
              "embedding has %zu values, the heads read %d", e.size(), dim_);
   const size_t linear = metadata_->linear_heads.size();
-  for (size_t i = 0; i < results_.size(); ++i) {
+  for (size_t i = 0; i < per_frame_; ++i) {
     HeadResult& r = results_[i];
     const size_t n = r.labels.size();
     const std::span<float> l(scratch_.data() + offsets_[i], n);
@@ -94,6 +106,26 @@ Status HeadEvaluator::evaluate(std::span<const float> e) {
       zero_shot_logits(z.prompt_matrix, z.logit_scale, e, l);
     }
     r.top = softmax(l, p);
+  }
+  return {};
+}
+
+Status HeadEvaluator::evaluate_press(std::span<const float> peak, std::span<const float> first) {
+  const auto dim = static_cast<size_t>(dim_);
+  TLV_ENSURE(peak.size() == dim && first.size() == dim, ErrorCode::kShapeMismatch,
+             "press features: peak %zu and first %zu values, the heads read %d each", peak.size(),
+             first.size(), dim_);
+  for (size_t i = 0; i < dim; ++i) {
+    press_features_[i] = peak[i];
+    press_features_[dim + i] = peak[i] - first[i];
+  }
+  for (size_t i = per_frame_; i < results_.size(); ++i) {
+    HeadResult& r = results_[i];
+    const size_t n = r.labels.size();
+    const std::span<float> l(scratch_.data() + offsets_[i], n);
+    const LinearHead& h = metadata_->press_heads[i - per_frame_];
+    linear_logits(h.weight, h.bias, press_features_, l);
+    r.top = softmax(l, std::span<float>(scratch_.data() + offsets_[i] + n, n));
   }
   return {};
 }

@@ -1,5 +1,6 @@
 // Metadata: input spec against graph input 0, heads against the embedding, golden pairs.
 
+#include <algorithm>
 #include <cmath>
 
 #include "model_internal.h"
@@ -140,23 +141,58 @@ Status convert_grasp_head(const fb::GraspHead& g, size_t dim, GraspHead& head) {
   return convert_trust(g.trust(), "grasp head", head.name, head.trust);
 }
 
+// A linear head reading `inputs` values: the embedding (a per-frame head) or a press's features.
+Result<LinearHead> convert_linear_head(const fb::LinearHead& h, size_t inputs, const char* what) {
+  LinearHead head{view(h.name()),    strings(h.labels()), floats(h.weight()), floats(h.bias()), {},
+                  view(h.features())};
+  const size_t n = head.labels.size();
+  TLV_ENSURE(n >= 1 && inputs >= 1 && head.weight.size() == n * inputs && head.bias.size() == n,
+             ErrorCode::kModelInvalidMetadata,
+             "%s '%.*s': %zu labels need %zu weights and %zu biases (%zu inputs), has %zu and %zu",
+             what, static_cast<int>(head.name.size()), head.name.data(), n, n * inputs, n, inputs,
+             head.weight.size(), head.bias.size());
+  TLV_TRY(check_finite_values(head.weight, what, head.name));
+  TLV_TRY(check_finite_values(head.bias, what, head.name));
+  TLV_TRY(convert_trust(h.trust(), what, head.name, head.trust));
+  return head;
+}
+
+// Press heads: the one feature layout a runtime computes, names no per-frame head has (heads are
+// selected and reported by name).
+Status convert_press_heads(const fb::Metadata& m, Metadata& out) {
+  if (m.press_heads() == nullptr) return {};
+  const auto dim = static_cast<size_t>(out.embedding_dim);
+  for (const fb::LinearHead* h : *m.press_heads()) {
+    TLV_ASSIGN_OR_RETURN(LinearHead head,
+                         convert_linear_head(*h, kPressFeatureBlocks * dim, "press head"));
+    TLV_ENSURE(head.features == kPressFeatures, ErrorCode::kModelInvalidMetadata,
+               "press head '%.*s' reads '%.*s'; this runtime computes '%.*s'",
+               static_cast<int>(head.name.size()), head.name.data(),
+               static_cast<int>(head.features.size()), head.features.data(),
+               static_cast<int>(kPressFeatures.size()), kPressFeatures.data());
+    const auto taken = [&](const auto& heads) {
+      return std::any_of(heads.begin(), heads.end(),
+                         [&](const auto& o) { return o.name == head.name; });
+    };
+    TLV_ENSURE(!taken(out.linear_heads) && !taken(out.zero_shot_heads) && !taken(out.press_heads),
+               ErrorCode::kModelInvalidMetadata,
+               "press head '%.*s': another head has that name (heads are reported by name)",
+               static_cast<int>(head.name.size()), head.name.data());
+    out.press_heads.push_back(std::move(head));
+  }
+  return {};
+}
+
 Status convert_heads(const fb::Metadata& m, Metadata& out) {
   const auto dim = static_cast<size_t>(out.embedding_dim);
   if (m.linear_heads() != nullptr) {
-    for (uint32_t i = 0; i < m.linear_heads()->size(); ++i) {
-      const fb::LinearHead* h = m.linear_heads()->Get(i);
-      LinearHead head{
-          view(h->name()), strings(h->labels()), floats(h->weight()), floats(h->bias()), {}};
-      const size_t n = head.labels.size();
-      TLV_ENSURE(n >= 1 && dim >= 1 && head.weight.size() == n * dim && head.bias.size() == n,
-                 ErrorCode::kModelInvalidMetadata,
-                 "linear head '%.*s': %zu labels need %zu weights and %zu biases (embedding %zu), "
-                 "has %zu and %zu",
-                 static_cast<int>(head.name.size()), head.name.data(), n, n * dim, n, dim,
-                 head.weight.size(), head.bias.size());
-      TLV_TRY(check_finite_values(head.weight, "linear head", head.name));
-      TLV_TRY(check_finite_values(head.bias, "linear head", head.name));
-      TLV_TRY(convert_trust(h->trust(), "linear head", head.name, head.trust));
+    for (const fb::LinearHead* h : *m.linear_heads()) {
+      TLV_ASSIGN_OR_RETURN(LinearHead head, convert_linear_head(*h, dim, "linear head"));
+      TLV_ENSURE(head.features.empty(), ErrorCode::kModelInvalidMetadata,
+                 "linear head '%.*s' declares features '%.*s': only a press head reads other "
+                 "features than the embedding",
+                 static_cast<int>(head.name.size()), head.name.data(),
+                 static_cast<int>(head.features.size()), head.features.data());
       out.linear_heads.push_back(std::move(head));
     }
   }
@@ -222,7 +258,7 @@ Status convert_heads(const fb::Metadata& m, Metadata& out) {
       out.sensor_grasp_heads.push_back(std::move(head));
     }
   }
-  return {};
+  return convert_press_heads(m, out);
 }
 
 Status convert_golden(const fb::Metadata& m, Buffers buffers, const Graph& graph, Metadata& out) {
@@ -263,7 +299,16 @@ Status convert_golden(const fb::Metadata& m, Buffers buffers, const Graph& graph
     TLV_ENSURE(!h.has_golden || !out.golden.empty(), ErrorCode::kModelInvalidMetadata,
                "sensor grasp head '%.*s' stores a golden output but the model has no golden pairs",
                static_cast<int>(h.name.size()), h.name.data());
-  return {};
+  out.golden_press = floats(m.golden_press());
+  size_t press_labels = 0;
+  for (const LinearHead& h : out.press_heads) press_labels += h.labels.size();
+  TLV_ENSURE(
+      out.golden_press.empty() || (out.golden_press.size() == press_labels && !out.golden.empty()),
+      ErrorCode::kModelInvalidMetadata,
+      "golden press outputs: %zu values, the press heads have %zu labels (and golden pairs "
+      "are needed)",
+      out.golden_press.size(), press_labels);
+  return check_finite_values(out.golden_press, "golden press", "outputs");
 }
 
 }  // namespace

@@ -24,8 +24,8 @@ void embedding_of(const Model& model, size_t pair, std::vector<float>& out) {
 
 bool golden_heads_apply(const Model& model) {
   const Metadata& m = model.metadata();
-  const bool any_head =
-      !m.linear_heads.empty() || !m.zero_shot_heads.empty() || m.grasp_head.present;
+  const bool any_head = !m.linear_heads.empty() || !m.zero_shot_heads.empty() ||
+                        m.grasp_head.present || !m.press_heads.empty();
   const Tensor& out = model.graph().tensor(model.graph().outputs[0]);
   return !m.golden.empty() && any_head && m.embedding_output == 0 && m.embedding_dim > 0 &&
          out.shape.elements() == static_cast<size_t>(m.embedding_dim);
@@ -41,10 +41,15 @@ Result<GoldenHeadOutputs> golden_head_outputs(const Model& model) {
     embedding_of(model, p, embeddings[p]);
     TLV_TRY(eval.evaluate(embeddings[p]));
     std::vector<float> probabilities;
-    for (const heads::HeadResult& r : eval.results()) {
+    for (const heads::HeadResult& r : eval.results().first(eval.per_frame_count())) {
       probabilities.insert(probabilities.end(), r.probabilities.begin(), r.probabilities.end());
     }
     out.pairs.push_back(std::move(probabilities));
+  }
+  if (eval.has_press()) {
+    TLV_TRY(eval.evaluate_press(embeddings[0], embeddings[n > 1 ? 1 : 0]));
+    for (const heads::HeadResult& r : eval.results().subspan(eval.per_frame_count()))
+      out.press.insert(out.press.end(), r.probabilities.begin(), r.probabilities.end());
   }
   if (eval.has_grasp()) {
     std::vector<std::span<const float>> features;
@@ -72,7 +77,7 @@ Result<HeadCheck> check_golden_heads(const Model& model) {
   const Metadata& m = model.metadata();
   HeadCheck c;
   for (const GoldenPair& p : m.golden) c.stored = c.stored || !p.head_probabilities.empty();
-  c.stored = c.stored || m.has_golden_grasp;
+  c.stored = c.stored || m.has_golden_grasp || !m.golden_press.empty();
   for (const GraspHead& h : m.sensor_grasp_heads) c.stored = c.stored || h.has_golden;
   if (!c.stored) return c;
   TLV_ENSURE(golden_heads_apply(model), ErrorCode::kModelInvalidMetadata,
@@ -105,6 +110,11 @@ Result<HeadCheck> check_golden_heads(const Model& model) {
     if (head.has_golden)
       worse(static_cast<double>(want.sensor_grasp[h]), static_cast<double>(head.golden));
   }
+  TLV_ENSURE(m.golden_press.size() == want.press.size(), ErrorCode::kModelInvalidMetadata,
+             "the model stores %zu golden press outputs, its press heads give %zu",
+             m.golden_press.size(), want.press.size());
+  for (size_t i = 0; i < want.press.size(); ++i)
+    worse(static_cast<double>(want.press[i]), static_cast<double>(m.golden_press[i]));
   c.pass = c.max_abs_error <= c.tolerance;
   return c;
 }

@@ -43,12 +43,18 @@ struct HeadTrust {
   std::string_view baseline;
 };
 
+// What a press head reads (Metadata::press_heads): the press's peak embedding, then the peak
+// minus the embedding of the contact's first frame (runtime/pipeline press_tracker.h).
+inline constexpr std::string_view kPressFeatures = "press.peak,press.peak-first";
+inline constexpr int32_t kPressFeatureBlocks = 2;  // embeddings' worth of features it reads
+
 struct LinearHead {
   std::string_view name;
   std::vector<std::string_view> labels;
-  std::span<const float> weight;  // [labels, embedding_dim]
+  std::span<const float> weight;  // [labels, embedding_dim] ([labels, 2 * dim]: a press head)
   std::span<const float> bias;    // [labels]
   HeadTrust trust = {};
+  std::string_view features = {};  // a press head's kPressFeatures; empty for a per-frame head
 };
 
 struct ZeroShotHead {
@@ -104,6 +110,11 @@ struct Metadata {
   // Grasp heads fitted on one sensor model's grasps (same feature layout as grasp_head, which
   // they require): fingers of a model one of them names use it, any other finger grasp_head.
   std::vector<GraspHead> sensor_grasp_heads;
+  // Heads over a press (kPressFeatures), and their expected probabilities with golden output 0
+  // as the peak and golden output 1 (0 with one pair) as the first frame, head after head
+  // (empty: not stored).
+  std::vector<LinearHead> press_heads;
+  std::span<const float> golden_press;
 };
 
 }  // namespace tlvlink

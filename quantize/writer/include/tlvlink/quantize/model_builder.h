@@ -54,6 +54,7 @@ struct LinearHeadSpec {
   std::vector<std::string> labels;
   std::vector<float> weight, bias;
   HeadTrustSpec trust = {};
+  std::string features = {};  // a press head's kPressFeatures (metadata.h); empty: per-frame
 };
 struct ZeroShotHeadSpec {
   std::string name;
@@ -89,6 +90,8 @@ struct MetadataSpec {
   GraspHeadSpec grasp_head;
   // Heads fitted on one sensor model's grasps (metadata.h Metadata::sensor_grasp_heads).
   std::vector<GraspHeadSpec> sensor_grasp_heads;
+  // Heads over a press (metadata.h Metadata::press_heads; features = kPressFeatures).
+  std::vector<LinearHeadSpec> press_heads;
   std::string producer = "tlvlink";
   std::string created_utc;  // empty: filled with the current time at finish()
   std::string training_json, quantization_json;

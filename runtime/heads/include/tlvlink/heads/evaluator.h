@@ -1,7 +1,8 @@
 #pragma once
 // A model's stored heads evaluated on its embeddings, allocation-free per frame: the per-frame
-// heads (linear probes and zero-shot prompt matrices) on one embedding, and the grasp head on the
-// embeddings of both fingers that its layout names.
+// heads (linear probes and zero-shot prompt matrices) on one embedding, the press heads on a
+// press's peak and first embeddings, and the grasp head on the embeddings of both fingers that
+// its layout names.
 
 #include <cstdint>
 #include <span>
@@ -15,8 +16,8 @@
 
 namespace tlvlink::heads {
 
-enum class HeadKind : uint8_t { kProbe = 0, kZeroShot = 1 };
-const char* head_kind_name(HeadKind kind);  // "probe", "zero-shot"
+enum class HeadKind : uint8_t { kProbe = 0, kZeroShot = 1, kPress = 2 };
+const char* head_kind_name(HeadKind kind);  // "probe", "zero-shot", "press"
 
 // One per-frame head's result; spans point into the evaluator (valid until the next evaluate)
 // and names/labels into the model (valid while the Model lives).
@@ -31,9 +32,9 @@ struct HeadResult {
   const HeadTrust* trust = nullptr;
 };
 
-// Whether a per-frame head is reported when none are named (the daemon's default output): a
-// probe head that its trust record does not mark untrusted (head_trust.h). Heads without a
-// record (older model files) are reported; zero-shot heads only when named.
+// Whether a head is reported when none are named (the daemon's default output): a probe or press
+// head that its trust record does not mark untrusted (head_trust.h). Heads without a record
+// (older model files) are reported; zero-shot heads only when named.
 bool reported_by_default(const HeadResult& result);
 
 class HeadEvaluator {
@@ -52,7 +53,15 @@ class HeadEvaluator {
 
   // The per-frame heads on one embedding (embedding_dim values). No allocation.
   Status evaluate(std::span<const float> embedding);
+  // Every head's latest result: the per-frame heads (linear, then zero-shot, in file order),
+  // then the press heads (kind kPress), whose results evaluate_press() sets.
   std::span<const HeadResult> results() const { return results_; }
+  size_t per_frame_count() const { return per_frame_; }  // results()[per_frame_count()..]: press
+
+  // The press heads on a press's features (metadata.h kPressFeatures): its peak embedding and
+  // its first frame's (embedding_dim values each). No allocation.
+  bool has_press() const { return results_.size() > per_frame_; }
+  Status evaluate_press(std::span<const float> peak, std::span<const float> first);
 
   // The grasp heads, if the model has one: the features their layout names, in layout order.
   // Head 0 is the model's grasp head (fitted on every sensor); heads 1.. its sensor grasp heads
@@ -76,8 +85,10 @@ class HeadEvaluator {
   const Metadata* metadata_ = nullptr;
   int32_t dim_ = 0;
   std::vector<HeadResult> results_;
-  std::vector<float> scratch_;   // logits then probabilities of every head, back to back
-  std::vector<size_t> offsets_;  // where each head's logits start in scratch_
+  std::vector<float> scratch_;         // logits then probabilities of every head, back to back
+  std::vector<size_t> offsets_;        // where each head's logits start in scratch_
+  size_t per_frame_ = 0;               // results_ before the press heads
+  std::vector<float> press_features_;  // [peak, peak - first]
   std::vector<GraspFeature> grasp_layout_;
 };
 

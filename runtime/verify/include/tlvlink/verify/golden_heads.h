@@ -1,8 +1,9 @@
 #pragma once
 // The heads' part of the golden pairs: every per-frame head's probabilities on each golden
-// output read as the embedding, and each grasp head's p(success) with golden output k as its
-// layout's feature k. Computed once here, by the writer (to store them) and by verify (to check
-// them), with the board's own head arithmetic (runtime/heads).
+// output read as the embedding, each grasp head's p(success) with golden output k as its
+// layout's feature k, and the press heads' probabilities on golden outputs 0 and 1. Computed once
+// here, by the writer (to store them) and by verify (to check them), with the board's own head
+// arithmetic (runtime/heads).
 //
 // Tolerance kHeadTolerance, absolute on probabilities: the stored and the recomputed values come
 // from the same float operations in the same order on the same stored embedding; only a compiler
@@ -29,6 +30,9 @@ struct GoldenHeadOutputs {
   float grasp = 0;
   // The same for each sensor grasp head, in file order (the same features).
   std::vector<float> sensor_grasp;
+  // Every press head's probabilities, head after head, with golden output 0 as the press's peak
+  // and golden output 1 (0 with one pair) as its first frame (metadata.h golden_press).
+  std::vector<float> press;
 };
 
 // Whether the model's golden pairs can carry head outputs: golden pairs, at least one head, and
