@@ -114,7 +114,12 @@ Result<std::unique_ptr<FrameProcessor>> FrameProcessor::create(const Model& mode
     }
     auto gate = ContactGate::create(s.width, s.height, s.channels, options.contact);
     if (!gate.ok()) return gate.error().with_context("sensor '%s'", s.name.c_str());
-    Sensor sensor{s, std::move(gate).value(), std::move(plan).value(), {}, std::nullopt};
+    Sensor sensor{s,
+                  std::move(gate).value(),
+                  std::move(plan).value(),
+                  {},
+                  PressTracker(model.metadata().embedding_dim),
+                  std::nullopt};
     for (int16_t h : p->reported_) {
       sensor.smoothers.emplace_back(
           static_cast<int32_t>(p->heads_.results()[static_cast<size_t>(h)].labels.size()),
@@ -200,6 +205,7 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
   const bool run = !options_.contact_gating || contact || wanted;
   if (decision->onset) {
     for (ProbabilitySmoother& sm : s.smoothers) sm.restart();
+    s.press.restart();
   }
   std::span<const float> embedding;
   if (run) {
@@ -217,18 +223,10 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
   // Predictions are reported in contact only: a frame encoded for the grasp tracker's open-gel
   // "before" moment says nothing about a material.
   if (run && (contact || !options_.contact_gating)) {
-    out.head_count = static_cast<int32_t>(reported_.size());
-    const auto results = heads_.results();
-    for (size_t k = 0; k < reported_.size(); ++k) {
-      const heads::HeadResult& r = results[static_cast<size_t>(reported_[k])];
-      HeadProbabilities& h = out.heads[k];
-      h.head = reported_[k];
-      h.labels = static_cast<int16_t>(r.labels.size());
-      const std::span<float> smoothed(h.probability.data(), r.labels.size());
-      s.smoothers[k].add(r.probabilities, in_times.capture_ns, smoothed);
-      h.top = static_cast<int16_t>(std::max_element(smoothed.begin(), smoothed.end()) -
-                                   smoothed.begin());
-    }
+    const bool held = decision->state == ContactState::kContact;
+    if (Status st = report_heads(s, held, decision->score_dn, in_times.capture_ns, out); !st.ok())
+      return st.error().with_context("sensor '%s' frame %llu: press heads", s.setup.name.c_str(),
+                                     static_cast<unsigned long long>(sequence));
   }
   if (!run) {
     ++counters_.gated;
@@ -249,6 +247,35 @@ Status FrameProcessor::process(int32_t index, uint64_t sequence, const image::Im
     }
     tracker_->on_frame(finger, sequence, in_times.capture_ns, held, embedding, image);
   }
+  return {};
+}
+
+Status FrameProcessor::report_heads(Sensor& s, bool held, float score_dn, int64_t capture_ns,
+                                    FramePrediction& out) {
+  bool press_ready = false;
+  if (held && heads_.has_press()) {
+    s.press.add(embedding_, score_dn);
+    press_ready = s.press.ready();
+    if (press_ready) TLV_TRY(heads_.evaluate_press(s.press.peak(), s.press.first()));
+  }
+  const auto results = heads_.results();
+  int32_t n = 0;
+  for (size_t k = 0; k < reported_.size(); ++k) {
+    const heads::HeadResult& r = results[static_cast<size_t>(reported_[k])];
+    const bool press = r.kind == heads::HeadKind::kPress;
+    if (press && !press_ready) continue;  // the head has not answered on this contact yet
+    HeadProbabilities& h = out.heads[static_cast<size_t>(n++)];
+    h.head = reported_[k];
+    h.labels = static_cast<int16_t>(r.labels.size());
+    const std::span<float> p(h.probability.data(), r.labels.size());
+    if (press) {
+      std::copy(r.probabilities.begin(), r.probabilities.end(), p.begin());
+    } else {
+      s.smoothers[k].add(r.probabilities, capture_ns, p);
+    }
+    h.top = static_cast<int16_t>(std::max_element(p.begin(), p.end()) - p.begin());
+  }
+  out.head_count = n;
   return {};
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The per-frame chain after decoding, for all sensors of one model: contact gate -> (if touching,
-// or if the grasp logic needs the frame) preprocessing -> encoder -> heads -> smoothing, and the
-// grasp tracker over the fingers. Pure logic on one thread: the daemon calls it from its
+// or if the grasp logic needs the frame) preprocessing -> encoder -> heads -> smoothing, the
+// press heads over each sensor's contact so far (press_tracker.h), and the grasp tracker over
+// the fingers. Pure logic on one thread: the daemon calls it from its
 // inference thread, tests call it with replayed frames. Made once (allocates); process()
 // allocates nothing.
 //
@@ -25,6 +26,7 @@
 #include "tlvlink/pipeline/contact_gate.h"
 #include "tlvlink/pipeline/grasp_tracker.h"
 #include "tlvlink/pipeline/predictions.h"
+#include "tlvlink/pipeline/press_tracker.h"
 #include "tlvlink/pipeline/smoother.h"
 
 namespace tlvlink::pipeline {
@@ -46,10 +48,11 @@ struct ProcessorOptions {
   bool grasp = true;  // track grasps when the model has a grasp head and fingers A, B
   GraspOptions grasp_options;
   int64_t smoothing_tau_ns = 150'000'000;
-  // The per-frame heads reported, by name; empty = every probe head except those the model's
+  // The heads reported, by name; empty = every probe and press head except those the model's
   // trust record marks untrusted (head_trust.h: not better than the majority class on their own
   // test set); zero-shot and untrusted heads only when named. An unknown name is an error
-  // listing the model's heads.
+  // listing the model's heads. A press head is reported, unsmoothed (it reads the whole contact
+  // already), on a sensor's frames in contact from the contact's PressTracker::kMinFrames-th on.
   std::vector<std::string> heads;
   // Copy the embedding and the int8 tensor it comes from into every encoded frame's record
   // (FramePrediction::embedding / int8_values): host-vs-board comparisons. The int8 tensor is
@@ -104,12 +107,15 @@ class FrameProcessor {
     ContactGate gate;
     image::PreprocessPlan plan;
     std::vector<ProbabilitySmoother> smoothers;  // one per reported head
+    PressTracker press;                          // the contact so far, for the press heads
     // The grasp head's difference features: the model's crop and resize in DN (a finger whose
     // difference the layout reads; unset otherwise).
     std::optional<image::PreprocessPlan> difference_plan;
   };
   FrameProcessor(const Model& model, Executor& executor) : model_(model), executor_(executor) {}
   Status embed(Sensor& s, const image::ImageView& frame, FrameTimes& times);
+  Status report_heads(Sensor& s, bool held, float score_dn, int64_t capture_ns,
+                      FramePrediction& out);
   void report(FramePrediction& out) const;  // report_embedding: copies the embedding + int8 tensor
 
   const Model& model_;
