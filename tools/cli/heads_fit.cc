@@ -3,12 +3,15 @@
 // new metadata), plus zero-shot heads from the text encoder where the model has none.
 // tlvlink heads fit MODEL --images DIR --head NAME -o OUT.tlvm: a head of the user's own from
 // labelled frames (DIR/<class>/...), validated by grouped cross-validation (eval/user_head.h).
+// tlvlink heads fit MODEL --presses DIR,DIR... -o OUT.tlvm: a press head (hard/soft from how a
+// press's imprint changes) from presses tlvlinkd recorded with embeddings (eval/press_head.h).
 
 #include <cstdio>
 #include <filesystem>
 #include <memory>
 
 #include "eval_flags.h"
+#include "tlvlink/eval/press_head.h"
 #include "tlvlink/eval/run.h"
 #include "tlvlink/eval/trust.h"
 #include "tlvlink/eval/user_head.h"
@@ -28,9 +31,24 @@ struct HeadsFitCommand {
   std::vector<std::string> only;  // --only: the heads to fit (the others are kept)
   // --images: a head of the user's own
   std::string images, recordings, head, sensor;
+  std::vector<std::string> presses;  // --presses: recorded press scenarios
+  std::vector<std::string> press_predictions = {"press.jsonl"};
   int folds = 5, stride = 1;
   bool learning_curve = false, overwrite = false;
 };
+
+void print_trust_decision(const std::string& head, bool replaced,
+                          const quantize::HeadTrustSpec& trust, const char* baseline) {
+  const TrustAssessment a = assess_head(eval::trust_view(trust));
+  std::printf("head '%s' (%s) %s: %s%s\n", head.c_str(), replaced ? "replaced" : "added",
+              head_trust_level_name(a.level),
+              a.below_baseline                        ? baseline
+              : a.level == HeadTrustLevel::kUntrusted ? "it does not beat the majority class by "
+                                                        "the rule's margin, "
+                                                      : "",
+              a.level == HeadTrustLevel::kTrusted ? "reported by default"
+                                                  : "left out of the default output");
+}
 
 int run_user_head_fit(const HeadsFitCommand& c) {
   const char* command = "heads fit";
@@ -71,19 +89,40 @@ int run_user_head_fit(const HeadsFitCommand& c) {
   if (Status s = tools::write_file(c.output, *bytes); !s.ok())
     return report_error(command, s.error());
   std::fputs(eval::format_user_head(*frames, *fit).c_str(), stdout);
-  const TrustAssessment a = assess_head(eval::trust_view(fit->head.trust));
-  std::printf("head '%s' (%s) %s: %s%s\n", c.head.c_str(), replaced ? "replaced" : "added",
-              head_trust_level_name(a.level),
-              a.below_baseline                        ? "it does not beat the pixel baseline, "
-              : a.level == HeadTrustLevel::kUntrusted ? "it does not beat the majority class by "
-                                                        "the rule's margin, "
-                                                      : "",
-              a.level == HeadTrustLevel::kTrusted ? "reported by default"
-                                                  : "left out of the default output");
+  print_trust_decision(c.head, replaced, fit->head.trust, "it does not beat the pixel baseline, ");
   std::printf("wrote %s (%zu bytes)%s\n", c.output.c_str(), bytes->size(),
               (*model)->integrity().is_signed ? "; the model was signed, the copy is not: sign it "
                                                 "with `tlvlink sign`"
                                               : "");
+  return kExitOk;
+}
+
+int run_press_head_fit(const HeadsFitCommand& c) {
+  const char* command = "heads fit";
+  if (!c.flags.touch.empty() || !c.flags.grasp.empty() || !c.images.empty() ||
+      !c.recordings.empty()) {
+    return report_error(command, Error::make(ErrorCode::kInvalidArgument,
+                                             "--presses fits the press head alone: give it "
+                                             "without --touch, --grasp, --images, --recordings"));
+  }
+  auto model = load_model(c.model);
+  if (!model.ok()) return report_error(command, model.error());
+  eval::PressHeadOptions o;
+  if (!c.head.empty()) o.head = c.head;
+  o.predictions = c.press_predictions;
+  o.cv.folds = c.folds;
+  o.cv.logistic.max_iterations = c.flags.max_iterations;
+  auto fit = eval::fit_press_head(**model, c.presses, o);
+  if (!fit.ok()) return report_error(command, fit.error());
+  bool replaced = false;
+  auto bytes = eval::model_with_press_head(**model, fit->head, &replaced);
+  if (!bytes.ok()) return report_error(command, bytes.error());
+  if (Status s = tools::write_file(c.output, *bytes); !s.ok())
+    return report_error(command, s.error());
+  std::fputs(eval::format_press_head(*fit).c_str(), stdout);
+  print_trust_decision(o.head, replaced, fit->head.trust,
+                       "it does not beat one frame (the peak alone), ");
+  std::printf("wrote %s (%zu bytes)\n", c.output.c_str(), bytes->size());
   return kExitOk;
 }
 
@@ -95,6 +134,7 @@ int run_heads_fit(const HeadsFitCommand& c) {
         command,
         Error::make(ErrorCode::kIo, "%s exists; pass --overwrite to replace it", c.output.c_str()));
   }
+  if (!c.presses.empty()) return run_press_head_fit(c);
   if (!c.images.empty() || !c.recordings.empty()) return run_user_head_fit(c);
   eval::HeadsFitJob job;
   auto data = c.flags.data();
@@ -179,15 +219,26 @@ void add_heads_command(CLI::App& app, int& exit_code) {
                   "file: <recording><TAB><class>[<TAB><from_s><TAB><to_s>][<TAB><group>] per "
                   "line; frames decoded by the daemon's decoder in the sensor's view; groups: "
                   "the recordings");
+  cmd->add_option("--presses", c->presses,
+                  "Fit the press head (hard/soft from a press's peak and its change from the "
+                  "first frame in contact) from recorded presses: folders each with a scenario's "
+                  "truth.jsonl and tlvlinkd's JSON lines of it with `embedding = true`, made with "
+                  "this model; validated by recording (tools/eval/README.md \"Press head\")")
+      ->delimiter(',');
+  cmd->add_option("--press-predictions", c->press_predictions,
+                  "With --presses: tlvlinkd's output file names in each folder, one play of the "
+                  "scenario each (e.g. its live path and its exact frames); default press.jsonl")
+      ->delimiter(',');
   cmd->add_option("--stride", c->stride, "With --recordings: keep every N-th frame")
       ->check(CLI::Range(1, 100000));
   cmd->add_option(
       "--head", c->head,
-      "With --images / --recordings: the head's name (a linear head of that name is replaced)");
+      "With --images / --recordings: the head's name (a linear head of that name is replaced); "
+      "with --presses: the press head's (default hard_soft_press)");
   cmd->add_option("--sensor", c->sensor,
                   "With --images: the sensor the frames come from (" + tools::known_sensor_names() +
                       "); default: detected from each frame's size");
-  cmd->add_option("--folds", c->folds, "With --images: cross-validation folds, at most")
+  cmd->add_option("--folds", c->folds, "With --images / --presses: cross-validation folds, at most")
       ->check(CLI::Range(2, 50));
   cmd->add_flag("--learning-curve", c->learning_curve,
                 "With --images: also print how accuracy grows with the labelled groups per class");

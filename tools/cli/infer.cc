@@ -40,7 +40,7 @@ std::vector<float> output_floats(const Tensor& t, std::span<const std::byte> byt
 void print_heads(const Metadata& m, std::span<const float> embedding) {
   auto heads = heads::HeadEvaluator::create(m);
   if (heads.ok() && heads->evaluate(embedding).ok()) {
-    for (const heads::HeadResult& r : heads->results()) {
+    for (const heads::HeadResult& r : heads->results().first(heads->per_frame_count())) {
       const auto top = static_cast<size_t>(r.top);
       std::printf("head %-14.*s %-9s -> %-18.*s p=%.3f  [%s]\n", static_cast<int>(r.name.size()),
                   r.name.data(), heads::head_kind_name(r.kind),
@@ -64,6 +64,12 @@ void print_heads(const Metadata& m, std::span<const float> embedding) {
                   static_cast<int>(g.name.size()), g.name.data(), "probe", sensors.c_str(),
                   inspect::trust_text(g.trust, false).c_str());
     }
+  }
+  for (const LinearHead& h : m.press_heads) {
+    std::printf("head %-14.*s %-9s -> needs a press (%.*s); not computed from one frame  [%s]\n",
+                static_cast<int>(h.name.size()), h.name.data(), "press",
+                static_cast<int>(h.features.size()), h.features.data(),
+                inspect::trust_text(h.trust, false).c_str());
   }
   if (m.provenance.training.find("random-reference") != std::string_view::npos) {
     std::printf(

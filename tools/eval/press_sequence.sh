@@ -24,15 +24,12 @@ if [ $# -gt 0 ]; then
   fi
   path=$2
 fi
-# sensor:seed:presses[:markers]; seeds unlike any set's or live_vs_offline.sh's.
+# sensor:seed:presses[:markers]
 train=(gelsight-mini:401:150:markers gelsight-mini:402:150 digit:403:150:markers digit:404:150)
 test=(digit:405:150:markers digit:406:150 gelsight-mini:407:150:markers gelsight-mini:408:150)
-build=${TLVLINK_BUILD:-build/host}
-tlvlink=$build/tools/cli/tlvlink
-tlvlinkd=$build/firmware/tlvlinkd/tlvlinkd
-for b in "$tlvlink" "$tlvlinkd"; do
-  [ -x "$b" ] || { echo "press_sequence: $b missing (cmake --build --preset host)" >&2; exit 1; }
-done
+# shellcheck source=tools/eval/press_scenarios.sh
+. tools/eval/press_scenarios.sh
+press_tools "${TLVLINK_BUILD:-build/host}"
 [ -f "$model" ] || { echo "press_sequence: model $model missing" >&2; exit 2; }
 python3 -c 'import numpy' 2>/dev/null || { echo "press_sequence: python3-numpy missing (tools/setup/install_deps.sh)" >&2; exit 1; }
 mkdir -p "$out"
@@ -40,63 +37,14 @@ out=$(realpath "$out")
 model=$(realpath "$model")
 t0=$(date +%s)
 
-dir_of() { IFS=: read -r sensor seed _ _ <<<"$1"; echo "$out/$sensor-$seed"; }
-
-render() {  # spec
-  local sensor seed presses markers dir args
-  IFS=: read -r sensor seed presses markers <<<"$1"
-  dir=$(dir_of "$1")
-  args=(--sensor "$sensor" --seed "$seed" --grasps 0 --presses "$presses" --offline)
-  [ "${markers:-}" = markers ] && args+=(--markers)
-  if [ -f "$dir/truth.jsonl" ] && [ "$(cat "$dir/args" 2>/dev/null)" = "${args[*]}" ]; then return; fi
-  echo "== render $1"
-  "$tlvlink" sim scenario -o "$dir" "${args[@]}" --overwrite | tail -1
-  echo "${args[*]}" >"$dir/args"
-  rm -f "$dir"/press-*.jsonl
-}
-
-play() {  # spec: finger A in real time (a replay faster than the camera drops frames at the
-          # queue), every encoded frame's embedding reported
-  local sensor dir w=320 h=240 run
-  IFS=: read -r sensor _ <<<"$1"
-  dir=$(dir_of "$1")
-  run=$dir/press-$path
-  [ "$sensor" = digit ] && { w=240; h=320; }
-  [ -s "$run.jsonl" ] && [ "$(cat "$run.model" 2>/dev/null)" = "$model" ] && return
-  {
-    printf 'model = "%s"\noutput = ["jsonl:%s"]\nverify_model = false\nembedding = true\n' \
-      "$model" "$run.jsonl.partial"
-    printf '[grasp]\nmode = "off"\n[[sensor]]\nname = "left"\nmodel = "%s"\nfinger = "A"\n' "$sensor"
-    if [ "$path" = live ]; then  # the sensor model's own camera format and view
-      printf 'source = "replay"\ndevice = "%s"\n' "$dir/A.tlvraw"
-    else
-      printf 'source = "replay"\ndevice = "%s"\nformat = "rgb24"\nwidth = %d\nheight = %d\n' \
-        "$dir/A.offline.tlvraw" "$w" "$h"
-      printf 'crop = 0.0\njpeg_scale = 1\norientation = "upright"\n'
-    fi
-  } >"$run.toml"
-  rm -f "$run.jsonl.partial"
-  "$tlvlinkd" --config "$run.toml" 2>"$run.log" >/dev/null ||
-    { tail -5 "$run.log"; echo "press_sequence: tlvlinkd failed ($run.log)" >&2; return 1; }
-  mv "$run.jsonl.partial" "$run.jsonl"
-  echo "$model" >"$run.model"
-  echo "   $1 ($path): $(grep -E '^ *drops:' "$run.log" | sed 's/^ *//')"
-}
-
 specs=("${train[@]}" "${test[@]}")
-for spec in "${specs[@]}"; do render "$spec"; done
+for spec in "${specs[@]}"; do press_render "$out" "$spec"; done
 echo "== tlvlinkd: ${#specs[@]} scenarios ($path path), four at a time in real time"
-pids=()
-for spec in "${specs[@]}"; do
-  play "$spec" &
-  pids+=($!)
-  if [ ${#pids[@]} -eq 4 ]; then for p in "${pids[@]}"; do wait "$p"; done; pids=(); fi
-done
-for p in "${pids[@]}"; do wait "$p"; done
+press_play_all "$out" "$model" "$path" "press-$path" "${specs[@]}"
 
 join() { local IFS=,; echo "$*"; }
-train_dirs=(); for s in "${train[@]}"; do train_dirs+=("$(dir_of "$s")"); done
-test_dirs=(); for s in "${test[@]}"; do test_dirs+=("$(dir_of "$s")"); done
+train_dirs=(); for s in "${train[@]}"; do train_dirs+=("$(press_dir "$out" "$s")"); done
+test_dirs=(); for s in "${test[@]}"; do test_dirs+=("$(press_dir "$out" "$s")"); done
 echo
 echo "== model $model, $path path"
 python3 tools/eval/press_sequence.py --predictions "press-$path.jsonl" \

@@ -34,7 +34,14 @@
 #    embeddings, what the board computes; then `tlvlink eval --record` re-measures the int8
 #    heads on the same test splits -> OUT_DIR/touch-tiny-int8.tlvm, report in
 #    OUT_DIR/quantize-report/.
-# 5. `tlvlink eval` fp32 vs int8 on the encoder set's and the Feel set's test splits
+# 5. The press head (hard/soft from how a press's imprint changes: its peak and the peak minus its
+#    first frame in contact) of each file, fitted on its own embeddings by
+#    tools/eval/fit_press_head.sh: four scenarios of 150 single-finger presses (GelSight Mini and
+#    DIGIT, seeds 401-404, in OUT_DIR/presses) played by tlvlinkd in real time from the cameras'
+#    raw output and from the exact frames; validated by leaving each scenario out. Real-time
+#    plays can drop a few frames as stale, so this step's heads can differ in their last digits
+#    between runs (the rest is deterministic).
+# 6. `tlvlink eval` fp32 vs int8 on the encoder set's and the Feel set's test splits
 #    -> OUT_DIR/eval.txt.
 # Every file written carries the integrity trailer and its golden head outputs (the writers
 # seal what they write: runtime/README.md "Integrity trailer").
@@ -113,6 +120,13 @@ echo "== quantize -> $out/touch-tiny-int8.tlvm"
 # The board's file records the board's figures: the int8 heads re-measured on the same splits.
 "$tlvlink" eval "$out/int8-unrecorded.tlvm" --touch "$heads" --grasp "$feel" -q --no-paper \
   --oracle-samples 0 --record "$out/touch-tiny-int8.tlvm" > /dev/null
+
+echo "== press heads -> $out/touch-tiny-{fp32,int8}.tlvm"
+for f in fp32 int8; do
+  TLVLINK_BUILD=$build bash tools/eval/fit_press_head.sh "$out/presses" "$out/touch-tiny-$f.tlvm" \
+    "$out/press-$f.tlvm" | grep -E '^ *(press head|baseline|majority)|^head|^fit_press_head'
+  mv "$out/press-$f.tlvm" "$out/touch-tiny-$f.tlvm"
+done
 
 echo "== eval fp32 vs int8 -> $out/eval.txt"
 "$tlvlink" eval "$out/touch-tiny-fp32.tlvm" --compare "$out/touch-tiny-int8.tlvm" \

@@ -323,6 +323,58 @@ TEST(Score, LabelsOfFramesWithoutContactAreCountedApart) {
   EXPECT_NE(score::format_score(*r).find("1 labelled frames without contact"), std::string::npos);
 }
 
+// A press head ("hard_soft_press", tools/eval press_head.h) is scored against the label it is
+// named after; per event, its answer on the event's last frame (the one over the whole press).
+TEST(Score, APressHeadIsScoredAgainstItsLabelAtThePressesEnd) {
+  const std::string dir =
+      (std::filesystem::temp_directory_path() / ("tlvlink_press_" + std::to_string(::getpid())))
+          .string();
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream t(dir + "/truth.jsonl");
+    t << R"({"type":"scenario","sensor":"digit","fps":60,"frames":6,"fingers":["A","B"]})"
+         "\n"
+      << R"({"type":"event","id":0,"kind":"press","success":null,"material":"rubber","hard_soft":"soft","rough_smooth":null})"
+         "\n";
+    for (int k = 0; k < 6; ++k) {
+      for (const char* finger : {"A", "B"}) {
+        const bool in = finger[0] == 'A' && k >= 1;
+        t << json{{"type", "frame"}, {"finger", finger},          {"seq", k},
+                  {"contact", in},   {"force_n", in ? 2.0 : 0.0}, {"event", in ? 0 : -1}}
+                 .dump()
+          << "\n";
+      }
+    }
+    std::ofstream p(dir + "/predictions.jsonl");
+    // The press head answers from the contact's fourth frame (seq 4) on: wrong, then right.
+    const char* press[6] = {nullptr, nullptr, nullptr, nullptr, "hard", "soft"};
+    for (int k = 0; k < 6; ++k) {
+      json f = {{"type", "frame"},
+                {"sensor", "left"},
+                {"seq", k},
+                {"contact", k >= 1 ? "contact" : "none"}};
+      if (k >= 1) f["heads"]["hard_soft"] = {{"label", "hard"}};
+      if (press[k] != nullptr) f["heads"]["hard_soft_press"] = {{"label", press[k]}};
+      p << f.dump() << "\n";
+    }
+  }
+  auto r =
+      score::score_live_run(dir + "/truth.jsonl", dir + "/predictions.jsonl", {"left", "right"});
+  std::filesystem::remove_all(dir);
+  ASSERT_TRUE(r.ok()) << r.error().message();
+  ASSERT_EQ(r->heads.size(), 2u);
+  const score::HeadScore& frame = r->heads[0];
+  const score::HeadScore& press = r->heads[1];
+  EXPECT_EQ(frame.head, "hard_soft");
+  EXPECT_EQ(frame.events.hits, 0);
+  EXPECT_EQ(press.head, "hard_soft_press");
+  EXPECT_EQ(press.frames.hits, 1);
+  EXPECT_EQ(press.frames.total, 2);
+  EXPECT_EQ(press.events.hits, 1);  // the last answer, over the whole press
+  EXPECT_EQ(press.events.total, 1);
+  EXPECT_EQ(press.event_labels.at("soft"), 1);
+}
+
 // A contact whose image is the open gel's (signal below kInvisibleSignalDn: a smooth flat face
 // filling the gel) is no miss of the gate: counted apart, with its event.
 TEST(Score, ContactsTheOpticsCannotShowAreCountedApart) {

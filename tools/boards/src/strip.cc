@@ -51,6 +51,8 @@ Result<StripReport> strip_model(const std::string& model_path, const daemon::Sce
     known += (known.empty() ? "" : ", ") + std::string("probe:") + std::string(h.name);
   for (const ZeroShotHead& h : md.zero_shot_heads)
     known += (known.empty() ? "" : ", ") + std::string("zero-shot:") + std::string(h.name);
+  for (const LinearHead& h : md.press_heads)
+    known += (known.empty() ? "" : ", ") + std::string("press:") + std::string(h.name);
   if (md.grasp_head.present)
     known += (known.empty() ? "" : ", ") + std::string("grasp:") + std::string(md.grasp_head.name);
   for (const std::string& want : scene.heads) {
@@ -58,9 +60,13 @@ Result<StripReport> strip_model(const std::string& model_path, const daemon::Sce
         std::any_of(
             md.linear_heads.begin(), md.linear_heads.end(),
             [&](const LinearHead& h) { return named({want}, "probe", std::string(h.name)); }) ||
-        std::any_of(
-            md.zero_shot_heads.begin(), md.zero_shot_heads.end(),
-            [&](const ZeroShotHead& h) { return named({want}, "zero-shot", std::string(h.name)); });
+        std::any_of(md.zero_shot_heads.begin(), md.zero_shot_heads.end(),
+                    [&](const ZeroShotHead& h) {
+                      return named({want}, "zero-shot", std::string(h.name));
+                    }) ||
+        std::any_of(md.press_heads.begin(), md.press_heads.end(), [&](const LinearHead& h) {
+          return named({want}, "press", std::string(h.name));
+        });
     TLV_ENSURE(found, ErrorCode::kInvalidArgument,
                "scene '%s' (%s) asks for head '%s', which %s does not have (it has: %s)",
                scene.name.c_str(), scene.path.c_str(), want.c_str(), model_path.c_str(),
@@ -89,6 +95,14 @@ Result<StripReport> strip_model(const std::string& model_path, const daemon::Sce
     if (keep) zero_shot.push_back(spec.zero_shot_heads[i]);
   }
   spec.zero_shot_heads = std::move(zero_shot);
+  std::vector<quantize::LinearHeadSpec> press;
+  for (size_t i = 0; i < md.press_heads.size(); ++i) {
+    const std::string name(md.press_heads[i].name);
+    const bool keep = named(scene.heads, "press", name);
+    (keep ? report.kept : report.removed).push_back("press:" + name);
+    if (keep) press.push_back(spec.press_heads[i]);
+  }
+  spec.press_heads = std::move(press);
   if (md.grasp_head.present) {
     const std::string name = "grasp:" + std::string(md.grasp_head.name);
     const bool keep = scene.grasp != "off";

@@ -59,7 +59,9 @@ class Probe {
   Status reference(const sim::RgbImage& frame) {
     TLV_TRY(run(frame, reference_));
     reference_tops_.clear();
-    for (const heads::HeadResult& r : heads_->results()) reference_tops_.push_back(r.top);
+    // Per-frame heads only: a press head reads a press, not one frame.
+    for (const heads::HeadResult& r : heads_->results().first(heads_->per_frame_count()))
+      reference_tops_.push_back(r.top);
     return {};
   }
 
@@ -68,7 +70,7 @@ class Probe {
     TLV_TRY(run(frame, current_));
     t.cosines.push_back(cosine(reference_, current_));
     t.items.push_back(item);
-    const auto results = heads_->results();
+    const auto results = heads_->results().first(heads_->per_frame_count());
     if (t.heads.empty()) {
       for (const heads::HeadResult& r : results) {
         t.heads.push_back({std::string(r.name), heads::reported_by_default(r), 0, 0});

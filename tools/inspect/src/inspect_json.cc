@@ -83,6 +83,13 @@ json metadata_json(const Model& model) {
                      {"weights", g->weight.size()},
                      {"trust", trust_json(g->trust)}});
   }
+  for (const LinearHead& h : m.press_heads) {
+    heads.push_back({{"kind", "press"},
+                     {"name", h.name},
+                     {"labels", std::vector<std::string>(h.labels.begin(), h.labels.end())},
+                     {"features", h.features},
+                     {"trust", trust_json(h.trust)}});
+  }
   return {{"name", m.name},
           {"schema_version", model.schema_version()},
           {"file_bytes", model.bytes().size()},

@@ -68,6 +68,13 @@ void print_metadata(std::string& out, const Model& model) {
             static_cast<int>(g.name.size()), g.name.data(), sensors.c_str(),
             trust_text(g.trust).c_str());
   }
+  for (const LinearHead& h : m.press_heads) {
+    std::string labels;
+    for (std::string_view l : h.labels) labels += (labels.empty() ? "" : ", ") + std::string(l);
+    appendf(out, "press head   %.*s: %s over a press (%.*s)\n             %s\n",
+            static_cast<int>(h.name.size()), h.name.data(), labels.c_str(),
+            static_cast<int>(h.features.size()), h.features.data(), trust_text(h.trust).c_str());
+  }
   appendf(out, "golden pairs %zu\n", m.golden.size());
 }
 

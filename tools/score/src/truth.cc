@@ -32,6 +32,8 @@ Result<Truth> read_truth(const std::string& path) {
       for (const char* head : {"material", "hard_soft", "rough_smooth"}) {
         e.labels[head] =
             j.contains(head) && j[head].is_string() ? lower(j[head].get<std::string>()) : "";
+        // A press head (tools/eval press_head.h) named after the label it learns.
+        e.labels[std::string(head) + "_press"] = e.labels[head];
       }
       const auto id = j.value("id", int64_t{-1});
       TLV_ENSURE(id == static_cast<int64_t>(t.events.size()), ErrorCode::kFormat,

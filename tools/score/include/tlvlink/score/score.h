@@ -11,7 +11,10 @@
 //                    (the gate's false contacts inside an event) are counted apart, not scored.
 //                    Frames of one event are one object under one grip, so they are not
 //                    independent: the event and grasp figures carry a 95 % interval (Wilson),
-//                    the per-frame ones do not (read them with the event count).
+//                    the per-frame ones do not (read them with the event count). A press head
+//                    ("hard_soft_press": one answer per contact, from its fourth frame on) is
+//                    scored against the label it is named after; per event, its answer at the
+//                    event's last frame is the one over the whole press.
 //   grasps           each grasp record matched to the scripted grasp its "during" frame falls
 //                    in: computed or not (with the reason), success predicted against the label
 
@@ -48,7 +51,7 @@ struct Interval {
 Interval wilson95(const Ratio& r);
 
 struct HeadScore {
-  std::string head;             // "material", "hard_soft", "rough_smooth"
+  std::string head;             // "material", "hard_soft", "rough_smooth", "hard_soft_press"
   Ratio frames;                 // frames in contact with a prediction and a defined label
   int64_t without_contact = 0;  // labelled frames of an event the renderer shows without contact
   Ratio events;                 // the last prediction of each event
