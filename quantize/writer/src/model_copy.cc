@@ -57,4 +57,14 @@ Result<ModelBuilder> rebuild_with_metadata(const Model& model, const MetadataSpe
   return b;
 }
 
+Result<std::vector<std::byte>> model_with_metadata(const Model& model,
+                                                   const MetadataSpec& metadata) {
+  TLV_ASSIGN_OR_RETURN(ModelBuilder builder, rebuild_with_metadata(model, metadata));
+  std::vector<std::byte> bytes = builder.finish();
+  auto check = Model::load(bytes);
+  if (!check.ok())
+    return check.error().with_context("the copy with the new metadata does not load");
+  return bytes;
+}
+
 }  // namespace tlvlink::quantize

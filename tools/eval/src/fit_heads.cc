@@ -222,13 +222,7 @@ Result<std::vector<std::byte>> model_with_heads(const Model& model, const Fitted
   if (!text_encoder.empty()) fit["zero_shot_text_encoder"] = text_encoder;
   training["heads_fit"] = std::move(fit);
   meta.training_json = training.dump();
-  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder,
-                       quantize::rebuild_with_metadata(model, meta));
-  std::vector<std::byte> bytes = builder.finish();
-  // The file must load before anyone gets it.
-  auto check = Model::load(bytes);
-  if (!check.ok()) return check.error().with_context("model with fitted heads does not load");
-  return bytes;
+  return quantize::model_with_metadata(model, meta);
 }
 
 }  // namespace tlvlink::eval

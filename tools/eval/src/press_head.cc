@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "put_head.h"
+#include "tlvlink/eval/trust.h"
 #include "tlvlink/io/line_reader.h"
 #include "tlvlink/pipeline/press_tracker.h"
 #include "tlvlink/quantize/model_copy.h"
@@ -252,16 +254,8 @@ Result<PressHeadFit> fit_press_head(const Model& model, const std::vector<std::s
   h.features = std::string(kPressFeatures);
   const CvResult& cv = fit.head_cv;
   quantize::HeadTrustSpec& t = h.trust;
-  t.present = true;
-  t.accuracy = static_cast<float>(cv.accuracy);
-  t.majority = static_cast<float>(cv.majority);
+  t = cross_validated_trust(cv, fit.baseline_cv, kOneFrameBaseline);
   t.n = r.distinct_presses();  // not rows: a press's plays are not independent trials
-  t.balanced_accuracy = static_cast<float>(cv.balanced_accuracy);
-  t.ci_low = static_cast<float>(cv.ci_low);
-  t.ci_high = static_cast<float>(cv.ci_high);
-  t.groups = cv.groups;
-  t.baseline_accuracy = static_cast<float>(fit.baseline_cv.accuracy);
-  t.baseline = kOneFrameBaseline;
   std::string names;
   for (const std::string& d : r.recordings)
     names += (names.empty() ? "" : ", ") + std::filesystem::path(d).filename().string();
@@ -276,20 +270,9 @@ Result<std::vector<std::byte>> model_with_press_head(const Model& model,
                                                      const quantize::LinearHeadSpec& head,
                                                      bool* replaced) {
   quantize::MetadataSpec meta = quantize::metadata_spec_from(model.metadata());
-  auto same = std::find_if(meta.press_heads.begin(), meta.press_heads.end(),
-                           [&](const quantize::LinearHeadSpec& h) { return h.name == head.name; });
-  if (replaced != nullptr) *replaced = same != meta.press_heads.end();
-  if (same != meta.press_heads.end()) {
-    *same = head;
-  } else {
-    meta.press_heads.push_back(head);
-  }
-  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder,
-                       quantize::rebuild_with_metadata(model, meta));
-  std::vector<std::byte> bytes = builder.finish();
-  auto check = Model::load(bytes);
-  if (!check.ok()) return check.error().with_context("model with the press head does not load");
-  return bytes;
+  const bool r = put_head(meta.press_heads, head);
+  if (replaced != nullptr) *replaced = r;
+  return quantize::model_with_metadata(model, meta);
 }
 
 std::string format_press_head(const PressHeadFit& fit) {

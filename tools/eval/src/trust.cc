@@ -9,6 +9,22 @@
 
 namespace tlvlink::eval {
 
+quantize::HeadTrustSpec cross_validated_trust(const CvResult& cv, const CvResult& baseline,
+                                              const std::string& baseline_name) {
+  quantize::HeadTrustSpec t;
+  t.present = true;
+  t.accuracy = static_cast<float>(cv.accuracy);
+  t.majority = static_cast<float>(cv.majority);
+  t.n = cv.n;
+  t.balanced_accuracy = static_cast<float>(cv.balanced_accuracy);
+  t.ci_low = static_cast<float>(cv.ci_low);
+  t.ci_high = static_cast<float>(cv.ci_high);
+  t.groups = cv.groups;
+  t.baseline_accuracy = static_cast<float>(baseline.accuracy);
+  t.baseline = baseline_name;
+  return t;
+}
+
 HeadTrust trust_view(const quantize::HeadTrustSpec& t) {
   HeadTrust v;
   v.present = t.present;
@@ -117,11 +133,7 @@ Result<std::vector<std::byte>> model_with_trust(const Model& model, const EvalRe
     if (!drop) kept.push_back(std::move(h));
   }
   meta.zero_shot_heads = std::move(kept);
-  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder,
-                       quantize::rebuild_with_metadata(model, meta));
-  std::vector<std::byte> bytes = builder.finish();
-  auto check = Model::load(bytes);
-  if (!check.ok()) return check.error().with_context("model with trust records does not load");
+  TLV_ASSIGN_OR_RETURN(std::vector<std::byte> bytes, quantize::model_with_metadata(model, meta));
   if (lines != nullptr) *lines = std::move(out);
   return bytes;
 }

@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 
+#include "put_head.h"
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/capture/sensor_models.h"
 #include "tlvlink/eval/labelled_frames.h"
@@ -182,16 +183,7 @@ Result<UserHeadFit> fit_user_head(const Model& model, const LabelledFrames& fram
   h.bias = std::move(p.bias);
   const CvResult& cv = fit.head_cv;
   quantize::HeadTrustSpec& t = h.trust;
-  t.present = true;
-  t.accuracy = static_cast<float>(cv.accuracy);
-  t.majority = static_cast<float>(cv.majority);
-  t.n = cv.n;
-  t.balanced_accuracy = static_cast<float>(cv.balanced_accuracy);
-  t.ci_low = static_cast<float>(cv.ci_low);
-  t.ci_high = static_cast<float>(cv.ci_high);
-  t.groups = cv.groups;
-  t.baseline_accuracy = static_cast<float>(fit.baseline_cv.accuracy);
-  t.baseline = kPixelBaseline;
+  t = cross_validated_trust(cv, fit.baseline_cv, kPixelBaseline);
   t.test_set = frames.dir + ": grouped " + std::to_string(cv.folds) + "-fold cross-validation, " +
                std::to_string(cv.n) + " frames, " + std::to_string(cv.groups) + " groups (" +
                grouping_name(frames.grouping) + ")";
@@ -202,20 +194,9 @@ Result<std::vector<std::byte>> model_with_user_head(const Model& model,
                                                     const quantize::LinearHeadSpec& head,
                                                     bool* replaced) {
   quantize::MetadataSpec meta = quantize::metadata_spec_from(model.metadata());
-  auto same = std::find_if(meta.linear_heads.begin(), meta.linear_heads.end(),
-                           [&](const quantize::LinearHeadSpec& h) { return h.name == head.name; });
-  if (replaced != nullptr) *replaced = same != meta.linear_heads.end();
-  if (same != meta.linear_heads.end()) {
-    *same = head;
-  } else {
-    meta.linear_heads.push_back(head);
-  }
-  TLV_ASSIGN_OR_RETURN(quantize::ModelBuilder builder,
-                       quantize::rebuild_with_metadata(model, meta));
-  std::vector<std::byte> bytes = builder.finish();
-  auto check = Model::load(bytes);
-  if (!check.ok()) return check.error().with_context("model with the new head does not load");
-  return bytes;
+  const bool r = put_head(meta.linear_heads, head);
+  if (replaced != nullptr) *replaced = r;
+  return quantize::model_with_metadata(model, meta);
 }
 
 Result<HeadScore> score_model_head(const Model& model, const FrameFeatures& f,

@@ -23,4 +23,10 @@ MetadataSpec metadata_spec_from(const Metadata& metadata);
 // model that passed Model::load, checked anyway).
 Result<ModelBuilder> rebuild_with_metadata(const Model& model, const MetadataSpec& metadata);
 
+// The file of that copy, loaded once before anyone gets it. Errors: rebuild_with_metadata's,
+// and the copy failing to load (the loader's error, "the copy with the new metadata does not
+// load").
+Result<std::vector<std::byte>> model_with_metadata(const Model& model,
+                                                   const MetadataSpec& metadata);
+
 }  // namespace tlvlink::quantize

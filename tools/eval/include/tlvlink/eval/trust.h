@@ -14,6 +14,7 @@
 
 #include "tlvlink/error.h"
 #include "tlvlink/eval/eval.h"
+#include "tlvlink/eval/grouped_cv.h"
 #include "tlvlink/model.h"
 #include "tlvlink/quantize/model_builder.h"
 
@@ -28,6 +29,12 @@ struct TrustRecordOptions {
 
 // The record as the runtime reads it (string views into `spec`), for head_trust.h's rule.
 HeadTrust trust_view(const quantize::HeadTrustSpec& spec);
+
+// The record of a head validated by grouped cross-validation beside a baseline on the same folds
+// (`heads fit --images`, `--presses`): accuracy, interval, balanced accuracy, majority, groups,
+// n (rows) and the baseline's accuracy and name; the caller describes the test set.
+quantize::HeadTrustSpec cross_validated_trust(const CvResult& head, const CvResult& baseline,
+                                              const std::string& baseline_name);
 
 // "touch: DIR (touch100k) test split (recorded): 2400 items, 300 groups"
 std::string test_set_description(const EvalReport& report, Task task);
