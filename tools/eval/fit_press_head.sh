@@ -7,26 +7,30 @@
 # encoded frame's embedding reported, then `tlvlink heads fit MODEL --presses ...` on both plays
 # of every press (validated by leaving each scenario out, both its plays).
 #   tools/eval/fit_press_head.sh WORK MODEL OUT_MODEL
+#   tools/eval/fit_press_head.sh WORK --render-only   (the scenarios alone, e.g. while a model trains)
 # WORK keeps the rendered scenarios (~12 GB) and the plays (reused when MODEL is the same file).
 # Environment: TLVLINK_BUILD (default build/host). About 7 minutes on 2 cores with the scenarios
-# rendered (~4 more to render them): the eight plays, all at once, take 6.5 minutes of the
-# cameras' time. A real-time play can drop a few frames as stale (0-10 of ~66,000), so two runs'
-# heads can differ in their last digits.
+# rendered (~12 more to render them, one after another): the eight plays, all at once, take 6.5
+# minutes of the cameras' time. Eight real-time plays at once drop a few frames as stale (up to
+# ~0.5 % of a scenario's), so two runs' heads can differ in their last digits.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-usage="usage: fit_press_head.sh WORK MODEL OUT_MODEL"
-[ $# -eq 3 ] || { echo "fit_press_head: $usage" >&2; exit 2; }
-work=$1 model=$2 out_model=$3
-[ -f "$model" ] || { echo "fit_press_head: model $model missing" >&2; exit 2; }
+usage="usage: fit_press_head.sh WORK MODEL OUT_MODEL | WORK --render-only"
+[ $# -eq 3 ] || { [ $# -eq 2 ] && [ "$2" = --render-only ]; } ||
+  { echo "fit_press_head: $usage" >&2; exit 2; }
+work=$1
 train=(gelsight-mini:401:150:markers gelsight-mini:402:150 digit:403:150:markers digit:404:150)
 # shellcheck source=tools/eval/press_scenarios.sh
 . tools/eval/press_scenarios.sh
 press_tools "${TLVLINK_BUILD:-build/host}"
 mkdir -p "$work"
 work=$(realpath "$work")
-model=$(realpath "$model")
 t0=$(date +%s)
 for spec in "${train[@]}"; do press_render "$work" "$spec"; done
+[ "$2" = --render-only ] && exit 0
+model=$2 out_model=$3
+[ -f "$model" ] || { echo "fit_press_head: model $model missing" >&2; exit 2; }
+model=$(realpath "$model")
 echo "== tlvlinkd: ${#train[@]} press scenarios, live path and exact frames, with $model"
 press_play_all "$work" "$model" live press-live "${train[@]}" &
 live=$!

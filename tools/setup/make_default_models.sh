@@ -38,7 +38,8 @@
 #    first frame in contact) of each file, fitted on its own embeddings by
 #    tools/eval/fit_press_head.sh: four scenarios of 150 single-finger presses (GelSight Mini and
 #    DIGIT, seeds 401-404, in OUT_DIR/presses) played by tlvlinkd in real time from the cameras'
-#    raw output and from the exact frames; validated by leaving each scenario out. Real-time
+#    raw output and from the exact frames (the scenarios rendered beside steps 1-4); validated by
+#    leaving each scenario out. Real-time
 #    plays can drop a few frames as stale, so this step's heads can differ in their last digits
 #    between runs (the rest is deterministic).
 # 6. `tlvlink eval` fp32 vs int8 on the encoder set's and the Feel set's test splits
@@ -63,6 +64,10 @@ out=${1:-/tmp/tlvlink-default}
 build=${TLVLINK_BUILD:-build/host}
 tlvlink=$build/tools/cli/tlvlink
 t0=$(date +%s)
+# Step 5's press scenarios render beside steps 1-4 (training runs on one thread).
+TLVLINK_BUILD=$build bash tools/eval/fit_press_head.sh "$out/presses" --render-only \
+  > "$out/presses-render.log" 2>&1 &
+press_render=$!
 
 if [ -n "$encoder" ]; then
   [ -f "$encoder" ] || { echo "make_default_models: --encoder $encoder: no such file" >&2; exit 2; }
@@ -122,6 +127,7 @@ echo "== quantize -> $out/touch-tiny-int8.tlvm"
   --oracle-samples 0 --record "$out/touch-tiny-int8.tlvm" > /dev/null
 
 echo "== press heads -> $out/touch-tiny-{fp32,int8}.tlvm"
+wait "$press_render" || { tail -5 "$out/presses-render.log"; exit 1; }
 for f in fp32 int8; do
   TLVLINK_BUILD=$build bash tools/eval/fit_press_head.sh "$out/presses" "$out/touch-tiny-$f.tlvm" \
     "$out/press-$f.tlvm" | grep -E '^ *(press head|baseline|majority)|^head|^fit_press_head'
