@@ -168,6 +168,7 @@ TEST(Strip, KeepsOnlyTheScenesHeadsAndStillVerifies) {
   ASSERT_TRUE(m.ok()) << m.error().message();
   EXPECT_TRUE((*m)->metadata().linear_heads.empty());
   EXPECT_TRUE((*m)->metadata().zero_shot_heads.empty());
+  EXPECT_TRUE((*m)->metadata().press_heads.empty()) << "the grasp scene names no press head";
   EXPECT_TRUE((*m)->metadata().grasp_head.present);
   EXPECT_EQ((*m)->metadata().golden.size(), 1u);
 
@@ -180,6 +181,17 @@ TEST(Strip, KeepsOnlyTheScenesHeadsAndStillVerifies) {
   ASSERT_EQ((*ms)->metadata().linear_heads.size(), 2u);
   EXPECT_EQ((*ms)->metadata().linear_heads[0].name, "material");
   EXPECT_FALSE((*ms)->metadata().grasp_head.present);
+
+  // The full scene keeps the press head (it names it) and still verifies.
+  auto full = daemon::find_scene(kScenes, "full-two-mini");
+  ASSERT_TRUE(full.ok());
+  auto f = boards::strip_model(kModel, *full, dir / "full.tlvm");
+  ASSERT_TRUE(f.ok()) << f.error().message();
+  EXPECT_TRUE(f->golden_pass);
+  auto mf = Model::load_file((dir / "full.tlvm").c_str());
+  ASSERT_TRUE(mf.ok());
+  ASSERT_EQ((*mf)->metadata().press_heads.size(), 1u);
+  EXPECT_EQ((*mf)->metadata().press_heads[0].name, "hard_soft_press");
 }
 
 TEST(Strip, SceneAskingForAHeadTheModelLacksIsAnErrorNamingIt) {

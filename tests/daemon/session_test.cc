@@ -163,16 +163,23 @@ void streams_without_allocating_per_frame(bool images) {
   EXPECT_EQ(t.decode_errors, 0u);
   EXPECT_EQ(t.inference_errors, 0u);
   // Every line is JSON; frame records match the totals; heads are named with labels.
-  std::vector<std::string> default_heads;
+  // The per-frame heads reported by default, and the press heads (reported on a contact's frames
+  // from its fourth on: after the per-frame heads).
+  std::vector<std::string> default_heads, press_heads;
   {
     auto model = Model::load_file(kModel);
     ASSERT_TRUE(model.ok()) << model.error().message();
     auto heads = heads::HeadEvaluator::create((*model)->metadata());
     ASSERT_TRUE(heads.ok());
-    for (const heads::HeadResult& r : heads->results())
-      if (heads::reported_by_default(r)) default_heads.emplace_back(r.name);
+    for (const heads::HeadResult& r : heads->results()) {
+      if (!heads::reported_by_default(r)) continue;
+      (r.kind == heads::HeadKind::kPress ? press_heads : default_heads).emplace_back(r.name);
+    }
   }
   ASSERT_FALSE(default_heads.empty());
+  ASSERT_EQ(press_heads.size(), 1u) << "the shipped files carry hard_soft_press";
+  std::map<int, int> contact_run;  // per sensor: the frames of the current contact seen so far
+  uint64_t press_answers = 0;
   std::ifstream in(out);
   std::string line;
   uint64_t frames = 0, grasps = 0, stats = 0, summaries = 0, lines = 0;
@@ -190,10 +197,20 @@ void streams_without_allocating_per_frame(bool images) {
       // Predictions in contact only (an open-gel frame may be encoded for a grasp's "before").
       EXPECT_EQ(!j.at("heads").empty(), encoded && j.at("gate") != "none") << line;
       EXPECT_EQ(j.at("contact"), j.at("gate") == "contact") << line;
+      const bool held = j.at("gate") == "contact";
+      int& run = contact_run[j.at("sensor").get<int>()];
+      run = held ? run + 1 : 0;
       if (!j.at("heads").empty()) {
         // The default output: the model's probe heads except those its trust records mark
-        // untrusted (none in the shipped model today; its hard_soft head was, before 2026-11-25).
-        EXPECT_EQ(j.at("heads").size(), default_heads.size()) << line;
+        // untrusted (none in the shipped model today; its hard_soft head was, before 2026-11-25),
+        // then the press head once it has answered on this contact: never on its first frame.
+        const size_t n = j.at("heads").size();
+        const bool press = n == default_heads.size() + 1;
+        EXPECT_TRUE(n == default_heads.size() || (press && held && run > 1)) << line;
+        if (press) {
+          ++press_answers;
+          EXPECT_EQ(j.at("heads").at(n - 1).at("name"), press_heads[0]) << line;
+        }
         for (size_t k = 0; k < default_heads.size(); ++k) {
           EXPECT_EQ(j.at("heads").at(k).at("name"), default_heads[k]) << line;
           const double p = j.at("heads").at(k).at("top_probability");
@@ -209,6 +226,7 @@ void streams_without_allocating_per_frame(bool images) {
     }
   }
   EXPECT_EQ(frames, t.frames);
+  EXPECT_GT(press_answers, 0u) << "the press head answered on no frame";
   EXPECT_EQ(grasps, t.grasps + t.grasps_not_computed);
   EXPECT_GE(stats, 1u);
   EXPECT_EQ(summaries, 1u);
