@@ -15,7 +15,6 @@
 #include "tlvlink/eval/run.h"
 #include "tlvlink/eval/trust.h"
 #include "tlvlink/eval/user_head.h"
-#include "tlvlink/head_trust.h"
 #include "tlvlink/io/file.h"
 #include "tlvlink/io/sensor_frame.h"
 
@@ -36,19 +35,6 @@ struct HeadsFitCommand {
   int folds = 5, stride = 1;
   bool learning_curve = false, overwrite = false;
 };
-
-void print_trust_decision(const std::string& head, bool replaced,
-                          const quantize::HeadTrustSpec& trust, const char* baseline) {
-  const TrustAssessment a = assess_head(eval::trust_view(trust));
-  std::printf("head '%s' (%s) %s: %s%s\n", head.c_str(), replaced ? "replaced" : "added",
-              head_trust_level_name(a.level),
-              a.below_baseline                        ? baseline
-              : a.level == HeadTrustLevel::kUntrusted ? "it does not beat the majority class by "
-                                                        "the rule's margin, "
-                                                      : "",
-              a.level == HeadTrustLevel::kTrusted ? "reported by default"
-                                                  : "left out of the default output");
-}
 
 int run_user_head_fit(const HeadsFitCommand& c) {
   const char* command = "heads fit";
@@ -89,7 +75,9 @@ int run_user_head_fit(const HeadsFitCommand& c) {
   if (Status s = tools::write_file(c.output, *bytes); !s.ok())
     return report_error(command, s.error());
   std::fputs(eval::format_user_head(*frames, *fit).c_str(), stdout);
-  print_trust_decision(c.head, replaced, fit->head.trust, "it does not beat the pixel baseline, ");
+  std::printf("%s\n", eval::trust_decision_line(c.head, replaced, fit->head.trust,
+                                                "it does not beat the pixel baseline, ")
+                          .c_str());
   std::printf("wrote %s (%zu bytes)%s\n", c.output.c_str(), bytes->size(),
               (*model)->integrity().is_signed ? "; the model was signed, the copy is not: sign it "
                                                 "with `tlvlink sign`"
@@ -120,8 +108,9 @@ int run_press_head_fit(const HeadsFitCommand& c) {
   if (Status s = tools::write_file(c.output, *bytes); !s.ok())
     return report_error(command, s.error());
   std::fputs(eval::format_press_head(*fit).c_str(), stdout);
-  print_trust_decision(o.head, replaced, fit->head.trust,
-                       "it does not beat one frame (the peak alone), ");
+  std::printf("%s\n", eval::trust_decision_line(o.head, replaced, fit->head.trust,
+                                                "it does not beat one frame (the peak alone), ")
+                          .c_str());
   std::printf("wrote %s (%zu bytes)\n", c.output.c_str(), bytes->size());
   return kExitOk;
 }

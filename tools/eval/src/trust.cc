@@ -9,6 +9,20 @@
 
 namespace tlvlink::eval {
 
+std::string trust_decision_line(const std::string& head, bool replaced,
+                                const quantize::HeadTrustSpec& trust,
+                                const std::string& below_baseline) {
+  const TrustAssessment a = assess_head(trust_view(trust));
+  const std::string why = a.below_baseline ? below_baseline
+                          : a.level == HeadTrustLevel::kUntrusted
+                              ? "it does not beat the majority class by the rule's margin, "
+                              : "";
+  return "head '" + head + "' (" + (replaced ? "replaced" : "added") + ") " +
+         head_trust_level_name(a.level) + ": " + why +
+         (a.level == HeadTrustLevel::kTrusted ? "reported by default"
+                                              : "left out of the default output");
+}
+
 quantize::HeadTrustSpec cross_validated_trust(const CvResult& cv, const CvResult& baseline,
                                               const std::string& baseline_name) {
   quantize::HeadTrustSpec t;

@@ -33,6 +33,13 @@ HeadTrust trust_view(const quantize::HeadTrustSpec& spec);
 // The record of a head validated by grouped cross-validation beside a baseline on the same folds
 // (`heads fit --images`, `--presses`): accuracy, interval, balanced accuracy, majority, groups,
 // n (rows) and the baseline's accuracy and name; the caller describes the test set.
+// The one line `heads fit` prints for a head it wrote: "head 'NAME' (added|replaced) LEVEL: why,
+// reported by default | left out of the default output"; `below_baseline` says why when the
+// record's baseline did at least as well (e.g. "it does not beat the pixel baseline, ").
+std::string trust_decision_line(const std::string& head, bool replaced,
+                                const quantize::HeadTrustSpec& trust,
+                                const std::string& below_baseline);
+
 quantize::HeadTrustSpec cross_validated_trust(const CvResult& head, const CvResult& baseline,
                                               const std::string& baseline_name);
 
