@@ -67,12 +67,39 @@ void write_recording(const std::string& path, bool damaged) {
   }
 }
 
+// kLongFrames frames at 60 fps: kFrames distinct ones, then repeats of them (the file stays small).
+constexpr int kLongFrames = 1200;
+void write_long_recording(const std::string& path) {
+  capture::RecordingFormat f;
+  f.format = {image::PixelFormat::kYuyv, kW, kH, kW * 2};
+  f.fps_numerator = 60;
+  auto w = capture::RecordingWriter::create(path, f);
+  ASSERT_TRUE(w.ok()) << w.error().message();
+  std::vector<capture::RecordedBytes> stored;
+  std::vector<uint8_t> frame(static_cast<size_t>(kW * kH * 2));
+  for (int k = 0; k < kLongFrames; ++k) {
+    const int64_t t = 1'000'000'000 + k * 16'666'667LL;
+    if (k >= kFrames) {
+      ASSERT_TRUE(
+          w->append_repeat(stored[static_cast<size_t>(k % kFrames)], t, static_cast<uint32_t>(k))
+              .ok());
+      continue;
+    }
+    for (size_t i = 0; i < frame.size(); ++i) frame[i] = static_cast<uint8_t>((i * 7 + k) & 0xFF);
+    auto r = w->append(frame, t, static_cast<uint32_t>(k));
+    ASSERT_TRUE(r.ok()) << r.error().message();
+    stored.push_back(*r);
+  }
+  ASSERT_TRUE(w->close().ok());
+}
+
 class DaemonCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new testing::TempDir("daemon_cli");
     write_recording(path("good.tlvraw"), false);
     write_recording(path("bad.tlvraw"), true);
+    write_long_recording(path("long.tlvraw"));
   }
   static void TearDownTestSuite() { delete dir_; }
   static std::string path(const std::string& rel) { return (*dir_) / rel; }
@@ -202,6 +229,52 @@ TEST_F(DaemonCli, SigtermStopsTheRunWithinASecond) {
   ASSERT_NE(at, std::string::npos) << r.out;
   EXPECT_LT(std::stoi(r.out.substr(at + 8)), 1000) << r.out;
   EXPECT_NE(slurp(err).find("drops: stale"), std::string::npos) << "no summary: " << slurp(err);
+}
+
+// A replay read at speed (realtime = false) waits for the daemon instead of dropping: with one
+// waiting frame per sensor and one waiting record, every frame of the recording is processed and
+// written, once each, in order. (With the camera's drop-oldest policy this run loses frames at
+// both queues.)
+TEST_F(DaemonCli, AReplayReadAtSpeedProcessesAndWritesEveryFrame) {
+  const std::string out = path("every.jsonl");
+  CliRun r = tlvlinkd("--config " + config("every", "\"jsonl:" + out + "\"", path("long.tlvraw"),
+                                           "queue_frames = 1\noutput_queue = 1\nembedding = true"));
+  EXPECT_RUN(r, 0);
+  EXPECT_TRUE(contains(r, "queue 0, output 0, write errors 0")) << r.out;
+  std::ifstream in(out);
+  std::string line;
+  int64_t expected = -1;  // the first frame's sequence, then each next one
+  int frames = 0;
+  while (std::getline(in, line)) {
+    const size_t at = line.find("\"frame_sequence\":");
+    if (at == std::string::npos) continue;
+    const int64_t seq = std::stoll(line.substr(at + 17));
+    if (expected >= 0) {
+      EXPECT_EQ(seq, expected) << "frame " << frames;
+    }
+    expected = seq + 1;
+    ++frames;
+  }
+  // The replay may skip the sensor model's warm-up frames at the start, nothing after them.
+  EXPECT_GE(frames, kLongFrames - 10);
+  EXPECT_EQ(expected, kLongFrames) << "the last frame was not written";
+}
+
+// Stopping while a replay read at speed waits for the consumer: SIGTERM still ends it at once.
+TEST_F(DaemonCli, SigtermStopsAReplayReadAtSpeed) {
+  const std::string c = config("sigterm_speed", "\"jsonl:/dev/null\"", path("long.tlvraw"),
+                               "queue_frames = 1\noutput_queue = 1", true);
+  const std::string err = path("sigterm_speed.err");
+  CliRun r = run_cli("timeout 60 bash",
+                     std::string("-c '\"$0\" --config \"$1\" 2>\"$2\" & pid=$!; sleep 2; "
+                                 "t0=$(date +%s%N); kill -TERM $pid; wait $pid; rc=$?; "
+                                 "echo stop_ms=$(( ($(date +%s%N) - t0) / 1000000 )) rc=$rc' ") +
+                         TLVLINKD_BINARY + " " + c + " " + err);
+  EXPECT_TRUE(contains(r, " rc=0")) << r.out << slurp(err);
+  const size_t at = r.out.find("stop_ms=");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_LT(std::stoi(r.out.substr(at + 8)), 1000) << r.out;
+  EXPECT_NE(slurp(err).find("queue 0, output 0"), std::string::npos) << slurp(err);
 }
 
 // Item 10: --check runs what start runs (the unit cases are in config_test.cc): one through the

@@ -88,7 +88,11 @@ void CaptureWorker::run() {
               static_cast<unsigned long long>(st.reconnect_attempts));
         in_outage_ = false;
       }
-      DecodedFrame* slot = ring_.acquire();
+      DecodedFrame* slot = ring_.acquire(stop_);
+      if (slot == nullptr) {  // stopped while waiting for the consumer (a replay read at speed)
+        source_->release();
+        break;
+      }
       slot->sequence = frame->sequence;
       slot->times = {};
       slot->times.capture_ns = frame->timestamp_ns;

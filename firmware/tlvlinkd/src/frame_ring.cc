@@ -1,11 +1,18 @@
 #include "frame_ring.h"
 
+#include <chrono>
 #include <climits>
 
 namespace tlvlink::daemon::internal {
 
-FrameRing::FrameRing(int32_t waiting, size_t frame_bytes, Doorbell& doorbell)
-    : slots_(static_cast<size_t>(waiting) + 2),
+namespace {
+constexpr auto kStopCheck =
+    std::chrono::milliseconds(20);  // a waiting producer sees stop this soon
+}  // namespace
+
+FrameRing::FrameRing(int32_t waiting, size_t frame_bytes, Doorbell& doorbell, WhenFull when_full)
+    : when_full_(when_full),
+      slots_(static_cast<size_t>(waiting) + 2),
       free_storage_(slots_.size(), nullptr),
       waiting_storage_(slots_.size(), nullptr),
       free_(free_storage_),
@@ -17,10 +24,17 @@ FrameRing::FrameRing(int32_t waiting, size_t frame_bytes, Doorbell& doorbell)
   }
 }
 
-DecodedFrame* FrameRing::acquire() {
-  std::lock_guard lock(mutex_);
+DecodedFrame* FrameRing::acquire(const std::atomic<bool>& stop) {
+  std::unique_lock lock(mutex_);
   DecodedFrame* slot = nullptr;
   if (free_.pop(slot)) return slot;
+  if (when_full_ == WhenFull::kWaitForConsumer) {
+    while (!free_.pop(slot)) {
+      if (stop.load()) return nullptr;
+      slot_freed_.wait_for(lock, kStopCheck);
+    }
+    return slot;
+  }
   // No free slot: the oldest waiting frame gives way.
   if (!waiting_.pop(slot)) return nullptr;  // cannot happen: one writer, one reader
   ++dropped_;
@@ -51,8 +65,11 @@ DecodedFrame* FrameRing::take() {
 }
 
 void FrameRing::recycle(DecodedFrame* frame) {
-  std::lock_guard lock(mutex_);
-  free_.push(frame);
+  {
+    std::lock_guard lock(mutex_);
+    free_.push(frame);
+  }
+  slot_freed_.notify_one();
 }
 
 int64_t FrameRing::oldest_capture_ns() {

@@ -3,11 +3,14 @@
 #error "frame_ring.h is internal to firmware/tlvlinkd"
 #endif
 // Decoded frames of one sensor on their way from its capture thread to the inference thread: a
-// fixed set of slots (allocated at start), never blocking the producer. When every slot holds a
-// frame not yet taken, the oldest waiting one is recycled and counted as dropped: the capture
-// thread keeps up with the camera whatever the consumer does. The waiting frames are a
-// DropOldestRing of slots (tlvlink/drop_oldest_ring.h), the free ones another.
+// fixed set of slots (allocated at start). For a camera the producer never blocks: when every
+// slot holds a frame not yet taken, the oldest waiting one is recycled and counted as dropped, so
+// the capture thread keeps up with the camera whatever the consumer does. A replay read as fast
+// as it is processed (realtime = false) has no pace to keep: its producer waits for a free slot
+// instead, and every frame is processed. The waiting frames are a DropOldestRing of slots
+// (tlvlink/drop_oldest_ring.h), the free ones another.
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
@@ -31,13 +34,19 @@ struct Doorbell {
   uint64_t rings = 0;  // publishes since the consumer last looked
 };
 
+// What the producer does when every slot is taken.
+enum class WhenFull : uint8_t { kDropOldest, kWaitForConsumer };
+
 class FrameRing {
  public:
   // `waiting` frames may wait; two more slots are being written and read.
-  FrameRing(int32_t waiting, size_t frame_bytes, Doorbell& doorbell);
+  FrameRing(int32_t waiting, size_t frame_bytes, Doorbell& doorbell,
+            WhenFull when_full = WhenFull::kDropOldest);
 
-  // Producer: a slot to write into (never blocks; may recycle the oldest waiting frame).
-  DecodedFrame* acquire();
+  // Producer: a slot to write into. kDropOldest never blocks (it may recycle the oldest waiting
+  // frame); kWaitForConsumer waits for the consumer to give one back, and returns nullptr once
+  // `stop` is set.
+  DecodedFrame* acquire(const std::atomic<bool>& stop);
   void publish(DecodedFrame* frame);  // the slot from acquire(), now filled
   void discard(DecodedFrame* frame);  // the slot from acquire(), not filled (decode failed)
 
@@ -51,6 +60,8 @@ class FrameRing {
 
  private:
   mutable std::mutex mutex_;
+  std::condition_variable slot_freed_;  // kWaitForConsumer's producer waits on it
+  WhenFull when_full_;
   std::vector<DecodedFrame> slots_;
   // Slots not being written or read: free ones, and waiting ones oldest first. Each holds every
   // slot at most once, so neither ever overflows.

@@ -3,8 +3,10 @@
 #error "output_queue.h is internal to firmware/tlvlinkd"
 #endif
 // Records on their way to the output thread: a fixed ring (core's DropOldestRing over storage
-// allocated at start), never blocking the producers (inference, capture events): when full, the
-// oldest record is dropped and counted, so a slow link or file costs old records, never inference.
+// allocated at start). With a camera it never blocks the producers (inference, capture events):
+// when full, the oldest record is dropped and counted, so a slow link or file costs old records,
+// never inference. When every source is a replay read as fast as it is processed, nothing has a
+// pace to keep: a producer waits for room instead, and no record is lost.
 
 #include <array>
 #include <condition_variable>
@@ -32,9 +34,10 @@ using OutputRecord =
 
 class OutputQueue {
  public:
-  explicit OutputQueue(int32_t capacity);
+  // wait_when_full: push waits for room (the output thread drains until the session stops).
+  explicit OutputQueue(int32_t capacity, bool wait_when_full = false);
 
-  void push(const OutputRecord& record);  // never blocks
+  void push(const OutputRecord& record);  // never blocks unless wait_when_full
   // Waits up to timeout_ms for a record; false when none came (or the queue was closed and is
   // empty).
   bool pop(OutputRecord& out, int32_t timeout_ms);
@@ -45,7 +48,8 @@ class OutputQueue {
 
  private:
   mutable std::mutex mutex_;
-  std::condition_variable cv_;
+  std::condition_variable cv_, room_;
+  const bool wait_when_full_;
   std::vector<OutputRecord> storage_;
   DropOldestRing<OutputRecord> ring_;
   bool closed_ = false;

@@ -66,6 +66,10 @@ Result<std::unique_ptr<Executor>> make(const Model& m, const DaemonConfig& c) {
   return make_executor(m, kind, o);
 }
 
+// A replay not paced to the camera's clock: nothing is lost by making it wait for the
+// consumer, so every one of its frames (and, when all sources are such, every record) is kept.
+bool read_at_speed(const SensorConfig& c) { return c.source == SourceKind::kReplay && !c.realtime; }
+
 // One log line per head at start: whether it is reported and the trust record that decides it,
 // so a user who fitted a head (`tlvlink heads fit --images`) sees the daemon take it up.
 void log_heads(const pipeline::FrameProcessor& p) {
@@ -143,7 +147,9 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
   }
   TLV_ASSIGN_OR_RETURN(s.processor, pipeline::FrameProcessor::create(*s.model, *s.executor, setups,
                                                                      config.processing));
-  s.queue = std::make_unique<internal::OutputQueue>(config.output_queue);
+  s.queue = std::make_unique<internal::OutputQueue>(
+      config.output_queue,
+      std::all_of(config.sensors.begin(), config.sensors.end(), read_at_speed));
   std::vector<std::string> sensor_names;
   for (const SensorConfig& c : config.sensors) sensor_names.push_back(c.name);
   s.names = stream::output_names(std::move(sensor_names), s.processor->heads(),
@@ -191,8 +197,9 @@ Result<std::unique_ptr<Session>> Session::start_with_sources(
         sources[i]->stats().connected ? sources[i]->format() : c.format;
     auto decoder = image::FrameDecoder::create(format, c.view);
     if (!decoder.ok()) return decoder.error().with_context("sensor '%s'", c.name.c_str());
-    s.rings.push_back(std::make_unique<internal::FrameRing>(config.queue_frames,
-                                                            decoder->output_bytes(), s.doorbell));
+    s.rings.push_back(std::make_unique<internal::FrameRing>(
+        config.queue_frames, decoder->output_bytes(), s.doorbell,
+        read_at_speed(c) ? internal::WhenFull::kWaitForConsumer : internal::WhenFull::kDropOldest));
     rings.push_back(s.rings.back().get());
     s.captures.push_back(std::make_unique<internal::CaptureWorker>(
         static_cast<int32_t>(i), c.name, std::move(sources[i]), std::move(decoder).value(),
