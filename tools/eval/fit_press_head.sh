@@ -3,16 +3,16 @@
 # tools/eval/README.md "Press head") fitted for MODEL: four scenarios of 150 single-finger presses
 # (GelSight Mini 401 with markers and 402 without, DIGIT 403 with and 404 without, each on its own
 # simulated sensor instances) played by tlvlinkd twice, from the cameras' raw output through the
-# board's decoder (the live path) and from the exact processed frames, in real time with every
-# encoded frame's embedding reported, then `tlvlink heads fit MODEL --presses ...` on both plays
-# of every press (validated by leaving each scenario out, both its plays).
+# board's decoder (the live path) and from the exact processed frames, every frame (as fast as the
+# daemon takes them) with every encoded frame's embedding reported, then `tlvlink heads fit MODEL
+# --presses ...` on both plays of every press (validated by leaving each scenario out, both its
+# plays). Deterministic: the same model and scenarios give the same head, byte for byte.
 #   tools/eval/fit_press_head.sh WORK MODEL OUT_MODEL
 #   tools/eval/fit_press_head.sh WORK --render-only   (the scenarios alone, e.g. while a model trains)
 # WORK keeps the rendered scenarios (~12 GB) and the plays (reused when MODEL is the same file).
-# Environment: TLVLINK_BUILD (default build/host). About 7 minutes on 2 cores with the scenarios
-# rendered (~12 more to render them, one after another): the eight plays, all at once, take 6.5
-# minutes of the cameras' time. Eight real-time plays at once drop a few frames as stale (up to
-# ~0.5 % of a scenario's), so two runs' heads can differ in their last digits.
+# Environment: TLVLINK_BUILD (default build/host), TLVLINK_PLAYS (plays at once, default 2). About
+# 2 minutes on 2 cores with the scenarios rendered (~12 more to render them, one after another):
+# the GelSight Mini's live path decodes ~100 frames/s of 8 MP MJPEG on a core.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 usage="usage: fit_press_head.sh WORK MODEL OUT_MODEL | WORK --render-only"
@@ -32,10 +32,8 @@ model=$2 out_model=$3
 [ -f "$model" ] || { echo "fit_press_head: model $model missing" >&2; exit 2; }
 model=$(realpath "$model")
 echo "== tlvlinkd: ${#train[@]} press scenarios, live path and exact frames, with $model"
-press_play_all "$work" "$model" live press-live "${train[@]}" &
-live=$!
+press_play_all "$work" "$model" live press-live "${train[@]}"
 press_play_all "$work" "$model" offline press-offline "${train[@]}"
-wait "$live"
 dirs=()
 for spec in "${train[@]}"; do dirs+=("$(press_dir "$work" "$spec")"); done
 "$tlvlink" heads fit "$model" --presses "$(IFS=,; echo "${dirs[*]}")" \

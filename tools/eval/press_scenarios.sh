@@ -1,7 +1,8 @@
 # shellcheck shell=bash
 # Sourced (not run) by press_sequence.sh and fit_press_head.sh: scenarios of single-finger presses
-# (`tlvlink sim scenario --grasps 0`) and tlvlinkd's play of finger A in real time with every
-# encoded frame's embedding reported (a replay faster than the camera drops frames at the queue).
+# (`tlvlink sim scenario --grasps 0`) and tlvlinkd's play of finger A with every encoded frame's
+# embedding reported, as fast as the daemon takes the frames (`realtime = false`: a replay read at
+# speed waits for the daemon, so every frame is processed and a play is deterministic).
 #   press_tools BUILD                      sets $tlvlink and $tlvlinkd (exit 1 when missing)
 #   press_dir OUT SPEC                     the scenario's folder; SPEC = sensor:seed:presses[:markers]
 #   press_render OUT SPEC                  renders it (kept when OUT holds it with the same options)
@@ -51,10 +52,11 @@ press_play() {
     printf 'model = "%s"\noutput = ["jsonl:%s"]\nverify_model = false\nembedding = true\n' \
       "$model" "$run.jsonl.partial"
     printf '[grasp]\nmode = "off"\n[[sensor]]\nname = "left"\nmodel = "%s"\nfinger = "A"\n' "$sensor"
+    printf 'source = "replay"\nrealtime = false\n'
     if [ "$path" = live ]; then  # the sensor model's own camera format and view
-      printf 'source = "replay"\ndevice = "%s"\n' "$dir/A.tlvraw"
+      printf 'device = "%s"\n' "$dir/A.tlvraw"
     else
-      printf 'source = "replay"\ndevice = "%s"\nformat = "rgb24"\nwidth = %d\nheight = %d\n' \
+      printf 'device = "%s"\nformat = "rgb24"\nwidth = %d\nheight = %d\n' \
         "$dir/A.offline.tlvraw" "$w" "$h"
       printf 'crop = 0.0\njpeg_scale = 1\norientation = "upright"\n'
     fi
@@ -67,14 +69,19 @@ press_play() {
   echo "   $spec ($path, $(basename "$model")): $(grep -E '^ *drops:' "$run.log" | sed 's/^ *//')"
 }
 
-# Plays every SPEC with MODEL, four at a time (the cameras' pace leaves the cores mostly idle).
+# Plays every SPEC with MODEL, $TLVLINK_PLAYS at a time (default 2: a play takes a core, the
+# GelSight Mini's live path decoding its 8 MP MJPEG).
 press_play_all() {  # OUT MODEL PATH RUN SPEC...
-  local out=$1 model=$2 path=$3 run=$4 spec pids=() p
+  local out=$1 model=$2 path=$3 run=$4 spec pids=() p failed=0
   shift 4
   for spec in "$@"; do
     press_play "$out" "$spec" "$model" "$path" "$run" &
     pids+=($!)
-    if [ ${#pids[@]} -eq 4 ]; then for p in "${pids[@]}"; do wait "$p"; done; pids=(); fi
+    if [ ${#pids[@]} -ge "${TLVLINK_PLAYS:-2}" ]; then
+      for p in "${pids[@]}"; do wait "$p" || failed=1; done
+      pids=()
+    fi
   done
-  for p in "${pids[@]}"; do wait "$p"; done
+  for p in "${pids[@]}"; do wait "$p" || failed=1; done
+  return "$failed"
 }

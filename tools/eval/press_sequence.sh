@@ -8,7 +8,7 @@
 #   offline (default): the exact processed frames; live: the cameras' raw output (Mini: MJPEG
 #   3280x2464; DIGIT: YUYV) through the board's decoder, as on a robot
 # Environment: TLVLINK_BUILD (default build/host). Scenarios already played in OUT are reused.
-# About 40 minutes on 2 cores (rendering ~22, playing 8 x 6.5 min four at a time); ~25 GB in OUT.
+# About 25 minutes on 2 cores (rendering ~22; the plays: ~4 min live, under 1 offline); ~25 GB in OUT.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 usage="usage: press_sequence.sh OUT [MODEL] [--path offline|live]"
@@ -39,7 +39,7 @@ t0=$(date +%s)
 
 specs=("${train[@]}" "${test[@]}")
 for spec in "${specs[@]}"; do press_render "$out" "$spec"; done
-echo "== tlvlinkd: ${#specs[@]} scenarios ($path path), four at a time in real time"
+echo "== tlvlinkd: ${#specs[@]} scenarios ($path path), every frame, ${TLVLINK_PLAYS:-2} at a time"
 press_play_all "$out" "$model" "$path" "press-$path" "${specs[@]}"
 
 join() { local IFS=,; echo "$*"; }

@@ -37,11 +37,9 @@
 # 5. The press head (hard/soft from how a press's imprint changes: its peak and the peak minus its
 #    first frame in contact) of each file, fitted on its own embeddings by
 #    tools/eval/fit_press_head.sh: four scenarios of 150 single-finger presses (GelSight Mini and
-#    DIGIT, seeds 401-404, in OUT_DIR/presses) played by tlvlinkd in real time from the cameras'
+#    DIGIT, seeds 401-404, in OUT_DIR/presses) played by tlvlinkd, every frame, from the cameras'
 #    raw output and from the exact frames (the scenarios rendered beside steps 1-4); validated by
-#    leaving each scenario out. Real-time
-#    plays can drop a few frames as stale, so this step's heads can differ in their last digits
-#    between runs (the rest is deterministic).
+#    leaving each scenario out.
 # 6. `tlvlink eval` fp32 vs int8 on the encoder set's and the Feel set's test splits
 #    -> OUT_DIR/eval.txt.
 # Every file written carries the integrity trailer and its golden head outputs (the writers
