@@ -62,6 +62,7 @@ out=${1:-/tmp/tlvlink-default}
 build=${TLVLINK_BUILD:-build/host}
 tlvlink=$build/tools/cli/tlvlink
 t0=$(date +%s)
+mkdir -p "$out"
 # Step 5's press scenarios render beside steps 1-4 (training runs on one thread).
 TLVLINK_BUILD=$build bash tools/eval/fit_press_head.sh "$out/presses" --render-only \
   > "$out/presses-render.log" 2>&1 &
