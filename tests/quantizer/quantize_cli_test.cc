@@ -19,6 +19,7 @@
 #include <png.h>
 
 #include "support/cli_run.h"
+#include "support/temp_dir.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/io/image.h"
 #include "tlvlink/io/pnm.h"
@@ -47,9 +48,8 @@ std::string read_text(const fs::path& p) {
 class QuantizeCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = new fs::path(fs::temp_directory_path() /
-                        ("tlvlink_quantize_cli_" + std::to_string(::getpid())));
-    fs::create_directories(*dir_);
+    // mkdtemp: a directory a killed run left under this pid's name must not be reused.
+    dir_ = new testing::TempDir("quantize_cli");
     setup_ = run_tlvlink("gen-reference -o " + path("fp32.tlvm") +
                          " --dtype fp32 -r 96 --seed 4 --golden 0");
     if (setup_.exit_code == 0)
@@ -57,17 +57,14 @@ class QuantizeCli : public ::testing::Test {
           "sim touch100k -o " + path("t100k") +
           " --sessions 6 --frames-per-session 4 --seed 2 --vision-height 24 --vision-width 32");
   }
-  static void TearDownTestSuite() {
-    fs::remove_all(*dir_);
-    delete dir_;
-  }
+  static void TearDownTestSuite() { delete dir_; }
   void SetUp() override { ASSERT_RUN(setup_, 0); }
-  static std::string path(const std::string& leaf) { return (*dir_ / leaf).string(); }
+  static std::string path(const std::string& leaf) { return *dir_ / leaf; }
 
-  static fs::path* dir_;
+  static testing::TempDir* dir_;
   static CliRun setup_;
 };
-fs::path* QuantizeCli::dir_ = nullptr;
+testing::TempDir* QuantizeCli::dir_ = nullptr;
 CliRun QuantizeCli::setup_;
 
 // Small counts keep the reference executor's share of each run to a few seconds.
