@@ -190,6 +190,30 @@ TEST(Replay, CorruptFrameIsCountedAndSkipped) {
   std::remove(path.c_str());
 }
 
+// Read at speed: every frame at once, none skipped, each stamped with the recorded spacing (what
+// runs on frame times, the smoothing and the grasp timing, must see the camera's pace).
+TEST(Replay, AtSpeedEveryFrameKeepsItsRecordedTime) {
+  const std::string path = write_recording("at_speed", 10);  // 10 frames over 360 ms
+  FakeClock clock;
+  ReplayConfig c;
+  c.path = path;
+  c.realtime = false;
+  auto src = make_replay_source(c);
+  ASSERT_TRUE((*src)->start().ok());
+  auto first = (*src)->next(1000);
+  ASSERT_TRUE(first.ok());
+  for (uint64_t k = 1; k < 10; ++k) {
+    clock.advance_ms(3);  // a consumer far faster than the camera
+    auto f = (*src)->next(1000);
+    ASSERT_TRUE(f.ok()) << f.error().message();
+    EXPECT_EQ(f->sequence, k);
+    EXPECT_EQ(f->skipped_before, 0u);
+    EXPECT_EQ(f->timestamp_ns - first->timestamp_ns, static_cast<int64_t>(k) * 40 * kMs);
+  }
+  EXPECT_EQ((*src)->stats().skipped_stale, 0u);
+  std::remove(path.c_str());
+}
+
 TEST(Replay, RealtimeKeepsTheCamerasPaceAndSkipsStaleFrames) {
   const std::string path = write_recording("realtime", 10);  // 10 frames over 360 ms
   FakeClock clock;

@@ -6,8 +6,8 @@
 namespace tlvlink::daemon::internal {
 
 namespace {
-constexpr auto kStopCheck =
-    std::chrono::milliseconds(20);  // a waiting producer sees stop this soon
+// A producer waiting for the consumer sees the stop flag this soon.
+constexpr auto kStopCheck = std::chrono::milliseconds(20);
 }  // namespace
 
 FrameRing::FrameRing(int32_t waiting, size_t frame_bytes, Doorbell& doorbell, WhenFull when_full)

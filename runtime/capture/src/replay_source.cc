@@ -79,11 +79,10 @@ class ReplaySource final : public FrameSource {
                  "failed its checksum or was flagged)",
                  config_.label.c_str(), config_.path.c_str(),
                  static_cast<unsigned long long>(reader_->summary().frames));
-      int64_t stamp = board_clock_ns();
       uint32_t stale = 0;
       if (config_.realtime) {
         const int64_t due = due_ns(info);
-        if (due > stamp) {
+        if (due > board_clock_ns()) {
           if (due > deadline) {
             sleep_until_ns(deadline);
             ++stats_.timeouts;
@@ -107,8 +106,10 @@ class ReplaySource final : public FrameSource {
           info = newer;
           ++stale;
         }
-        stamp = due_ns(info);
       }
+      // The recorded timeline, also when read at speed: what runs on frame times (smoothing, the
+      // grasp tracker, frame images) sees the camera's pace whatever the replay's speed.
+      const int64_t stamp = due_ns(info);
       next_record_ = info.next;
       Status read = reader_->read_frame(info, buffer_, config_.verify);
       RawFrame raw;

@@ -7,7 +7,10 @@
 // consumer that falls behind gets the newest due frame with the older ones counted as
 // skipped_stale, as the V4L2 source's newest-frame policy does. Timestamps are the due times on
 // CLOCK_MONOTONIC, so latency measured from them means what it means for a camera. Without
-// realtime, frames come as fast as they are asked for, stamped at delivery.
+// realtime, frames come as fast as they are asked for, none skipped, stamped with the same
+// recorded timeline (start + offset): what runs on frame times (smoothing, grasp timing) sees the
+// camera's pace at any speed, but a latency measured from them means nothing (it is negative
+// while the replay runs ahead of the clock).
 //
 // Every frame goes through the same checks and counters as a camera's (frame_accounting.h): a
 // frame whose CRC-32 does not match, a flagged or truncated one is counted and skipped. At the
