@@ -43,33 +43,11 @@ std::string slurp(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
-// kFrames frames at 60 fps; with `damaged`, every frame's bytes fail their checksum.
-void write_recording(const std::string& path, bool damaged) {
-  capture::RecordingFormat f;
-  f.format = {image::PixelFormat::kYuyv, kW, kH, kW * 2};
-  f.fps_numerator = 60;
-  auto w = capture::RecordingWriter::create(path, f);
-  ASSERT_TRUE(w.ok()) << w.error().message();
-  std::vector<capture::RecordedBytes> stored;
-  std::vector<uint8_t> frame(static_cast<size_t>(kW * kH * 2));
-  for (int k = 0; k < kFrames; ++k) {
-    for (size_t i = 0; i < frame.size(); ++i) frame[i] = static_cast<uint8_t>((i * 7 + k) & 0xFF);
-    auto r = w->append(frame, 1'000'000'000 + k * 16'666'667LL, static_cast<uint32_t>(k));
-    ASSERT_TRUE(r.ok()) << r.error().message();
-    stored.push_back(*r);
-  }
-  ASSERT_TRUE(w->close().ok());
-  if (!damaged) return;
-  std::fstream io(path, std::ios::in | std::ios::out | std::ios::binary);
-  for (const capture::RecordedBytes& b : stored) {
-    io.seekp(static_cast<std::streamoff>(b.offset + 3));
-    io.put('\xEE');
-  }
-}
-
-// kLongFrames frames at 60 fps: kFrames distinct ones, then repeats of them (the file stays small).
 constexpr int kLongFrames = 1200;
-void write_long_recording(const std::string& path) {
+
+// `total` frames at 60 fps: kFrames distinct ones, then repeats of them (the file stays small);
+// with `damaged`, every stored frame's bytes fail their checksum.
+void write_recording(const std::string& path, bool damaged, int total = kFrames) {
   capture::RecordingFormat f;
   f.format = {image::PixelFormat::kYuyv, kW, kH, kW * 2};
   f.fps_numerator = 60;
@@ -77,7 +55,7 @@ void write_long_recording(const std::string& path) {
   ASSERT_TRUE(w.ok()) << w.error().message();
   std::vector<capture::RecordedBytes> stored;
   std::vector<uint8_t> frame(static_cast<size_t>(kW * kH * 2));
-  for (int k = 0; k < kLongFrames; ++k) {
+  for (int k = 0; k < total; ++k) {
     const int64_t t = 1'000'000'000 + k * 16'666'667LL;
     if (k >= kFrames) {
       ASSERT_TRUE(
@@ -91,6 +69,26 @@ void write_long_recording(const std::string& path) {
     stored.push_back(*r);
   }
   ASSERT_TRUE(w->close().ok());
+  if (!damaged) return;
+  std::fstream io(path, std::ios::in | std::ios::out | std::ios::binary);
+  for (const capture::RecordedBytes& b : stored) {
+    io.seekp(static_cast<std::streamoff>(b.offset + 3));
+    io.put('\xEE');
+  }
+}
+
+// Starts tlvlinkd on config `c` (stderr into `err`), sends SIGTERM two seconds in, and expects
+// exit 0 within a second of it.
+void expect_sigterm_stops_within_a_second(const std::string& c, const std::string& err) {
+  CliRun r = run_cli("timeout 60 bash",
+                     std::string("-c '\"$0\" --config \"$1\" 2>\"$2\" & pid=$!; sleep 2; "
+                                 "t0=$(date +%s%N); kill -TERM $pid; wait $pid; rc=$?; "
+                                 "echo stop_ms=$(( ($(date +%s%N) - t0) / 1000000 )) rc=$rc' ") +
+                         TLVLINKD_BINARY + " " + c + " " + err);
+  EXPECT_TRUE(contains(r, " rc=0")) << r.out << slurp(err);
+  const size_t at = r.out.find("stop_ms=");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_LT(std::stoi(r.out.substr(at + 8)), 1000) << r.out;
 }
 
 class DaemonCli : public ::testing::Test {
@@ -99,7 +97,7 @@ class DaemonCli : public ::testing::Test {
     dir_ = new testing::TempDir("daemon_cli");
     write_recording(path("good.tlvraw"), false);
     write_recording(path("bad.tlvraw"), true);
-    write_long_recording(path("long.tlvraw"));
+    write_recording(path("long.tlvraw"), false, kLongFrames);
   }
   static void TearDownTestSuite() { delete dir_; }
   static std::string path(const std::string& rel) { return (*dir_) / rel; }
@@ -219,15 +217,7 @@ TEST_F(DaemonCli, SigtermStopsTheRunWithinASecond) {
   text.replace(text.find("realtime = false"), 16, "realtime = true");
   std::ofstream(c) << text;
   const std::string err = path("sigterm.err");
-  CliRun r = run_cli("timeout 60 bash",
-                     std::string("-c '\"$0\" --config \"$1\" 2>\"$2\" & pid=$!; sleep 2; "
-                                 "t0=$(date +%s%N); kill -TERM $pid; wait $pid; rc=$?; "
-                                 "echo stop_ms=$(( ($(date +%s%N) - t0) / 1000000 )) rc=$rc' ") +
-                         TLVLINKD_BINARY + " " + c + " " + err);
-  EXPECT_TRUE(contains(r, " rc=0")) << r.out << slurp(err);
-  const size_t at = r.out.find("stop_ms=");
-  ASSERT_NE(at, std::string::npos) << r.out;
-  EXPECT_LT(std::stoi(r.out.substr(at + 8)), 1000) << r.out;
+  expect_sigterm_stops_within_a_second(c, err);
   EXPECT_NE(slurp(err).find("drops: stale"), std::string::npos) << "no summary: " << slurp(err);
 }
 
@@ -265,15 +255,7 @@ TEST_F(DaemonCli, SigtermStopsAReplayReadAtSpeed) {
   const std::string c = config("sigterm_speed", "\"jsonl:/dev/null\"", path("long.tlvraw"),
                                "queue_frames = 1\noutput_queue = 1", true);
   const std::string err = path("sigterm_speed.err");
-  CliRun r = run_cli("timeout 60 bash",
-                     std::string("-c '\"$0\" --config \"$1\" 2>\"$2\" & pid=$!; sleep 2; "
-                                 "t0=$(date +%s%N); kill -TERM $pid; wait $pid; rc=$?; "
-                                 "echo stop_ms=$(( ($(date +%s%N) - t0) / 1000000 )) rc=$rc' ") +
-                         TLVLINKD_BINARY + " " + c + " " + err);
-  EXPECT_TRUE(contains(r, " rc=0")) << r.out << slurp(err);
-  const size_t at = r.out.find("stop_ms=");
-  ASSERT_NE(at, std::string::npos) << r.out;
-  EXPECT_LT(std::stoi(r.out.substr(at + 8)), 1000) << r.out;
+  expect_sigterm_stops_within_a_second(c, err);
   EXPECT_NE(slurp(err).find("queue 0, output 0"), std::string::npos) << slurp(err);
 }
 
