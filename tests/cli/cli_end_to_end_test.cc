@@ -42,6 +42,7 @@ class Cli : public ::testing::Test {
     dir_ = fs::temp_directory_path() /
            ("tlvlink_cli_" + std::to_string(::getpid()) + "_" +
             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);  // a killed run's leftover under a reused pid
     fs::create_directories(dir_);
     for (const char* m : {"fp32.tlvm", "int8.tlvm"}) {
       const fs::path src = fs::path(TLVLINK_CLI_MODELS) / m;

@@ -28,6 +28,7 @@ class ConvertCli : public ::testing::Test {
     dir_ = fs::temp_directory_path() /
            ("tlvlink_convert_" + std::to_string(::getpid()) + "_" +
             ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);  // a killed run's leftover under a reused pid
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }

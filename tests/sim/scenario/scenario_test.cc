@@ -31,6 +31,7 @@ class Scenario : public ::testing::Test {
     dir_ = (std::filesystem::temp_directory_path() /
             ("tlvlink_scenario_" + std::to_string(::getpid())))
                .string();
+    std::filesystem::remove_all(dir_);  // a killed run's leftover under a reused pid
     ScenarioOptions o;
     o.sensor = "digit";  // YUYV 320x240 at 60 fps: small frames
     o.grasps = 2;
@@ -275,6 +276,7 @@ TEST(Score, LabelsOfFramesWithoutContactAreCountedApart) {
   const std::string dir =
       (std::filesystem::temp_directory_path() / ("tlvlink_score_" + std::to_string(::getpid())))
           .string();
+  std::filesystem::remove_all(dir);  // a killed run's leftover under a reused pid
   std::filesystem::create_directories(dir);
   {
     std::ofstream t(dir + "/truth.jsonl");
@@ -329,6 +331,7 @@ TEST(Score, APressHeadIsScoredAgainstItsLabelAtThePressesEnd) {
   const std::string dir =
       (std::filesystem::temp_directory_path() / ("tlvlink_press_" + std::to_string(::getpid())))
           .string();
+  std::filesystem::remove_all(dir);  // a killed run's leftover under a reused pid
   std::filesystem::create_directories(dir);
   {
     std::ofstream t(dir + "/truth.jsonl");
@@ -381,6 +384,7 @@ TEST(Score, ContactsTheOpticsCannotShowAreCountedApart) {
   const std::string dir =
       (std::filesystem::temp_directory_path() / ("tlvlink_invisible_" + std::to_string(::getpid())))
           .string();
+  std::filesystem::remove_all(dir);  // a killed run's leftover under a reused pid
   std::filesystem::create_directories(dir);
   {
     std::ofstream t(dir + "/truth.jsonl");

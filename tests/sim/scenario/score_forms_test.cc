@@ -42,6 +42,7 @@ class ScoreForms : public ::testing::Test {
     dir_ = (std::filesystem::temp_directory_path() /
             ("tlvlink_score_forms_" + std::to_string(::getpid())))
                .string();
+    std::filesystem::remove_all(dir_);  // a killed run's leftover under a reused pid
     std::filesystem::create_directories(dir_);
     std::ofstream t(dir_ + "/truth.jsonl");
     t << json{{"type", "scenario"}, {"frames", kFrames}}.dump() << "\n"
