@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -64,6 +65,33 @@ TEST(GraspDifference, ALocalDarkeningKeepsItsCountItsSignAndItsChannel) {
   EXPECT_EQ(s[14], 0.0f);
   EXPECT_GT(s[6], s[2]);  // more values over 3 DN blurred than over 5.5 DN raw
   EXPECT_LT(s[9], s[4]);  // fewer over 30 DN: the block's edges are smoothed
+}
+
+TEST(GraspDifference, TheBlurReflectsAtTheBordersAndKeepsAConstantOnTinyImages) {
+  // One green value 45 DN darker at the corner (0, 0): with BORDER_REFLECT_101 only tap -x reads
+  // source 0 at output x < 5 along each axis, so the blurred block sums 45 (g0 + ... + g4)^2,
+  // g the normalised Gaussian taps (sigma 1.2, radius 4).
+  std::vector<float> before(kValues, 120.0f), during(kValues, 120.0f);
+  during[1] -= 45.0f;
+  double g[5], total = 0;
+  for (int i = -4; i <= 4; ++i) total += std::exp(-(i * i) / (2 * 1.2 * 1.2));
+  double half = 0;
+  for (int i = 0; i <= 4; ++i) half += g[i] = std::exp(-(i * i) / (2 * 1.2 * 1.2)) / total;
+  const std::vector<float> s = run(before, during);
+  const double per_channel = kValues / 3.0;
+  EXPECT_NEAR(s[14], lg(45.0 * half * half / per_channel), kTol);  // |b| summed, green
+  EXPECT_EQ(s[13], 0.0f);
+  EXPECT_EQ(s[15], 0.0f);
+  // Images smaller than the 9 taps reflect more than once; a uniform change stays uniform.
+  for (const auto& [h, w] : {std::pair{2, 2}, std::pair{3, 5}, std::pair{7, 2}}) {
+    auto small = GraspDifference::create(h, w, 3);
+    ASSERT_TRUE(small.ok()) << small.error().message();
+    const std::vector<float> b(small->values(), 50.0f), d(small->values(), 62.0f);
+    std::vector<float> out(kDifferenceFeatures);
+    ASSERT_TRUE(small->compute(b, d, out).ok());
+    EXPECT_NEAR(out[5], lg(12), kTol) << h << "x" << w;  // mean |b|
+    for (int c = 13; c < 16; ++c) EXPECT_NEAR(out[c], lg(12), kTol) << h << "x" << w;
+  }
 }
 
 TEST(GraspDifference, WrongSizesNonFiniteValuesAndOtherInputsAreErrors) {

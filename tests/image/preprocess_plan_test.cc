@@ -1,8 +1,11 @@
 // The plan/run preprocessing against the staged code the shipped models were trained through
 // (staged_reference.cc): every filter, crop, channel order, 1- and 3-channel frames, shrinking
 // and enlarging, must give the same float bits. Plus int8 encoding, errors, and no allocation.
+#include <algorithm>
 #include <array>
 #include <cstring>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -75,27 +78,64 @@ TEST(ImagePreprocessPlan, BitIdenticalToTheStagedPreprocessing) {
 }
 
 TEST(ImagePreprocessPlan, TheDeploymentSizesAreBitIdenticalToo) {
-  // The shipped model's path: a 320x240 processed frame into 128x96, bilinear, RGB.
+  // The shipped models' path: a 320x240 processed frame (and a 240x320 DIGIT one, cropped) into
+  // 128x96 RGB by area (what the models record), and bilinear.
   testing::Rng rng(7);
+  for (const ResizeFilter filter : {ResizeFilter::kArea, ResizeFilter::kBilinear}) {
+    for (const auto& [w, h, crop_h] : {std::tuple{320, 240, 0}, std::tuple{240, 320, 180}}) {
+      const Image frame = random_image(rng, w, h, 3);
+      OwnedSpec o;
+      o.mean = {0.41f, 0.45f, 0.52f};
+      o.stdev = {0.19f, 0.18f, 0.21f};
+      o.spec.height = 96;
+      o.spec.width = 128;
+      o.spec.resize_filter = filter;
+      if (crop_h > 0) {  // a centred band, as a sensor view crops
+        o.spec.crop_y = 70;
+        o.spec.crop_w = w;
+        o.spec.crop_h = crop_h;
+      }
+      o.spec.mean = o.mean;
+      o.spec.std = o.stdev;
+      auto want = testing::staged::preprocess(frame, o.spec);
+      auto got = preprocess(frame, o.spec);
+      ASSERT_TRUE(want.ok() && got.ok());
+      EXPECT_EQ(std::memcmp(got->data(), want->data(), got->size() * sizeof(float)), 0)
+          << w << "x" << h << " filter " << static_cast<int>(filter);
+    }
+  }
   const Image frame = random_image(rng, 320, 240, 3);
-  OwnedSpec o;
-  o.mean = {0.41f, 0.45f, 0.52f};
-  o.stdev = {0.19f, 0.18f, 0.21f};
-  o.spec.height = 96;
-  o.spec.width = 128;
-  o.spec.mean = o.mean;
-  o.spec.std = o.stdev;
-  auto want = testing::staged::preprocess(frame, o.spec);
-  auto got = preprocess(frame, o.spec);
-  ASSERT_TRUE(want.ok() && got.ok());
-  EXPECT_EQ(std::memcmp(got->data(), want->data(), got->size() * sizeof(float)), 0);
   EXPECT_EQ(resize_bilinear(frame, 96, 128).pixels,
             testing::staged::resize_bilinear(frame, 96, 128).pixels);
 }
 
+TEST(ImagePreprocessPlan, AreaMeansOfLargeBoxesAreExactToo) {
+  // The plan divides by multiplying with a reciprocal for boxes under 4096 pixels and divides
+  // beyond: both sides of that bound, and at it, against the staged division.
+  testing::Rng rng(11);
+  for (const auto& [w, h] : {std::pair{63, 65}, std::pair{64, 64}, std::pair{100, 60}}) {
+    for (uint8_t fill : {uint8_t{0}, uint8_t{255}, uint8_t{1}}) {
+      Image frame = random_image(rng, w, h, 3);
+      if (fill != 1) std::fill(frame.pixels.begin(), frame.pixels.end(), fill);
+      OwnedSpec o;
+      o.mean = {0.5f, 0.5f, 0.5f};
+      o.stdev = {0.25f, 0.25f, 0.25f};
+      o.spec.height = o.spec.width = 1;
+      o.spec.resize_filter = ResizeFilter::kArea;
+      o.spec.mean = o.mean;
+      o.spec.std = o.stdev;
+      auto want = testing::staged::preprocess(frame, o.spec);
+      auto got = preprocess(frame, o.spec);
+      ASSERT_TRUE(want.ok() && got.ok());
+      EXPECT_EQ(std::memcmp(got->data(), want->data(), got->size() * sizeof(float)), 0)
+          << w << "x" << h << " fill " << int{fill};
+    }
+  }
+}
+
 TEST(ImagePreprocessPlan, ResizeIsRunsFirstStage) {
   // The trainer resizes augmented frames through resize(): run() must be exactly those pixels,
-  // normalised, for every filter (area has its own fast path in resize()).
+  // normalised, for every filter.
   testing::Rng rng(23);
   for (ResizeFilter filter :
        {ResizeFilter::kBilinear, ResizeFilter::kArea, ResizeFilter::kNearest}) {

@@ -40,12 +40,15 @@
 #    DIGIT, seeds 401-404, in OUT_DIR/presses) played by tlvlinkd, every frame, from the cameras'
 #    raw output and from the exact frames (the scenarios rendered beside steps 1-4); validated by
 #    leaving each scenario out.
+# Steps 2 and 5's sets are made beside step 1, at a lower priority (logs: OUT_DIR/head-sets.log,
+# OUT_DIR/presses-render.log).
 # 6. `tlvlink eval` fp32 vs int8 on the encoder set's and the Feel set's test splits
 #    -> OUT_DIR/eval.txt.
 # Every file written carries the integrity trailer and its golden head outputs (the writers
 # seal what they write: runtime/README.md "Integrity trailer").
 # --install copies both models into firmware/models/. Deterministic: torch runs single-threaded
 # with fixed seeds, the probes use deterministic L-BFGS, calibration picks frames by seed.
+# The heads fits and evals run XNNPACK on 2 threads (the same outputs as on one).
 # Needs a host build with the trainer: cmake --preset host && cmake --build --preset host
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -63,10 +66,45 @@ build=${TLVLINK_BUILD:-build/host}
 tlvlink=$build/tools/cli/tlvlink
 t0=$(date +%s)
 mkdir -p "$out"
-# Step 5's press scenarios render beside steps 1-4 (training runs on one thread).
-TLVLINK_BUILD=$build bash tools/eval/fit_press_head.sh "$out/presses" --render-only \
-  > "$out/presses-render.log" 2>&1 &
-press_render=$!
+# A set's tlvlink_sim.json holds every generator option: reuse the set when they match.
+generated() {  # dir key=value...
+  local dir=$1; shift
+  [ -f "$dir/tlvlink_sim.json" ] || return 1
+  for kv in "$@"; do grep -Eq "\"${kv%%=*}\": *${kv#*=}(,|$)" "$dir/tlvlink_sim.json" || return 1; done
+}
+heads=$out/heads-touch
+feel=$out/feel
+# Step 2's sets (the simulator's output is the same for any thread count).
+make_head_sets() {
+  if ! generated "$heads" sessions=3000 frames_per_session=2 seed=3 sensor_instances=64 \
+      'sensor="gelsight-mini,digit"' markers_fraction=0.5; then
+    rm -rf "$heads"
+    echo "== heads' touch set: 3000 sessions x 2 frames, seed 3 -> $heads"
+    "$tlvlink" sim touch100k -o "$heads" --sessions 3000 --frames-per-session 2 --seed 3 \
+      --sensor gelsight-mini,digit --sensor-instances 64 --markers-fraction 0.5 --threads 2 \
+      --vision-height 24 --vision-width 32
+  fi
+  if ! generated "$feel" objects=2400 grasps_per_object=4 seed=2027 sensor_instances=64 \
+      'sensor="gelsight-mini,digit"' markers=false markers_fraction=0.5 live_path_fraction=0.5; then
+    rm -rf "$feel"
+    echo "== Feel set (grasp head): 2400 objects x 4 grasps (GelSight Mini and DIGIT, markers on" \
+         "half, live path on half), 64 sensor instances, seed 2027 -> $feel"
+    "$tlvlink" sim feel -o "$feel" --objects 2400 --grasps-per-object 4 --repacked --seed 2027 \
+      --sensor gelsight-mini,digit --markers-fraction 0.5 --live-path-fraction 0.5 \
+      --sensor-instances 64 --vision-height 24 --vision-width 32 --threads 2
+  fi
+}
+# Step 5's press scenarios, then step 2's sets, are made beside step 1 (the training runs on one
+# thread), at a lower priority so that the training keeps its core.
+(
+  renice -n 10 -p "$BASHPID" > /dev/null
+  TLVLINK_BUILD=$build bash tools/eval/fit_press_head.sh "$out/presses" --render-only \
+    > "$out/presses-render.log" 2>&1 ||
+    { echo "press scenarios failed: $out/presses-render.log" >&2; exit 1; }
+  make_head_sets > "$out/head-sets.log" 2>&1 ||
+    { echo "heads' sets failed: $out/head-sets.log" >&2; exit 1; }
+) &
+beside=$!
 
 if [ -n "$encoder" ]; then
   [ -f "$encoder" ] || { echo "make_default_models: --encoder $encoder: no such file" >&2; exit 2; }
@@ -77,40 +115,16 @@ else
   TLVLINK_BUILD=$build TLVLINK_TRAIN_ARCH=tiny bash tools/trainer/train_default.sh "$out"
 fi
 
-# A set's tlvlink_sim.json holds every generator option: reuse the set when they match.
-generated() {  # dir key=value...
-  local dir=$1; shift
-  [ -f "$dir/tlvlink_sim.json" ] || return 1
-  for kv in "$@"; do grep -Eq "\"${kv%%=*}\": *${kv#*=}(,|$)" "$dir/tlvlink_sim.json" || return 1; done
-}
-heads=$out/heads-touch
-if ! generated "$heads" sessions=3000 frames_per_session=2 seed=3 sensor_instances=64 \
-    'sensor="gelsight-mini,digit"' markers_fraction=0.5; then
-  rm -rf "$heads"
-  echo "== heads' touch set: 3000 sessions x 2 frames, seed 3 -> $heads"
-  "$tlvlink" sim touch100k -o "$heads" --sessions 3000 --frames-per-session 2 --seed 3 \
-    --sensor gelsight-mini,digit --sensor-instances 64 --markers-fraction 0.5 --threads 2 \
-    --vision-height 24 --vision-width 32
-fi
-feel=$out/feel
-if ! generated "$feel" objects=2400 grasps_per_object=4 seed=2027 sensor_instances=64 \
-    'sensor="gelsight-mini,digit"' markers=false markers_fraction=0.5 live_path_fraction=0.5; then
-  rm -rf "$feel"
-  echo "== Feel set (grasp head): 2400 objects x 4 grasps (GelSight Mini and DIGIT, markers on" \
-       "half, live path on half), 64 sensor instances, seed 2027 -> $feel"
-  "$tlvlink" sim feel -o "$feel" --objects 2400 --grasps-per-object 4 --repacked --seed 2027 \
-    --sensor gelsight-mini,digit --markers-fraction 0.5 --live-path-fraction 0.5 \
-    --sensor-instances 64 --vision-height 24 --vision-width 32 --threads 2
-fi
+wait "$beside" || { tail -5 "$out/presses-render.log" "$out/head-sets.log" 2>/dev/null; exit 1; }
 
 echo "== heads fit -> $out/touch-tiny-fp32.tlvm"
-"$tlvlink" heads fit "$out/tiny.tlvm" --touch "$heads" --grasp "$feel" -q \
+"$tlvlink" heads fit "$out/tiny.tlvm" --threads 2 --touch "$heads" --grasp "$feel" -q \
   --grasp-features before-during-difference --overwrite -o "$out/heads-plain.tlvm"
-"$tlvlink" heads fit "$out/heads-plain.tlvm" --touch "$heads" -q --only hard_soft \
+"$tlvlink" heads fit "$out/heads-plain.tlvm" --threads 2 --touch "$heads" -q --only hard_soft \
   --train-jpeg 75,90 --view-weight 5 --max-iterations 3000 --no-zero-shot \
   --overwrite -o "$out/heads-hard-soft.tlvm"
-"$tlvlink" heads fit "$out/heads-hard-soft.tlvm" --touch "$heads" -q --only rough_smooth \
-  --touch-from-grasps "$feel" --train-jpeg 75,90 --train-live --view-weight 5 \
+"$tlvlink" heads fit "$out/heads-hard-soft.tlvm" --threads 2 --touch "$heads" -q \
+  --only rough_smooth --touch-from-grasps "$feel" --train-jpeg 75,90 --train-live --view-weight 5 \
   --max-iterations 3000 --no-zero-shot --overwrite -o "$out/touch-tiny-fp32.tlvm"
 
 echo "== quantize -> $out/touch-tiny-int8.tlvm"
@@ -119,14 +133,14 @@ echo "== quantize -> $out/touch-tiny-int8.tlvm"
 # The grasp heads read small before-to-during changes of the embeddings: fitted on the fp32
 # file's, the board read live grasps worse (firmware/models/README.md "Live = offline"; why is not
 # established). Fitted again on the int8 file's own embeddings, what the board computes.
-"$tlvlink" heads fit "$out/int8-quantized.tlvm" --grasp "$feel" -q --only grasp \
-  --grasp-features before-during-difference --no-zero-shot --overwrite -o "$out/int8-unrecorded.tlvm"
+"$tlvlink" heads fit "$out/int8-quantized.tlvm" --threads 2 --grasp "$feel" -q \
+  --only grasp --grasp-features before-during-difference --no-zero-shot --overwrite \
+  -o "$out/int8-unrecorded.tlvm"
 # The board's file records the board's figures: the int8 heads re-measured on the same splits.
-"$tlvlink" eval "$out/int8-unrecorded.tlvm" --touch "$heads" --grasp "$feel" -q --no-paper \
-  --oracle-samples 0 --record "$out/touch-tiny-int8.tlvm" > /dev/null
+"$tlvlink" eval "$out/int8-unrecorded.tlvm" --threads 2 --touch "$heads" --grasp "$feel" -q \
+  --no-paper --oracle-samples 0 --record "$out/touch-tiny-int8.tlvm" > /dev/null
 
 echo "== press heads -> $out/touch-tiny-{fp32,int8}.tlvm"
-wait "$press_render" || { tail -5 "$out/presses-render.log"; exit 1; }
 for f in fp32 int8; do
   TLVLINK_BUILD=$build bash tools/eval/fit_press_head.sh "$out/presses" "$out/touch-tiny-$f.tlvm" \
     "$out/press-$f.tlvm" | grep -E '^ *(press head|baseline|majority)|^head|^fit_press_head'
@@ -134,7 +148,7 @@ for f in fp32 int8; do
 done
 
 echo "== eval fp32 vs int8 -> $out/eval.txt"
-"$tlvlink" eval "$out/touch-tiny-fp32.tlvm" --compare "$out/touch-tiny-int8.tlvm" \
+"$tlvlink" eval "$out/touch-tiny-fp32.tlvm" --threads 2 --compare "$out/touch-tiny-int8.tlvm" \
   --touch "$out/data" --grasp "$feel" -q | tee "$out/eval.txt"
 
 if [ $install -eq 1 ]; then

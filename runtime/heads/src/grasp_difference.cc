@@ -59,6 +59,16 @@ Result<GraspDifference> GraspDifference::create(int32_t height, int32_t width, i
   g.values_ = static_cast<size_t>(height) * static_cast<size_t>(width) * kChannels;
   g.d_.assign(g.values_, 0.0f);
   g.blurred_.assign(g.values_, 0.0f);
+  constexpr int32_t taps = 2 * kRadius + 1;
+  g.tap_columns_.resize(static_cast<size_t>(width) * taps);
+  g.tap_rows_.resize(static_cast<size_t>(height) * taps);
+  for (int32_t x = 0; x < width; ++x)
+    for (int32_t t = -kRadius; t <= kRadius; ++t)
+      g.tap_columns_[static_cast<size_t>(x * taps + t + kRadius)] =
+          mirror(x + t, width) * kChannels;
+  for (int32_t y = 0; y < height; ++y)
+    for (int32_t t = -kRadius; t <= kRadius; ++t)
+      g.tap_rows_[static_cast<size_t>(y * taps + t + kRadius)] = mirror(y + t, height);
   return g;
 }
 
@@ -87,34 +97,35 @@ Status GraspDifference::compute(std::span<const float> before, std::span<const f
     channel_d[i % kChannels] += static_cast<double>(d);
     for (size_t k = 0; k < 3; ++k) raw_over[k] += a > kRawThresholds[k] ? 1 : 0;
   }
-  // Separable blur: rows into blurred_, then columns back into d_ as b = |G * d|.
+  // Separable blur: rows into blurred_, then columns back into d_ as b = |G * d|. The taps'
+  // mirrored sources come from the tables made by create().
   const auto& taps = gaussian_taps();
+  constexpr size_t kTaps = 2 * kRadius + 1;
   const auto w = static_cast<size_t>(width_);
   for (int32_t y = 0; y < height_; ++y) {
     const float* row = d_.data() + static_cast<size_t>(y) * w * kChannels;
     float* dst = blurred_.data() + static_cast<size_t>(y) * w * kChannels;
-    for (int32_t x = 0; x < width_; ++x) {
-      for (int32_t c = 0; c < kChannels; ++c) {
+    for (size_t x = 0; x < w; ++x) {
+      const int32_t* source = tap_columns_.data() + x * kTaps;
+      for (size_t c = 0; c < kChannels; ++c) {
         float acc = 0;
-        for (int32_t t = -kRadius; t <= kRadius; ++t) {
-          acc +=
-              taps[static_cast<size_t>(t + kRadius)] *
-              row[static_cast<size_t>(mirror(x + t, width_)) * kChannels + static_cast<size_t>(c)];
-        }
-        dst[static_cast<size_t>(x) * kChannels + static_cast<size_t>(c)] = acc;
+        for (size_t t = 0; t < kTaps; ++t) acc += taps[t] * row[static_cast<size_t>(source[t]) + c];
+        dst[x * kChannels + c] = acc;
       }
     }
   }
   double sum_b = 0, channel_b[kChannels] = {};
   size_t blur_over[4] = {};
   const size_t stride = w * kChannels;
+  const float* rows[kTaps];
   for (int32_t y = 0; y < height_; ++y) {
+    for (size_t t = 0; t < kTaps; ++t) {
+      rows[t] = blurred_.data() +
+                static_cast<size_t>(tap_rows_[static_cast<size_t>(y) * kTaps + t]) * stride;
+    }
     for (size_t i = 0; i < stride; ++i) {
       float acc = 0;
-      for (int32_t t = -kRadius; t <= kRadius; ++t) {
-        acc += taps[static_cast<size_t>(t + kRadius)] *
-               blurred_[static_cast<size_t>(mirror(y + t, height_)) * stride + i];
-      }
+      for (size_t t = 0; t < kTaps; ++t) acc += taps[t] * rows[t][i];
       const float b = std::fabs(acc);
       sum_b += static_cast<double>(b);
       channel_b[i % kChannels] += static_cast<double>(b);

@@ -55,6 +55,13 @@ Result<PreprocessPlan> PreprocessPlan::create(const InputSpec& spec, int32_t fra
       p.outputs_finite_ = p.outputs_finite_ && std::isfinite((v / 255.0f - p.mean_[c]) / p.std_[c]);
     }
   }
+  if (p.order_ != ChannelOrder::kGray) {
+    p.normalised_.resize(static_cast<size_t>(spec.channels) * 256);
+    for (int32_t c = 0; c < spec.channels; ++c)
+      for (int32_t v = 0; v < 256; ++v)
+        p.normalised_[static_cast<size_t>(c * 256 + v)] =
+            (static_cast<float>(v) / 255.0f - p.mean_[c]) / p.std_[c];
+  }
   int32_t src_w = frame_width, src_h = frame_height;
   if (spec.crop_w > 0) {
     TLV_ENSURE(
@@ -95,6 +102,19 @@ Result<PreprocessPlan> PreprocessPlan::create(const InputSpec& spec, int32_t fra
   };
   fill(p.rows_, src_h, p.height_, p.crop_y_);
   fill(p.cols_, src_w, p.width_, p.crop_x_);
+  if (p.filter_ == ResizeFilter::kArea) {
+    // x = sum + n / 2 <= 256 n; x * ceil(2^32 / n) / 2^32 exceeds x / n by under x / 2^32, which
+    // cannot reach the next integer while 256 n^2 < 2^32.
+    int64_t largest = 0;
+    for (const Tap& r : p.rows_)
+      for (const Tap& c : p.cols_)
+        largest = std::max<int64_t>(largest, int64_t{r.i1 - r.i0} * (c.i1 - c.i0));
+    if (largest < 4096) {
+      p.area_reciprocal_.resize(static_cast<size_t>(largest) + 1);
+      for (int64_t n = 1; n <= largest; ++n)
+        p.area_reciprocal_[static_cast<size_t>(n)] = ((uint64_t{1} << 32) + n - 1) / n;
+    }
+  }
   p.identity_ = p.filter_ == ResizeFilter::kBilinear && src_h == p.height_ && src_w == p.width_;
   return p;
 }
@@ -113,6 +133,29 @@ size_t PreprocessPlan::output_bytes() const {
 void PreprocessPlan::resized_values(const ImageView& f, int32_t y, int32_t x, uint8_t v[3]) const {
   const Tap& r = rows_[static_cast<size_t>(y)];
   const Tap& c = cols_[static_cast<size_t>(x)];
+  if (filter_ == ResizeFilter::kArea && !identity_ && frame_channels_ == 3) {
+    // Every frame of the board and the tools takes this path (the models shrink RGB by area):
+    // detail::area_value's box sums, the three channels walked at once by row pointers (the
+    // same integer arithmetic, so the same bytes).
+    uint32_t sum[3] = {0, 0, 0};
+    for (int32_t sy = r.i0; sy < r.i1; ++sy) {
+      const uint8_t* p = f.row(sy) + static_cast<size_t>(c.i0) * 3;
+      for (int32_t sx = c.i0; sx < c.i1; ++sx, p += 3) {
+        sum[0] += p[0];
+        sum[1] += p[1];
+        sum[2] += p[2];
+      }
+    }
+    const auto n = static_cast<uint32_t>((r.i1 - r.i0) * (c.i1 - c.i0));
+    if (n < area_reciprocal_.size()) {
+      const uint64_t reciprocal = area_reciprocal_[n];
+      for (size_t k = 0; k < 3; ++k)
+        v[k] = static_cast<uint8_t>((uint64_t{sum[k] + n / 2} * reciprocal) >> 32);
+    } else {
+      for (size_t k = 0; k < 3; ++k) v[k] = static_cast<uint8_t>((sum[k] + n / 2) / n);
+    }
+    return;
+  }
   for (int32_t k = 0; k < frame_channels_; ++k) {
     if (identity_ || filter_ == ResizeFilter::kNearest) {
       v[k] = f.at(r.i0, c.i0, k);
@@ -124,40 +167,32 @@ void PreprocessPlan::resized_values(const ImageView& f, int32_t y, int32_t x, ui
   }
 }
 
-// The same, widened to float RGB (gray frames replicated).
-void PreprocessPlan::resized_pixel(const ImageView& f, int32_t y, int32_t x, float rgb[3]) const {
-  uint8_t v[3];
-  resized_values(f, y, x, v);
-  if (frame_channels_ == 3) {
-    rgb[0] = v[0];
-    rgb[1] = v[1];
-    rgb[2] = v[2];
-  } else {
-    rgb[0] = rgb[1] = rgb[2] = v[0];
-  }
-}
-
 template <typename Out>
 void PreprocessPlan::run_typed(const ImageView& frame, Out* out) const {
   const auto channels = static_cast<size_t>(channels_);
+  const auto store = [&](size_t i, float value) {
+    if constexpr (std::is_same_v<Out, float>) {
+      out[i] = value;
+    } else {
+      out[i] = quantize_value(value, encoding_.scale, encoding_.zero_point);
+    }
+  };
   size_t i = 0;
   for (int32_t y = 0; y < height_; ++y) {
     for (int32_t x = 0; x < width_; ++x, i += channels) {
-      float rgb[3];
-      resized_pixel(frame, y, x, rgb);
-      for (size_t c = 0; c < channels; ++c) {
-        float v;
-        switch (order_) {
-          case ChannelOrder::kBGR: v = rgb[2 - c]; break;
-          case ChannelOrder::kGray: v = 0.299f * rgb[0] + 0.587f * rgb[1] + 0.114f * rgb[2]; break;
-          default: v = rgb[c]; break;
-        }
-        const float value = (v / 255.0f - mean_[c]) / std_[c];
-        if constexpr (std::is_same_v<Out, float>) {
-          out[i + c] = value;
-        } else {
-          out[i + c] = quantize_value(value, encoding_.scale, encoding_.zero_point);
-        }
+      uint8_t v[3];
+      resized_values(frame, y, x, v);
+      if (order_ == ChannelOrder::kGray) {
+        const bool rgb = frame_channels_ == 3;
+        const auto r = static_cast<float>(v[0]), g = static_cast<float>(v[rgb ? 1 : 0]),
+                   b = static_cast<float>(v[rgb ? 2 : 0]);
+        const float gray = 0.299f * r + 0.587f * g + 0.114f * b;
+        for (size_t c = 0; c < channels; ++c) store(i + c, (gray / 255.0f - mean_[c]) / std_[c]);
+        continue;
+      }
+      for (size_t c = 0; c < channels; ++c) {  // a gray frame feeds every channel
+        const size_t source = frame_channels_ == 1 ? 0 : order_ == ChannelOrder::kBGR ? 2 - c : c;
+        store(i + c, normalised_[c * 256 + v[source]]);
       }
     }
   }
@@ -197,28 +232,6 @@ Status PreprocessPlan::resize(const ImageView& frame, std::span<uint8_t> out) co
              "resized frame is %zu bytes (%dx%dx%zu); the buffer has %zu", need, width_, height_,
              channels, out.size());
   size_t i = 0;
-  if (filter_ == ResizeFilter::kArea && !identity_ && frame_channels_ == 3) {
-    // The training path resizes every augmented view: the box sums of detail::area_value,
-    // walked by row pointers (same integer arithmetic, so the same bytes).
-    for (int32_t y = 0; y < height_; ++y) {
-      const Tap& r = rows_[static_cast<size_t>(y)];
-      for (int32_t x = 0; x < width_; ++x, i += 3) {
-        const Tap& c = cols_[static_cast<size_t>(x)];
-        uint32_t sum[3] = {0, 0, 0};
-        for (int32_t sy = r.i0; sy < r.i1; ++sy) {
-          const uint8_t* p = frame.row(sy) + static_cast<size_t>(c.i0) * 3;
-          for (int32_t sx = c.i0; sx < c.i1; ++sx, p += 3) {
-            sum[0] += p[0];
-            sum[1] += p[1];
-            sum[2] += p[2];
-          }
-        }
-        const auto n = static_cast<uint32_t>((r.i1 - r.i0) * (c.i1 - c.i0));
-        for (size_t k = 0; k < 3; ++k) out[i + k] = static_cast<uint8_t>((sum[k] + n / 2) / n);
-      }
-    }
-    return {};
-  }
   for (int32_t y = 0; y < height_; ++y) {
     for (int32_t x = 0; x < width_; ++x, i += channels) {
       uint8_t v[3];

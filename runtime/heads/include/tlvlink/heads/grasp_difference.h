@@ -50,6 +50,8 @@ class GraspDifference {
   int32_t height_ = 0, width_ = 0;
   size_t values_ = 0;
   std::vector<float> d_, blurred_;  // d, then the blur's row pass, then b
+  // The blur's mirrored source of each tap: column offsets (x * taps + t, in values) and rows.
+  std::vector<int32_t> tap_columns_, tap_rows_;
 };
 
 }  // namespace tlvlink::heads

@@ -80,7 +80,6 @@ class PreprocessPlan {
   template <typename Out>
   void run_typed(const ImageView& frame, Out* out) const;
   void resized_values(const ImageView& frame, int32_t y, int32_t x, uint8_t v[3]) const;
-  void resized_pixel(const ImageView& frame, int32_t y, int32_t x, float rgb[3]) const;
   Status check(const ImageView& frame, size_t out_bytes) const;
 
   int32_t frame_width_ = 0, frame_height_ = 0, frame_channels_ = 0;
@@ -90,6 +89,12 @@ class PreprocessPlan {
   bool identity_ = false;  // bilinear to the same size: a copy
   ChannelOrder order_ = ChannelOrder::kRGB;
   float mean_[4] = {}, std_[4] = {};
+  // (v / 255 - mean) / std of every byte v, per channel (RGB and BGR orders; gray mixes are
+  // computed): the same float operations, looked up instead of divided per value.
+  std::vector<float> normalised_;  // [channel * 256 + v]
+  // The area filter's rounded mean (sum + n / 2) / n as (sum + n / 2) * reciprocal[n] >> 32,
+  // exact for boxes of n < 4096 pixels (empty: larger boxes divide).
+  std::vector<uint64_t> area_reciprocal_;
   InputEncoding encoding_;
   bool outputs_finite_ = false;
   std::vector<Tap> rows_, cols_;
