@@ -11,7 +11,7 @@
 #   tools/eval/fit_press_head.sh WORK --render-only   (the scenarios alone, e.g. while a model trains)
 # WORK keeps the rendered scenarios (~12 GB) and the plays (reused when MODEL is the same file).
 # Environment: TLVLINK_BUILD (default build/host), TLVLINK_PLAYS (plays at once, default 2). About
-# 2 minutes on 2 cores with the scenarios rendered (~12 more to render them, one after another):
+# 3-4 minutes on 2 cores with the scenarios rendered (~12 more to render them, one after another):
 # the GelSight Mini's live path decodes ~100 frames/s of 8 MP MJPEG on a core.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
