@@ -47,6 +47,20 @@ OwnedSpec random_spec(testing::Rng& rng, int32_t frame_w, int32_t frame_h) {
   return o;
 }
 
+// An RGB spec into height x width by `filter`, with these per-channel means and stds.
+OwnedSpec rgb_spec(int32_t height, int32_t width, ResizeFilter filter, std::vector<float> mean,
+                   std::vector<float> stdev) {
+  OwnedSpec o;
+  o.mean = std::move(mean);
+  o.stdev = std::move(stdev);
+  o.spec.height = height;
+  o.spec.width = width;
+  o.spec.resize_filter = filter;
+  o.spec.mean = o.mean;
+  o.spec.std = o.stdev;
+  return o;
+}
+
 Image random_image(testing::Rng& rng, int32_t w, int32_t h, int32_t channels) {
   Image img{w, h, channels, {}};
   img.pixels.resize(static_cast<size_t>(w * h * channels));
@@ -84,19 +98,12 @@ TEST(ImagePreprocessPlan, TheDeploymentSizesAreBitIdenticalToo) {
   for (const ResizeFilter filter : {ResizeFilter::kArea, ResizeFilter::kBilinear}) {
     for (const auto& [w, h, crop_h] : {std::tuple{320, 240, 0}, std::tuple{240, 320, 180}}) {
       const Image frame = random_image(rng, w, h, 3);
-      OwnedSpec o;
-      o.mean = {0.41f, 0.45f, 0.52f};
-      o.stdev = {0.19f, 0.18f, 0.21f};
-      o.spec.height = 96;
-      o.spec.width = 128;
-      o.spec.resize_filter = filter;
+      OwnedSpec o = rgb_spec(96, 128, filter, {0.41f, 0.45f, 0.52f}, {0.19f, 0.18f, 0.21f});
       if (crop_h > 0) {  // a centred band, as a sensor view crops
         o.spec.crop_y = 70;
         o.spec.crop_w = w;
         o.spec.crop_h = crop_h;
       }
-      o.spec.mean = o.mean;
-      o.spec.std = o.stdev;
       auto want = testing::staged::preprocess(frame, o.spec);
       auto got = preprocess(frame, o.spec);
       ASSERT_TRUE(want.ok() && got.ok());
@@ -117,13 +124,8 @@ TEST(ImagePreprocessPlan, AreaMeansOfLargeBoxesAreExactToo) {
     for (uint8_t fill : {uint8_t{0}, uint8_t{255}, uint8_t{1}}) {
       Image frame = random_image(rng, w, h, 3);
       if (fill != 1) std::fill(frame.pixels.begin(), frame.pixels.end(), fill);
-      OwnedSpec o;
-      o.mean = {0.5f, 0.5f, 0.5f};
-      o.stdev = {0.25f, 0.25f, 0.25f};
-      o.spec.height = o.spec.width = 1;
-      o.spec.resize_filter = ResizeFilter::kArea;
-      o.spec.mean = o.mean;
-      o.spec.std = o.stdev;
+      const OwnedSpec o =
+          rgb_spec(1, 1, ResizeFilter::kArea, {0.5f, 0.5f, 0.5f}, {0.25f, 0.25f, 0.25f});
       auto want = testing::staged::preprocess(frame, o.spec);
       auto got = preprocess(frame, o.spec);
       ASSERT_TRUE(want.ok() && got.ok());
@@ -229,14 +231,7 @@ TEST(ImagePreprocessPlan, RunAllocatesNothing) {
   const Image frame = random_image(rng, 320, 240, 3);
   for (ResizeFilter filter :
        {ResizeFilter::kBilinear, ResizeFilter::kArea, ResizeFilter::kNearest}) {
-    OwnedSpec o;
-    o.mean = {0.5f, 0.5f, 0.5f};
-    o.stdev = {0.2f, 0.2f, 0.2f};
-    o.spec.height = 96;
-    o.spec.width = 128;
-    o.spec.resize_filter = filter;
-    o.spec.mean = o.mean;
-    o.spec.std = o.stdev;
+    const OwnedSpec o = rgb_spec(96, 128, filter, {0.5f, 0.5f, 0.5f}, {0.2f, 0.2f, 0.2f});
     auto plan = PreprocessPlan::create(o.spec, 320, 240, 3);
     ASSERT_TRUE(plan.ok());
     std::vector<std::byte> out(plan->output_bytes());
