@@ -97,8 +97,8 @@ Status GraspDifference::compute(std::span<const float> before, std::span<const f
     channel_d[i % kChannels] += static_cast<double>(d);
     for (size_t k = 0; k < 3; ++k) raw_over[k] += a > kRawThresholds[k] ? 1 : 0;
   }
-  // Separable blur: rows into blurred_, then columns back into d_ as b = |G * d|. The taps'
-  // mirrored sources come from the tables made by create().
+  // Separable blur: rows into blurred_, then columns, each b = |G * d| counted as it comes. The
+  // taps' mirrored sources come from the tables made by create().
   const auto& taps = gaussian_taps();
   constexpr size_t kTaps = 2 * kRadius + 1;
   const auto w = static_cast<size_t>(width_);
