@@ -117,8 +117,7 @@ TEST(ImagePreprocessPlan, TheDeploymentSizesAreBitIdenticalToo) {
 }
 
 TEST(ImagePreprocessPlan, AreaMeansOfLargeBoxesAreExactToo) {
-  // The plan divides by multiplying with a reciprocal for boxes under 4096 pixels and divides
-  // beyond: both sides of that bound, and at it, against the staged division.
+  // Boxes of 4,095, 4,096 and 6,000 pixels (sums past 2^20) against the staged division.
   testing::Rng rng(11);
   for (const auto& [w, h] : {std::pair{63, 65}, std::pair{64, 64}, std::pair{100, 60}}) {
     for (uint8_t fill : {uint8_t{0}, uint8_t{255}, uint8_t{1}}) {

@@ -55,13 +55,6 @@ Result<PreprocessPlan> PreprocessPlan::create(const InputSpec& spec, int32_t fra
       p.outputs_finite_ = p.outputs_finite_ && std::isfinite((v / 255.0f - p.mean_[c]) / p.std_[c]);
     }
   }
-  if (p.order_ != ChannelOrder::kGray) {
-    p.normalised_.resize(static_cast<size_t>(spec.channels) * 256);
-    for (int32_t c = 0; c < spec.channels; ++c)
-      for (int32_t v = 0; v < 256; ++v)
-        p.normalised_[static_cast<size_t>(c * 256 + v)] =
-            (static_cast<float>(v) / 255.0f - p.mean_[c]) / p.std_[c];
-  }
   int32_t src_w = frame_width, src_h = frame_height;
   if (spec.crop_w > 0) {
     TLV_ENSURE(
@@ -102,19 +95,6 @@ Result<PreprocessPlan> PreprocessPlan::create(const InputSpec& spec, int32_t fra
   };
   fill(p.rows_, src_h, p.height_, p.crop_y_);
   fill(p.cols_, src_w, p.width_, p.crop_x_);
-  if (p.filter_ == ResizeFilter::kArea) {
-    // x = sum + n / 2 <= 256 n; x * ceil(2^32 / n) / 2^32 exceeds x / n by under x / 2^32, which
-    // cannot reach the next integer while 256 n^2 < 2^32.
-    int64_t largest = 0;
-    for (const Tap& r : p.rows_)
-      for (const Tap& c : p.cols_)
-        largest = std::max<int64_t>(largest, int64_t{r.i1 - r.i0} * (c.i1 - c.i0));
-    if (largest < 4096) {
-      p.area_reciprocal_.resize(static_cast<size_t>(largest) + 1);
-      for (int64_t n = 1; n <= largest; ++n)
-        p.area_reciprocal_[static_cast<size_t>(n)] = ((uint64_t{1} << 32) + n - 1) / n;
-    }
-  }
   p.identity_ = p.filter_ == ResizeFilter::kBilinear && src_h == p.height_ && src_w == p.width_;
   return p;
 }
@@ -147,13 +127,7 @@ void PreprocessPlan::resized_values(const ImageView& f, int32_t y, int32_t x, ui
       }
     }
     const auto n = static_cast<uint32_t>((r.i1 - r.i0) * (c.i1 - c.i0));
-    if (n < area_reciprocal_.size()) {
-      const uint64_t reciprocal = area_reciprocal_[n];
-      for (size_t k = 0; k < 3; ++k)
-        v[k] = static_cast<uint8_t>((uint64_t{sum[k] + n / 2} * reciprocal) >> 32);
-    } else {
-      for (size_t k = 0; k < 3; ++k) v[k] = static_cast<uint8_t>((sum[k] + n / 2) / n);
-    }
+    for (size_t k = 0; k < 3; ++k) v[k] = static_cast<uint8_t>((sum[k] + n / 2) / n);
     return;
   }
   for (int32_t k = 0; k < frame_channels_; ++k) {
@@ -182,17 +156,17 @@ void PreprocessPlan::run_typed(const ImageView& frame, Out* out) const {
     for (int32_t x = 0; x < width_; ++x, i += channels) {
       uint8_t v[3];
       resized_values(frame, y, x, v);
+      float gray = 0;
       if (order_ == ChannelOrder::kGray) {
         const bool rgb = frame_channels_ == 3;
         const auto r = static_cast<float>(v[0]), g = static_cast<float>(v[rgb ? 1 : 0]),
                    b = static_cast<float>(v[rgb ? 2 : 0]);
-        const float gray = 0.299f * r + 0.587f * g + 0.114f * b;
-        for (size_t c = 0; c < channels; ++c) store(i + c, (gray / 255.0f - mean_[c]) / std_[c]);
-        continue;
+        gray = 0.299f * r + 0.587f * g + 0.114f * b;
       }
       for (size_t c = 0; c < channels; ++c) {  // a gray frame feeds every channel
         const size_t source = frame_channels_ == 1 ? 0 : order_ == ChannelOrder::kBGR ? 2 - c : c;
-        store(i + c, normalised_[c * 256 + v[source]]);
+        const float value = order_ == ChannelOrder::kGray ? gray : static_cast<float>(v[source]);
+        store(i + c, (value / 255.0f - mean_[c]) / std_[c]);
       }
     }
   }

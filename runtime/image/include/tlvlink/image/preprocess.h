@@ -89,12 +89,6 @@ class PreprocessPlan {
   bool identity_ = false;  // bilinear to the same size: a copy
   ChannelOrder order_ = ChannelOrder::kRGB;
   float mean_[4] = {}, std_[4] = {};
-  // (v / 255 - mean) / std of every byte v, per channel (RGB and BGR orders; gray mixes are
-  // computed): the same float operations, looked up instead of divided per value.
-  std::vector<float> normalised_;  // [channel * 256 + v]
-  // The area filter's rounded mean (sum + n / 2) / n as (sum + n / 2) * reciprocal[n] >> 32,
-  // exact for boxes of n < 4096 pixels (empty: larger boxes divide).
-  std::vector<uint64_t> area_reciprocal_;
   InputEncoding encoding_;
   bool outputs_finite_ = false;
   std::vector<Tap> rows_, cols_;
