@@ -70,9 +70,11 @@ class EvalCli : public ::testing::Test {
   fs::path dir_;
 };
 
+// Deterministic, on any thread count too (the frames are embedded N at a time, each placed by
+// its index: tools/eval/src/frame_pool.h).
 TEST_F(EvalCli, JsonStructureAndDeterminism) {
   const json a = eval_json(kFp32 + kTouch + kGrasp);
-  const json b = eval_json(kFp32 + kTouch + kGrasp);
+  const json b = eval_json(kFp32 + kTouch + kGrasp + " --threads 3");
   ASSERT_EQ(a.at("reports").size(), 1u);
   const json& r = a.at("reports")[0];
   EXPECT_EQ(r.at("results"), b.at("reports")[0].at("results"));  // bit-for-bit the same cells
@@ -148,6 +150,19 @@ TEST_F(EvalCli, HeadsFitOnJpegPathsAddsTrainRowsOnly) {
   const auto [live_rows, live_n] = rows_and_n(live.out);
   EXPECT_EQ(live_rows, 3 * plain_rows);
   EXPECT_EQ(live_n, plain_n);
+  // Three threads (each re-encoding, rendering the live view of and embedding its own frames):
+  // the same file, byte for byte.
+  const CliRun threads =
+      tlvlink("heads fit " + kFp32 + kTouch + " --train-jpeg 75 --train-live -q --threads 3 -o " +
+              (dir_ / "live3.tlvm").string());
+  EXPECT_RUN(threads, 0);
+  // The reports alike but for the "wrote PATH" line.
+  EXPECT_EQ(threads.out.substr(threads.out.find('\n')), live.out.substr(live.out.find('\n')));
+  std::ifstream one(dir_ / "live.tlvm", std::ios::binary),
+      three(dir_ / "live3.tlvm", std::ios::binary);
+  EXPECT_TRUE(std::equal(std::istreambuf_iterator<char>(one), std::istreambuf_iterator<char>(),
+                         std::istreambuf_iterator<char>(three), std::istreambuf_iterator<char>()))
+      << "--threads 3 wrote another file than one thread";
   const CliRun grasped = tlvlink("heads fit " + kFp32 + kTouch + " --touch-from-grasps " + kData +
                                  "/feel -q -o " + (dir_ / "grasped.tlvm").string());
   EXPECT_RUN(grasped, 0);

@@ -20,12 +20,14 @@ Result<std::unique_ptr<Model>> load_model(const std::string& path) {
   return tools::load_model(path);
 }
 
-void ExecutorFlags::add_to(CLI::App& app) {
+void ExecutorFlags::add_to(CLI::App& app, const char* threads_help) {
   app.add_option("--executor,-e", executor, "Executor: xnnpack (default) or reference")
       ->check(CLI::IsMember({"xnnpack", "reference"}))
       ->capture_default_str();
   app.add_option("--threads,-t", threads,
-                 "Threads for the XNNPACK thread pool (reference ignores it)")
+                 threads_help != nullptr ? threads_help
+                                         : "Threads for the XNNPACK thread pool (reference "
+                                           "ignores it)")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
 }

@@ -35,7 +35,8 @@ Result<std::unique_ptr<Model>> load_model(const std::string& path);
 struct ExecutorFlags {
   std::string executor = "xnnpack";
   int threads = 1;
-  void add_to(CLI::App& app);
+  // threads_help: what --threads means for the command (default: XNNPACK's pool).
+  void add_to(CLI::App& app, const char* threads_help = nullptr);
   ExecutorKind kind() const;  // validated by the flag's check
   ExecutorOptions options() const;
 };

@@ -89,7 +89,10 @@ void EvalFlags::add_to(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_flag("--quiet,-q", quiet, "No progress on stderr");
-  exec.add_to(app);
+  exec.add_to(app,
+              "Threads: the datasets' frames are loaded beside N embedded at once, each on one "
+              "executor thread (the same figures for any N); --images / --recordings: XNNPACK's "
+              "pool");
 }
 
 Result<eval::EvalData> EvalFlags::data() const {

@@ -48,8 +48,8 @@
 # seal what they write: runtime/README.md "Integrity trailer").
 # --install copies both models into firmware/models/. Deterministic: torch runs single-threaded
 # with fixed seeds, the probes use deterministic L-BFGS, calibration picks frames by seed.
-# The heads fits and evals run XNNPACK on 2 threads but for the rough/smooth fit (the outputs are
-# the same on one).
+# The heads fits and evals embed two frames at a time (--threads 2; the outputs are the same on
+# one).
 # Needs a host build with the trainer: cmake --preset host && cmake --build --preset host
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -124,9 +124,7 @@ echo "== heads fit -> $out/touch-tiny-fp32.tlvm"
 "$tlvlink" heads fit "$out/heads-plain.tlvm" --threads 2 --touch "$heads" -q --only hard_soft \
   --train-jpeg 75,90 --view-weight 5 --max-iterations 3000 --no-zero-shot \
   --overwrite -o "$out/heads-hard-soft.tlvm"
-# One XNNPACK thread here: most of this fit's time is the live views' rendering, and a second
-# thread waiting beside it made the step 12 min instead of 9 (the same file).
-"$tlvlink" heads fit "$out/heads-hard-soft.tlvm" --touch "$heads" -q \
+"$tlvlink" heads fit "$out/heads-hard-soft.tlvm" --threads 2 --touch "$heads" -q \
   --only rough_smooth --touch-from-grasps "$feel" --train-jpeg 75,90 --train-live --view-weight 5 \
   --max-iterations 3000 --no-zero-shot --overwrite -o "$out/touch-tiny-fp32.tlvm"
 

@@ -253,6 +253,9 @@ for s in "${failed_names[@]}"; do
   echo "--- what failed in stage $s (build/logs/$s.log) ---"
   grep -E "\(Failed\)|\(Timeout\)|\(SEGFAULT\)|\(Subprocess aborted\)|(^|[^A-Za-z])FAIL(ED)?([^A-Za-z]|$)|MISMATCH|error:|Error [0-9]" \
     "build/logs/$s.log" 2>/dev/null | grep -vE "(^|[^0-9])0 (tests )?failed" | tail -25
+  # The failed assertions themselves (GoogleTest's "file:line: Failure" and what follows), so that
+  # a failure seen once in CI says what it was.
+  grep -A4 -E ": Failure$" "build/logs/$s.log" 2>/dev/null | cut -c1-240 | head -20
 done
 echo
 echo "run_tests: stage wall times: ${stage_times[*]}"
