@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/cli_run.h"
+#include "support/temp_dir.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/io/image.h"
 #include "tlvlink/io/npy.h"
@@ -39,11 +40,6 @@ using ::tlvlink::testing::run_tlvlink;
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("tlvlink_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);  // a killed run's leftover under a reused pid
-    fs::create_directories(dir_);
     for (const char* m : {"fp32.tlvm", "int8.tlvm"}) {
       const fs::path src = fs::path(TLVLINK_CLI_MODELS) / m;
       if (!fs::exists(src))
@@ -51,10 +47,10 @@ class Cli : public ::testing::Test {
       fs::copy_file(src, dir_ / m, fs::copy_options::overwrite_existing);
     }
   }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string path(const std::string& leaf) const { return (dir_ / leaf).string(); }
 
-  fs::path dir_;
+  ::tlvlink::testing::TempDir tmp_{"cli"};  // a fresh directory, removed with the fixture
+  fs::path dir_ = tmp_.path();
 };
 
 TEST_F(Cli, GenReferenceWritesAModelThatLoads) {

@@ -18,6 +18,7 @@
 
 #include "support/cli_run.h"
 #include "support/labelled_folder.h"
+#include "support/temp_dir.h"
 
 namespace tlvlink {
 namespace {
@@ -47,13 +48,7 @@ class EvalCli : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!fs::exists(kFp32)) FAIL() << kFp32 << " missing: run through ctest (fixtures eval.data_*)";
-    dir_ = fs::temp_directory_path() /
-           ("tlvlink_eval_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);  // a killed run's leftover under a reused pid
-    fs::create_directories(dir_);
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   json eval_json(const std::string& args) {
     const CliRun r = tlvlink("eval " + args + " --json" + kQuick, /*merge=*/false);
@@ -67,7 +62,8 @@ class EvalCli : public ::testing::Test {
       if (r.at("task") == task && r.at("method") == method) return &r;
     return nullptr;
   }
-  fs::path dir_;
+  ::tlvlink::testing::TempDir tmp_{"eval"};  // a fresh directory, removed with the fixture
+  fs::path dir_ = tmp_.path();
 };
 
 // Deterministic, on any thread count too (the frames are embedded N at a time, each placed by

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "support/cli_run.h"
+#include "support/temp_dir.h"
 #include "tlvlink/model.h"
 
 namespace tlvlink {
@@ -24,19 +25,13 @@ using ::tlvlink::testing::run_tlvlink;
 
 class ConvertCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("tlvlink_convert_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);  // a killed run's leftover under a reused pid
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  void SetUp() override {}
   static std::string model(const std::string& name) {
     return std::string(TLVLINK_ONNX_MODELS) + "/" + name + ".onnx";
   }
   std::string out(const std::string& leaf) const { return (dir_ / leaf).string(); }
-  fs::path dir_;
+  ::tlvlink::testing::TempDir tmp_{"convert"};  // a fresh directory, removed with the fixture
+  fs::path dir_ = tmp_.path();
 };
 
 TEST_F(ConvertCli, ConvertsAndTheModelLoads) {

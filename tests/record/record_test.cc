@@ -1,7 +1,6 @@
 // `tlvlink record`'s library: image folders become one camera stream (JPEG files byte for byte,
 // other files encoded), held frames are repeats, and a frame of another size is an error that
 // leaves no recording behind.
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -10,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/temp_dir.h"
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/image/jpeg.h"
 #include "tlvlink/record/record.h"
@@ -18,14 +18,6 @@ namespace tlvlink::record {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path temp_dir(const char* name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("tlvlink_record_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 void write_ppm(const fs::path& p, int w, int h, int shade) {
   std::ofstream out(p, std::ios::binary);
@@ -46,7 +38,8 @@ std::vector<uint8_t> jpeg_of(int w, int h, int shade) {
 }
 
 TEST(Record, ImageFolderBecomesOneStreamWithHeldFrames) {
-  const fs::path d = temp_dir("ppm");
+  const ::tlvlink::testing::TempDir tmp("record_ppm");  // removed at the end of the test
+  const fs::path d = tmp.path();
   for (int k = 0; k < 3; ++k) write_ppm(d / ("f" + std::to_string(k) + ".ppm"), 32, 24, k * 40);
   RecordOptions o;
   o.input = d.string();
@@ -69,11 +62,11 @@ TEST(Record, ImageFolderBecomesOneStreamWithHeldFrames) {
   auto again = record_frames(o, out);
   ASSERT_FALSE(again.ok());
   EXPECT_NE(std::string(again.error().message()).find("exists"), std::string::npos);
-  fs::remove_all(d);
 }
 
 TEST(Record, JpegFilesAreKeptByteForByte) {
-  const fs::path d = temp_dir("jpeg");
+  const ::tlvlink::testing::TempDir tmp("record_jpeg");  // removed at the end of the test
+  const fs::path d = tmp.path();
   std::vector<std::vector<uint8_t>> files;
   for (int k = 0; k < 2; ++k) {
     files.push_back(jpeg_of(40, 30, k * 50));
@@ -100,11 +93,11 @@ TEST(Record, JpegFilesAreKeptByteForByte) {
               files[static_cast<size_t>(k)]);
     at = info.next;
   }
-  fs::remove_all(d);
 }
 
 TEST(Record, AFrameOfAnotherSizeIsAnErrorNamingItAndLeavesNoRecording) {
-  const fs::path d = temp_dir("sizes");
+  const ::tlvlink::testing::TempDir tmp("record_sizes");  // removed at the end of the test
+  const fs::path d = tmp.path();
   write_ppm(d / "a.ppm", 32, 24, 0);
   write_ppm(d / "b.ppm", 24, 32, 0);
   RecordOptions o;
@@ -120,7 +113,6 @@ TEST(Record, AFrameOfAnotherSizeIsAnErrorNamingItAndLeavesNoRecording) {
   RecordOptions none;
   none.input = (d / "missing").string();
   EXPECT_FALSE(record_frames(none, out).ok());
-  fs::remove_all(d);
 }
 
 }  // namespace

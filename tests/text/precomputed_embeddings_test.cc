@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/temp_dir.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -17,18 +19,12 @@ namespace fs = std::filesystem;
 class PrecomputedEmbeddings : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("tlvlink-text-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-            "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
     write_table("sentence.npy", 2, {3, 4, 0, 0, 0, 0, 0, 2});
     write_table("phrase.npy", 2, {0, 1, 0, 0, 1, 0, 0, 0});
     write_table("prompts.npy", 1, {0, 0, 5, 0});
     write_lines("keys.txt", {"a/0000000001.jpg", "a/0000000002.jpg"});
     write_lines("prompts.txt", {"the object being touched is lifted in the air."});
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   void write_table(const std::string& name, int64_t rows, std::vector<float> v) {
     const int64_t dim = static_cast<int64_t>(v.size()) / rows;
@@ -43,7 +39,8 @@ class PrecomputedEmbeddings : public ::testing::Test {
     auto r = open_precomputed_text_embeddings(dir_.string());
     return r.ok() ? std::string("(opened)") : std::string(r.error().message());
   }
-  fs::path dir_;
+  ::tlvlink::testing::TempDir tmp_{"text"};  // a fresh directory, removed with the fixture
+  fs::path dir_ = tmp_.path();
 };
 
 TEST_F(PrecomputedEmbeddings, ReadsNormalisesAndLooksUpByKeyAndPrompt) {

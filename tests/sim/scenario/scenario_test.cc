@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "support/temp_dir.h"
 #include "tlvlink/capture/recording.h"
 #include "tlvlink/capture/replay_source.h"
 #include "tlvlink/image/jpeg.h"
@@ -28,10 +29,8 @@ using nlohmann::json;
 class Scenario : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = (std::filesystem::temp_directory_path() /
-            ("tlvlink_scenario_" + std::to_string(::getpid())))
-               .string();
-    std::filesystem::remove_all(dir_);  // a killed run's leftover under a reused pid
+    tmp_ = new ::tlvlink::testing::TempDir("scenario");
+    dir_ = *tmp_ / "run";  // write_scenario makes it
     ScenarioOptions o;
     o.sensor = "digit";  // YUYV 320x240 at 60 fps: small frames
     o.grasps = 2;
@@ -42,7 +41,10 @@ class Scenario : public ::testing::Test {
     ASSERT_TRUE(r.ok()) << r.error().message();
     report_ = *r;
   }
-  static void TearDownTestSuite() { std::filesystem::remove_all(dir_); }
+  static void TearDownTestSuite() {
+    delete tmp_;
+    tmp_ = nullptr;
+  }
 
   static std::vector<json> truth() {
     std::vector<json> out;
@@ -52,9 +54,11 @@ class Scenario : public ::testing::Test {
     return out;
   }
 
+  static ::tlvlink::testing::TempDir* tmp_;
   static std::string dir_;
   static ScenarioReport report_;
 };
+::tlvlink::testing::TempDir* Scenario::tmp_ = nullptr;
 std::string Scenario::dir_;
 ScenarioReport Scenario::report_;
 
@@ -273,11 +277,8 @@ TEST_F(Scenario, ScoreCountsAPerfectRunAsPerfectAndEachMistakeOnce) {
 // the end of a press) is the gate's mistake, not the head's: counted apart, and it is not the
 // event's answer.
 TEST(Score, LabelsOfFramesWithoutContactAreCountedApart) {
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / ("tlvlink_score_" + std::to_string(::getpid())))
-          .string();
-  std::filesystem::remove_all(dir);  // a killed run's leftover under a reused pid
-  std::filesystem::create_directories(dir);
+  const ::tlvlink::testing::TempDir tmp("score");  // removed at the end of the test
+  const std::string dir = tmp.path();
   {
     std::ofstream t(dir + "/truth.jsonl");
     t << R"({"type":"scenario","sensor":"gelsight-mini","fps":25,"frames":4,"fingers":["A","B"]})"
@@ -313,7 +314,6 @@ TEST(Score, LabelsOfFramesWithoutContactAreCountedApart) {
   }
   auto r =
       score::score_live_run(dir + "/truth.jsonl", dir + "/predictions.jsonl", {"left", "right"});
-  std::filesystem::remove_all(dir);
   ASSERT_TRUE(r.ok()) << r.error().message();
   EXPECT_EQ(r->false_contact, 1);
   ASSERT_EQ(r->heads.size(), 1u);
@@ -328,11 +328,8 @@ TEST(Score, LabelsOfFramesWithoutContactAreCountedApart) {
 // A press head ("hard_soft_press", tools/eval press_head.h) is scored against the label it is
 // named after; per event, its answer on the event's last frame (the one over the whole press).
 TEST(Score, APressHeadIsScoredAgainstItsLabelAtThePressesEnd) {
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / ("tlvlink_press_" + std::to_string(::getpid())))
-          .string();
-  std::filesystem::remove_all(dir);  // a killed run's leftover under a reused pid
-  std::filesystem::create_directories(dir);
+  const ::tlvlink::testing::TempDir tmp("press");  // removed at the end of the test
+  const std::string dir = tmp.path();
   {
     std::ofstream t(dir + "/truth.jsonl");
     t << R"({"type":"scenario","sensor":"digit","fps":60,"frames":6,"fingers":["A","B"]})"
@@ -363,7 +360,6 @@ TEST(Score, APressHeadIsScoredAgainstItsLabelAtThePressesEnd) {
   }
   auto r =
       score::score_live_run(dir + "/truth.jsonl", dir + "/predictions.jsonl", {"left", "right"});
-  std::filesystem::remove_all(dir);
   ASSERT_TRUE(r.ok()) << r.error().message();
   ASSERT_EQ(r->heads.size(), 2u);
   const score::HeadScore& frame = r->heads[0];
@@ -381,11 +377,8 @@ TEST(Score, APressHeadIsScoredAgainstItsLabelAtThePressesEnd) {
 // A contact whose image is the open gel's (signal below kInvisibleSignalDn: a smooth flat face
 // filling the gel) is no miss of the gate: counted apart, with its event.
 TEST(Score, ContactsTheOpticsCannotShowAreCountedApart) {
-  const std::string dir =
-      (std::filesystem::temp_directory_path() / ("tlvlink_invisible_" + std::to_string(::getpid())))
-          .string();
-  std::filesystem::remove_all(dir);  // a killed run's leftover under a reused pid
-  std::filesystem::create_directories(dir);
+  const ::tlvlink::testing::TempDir tmp("invisible");  // removed at the end of the test
+  const std::string dir = tmp.path();
   {
     std::ofstream t(dir + "/truth.jsonl");
     t << R"({"type":"scenario","sensor":"gelsight-mini","fps":25,"frames":4,"fingers":["A","B"]})"
@@ -414,7 +407,6 @@ TEST(Score, ContactsTheOpticsCannotShowAreCountedApart) {
   }
   auto r =
       score::score_live_run(dir + "/truth.jsonl", dir + "/predictions.jsonl", {"left", "right"});
-  std::filesystem::remove_all(dir);
   ASSERT_TRUE(r.ok()) << r.error().message();
   EXPECT_EQ(r->truth_contact, 1);  // the rock's visible frame
   EXPECT_EQ(r->missed_contact, 0);

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "support/temp_dir.h"
 #include "tlvlink/protocol/wire.h"
 #include "tlvlink/score/score.h"
 #include "tlvlink/stream/json_lines.h"
@@ -39,11 +40,6 @@ constexpr int kFrames = 6;
 class ScoreForms : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = (std::filesystem::temp_directory_path() /
-            ("tlvlink_score_forms_" + std::to_string(::getpid())))
-               .string();
-    std::filesystem::remove_all(dir_);  // a killed run's leftover under a reused pid
-    std::filesystem::create_directories(dir_);
     std::ofstream t(dir_ + "/truth.jsonl");
     t << json{{"type", "scenario"}, {"frames", kFrames}}.dump() << "\n"
       << json{{"type", "event"},
@@ -67,7 +63,6 @@ class ScoreForms : public ::testing::Test {
       }
     }
   }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
 
   score::ScoreReport score(const std::string& predictions) {
     auto r = score::score_live_run(dir_ + "/truth.jsonl", predictions, {"left", "right"});
@@ -160,7 +155,8 @@ class ScoreForms : public ::testing::Test {
     return path;
   }
 
-  std::string dir_;
+  ::tlvlink::testing::TempDir tmp_{"score_forms"};  // a fresh directory, removed with the fixture
+  std::string dir_ = tmp_.path();
 };
 
 TEST_F(ScoreForms, EveryFormOfOneRunScoresTheSame) {
