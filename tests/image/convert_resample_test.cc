@@ -1,7 +1,10 @@
 // Camera pixel formats and the resampler, on hand-made images: BT.601 limited-range YUYV and
 // NV12 values, GREY, padded rows, DIGIT's orientation (transpose, then flip top to bottom), and
 // resampling edge cases.
+#include <algorithm>
 #include <cmath>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -137,6 +140,49 @@ TEST(ImageResample, ResamplerIsExactAtScaleOneAndKeepsConstants) {
   std::vector<uint8_t> small(4 * 4 * 3);
   half.run(checker.data(), small.data());
   for (uint8_t v : small) EXPECT_NEAR(v, 100, 13);  // tent weights 1/4, 3/4, 3/4, 1/4 per axis
+}
+
+// The resampler against the tent filter computed directly in double, on random pixels: enlarging
+// (two rows per destination row, the simulator's camera frames) and shrinking (more), with rows
+// whose length is not a multiple of the 16 bytes the vector path takes at a time. Within 1 DN:
+// the resampler sums in float, and a float sum may round to the other side of a half.
+TEST(ImageResample, ResamplerMatchesTheTentFilterOnRandomPixels) {
+  const auto tent = [](int32_t src_len, AxisMap map, int32_t i) {
+    const double s = map.offset + (i + 0.5) * map.scale - 0.5, support = std::max(1.0, map.scale);
+    std::vector<std::pair<int32_t, double>> taps;
+    double sum = 0;
+    for (auto j = static_cast<int32_t>(std::ceil(s - support)); j <= std::floor(s + support); ++j) {
+      const double w = 1 - std::fabs(j - s) / support;
+      if (w <= 0) continue;
+      taps.emplace_back(std::clamp(j, 0, src_len - 1), w);
+      sum += w;
+    }
+    for (auto& t : taps) t.second /= sum;
+    return taps;
+  };
+  const int32_t w = 23, h = 17;
+  std::vector<uint8_t> img(static_cast<size_t>(w * h * 3));
+  uint32_t state = 12345;
+  for (uint8_t& v : img) v = static_cast<uint8_t>((state = state * 1664525u + 1013904223u) >> 24);
+  for (auto [dw, dh, xm, ym] : {std::tuple{61, 45, AxisMap{0.5, 0.35}, AxisMap{-1, 0.4}},
+                                std::tuple{7, 5, AxisMap{0, 3.2}, AxisMap{0.3, 3.3}}}) {
+    Resampler r;
+    r.plan(w, h, dw, dh, xm, ym);
+    std::vector<uint8_t> out(static_cast<size_t>(dw * dh * 3));
+    r.run(img.data(), out.data());
+    for (int32_t y = 0; y < dh; ++y) {
+      for (int32_t x = 0; x < dw; ++x) {
+        for (int32_t c = 0; c < 3; ++c) {
+          double v = 0;
+          for (auto [sy, wy] : tent(h, ym, y))
+            for (auto [sx, wx] : tent(w, xm, x))
+              v += wy * wx * img[static_cast<size_t>((sy * w + sx) * 3 + c)];
+          ASSERT_NEAR(out[static_cast<size_t>((y * dw + x) * 3 + c)], std::round(v), 1)
+              << dw << "x" << dh << " at " << x << "," << y << " channel " << c;
+        }
+      }
+    }
+  }
 }
 
 // NV12: the Y plane, then U/V interleaved at half resolution; every 2x2 block shares its chroma.

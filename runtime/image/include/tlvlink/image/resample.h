@@ -49,7 +49,8 @@ class Resampler {
   // share source rows, and their windows only move forward.
   std::vector<float> ring_;
   std::vector<int32_t> ring_row_;  // source row held by each slot, -1 = none
-  std::vector<float> acc_;         // one destination row before rounding
+  std::vector<float*> rows_;       // the ring rows one destination row sums
+  std::vector<float> acc_;         // a block of a destination row before rounding
 };
 
 }  // namespace tlvlink::image
