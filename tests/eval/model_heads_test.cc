@@ -260,6 +260,19 @@ TEST(ModelHeads, AGraspHeadPerSensorModelIsFittedOnItsEpisodesAndUsedForThem) {
   ASSERT_EQ(fitted->sensor_grasp.size(), 2u);
   EXPECT_EQ(fitted->sensor_grasp[0].sensors, std::vector<std::string>{"digit"});
   EXPECT_EQ(fitted->sensor_grasp[1].sensors, std::vector<std::string>{"gelsight-mini"});
+  // Fitted side by side on three threads: the same heads in the same order, weight for weight.
+  eval::HeadFitOptions three;
+  three.threads = 3;
+  auto parallel = eval::fit_heads(set, three);
+  ASSERT_TRUE(parallel.ok()) << parallel.error().message();
+  ASSERT_TRUE(parallel->grasp.has_value() && fitted->grasp.has_value());
+  EXPECT_EQ(parallel->grasp->weight, fitted->grasp->weight);
+  EXPECT_EQ(parallel->grasp->bias, fitted->grasp->bias);
+  ASSERT_EQ(parallel->sensor_grasp.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(parallel->sensor_grasp[i].sensors, fitted->sensor_grasp[i].sensors);
+    EXPECT_EQ(parallel->sensor_grasp[i].weight, fitted->sensor_grasp[i].weight);
+  }
   auto bytes = eval::model_with_heads(*original, *fitted, {});
   ASSERT_TRUE(bytes.ok()) << bytes.error().message();
   auto model = testing::load_model(*bytes);

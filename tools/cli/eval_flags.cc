@@ -91,8 +91,8 @@ void EvalFlags::add_to(CLI::App& app) {
   app.add_flag("--quiet,-q", quiet, "No progress on stderr");
   exec.add_to(app,
               "Threads: the datasets' frames are loaded beside N embedded at once, each on one "
-              "executor thread (the same figures for any N); --images / --recordings: XNNPACK's "
-              "pool");
+              "executor thread, and up to N heads' probes fitted side by side (the same figures "
+              "for any N); --images / --recordings: XNNPACK's pool");
 }
 
 Result<eval::EvalData> EvalFlags::data() const {
@@ -159,6 +159,7 @@ Result<eval::EvalOptions> EvalFlags::options() const {
   eval::EvalOptions o;
   TLV_ASSIGN_OR_RETURN(o.embedder.executor, parse_executor_kind(exec.executor));
   o.embedder.threads = exec.threads;
+  o.heads.threads = exec.threads;
   o.embedder.progress = !quiet;
   TLV_ASSIGN_OR_RETURN(o.heads.grasp_features, eval::parse_grasp_features(grasp_features));
   if (!l2_grid.empty()) {

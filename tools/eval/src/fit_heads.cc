@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "parallel_items.h"
 #include "probe_json.h"
 #include "tlvlink/eval/heads.h"
 #include "tlvlink/heads/grasp_layout.h"
@@ -27,40 +28,38 @@ std::string unfit_reason(std::span<const int32_t> labels) {
   return {};
 }
 
-Status fit_touch(const TouchEmbeddings& t, const HeadFitOptions& o, FittedHeads& out) {
-  for (Task task : {Task::kMaterial, Task::kHard, Task::kRough}) {
-    if (!o.only.empty() && o.only.count(task) == 0) continue;
-    const std::vector<int32_t>& all = t.labels(task);
-    std::vector<float> x;
-    std::vector<int32_t> y;
-    std::vector<std::string> groups;
-    std::vector<int64_t> row_of(t.size(), -1);  // t's row -> the probe's row
-    std::vector<std::array<int64_t, 2>> pairs;
-    for (size_t i = 0; i < t.size(); ++i) {
-      if (t.is_test[i] != 0 || all[i] < 0) continue;
-      const std::span<const float> r = t.row(i);
-      x.insert(x.end(), r.begin(), r.end());
-      row_of[i] = static_cast<int64_t>(y.size());
-      y.push_back(all[i]);
-      groups.push_back(t.group[i]);
-      // A re-encoding follows its frame (extract.cc), so the frame's row is already known.
-      if (i < t.view_of.size() && t.view_of[i] >= 0 &&
-          row_of[static_cast<size_t>(t.view_of[i])] >= 0)
-        pairs.push_back({row_of[static_cast<size_t>(t.view_of[i])], row_of[i]});
-    }
-    if (const std::string why = unfit_reason(y); !why.empty()) {
-      out.notes.push_back(std::string(task_name(task)) + ": not fitted, " + why);
-      continue;
-    }
-    ProbeData data{x, t.dim, y, task_class_count(task), groups, pairs};
-    ProbeOptions po = o.probe;
-    if (auto own = o.view_weight_grid_of.find(task); own != o.view_weight_grid_of.end())
-      po.view_weight_grid = own->second;
-    auto probe = fit_probe(data, po);
-    if (!probe.ok()) return probe.error().with_context("fitting the %s probe", task_name(task));
-    out.linear.push_back({task_name(task), canonical_labels(task), probe->weight, probe->bias});
-    out.probes.emplace_back(task, std::move(probe).value());
+// One touch head (task) on the training split of the touch set.
+Status fit_touch_head(const TouchEmbeddings& t, Task task, const HeadFitOptions& o,
+                      FittedHeads& out) {
+  const std::vector<int32_t>& all = t.labels(task);
+  std::vector<float> x;
+  std::vector<int32_t> y;
+  std::vector<std::string> groups;
+  std::vector<int64_t> row_of(t.size(), -1);  // t's row -> the probe's row
+  std::vector<std::array<int64_t, 2>> pairs;
+  for (size_t i = 0; i < t.size(); ++i) {
+    if (t.is_test[i] != 0 || all[i] < 0) continue;
+    const std::span<const float> r = t.row(i);
+    x.insert(x.end(), r.begin(), r.end());
+    row_of[i] = static_cast<int64_t>(y.size());
+    y.push_back(all[i]);
+    groups.push_back(t.group[i]);
+    // A re-encoding follows its frame (extract.cc), so the frame's row is already known.
+    if (i < t.view_of.size() && t.view_of[i] >= 0 && row_of[static_cast<size_t>(t.view_of[i])] >= 0)
+      pairs.push_back({row_of[static_cast<size_t>(t.view_of[i])], row_of[i]});
   }
+  if (const std::string why = unfit_reason(y); !why.empty()) {
+    out.notes.push_back(std::string(task_name(task)) + ": not fitted, " + why);
+    return {};
+  }
+  ProbeData data{x, t.dim, y, task_class_count(task), groups, pairs};
+  ProbeOptions po = o.probe;
+  if (auto own = o.view_weight_grid_of.find(task); own != o.view_weight_grid_of.end())
+    po.view_weight_grid = own->second;
+  auto probe = fit_probe(data, po);
+  if (!probe.ok()) return probe.error().with_context("fitting the %s probe", task_name(task));
+  out.linear.push_back({task_name(task), canonical_labels(task), probe->weight, probe->bias});
+  out.probes.emplace_back(task, std::move(probe).value());
   return {};
 }
 
@@ -103,44 +102,53 @@ Result<std::optional<quantize::GraspHeadSpec>> fit_grasp_head(
   return std::optional<quantize::GraspHeadSpec>(std::move(h));
 }
 
-Status fit_grasp(const GraspEmbeddings& g, const HeadFitOptions& o, FittedHeads& out) {
+// The grasp head on every training episode (sensor empty) or on one sensor model's.
+Status fit_grasp_part(const GraspEmbeddings& g, const HeadFitOptions& o, const std::string& sensor,
+                      FittedHeads& out) {
   const std::string layout_text = grasp_feature_layout(o.grasp_features);
   TLV_ASSIGN_OR_RETURN(const auto layout, heads::parse_grasp_layout(layout_text));
-  TLV_ENSURE(!heads::has_difference(layout) || !g.difference.empty(), ErrorCode::kInvalidArgument,
-             "grasp features '%s' read difference features; the grasp set has none (a model "
-             "whose input is not 3-channel gives none): use --grasp-features before-during",
-             layout_text.c_str());
   std::optional<FittedProbe> probe;
   std::string why;
-  TLV_ASSIGN_OR_RETURN(out.grasp,
-                       fit_grasp_head(
-                           g, o, layout_text, layout, [](size_t) { return true; }, probe, why));
-  if (!out.grasp) {
-    out.notes.push_back("grasp: not fitted, " + why);
+  const auto use = [&](size_t i) {
+    return sensor.empty() || (i < g.sensor.size() && g.sensor[i] == sensor);
+  };
+  TLV_ASSIGN_OR_RETURN(auto head, fit_grasp_head(g, o, layout_text, layout, use, probe, why));
+  if (!head) {
+    out.notes.push_back(sensor.empty() ? "grasp: not fitted, " + why
+                                       : "grasp: no head for sensor " + sensor + ", " + why);
     return {};
   }
+  if (!sensor.empty()) {
+    head->sensors = {sensor};
+    out.sensor_grasp.push_back(std::move(*head));
+    return {};
+  }
+  out.grasp = std::move(head);
   out.grasp_swap_fingers = o.grasp_swap_fingers;
   out.probes.emplace_back(Task::kGrasp, std::move(*probe));
+  return {};
+}
+
+// The sensor models of the grasp set's training split when a head per model is wanted (none
+// when the split holds one: the grasp head is already that model's).
+std::vector<std::string> grasp_sensors(const GraspEmbeddings& g, const HeadFitOptions& o) {
   if (!o.grasp_per_sensor) return {};
   std::set<std::string> sensors;
   for (size_t i = 0; i < g.size() && i < g.sensor.size(); ++i)
     if (g.is_test[i] == 0 && !g.sensor[i].empty()) sensors.insert(g.sensor[i]);
-  if (sensors.size() < 2) return {};  // the grasp head is already the one sensor's
-  for (const std::string& sensor : sensors) {
-    std::optional<FittedProbe> sensor_probe;
-    TLV_ASSIGN_OR_RETURN(auto head,
-                         fit_grasp_head(
-                             g, o, layout_text, layout,
-                             [&](size_t i) { return i < g.sensor.size() && g.sensor[i] == sensor; },
-                             sensor_probe, why));
-    if (!head) {
-      out.notes.push_back("grasp: no head for sensor " + sensor + ", " + why);
-      continue;
-    }
-    head->sensors = {sensor};
-    out.sensor_grasp.push_back(std::move(*head));
+  if (sensors.size() < 2) return {};
+  return {sensors.begin(), sensors.end()};
+}
+
+void append(FittedHeads& out, FittedHeads&& part) {
+  for (auto& h : part.linear) out.linear.push_back(std::move(h));
+  if (part.grasp) {
+    out.grasp = std::move(part.grasp);
+    out.grasp_swap_fingers = part.grasp_swap_fingers;
   }
-  return {};
+  for (auto& h : part.sensor_grasp) out.sensor_grasp.push_back(std::move(h));
+  for (auto& p : part.probes) out.probes.push_back(std::move(p));
+  for (auto& n : part.notes) out.notes.push_back(std::move(n));
 }
 
 nlohmann::json probes_json(const FittedHeads& heads, const WriteHeadsOptions& o) {
@@ -170,11 +178,44 @@ nlohmann::json probes_json(const FittedHeads& heads, const WriteHeadsOptions& o)
 
 }  // namespace
 
+// Each head's probe is independent of the others': they are fitted side by side on
+// options.threads threads (one probe's own fit stays serial: its L2 grid is warm-started in
+// order) and put together in a fixed order, so the heads are the same for any thread count.
 Result<FittedHeads> fit_heads(const EmbeddingSet& set, const HeadFitOptions& options) {
+  const auto wanted = [&](Task t) { return options.only.empty() || options.only.count(t) > 0; };
+  std::vector<std::function<Status(FittedHeads&)>> parts;
+  if (set.touch) {
+    for (Task task : {Task::kMaterial, Task::kHard, Task::kRough}) {
+      if (wanted(task))
+        parts.emplace_back(
+            [&, task](FittedHeads& out) { return fit_touch_head(*set.touch, task, options, out); });
+    }
+  }
+  const size_t grasp_part = parts.size();
+  if (set.grasp && wanted(Task::kGrasp)) {
+    const GraspEmbeddings& g = *set.grasp;
+    const std::string layout_text = grasp_feature_layout(options.grasp_features);
+    TLV_ASSIGN_OR_RETURN(const auto layout, heads::parse_grasp_layout(layout_text));
+    TLV_ENSURE(!heads::has_difference(layout) || !g.difference.empty(), ErrorCode::kInvalidArgument,
+               "grasp features '%s' read difference features; the grasp set has none (a model "
+               "whose input is not 3-channel gives none): use --grasp-features before-during",
+               layout_text.c_str());
+    std::vector<std::string> sensors = grasp_sensors(g, options);
+    sensors.insert(sensors.begin(), std::string());  // first the head for every sensor
+    for (const std::string& sensor : sensors)
+      parts.emplace_back([&g, &options, sensor](FittedHeads& out) {
+        return fit_grasp_part(g, options, sensor, out);
+      });
+  }
+  std::vector<FittedHeads> fitted(parts.size());
+  TLV_TRY(internal::run_items(parts.size(), options.threads,
+                              [&](size_t i, int32_t) { return parts[i](fitted[i]); }));
   FittedHeads out;
-  if (set.touch) TLV_TRY(fit_touch(*set.touch, options, out));
-  if (set.grasp && (options.only.empty() || options.only.count(Task::kGrasp) > 0))
-    TLV_TRY(fit_grasp(*set.grasp, options, out));
+  for (size_t i = 0; i < fitted.size(); ++i) {
+    // Heads per sensor model only beside a grasp head for every sensor.
+    if (i > grasp_part && !out.grasp) break;
+    append(out, std::move(fitted[i]));
+  }
   return out;
 }
 

@@ -1,9 +1,8 @@
 #include "frame_pool.h"
 
-#include <algorithm>
-#include <atomic>
-#include <mutex>
-#include <thread>
+#include <utility>
+
+#include "parallel_items.h"
 
 namespace tlvlink::eval::internal {
 
@@ -25,32 +24,7 @@ FramePool::~FramePool() {
   if (running_.valid()) running_.wait();
 }
 
-Status FramePool::run(size_t n, const Work& work) {
-  std::atomic<size_t> next{0};
-  std::atomic<bool> failed{false};
-  std::mutex m;
-  size_t first_item = n;
-  Status first;
-  auto loop = [&](int32_t worker) {
-    for (size_t i; !failed.load() && (i = next.fetch_add(1)) < n;) {
-      if (Status st = work(i, worker); !st.ok()) {
-        failed = true;
-        const std::lock_guard<std::mutex> lock(m);
-        if (i < first_item) {
-          first_item = i;
-          first = std::move(st);
-        }
-      }
-    }
-  };
-  const size_t helpers = n == 0 ? 0 : std::min<size_t>(embedders_.size(), n) - 1;
-  std::vector<std::thread> threads;
-  threads.reserve(helpers);
-  for (size_t t = 0; t < helpers; ++t) threads.emplace_back(loop, static_cast<int32_t>(t + 1));
-  loop(0);
-  for (std::thread& t : threads) t.join();
-  return first;
-}
+Status FramePool::run(size_t n, const Work& work) { return run_items(n, workers(), work); }
 
 void FramePool::start(size_t n, Work work) {
   if (workers() <= 1) {

@@ -82,6 +82,9 @@ struct HeadFitOptions {
   // model fitted on that model's episodes alone (metadata.h sensor_grasp_heads): one head for
   // every sensor is a compromise between their optics (firmware/models/README.md).
   bool grasp_per_sensor = true;
+  // The heads' probes fitted side by side on up to this many threads (each probe's own fit is
+  // serial); the heads are the same for any count.
+  int32_t threads = 1;
 };
 
 // Probes fitted on the TRAIN split: linear heads named by task_name() with canonical labels,
