@@ -48,8 +48,9 @@
 # seal what they write: runtime/README.md "Integrity trailer").
 # --install copies both models into firmware/models/. Deterministic: torch runs single-threaded
 # with fixed seeds, the probes use deterministic L-BFGS, calibration picks frames by seed.
-# The heads fits and evals embed two frames at a time (--threads 2; the outputs are the same on
-# one).
+# The heads fits and evals embed two frames at a time and fit the heads' probes side by side
+# (--threads 2; the outputs are the same on one). About 57 min on 2 cores from nothing
+# (firmware/models/README.md "How they were made").
 # Needs a host build with the trainer: cmake --preset host && cmake --build --preset host
 set -euo pipefail
 cd "$(dirname "$0")/../.."
