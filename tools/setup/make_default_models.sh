@@ -51,7 +51,8 @@
 # The heads fits and evals embed two frames at a time and fit the heads' probes side by side
 # (--threads 2; the outputs are the same on one). About 57 min on 2 cores from nothing
 # (firmware/models/README.md "How they were made").
-# Needs a host build with the trainer: cmake --preset host && cmake --build --preset host
+# Needs a host build with the trainer (cmake --preset host && cmake --build --preset host) and
+# ~15 GB free in OUT_DIR (checked first; TLVLINK_MODELS_NEED_GB changes the figure).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 install=0
@@ -68,6 +69,16 @@ build=${TLVLINK_BUILD:-build/host}
 tlvlink=$build/tools/cli/tlvlink
 t0=$(date +%s)
 mkdir -p "$out"
+# The sets and press scenarios take ~14 GB (the scenarios 12): refuse to start without the room
+# rather than fail at step 5 a quarter of an hour in (what OUT already holds is reused).
+need_gb=${TLVLINK_MODELS_NEED_GB:-15}
+have_kb=$(du -sk "$out" | cut -f1)
+free_kb=$(df -Pk "$out" | awk 'NR == 2 {print $4}')
+if [ $((free_kb + have_kb)) -lt $((need_gb * 1024 * 1024)) ]; then
+  echo "make_default_models: $out has $((free_kb / 1048576)) GB free and holds" \
+       "$((have_kb / 1048576)) GB; the sets and press scenarios need ~$need_gb GB" >&2
+  exit 1
+fi
 # A set's tlvlink_sim.json holds every generator option: reuse the set when they match.
 generated() {  # dir key=value...
   local dir=$1; shift
