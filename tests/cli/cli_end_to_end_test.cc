@@ -2,7 +2,6 @@
 // executors) -> verify -> bench, plus bad model files (exit 1) and bad arguments (exit 2).
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>

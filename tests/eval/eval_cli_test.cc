@@ -3,7 +3,6 @@
 // the tests assert structure, determinism, and that fitted heads beat chance on the train set).
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>

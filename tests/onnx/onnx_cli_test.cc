@@ -2,7 +2,6 @@
 // it cannot convert (the op and node named on stderr), 2 for bad arguments.
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -25,7 +24,6 @@ using ::tlvlink::testing::run_tlvlink;
 
 class ConvertCli : public ::testing::Test {
  protected:
-  void SetUp() override {}
   static std::string model(const std::string& name) {
     return std::string(TLVLINK_ONNX_MODELS) + "/" + name + ".onnx";
   }

@@ -1,12 +1,12 @@
 // Live scenarios: the recordings hold what the camera streams, at its pace, with B's phase; the
 // truth matches the frames; `score` counts a perfect run as perfect and each planted mistake once,
 // scores head labels on frames in contact only, and gives event figures a 95 % interval.
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,7 +29,7 @@ using nlohmann::json;
 class Scenario : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    tmp_ = new ::tlvlink::testing::TempDir("scenario");
+    tmp_ = std::make_unique<::tlvlink::testing::TempDir>("scenario");
     dir_ = *tmp_ / "run";  // write_scenario makes it
     ScenarioOptions o;
     o.sensor = "digit";  // YUYV 320x240 at 60 fps: small frames
@@ -41,10 +41,7 @@ class Scenario : public ::testing::Test {
     ASSERT_TRUE(r.ok()) << r.error().message();
     report_ = *r;
   }
-  static void TearDownTestSuite() {
-    delete tmp_;
-    tmp_ = nullptr;
-  }
+  static void TearDownTestSuite() { tmp_.reset(); }
 
   static std::vector<json> truth() {
     std::vector<json> out;
@@ -54,11 +51,11 @@ class Scenario : public ::testing::Test {
     return out;
   }
 
-  static ::tlvlink::testing::TempDir* tmp_;
+  static std::unique_ptr<::tlvlink::testing::TempDir> tmp_;  // the suite's directory
   static std::string dir_;
   static ScenarioReport report_;
 };
-::tlvlink::testing::TempDir* Scenario::tmp_ = nullptr;
+std::unique_ptr<::tlvlink::testing::TempDir> Scenario::tmp_;
 std::string Scenario::dir_;
 ScenarioReport Scenario::report_;
 

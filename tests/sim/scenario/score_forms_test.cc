@@ -2,7 +2,6 @@
 // (runtime/stream json_lines.h: tlvlinkd's jsonl: output and `tlvlink listen --json`, written here
 // with that writer itself), and tlvlinkd's lines of before protocol 1.3: the same run gives the
 // same report in every form. A 1.2 board's stream has no gate state: its contact flag is read.
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>

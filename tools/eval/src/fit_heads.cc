@@ -103,10 +103,9 @@ Result<std::optional<quantize::GraspHeadSpec>> fit_grasp_head(
 }
 
 // The grasp head on every training episode (sensor empty) or on one sensor model's.
-Status fit_grasp_part(const GraspEmbeddings& g, const HeadFitOptions& o, const std::string& sensor,
-                      FittedHeads& out) {
-  const std::string layout_text = grasp_feature_layout(o.grasp_features);
-  TLV_ASSIGN_OR_RETURN(const auto layout, heads::parse_grasp_layout(layout_text));
+Status fit_grasp_part(const GraspEmbeddings& g, const HeadFitOptions& o,
+                      const std::string& layout_text, std::span<const heads::GraspFeature> layout,
+                      const std::string& sensor, FittedHeads& out) {
   std::optional<FittedProbe> probe;
   std::string why;
   const auto use = [&](size_t i) {
@@ -192,10 +191,11 @@ Result<FittedHeads> fit_heads(const EmbeddingSet& set, const HeadFitOptions& opt
     }
   }
   const size_t grasp_part = parts.size();
+  const std::string layout_text = grasp_feature_layout(options.grasp_features);
+  std::vector<heads::GraspFeature> layout;  // parsed once, read by every grasp part
   if (set.grasp && wanted(Task::kGrasp)) {
     const GraspEmbeddings& g = *set.grasp;
-    const std::string layout_text = grasp_feature_layout(options.grasp_features);
-    TLV_ASSIGN_OR_RETURN(const auto layout, heads::parse_grasp_layout(layout_text));
+    TLV_ASSIGN_OR_RETURN(layout, heads::parse_grasp_layout(layout_text));
     TLV_ENSURE(!heads::has_difference(layout) || !g.difference.empty(), ErrorCode::kInvalidArgument,
                "grasp features '%s' read difference features; the grasp set has none (a model "
                "whose input is not 3-channel gives none): use --grasp-features before-during",
@@ -203,8 +203,8 @@ Result<FittedHeads> fit_heads(const EmbeddingSet& set, const HeadFitOptions& opt
     std::vector<std::string> sensors = grasp_sensors(g, options);
     sensors.insert(sensors.begin(), std::string());  // first the head for every sensor
     for (const std::string& sensor : sensors)
-      parts.emplace_back([&g, &options, sensor](FittedHeads& out) {
-        return fit_grasp_part(g, options, sensor, out);
+      parts.emplace_back([&g, &options, &layout_text, &layout, sensor](FittedHeads& out) {
+        return fit_grasp_part(g, options, layout_text, layout, sensor, out);
       });
   }
   std::vector<FittedHeads> fitted(parts.size());
