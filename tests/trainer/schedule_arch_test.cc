@@ -189,6 +189,15 @@ TEST(Options, ObjectiveAndAugmentation) {
   o.view.consistency_weight = 0;
   EXPECT_NE(std::string(validate(o).error().message()).find("two views"), std::string::npos);
   o.view.consistency_weight = 1;
+  o.view.codec_pairs = 1.5;
+  EXPECT_NE(std::string(validate(o).error().message()).find("codec pairs 1.5 outside"),
+            std::string::npos);
+  o.view.codec_pairs = 0.5;
+  EXPECT_TRUE(validate(o).ok());
+  o.view.components = kViewAll & ~kViewCodec;
+  EXPECT_NE(std::string(validate(o).error().message()).find("the codec view"), std::string::npos);
+  o.view.components = kViewAll;
+  o.view.codec_pairs = 0;
   o.view.frame_height = 95;
   EXPECT_NE(std::string(validate(o).error().message()).find("view frame"), std::string::npos);
   o.view.frame_height = 240;
@@ -229,6 +238,13 @@ TEST(Options, RoundTripThroughJson) {
   EXPECT_EQ(back.view.components, kViewCodec | kViewBlur);
   EXPECT_EQ(back.view.consistency_weight, 4);
   EXPECT_EQ(back.view.prediction_weight, 2);
+  EXPECT_EQ(back.view.codec_pairs, 0);
+  // Written only when used, so the records of earlier runs keep their bytes.
+  EXPECT_FALSE(options_to_json(o).at("view").contains("codec_pairs"));
+  o.view.codec_pairs = 0.25;
+  ASSERT_TRUE(options_from_json(options_to_json(o), back).ok());
+  EXPECT_EQ(back.view.codec_pairs, 0.25);
+  o.view.codec_pairs = 0;
   // A checkpoint written before the objective existed trained TLV-Link without augmentation.
   nlohmann::ordered_json old = options_to_json(o);
   old.erase("objective");

@@ -233,6 +233,16 @@ TEST_F(Trainer, SensorViewsWithConsistencyAreReproducibleResumeAndExportTheirRes
   auto r1 = train(one_view);
   ASSERT_TRUE(r1.ok());
   EXPECT_NE(r1->final_loss, rw->final_loss);
+  // Codec twins as half of the pairs: another run, and as reproducible.
+  TrainOptions twins = options("twins.ckpt");
+  twins.view.codec_pairs = 0.5;
+  auto rt = train(twins);
+  ASSERT_TRUE(rt.ok()) << rt.error().message();
+  EXPECT_NE(rt->final_loss, rw->final_loss);
+  twins.output = out / "twins-again.ckpt";
+  auto rt2 = train(twins);
+  ASSERT_TRUE(rt2.ok());
+  EXPECT_EQ(rt2->final_loss, rt->final_loss);
   ExportOptions e;
   e.checkpoint = out / "whole.ckpt";
   e.output = out / "whole.tlvm";

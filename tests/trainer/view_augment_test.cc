@@ -187,6 +187,43 @@ TEST(ViewAugmenter, AComponentLeftOutDoesNotMoveTheOthersDraws) {
   }
 }
 
+TEST(ViewAugmenter, ACodecTwinDiffersByTheCodecAlone) {
+  // --codec-pairs: the second view is the first through another codec draw, every other draw
+  // the same (the pair a frame and its re-encoding make).
+  Model m;
+  auto a = ViewAugmenter::create(kW, kH, m.spec);
+  ASSERT_TRUE(a.ok());
+  const std::vector<uint8_t> f = gel_frame(8);
+  std::vector<uint8_t> x(96 * 128 * 3), y(x.size());
+  int both_coded = 0, one_coded = 0;
+  for (int i = 0; i < 60; ++i) {
+    const uint64_t seed = view_seed(3, i, i, 0), twin_seed = view_seed(3, i, i, 1);
+    // Without the codec the twin is the original, byte for byte.
+    const uint32_t no_codec = kViewAll & ~kViewCodec;
+    ASSERT_TRUE(a->make(f, no_codec, seed, x).ok());
+    ASSERT_TRUE(a->make_codec_twin(f, no_codec, seed, twin_seed, y).ok());
+    ASSERT_EQ(x, y) << i;
+    ViewDraw d, t;
+    ASSERT_TRUE(a->make(f, kViewAll, seed, x, &d).ok());
+    ASSERT_TRUE(a->make_codec_twin(f, kViewAll, seed, twin_seed, y, &t).ok());
+    EXPECT_EQ(d.applied & no_codec, t.applied & no_codec) << i;
+    EXPECT_EQ(d.blur_sigma, t.blur_sigma) << i;
+    EXPECT_EQ(d.noise_dn, t.noise_dn) << i;
+    const bool dc = (d.applied & kViewCodec) != 0, tc = (t.applied & kViewCodec) != 0;
+    both_coded += dc && tc;
+    one_coded += dc != tc;
+    // Only the link differs: the two inputs stay within a codec's few DN (mean), where two
+    // independent views of this frame move ~2 DN more (geometry, colour).
+    EXPECT_LT(mean_abs_diff(x, y), 3.0) << i;
+    if (!dc && !tc) {
+      EXPECT_EQ(x, y) << i;
+    }
+  }
+  // Each side coded with p 0.75: both ~34 of 60, exactly one ~22; wide bounds (>= 4 sd).
+  EXPECT_GT(both_coded, 20);
+  EXPECT_GT(one_coded, 8);
+}
+
 TEST(ViewAugmenter, PortraitFramesAreMadeAtTheirOwnSize) {
   // A DIGIT frame is 240 wide and 320 high and its camera sends it transposed: its views keep
   // that shape until the model's resize, exactly as the board resizes it.

@@ -191,6 +191,12 @@ void add_train_command(CLI::App& app, int& exit_code) {
                           "contact read-out's squared difference); 0 = off")
               ->check(CLI::Range(0.0, 100.0))
               ->capture_default_str());
+  setting(cmd->add_option("--codec-pairs", o.view.codec_pairs,
+                          "With two views: the share of samples whose second view is the first "
+                          "through another codec draw alone (a frame and its re-encoding); "
+                          "0 = every pair independent")
+              ->check(CLI::Range(0.0, 1.0))
+              ->capture_default_str());
   setting(cmd->add_option("--teacher", o.teacher.torchscript,
                           "TorchScript vision encoder (.pt): float [N,3,H,W] RGB normalised by "
                           "--teacher-mean/--teacher-std -> [N,D]; default: the built-in teacher"));

@@ -74,6 +74,13 @@ Status validate(const TrainOptions& o) {
       "a prediction consistency weight (%g) needs two views (--consistency-weight) and "
       "the supervised heads (objective supervised or tlv-link+supervised)",
       v.prediction_weight);
+  TLV_ENSURE(std::isfinite(v.codec_pairs) && v.codec_pairs >= 0 && v.codec_pairs <= 1,
+             ErrorCode::kInvalidArgument, "codec pairs %g outside [0, 1]", v.codec_pairs);
+  TLV_ENSURE(v.codec_pairs == 0 || (v.consistency_weight > 0 && (v.components & kViewCodec)),
+             ErrorCode::kInvalidArgument,
+             "codec pairs (%g) need two views (--consistency-weight) and the codec view "
+             "(--augment-view with codec)",
+             v.codec_pairs);
   TLV_ENSURE(v.consistency_weight == 0 || v.enabled(), ErrorCode::kInvalidArgument,
              "a consistency weight (%g) needs the view augmentation (--augment-view): two views "
              "without it are the same frame",
@@ -151,6 +158,12 @@ nlohmann::ordered_json options_to_json(const TrainOptions& o) {
                {"mean", o.teacher.mean},
                {"std", o.teacher.std}};
   }
+  nlohmann::ordered_json view = {{"components", view_components_name(o.view.components)},
+                                 {"consistency_weight", o.view.consistency_weight},
+                                 {"prediction_weight", o.view.prediction_weight},
+                                 {"frame", {o.view.frame_height, o.view.frame_width}}};
+  // Written only when used: the records of runs without it stay byte for byte what they were.
+  if (o.view.codec_pairs > 0) view["codec_pairs"] = o.view.codec_pairs;
   return {
       {"arch", o.arch},
       {"input", {o.input_height, o.input_width}},
@@ -170,11 +183,7 @@ nlohmann::ordered_json options_to_json(const TrainOptions& o) {
        {{"gain_sigma", o.augment.gain_sigma},
         {"exposure_sigma", o.augment.exposure_sigma},
         {"noise_dn", o.augment.noise_dn}}},
-      {"view",
-       {{"components", view_components_name(o.view.components)},
-        {"consistency_weight", o.view.consistency_weight},
-        {"prediction_weight", o.view.prediction_weight},
-        {"frame", {o.view.frame_height, o.view.frame_width}}}},
+      {"view", view},
       {"lr", o.lr.lr},
       {"warmup_steps", o.lr.warmup_steps},
       {"min_lr", o.lr.min_lr},
@@ -239,6 +248,7 @@ Status options_from_json(const nlohmann::ordered_json& j, TrainOptions& o) {
                            parse_view_components(j.at("view").at("components").get<std::string>()));
       o.view.consistency_weight = j.at("view").at("consistency_weight").get<double>();
       o.view.prediction_weight = j.at("view").value("prediction_weight", 0.0);
+      o.view.codec_pairs = j.at("view").value("codec_pairs", 0.0);
       o.view.frame_height = j.at("view").at("frame").at(0).get<int32_t>();
       o.view.frame_width = j.at("view").at("frame").at(1).get<int32_t>();
     } else {

@@ -145,7 +145,19 @@ Status ViewAugmenter::codec(uint64_t& state, ViewDraw& draw) {
 }
 
 Status ViewAugmenter::make(std::span<const uint8_t> frame, uint32_t components, uint64_t seed,
-                           std::span<uint8_t> out, ViewDraw* draw_out) {
+                           std::span<uint8_t> out, ViewDraw* draw) {
+  return make_view(frame, components, seed, nullptr, out, draw);
+}
+
+Status ViewAugmenter::make_codec_twin(std::span<const uint8_t> frame, uint32_t components,
+                                      uint64_t seed, uint64_t codec_seed, std::span<uint8_t> out,
+                                      ViewDraw* draw) {
+  return make_view(frame, components, seed, &codec_seed, out, draw);
+}
+
+Status ViewAugmenter::make_view(std::span<const uint8_t> frame, uint32_t components, uint64_t seed,
+                                const uint64_t* twin_codec_seed, std::span<uint8_t> out,
+                                ViewDraw* draw_out) {
   const size_t n = work_.size();
   TLV_ENSURE(frame.size() == n, ErrorCode::kShapeMismatch,
              "view augmentation: frame of %zu bytes, expected %dx%dx3", frame.size(), width_,
@@ -226,8 +238,20 @@ Status ViewAugmenter::make(std::span<const uint8_t> frame, uint32_t components, 
 
   const uint64_t codec_seed = rng::splitmix(state);
   const uint8_t* final_frame = frame8_.data();
-  if (on(kViewCodec, kPCodec)) {
-    uint64_t codec_state = codec_seed;
+  bool coded = on(kViewCodec, kPCodec);
+  uint64_t codec_state = codec_seed;
+  if (twin_codec_seed != nullptr) {
+    // The twin draws the codec afresh; everything before it is the original's.
+    codec_state = *twin_codec_seed;
+    coded = (components & kViewCodec) && chance(codec_state, kPCodec);
+    if (coded) {
+      draw.applied |= kViewCodec;
+    } else {
+      draw.applied &= ~static_cast<uint32_t>(kViewCodec);
+    }
+    codec_state = rng::splitmix(codec_state);
+  }
+  if (coded) {
     TLV_TRY(codec(codec_state, draw));
     final_frame = codec8_.data();
   }

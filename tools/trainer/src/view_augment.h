@@ -48,6 +48,11 @@ class ViewAugmenter {
   // the model's resize. Same (components, seed, frame) -> same bytes.
   Status make(std::span<const uint8_t> frame, uint32_t components, uint64_t seed,
               std::span<uint8_t> out, ViewDraw* draw = nullptr);
+  // The codec twin of make(frame, components, seed): every draw the same but the codec's,
+  // which (on or off, kind, quality) comes from `codec_seed`. The pair differs by the link
+  // alone, as a frame and its re-encoding do.
+  Status make_codec_twin(std::span<const uint8_t> frame, uint32_t components, uint64_t seed,
+                         uint64_t codec_seed, std::span<uint8_t> out, ViewDraw* draw = nullptr);
 
   int32_t frame_width() const { return width_; }
   int32_t frame_height() const { return height_; }
@@ -55,6 +60,8 @@ class ViewAugmenter {
  private:
   ViewAugmenter() = default;
   Status codec(uint64_t& rng, ViewDraw& draw);
+  Status make_view(std::span<const uint8_t> frame, uint32_t components, uint64_t seed,
+                   const uint64_t* codec_seed, std::span<uint8_t> out, ViewDraw* draw);
 
   int32_t width_ = 0, height_ = 0;
   image::Orientation camera_ = image::Orientation::kUpright;

@@ -2,6 +2,8 @@
 
 #include "view_batches.h"
 
+#include "augment_rng.h"
+
 #include <memory>
 #include <utility>
 
@@ -20,6 +22,7 @@ Result<std::unique_ptr<ViewBatches>> ViewBatches::create(const DataCache& cache,
   b.seed_ = o.seed;
   b.components_ = o.view.components;
   b.views_ = o.view.consistency_weight > 0 ? 2 : 1;
+  b.codec_pairs_ = o.view.codec_pairs;
   b.model_bytes_ =
       static_cast<size_t>(model_input.height) * static_cast<size_t>(model_input.width) * 3;
   TLV_ASSIGN_OR_RETURN(ViewAugmenter a,
@@ -45,12 +48,25 @@ Status ViewBatches::make(int64_t step, const std::vector<int64_t>& idx, std::vec
       const std::span<const uint8_t> frame(cache_->touch.data() + sample * stride, stride);
       const size_t slot = static_cast<size_t>(v) * idx.size() + i;
       const bool turned = sample < cache_->turned.size() && cache_->turned[sample] != 0;
-      TLV_TRY((turned ? turned_ : augmenter_)
-                  ->make(frame, components_, view_seed(seed_, step, idx[i], v),
-                         std::span<uint8_t>(out.data() + slot * model_bytes_, model_bytes_)));
+      ViewAugmenter& augmenter = turned ? *turned_ : *augmenter_;
+      const std::span<uint8_t> view(out.data() + slot * model_bytes_, model_bytes_);
+      const uint64_t seed = view_seed(seed_, step, idx[i], v);
+      if (v == 1 && codec_pair(step, idx[i])) {
+        TLV_TRY(augmenter.make_codec_twin(frame, components_, view_seed(seed_, step, idx[i], 0),
+                                          seed, view));
+      } else {
+        TLV_TRY(augmenter.make(frame, components_, seed, view));
+      }
     }
   }
   return {};
+}
+
+bool ViewBatches::codec_pair(int64_t step, int64_t sample) const {
+  if (codec_pairs_ <= 0) return false;
+  uint64_t state =
+      view_seed(seed_, step, sample, 2);  // a stream of its own: views 0, 1 keep theirs
+  return rng::chance(state, codec_pairs_);
 }
 
 void ViewBatches::request(int64_t step, std::vector<int64_t> idx) {

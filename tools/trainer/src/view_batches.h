@@ -41,11 +41,14 @@ class ViewBatches {
  private:
   ViewBatches() = default;
   Status make(int64_t step, const std::vector<int64_t>& idx, std::vector<uint8_t>& out);
+  // Whether the sample's second view at `step` is its first view's codec twin.
+  bool codec_pair(int64_t step, int64_t sample) const;
 
   const DataCache* cache_ = nullptr;
   uint64_t seed_ = 0;
   uint32_t components_ = 0;
   int32_t views_ = 1;
+  double codec_pairs_ = 0;  // ViewAugmentOptions::codec_pairs
   size_t model_bytes_ = 0;
   // Used by one worker at a time: the slot's orientation and, for turned frames (a DIGIT's
   // portrait frame in a landscape slot), the other.

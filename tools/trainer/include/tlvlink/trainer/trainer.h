@@ -108,6 +108,11 @@ struct ViewAugmentOptions {
   // contact read-out). The cosine term treats every direction of the embedding alike; this one
   // holds still the directions the answers are read from.
   double prediction_weight = 0;
+  // With two views: the share of samples whose second view is the first one's codec twin (the
+  // same view through another codec draw, ViewAugmenter::make_codec_twin), so that the
+  // consistency terms also see pairs that differ by the link alone, as a frame and its
+  // re-encoding do; the rest get two independent views. 0 = every pair independent.
+  double codec_pairs = 0;
   // The size the views are made at: the sensors' processed frame (every profile's is 240x320).
   int32_t frame_height = 240, frame_width = 320;
   bool enabled() const { return components != 0; }
