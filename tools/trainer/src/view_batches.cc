@@ -2,10 +2,10 @@
 
 #include "view_batches.h"
 
-#include "augment_rng.h"
-
 #include <memory>
 #include <utility>
+
+#include "augment_rng.h"
 
 namespace tlvlink::trainer {
 
